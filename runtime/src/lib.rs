@@ -1,0 +1,42 @@
+//! Runtime of `telescopic`: everything a simulation of a telescopic multi-section beam with
+//! clearance needs at run time (MODEL.md is the specification).
+//!
+//! * [`scene`]: TOML scene files, `--set` overrides and validation;
+//! * [`shape`]: the paper's shape functions and their roots, evaluated without cancellation;
+//! * [`Model`]: the interface of a discretized telescope, in computing coordinates
+//!   (see [`model`] for the exact change of variables);
+//! * [`AssembledModel`]: the Galerkin model of MODEL.md section 4 by Gauss-Legendre
+//!   quadrature, for any number of sections and modes: the generic model and the reference;
+//! * [`contact`]: the clearance contact law;
+//! * [`eigen`]: natural frequencies and mode shapes with closed contacts.
+//!
+//! ```no_run
+//! use telescopic_runtime::{AssembledModel, Scene, modal_analysis};
+//! let scene = Scene::load("scenes/test-rig.toml".as_ref(), &[]).unwrap();
+//! let model = AssembledModel::new(&scene.params).unwrap();
+//! let modes = modal_analysis(&model, scene.time.start).unwrap();
+//! println!("{:?}", modes.frequencies_hz);
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod assembled;
+pub mod contact;
+pub mod eigen;
+pub mod layout;
+pub mod model;
+pub mod params;
+pub mod profile;
+pub mod quadrature;
+pub mod scene;
+pub mod shape;
+
+pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
+pub use contact::{ContactForce, ContactLaw, ContactState};
+pub use eigen::{EigenError, ModalAnalysis, modal_analysis, sample_shape};
+pub use layout::{ContactPoint, Layout};
+pub use model::{Model, mechanical_energy, rest_state};
+pub use params::{Drive, ForceFlow, ModelParams, SectionParams};
+pub use profile::{Profile, ShapedProfile};
+pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
+pub use shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction, mode_root};

@@ -1,0 +1,148 @@
+//! Scenes: TOML files that describe a telescope, its drive and a time span; loading,
+//! `--set` overrides and validation with errors that name the field and the rule.
+
+mod overrides;
+pub mod schema;
+mod validate;
+
+pub use overrides::apply_override;
+pub use schema::SceneFile;
+
+use crate::params::ModelParams;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Time span and output sampling of a scene (s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeSpan {
+    /// Start time (s).
+    pub start: f64,
+    /// End time (s).
+    pub end: f64,
+    /// Output sample interval (s).
+    pub sample: f64,
+}
+
+/// A validated scene: the model parameters, the time span and the reference values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Short name.
+    pub name: String,
+    /// One line on what the scene is.
+    pub description: String,
+    /// Physical parameters of the model.
+    pub params: ModelParams,
+    /// Time span and sampling.
+    pub time: TimeSpan,
+    /// Published frequency columns to compare with.
+    pub references: Vec<schema::ReferenceSpec>,
+    /// The file as read, after overrides (for echoing into outputs).
+    pub file: SceneFile,
+}
+
+/// One broken rule, with the dotted path of the field it concerns.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FieldError {
+    /// Dotted TOML path, e.g. `contact.points` or `sections.length[1]`.
+    pub field: String,
+    /// The rule and the offending value.
+    pub rule: String,
+}
+
+impl fmt::Display for FieldError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "`{}`: {}", self.field, self.rule)
+    }
+}
+
+/// Why a scene could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The file could not be read.
+    #[error("cannot read scene file {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML.
+    #[error("scene file {path} is not valid TOML: {message}")]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// A `--set KEY=VALUE` argument is malformed or does not fit the file's structure.
+    #[error("--set {argument}: {rule}")]
+    Override {
+        /// The argument as given.
+        argument: String,
+        /// What is wrong.
+        rule: String,
+    },
+    /// A field has the wrong type, is unknown, or is missing.
+    #[error("scene {origin}: field `{field}`: {message}")]
+    Schema {
+        /// The file (and overrides).
+        origin: String,
+        /// Dotted path of the field.
+        field: String,
+        /// The deserializer's message.
+        message: String,
+    },
+    /// Values break the rules of the model.
+    #[error("scene {origin} is invalid:\n{}", .errors.iter().map(|e| format!("  - {e}")).collect::<Vec<_>>().join("\n"))]
+    Invalid {
+        /// The file (and overrides).
+        origin: String,
+        /// Every broken rule.
+        errors: Vec<FieldError>,
+    },
+}
+
+impl SceneError {
+    /// The broken rules of an `Invalid` error (empty otherwise).
+    pub fn field_errors(&self) -> &[FieldError] {
+        match self {
+            SceneError::Invalid { errors, .. } => errors,
+            _ => &[],
+        }
+    }
+}
+
+impl Scene {
+    /// Reads, overrides and validates a scene file. `overrides` are `KEY=VALUE` strings with
+    /// dotted TOML keys (`contact.clearance=0.01`, `sections.length.1=1.2`).
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the field and the rule for every problem found.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.to_owned(), source })?;
+        Self::from_toml_str(&text, path, overrides)
+    }
+
+    /// As [`Scene::load`], from TOML text; `path` only names the origin in messages.
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the field and the rule for every problem found.
+    pub fn from_toml_str(text: &str, path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
+        let mut table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| SceneError::Syntax { path: path.to_owned(), message: e.to_string() })?;
+        for o in overrides {
+            apply_override(&mut table, o)?;
+        }
+        let origin = if overrides.is_empty() {
+            path.display().to_string()
+        } else {
+            format!("{} (with --set {})", path.display(), overrides.join(", --set "))
+        };
+        let file: SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            let field = e.path().to_string();
+            SceneError::Schema { origin: origin.clone(), field, message: e.into_inner().to_string() }
+        })?;
+        validate::build(file, &origin)
+    }
+}

@@ -1,0 +1,249 @@
+//! The rules a scene must satisfy, and its conversion into [`ModelParams`].
+
+use super::schema::{PerSection, SceneFile};
+use super::{FieldError, Scene, SceneError, TimeSpan};
+use crate::contact::ContactLaw;
+use crate::params::{Drive, ModelParams, SectionParams};
+use crate::profile::{Profile, ShapedProfile};
+use crate::shape::MAX_MODES;
+
+/// Collects broken rules.
+#[derive(Default)]
+struct Rules {
+    errors: Vec<FieldError>,
+}
+
+impl Rules {
+    fn fail(&mut self, field: impl Into<String>, rule: impl Into<String>) {
+        self.errors.push(FieldError { field: field.into(), rule: rule.into() });
+    }
+
+    fn positive(&mut self, field: &str, v: f64) {
+        if !v.is_finite() || v <= 0.0 {
+            self.fail(field, format!("must be a finite number > 0 (got {v})"));
+        }
+    }
+
+    fn non_negative(&mut self, field: &str, v: f64) {
+        if !v.is_finite() || v < 0.0 {
+            self.fail(field, format!("must be a finite number >= 0 (got {v})"));
+        }
+    }
+
+    fn finite(&mut self, field: &str, v: f64) {
+        if !v.is_finite() {
+            self.fail(field, format!("must be a finite number (got {v})"));
+        }
+    }
+
+    /// A per-section value: list length, and `check` on every value. Returns one value per
+    /// section when the count fits.
+    fn per_section<T: Copy>(
+        &mut self,
+        field: &str,
+        spec: &PerSection<T>,
+        count: usize,
+        mut check: impl FnMut(&mut Self, &str, T),
+    ) -> Option<Vec<T>> {
+        if let Some(given) = spec.given() {
+            if given != count {
+                self.fail(field, format!("has {given} values but sections.count is {count} (give one per section, or one number)"));
+                return None;
+            }
+        }
+        let values: Vec<T> = (1..=count).map(|k| spec.get(k).expect("count checked")).collect();
+        for (i, &v) in values.iter().enumerate() {
+            let name = if spec.given().is_some() { format!("{field}[{i}]") } else { field.to_string() };
+            check(self, &name, v);
+        }
+        Some(values)
+    }
+
+    fn profile(&mut self, field: &str, p: &Profile) {
+        for (part, v) in p.numbers() {
+            let name = if part.is_empty() { field.to_string() } else { format!("{field}.{part}") };
+            self.finite(&name, v);
+        }
+        match p {
+            Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values })
+            | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, values }) => {
+                if times.is_empty() {
+                    self.fail(format!("{field}.times"), "must not be empty");
+                }
+                if times.len() != values.len() {
+                    self.fail(
+                        format!("{field}.values"),
+                        format!("must have one value per time ({} times, {} values)", times.len(), values.len()),
+                    );
+                }
+                if let Some(i) = times.windows(2).position(|w| w[1] <= w[0]) {
+                    self.fail(
+                        format!("{field}.times"),
+                        format!("must be strictly increasing (times[{}] = {} follows {})", i + 1, times[i + 1], times[i]),
+                    );
+                }
+            }
+            Profile::Shaped(ShapedProfile::Smoothstep { start, end, .. }) if end <= start => {
+                self.fail(format!("{field}.end"), format!("must be after start (start {start}, end {end})"));
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Checks every rule and builds the validated [`Scene`].
+pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> {
+    let mut r = Rules::default();
+    let s = &file.sections;
+    let n = s.count;
+    if n == 0 {
+        r.fail("sections.count", "must be at least 1");
+    }
+    let lengths = r.per_section("sections.length", &s.length, n, |r, f, v| r.positive(f, v));
+    let areas = r.per_section("sections.area", &s.area, n, |r, f, v| r.positive(f, v));
+    let inertias = r.per_section("sections.inertia", &s.inertia, n, |r, f, v| r.positive(f, v));
+    let densities = r.per_section("sections.density", &s.density, n, |r, f, v| r.positive(f, v));
+    let moduli = r.per_section("sections.youngs_modulus", &s.youngs_modulus, n, |r, f, v| r.positive(f, v));
+    let modes = r.per_section("sections.modes", &s.modes, n, |r, f, v| {
+        if !(1..=MAX_MODES).contains(&v) {
+            r.fail(f, format!("must be in 1..={MAX_MODES} (got {v})"));
+        }
+    });
+    r.non_negative("masses.vehicle", file.masses.vehicle);
+    r.non_negative("masses.load", file.masses.load);
+    r.non_negative("gravity.g", file.gravity.g);
+
+    // time span
+    let t = &file.time;
+    r.finite("time.start", t.start);
+    r.finite("time.end", t.end);
+    if t.start.is_finite() && t.end.is_finite() && t.end <= t.start {
+        r.fail("time.end", format!("the time span is empty: end ({}) must be after start ({})", t.end, t.start));
+    }
+    r.positive("time.sample", t.sample);
+    if t.sample > t.end - t.start && t.end > t.start {
+        r.fail("time.sample", format!("must not exceed the time span ({} s, got {})", t.end - t.start, t.sample));
+    }
+
+    // contacts and telescopic positions
+    let contact = match (&file.contact, n) {
+        (Some(c), _) => {
+            if c.points < 2 {
+                r.fail("contact.points", format!("must be at least 2 (got {})", c.points));
+            }
+            r.positive("contact.stiffness", c.stiffness);
+            r.non_negative("contact.damping", c.damping);
+            r.non_negative("contact.clearance", c.clearance);
+            Some(c.clone())
+        }
+        (None, 1) => None,
+        (None, _) => {
+            r.fail("contact", "is required when there is more than one section");
+            None
+        }
+    };
+    let positions = file.telescope.as_ref().map(|t| t.positions.clone()).unwrap_or_default();
+    if n >= 1 && positions.len() != n - 1 {
+        r.fail(
+            "telescope.positions",
+            format!("must hold one profile per overlap, a_2..a_n: {} expected, {} given", n - 1, positions.len()),
+        );
+    }
+    for (i, p) in positions.iter().enumerate() {
+        let field = format!("telescope.positions[{i}]");
+        let before = r.errors.len();
+        r.profile(&field, p);
+        // overlap o_k = l_{k-1} - a_k must stay in (0, min(l_{k-1}, l_k)] at every time
+        if let (Some(l), true) = (&lengths, r.errors.len() == before && t.end > t.start && i + 1 < n) {
+            let (l_out, l_in) = (l[i], l[i + 1]);
+            let (a_lo, a_hi) = p.range(t.start, t.end);
+            let (o_lo, o_hi) = (l_out - a_hi, l_out - a_lo);
+            let o_max = l_out.min(l_in);
+            if o_lo <= 0.0 || o_hi > o_max {
+                r.fail(
+                    field,
+                    format!(
+                        "overlap l_{k1} - a_{k} must stay in (0, min(l_{k1}, l_{k})] = (0, {o_max}] over the time span, \
+                         i.e. a_{k} in [{:.6}, {l_out}); the profile ranges over [{a_lo}, {a_hi}]",
+                        l_out - o_max,
+                        k = i + 2,
+                        k1 = i + 1,
+                    ),
+                );
+            }
+        }
+    }
+
+    // drive
+    let d = &file.drive;
+    let drive = match (&d.force, &d.motion) {
+        (Some(f), None) => {
+            r.profile("drive.force", f);
+            Some(Drive::Force(f.clone()))
+        }
+        (None, Some(m)) => {
+            r.profile("drive.motion", m);
+            if !m.has_continuous_rate() {
+                r.fail(
+                    "drive.motion",
+                    "a prescribed motion needs a continuous velocity: use a number or kind = \"smoothstep\"",
+                );
+            }
+            Some(Drive::Motion(m.clone()))
+        }
+        (Some(_), Some(_)) => {
+            r.fail("drive", "give either `force` or `motion`, not both");
+            None
+        }
+        (None, None) => {
+            r.fail("drive", "needs `force` (N) or `motion` (m)");
+            None
+        }
+    };
+
+    for (i, col) in file.reference.iter().enumerate() {
+        for (j, &f) in col.frequencies_hz.iter().enumerate() {
+            r.positive(&format!("reference[{i}].frequencies_hz[{j}]"), f);
+        }
+    }
+
+    if !r.errors.is_empty() {
+        return Err(SceneError::Invalid { origin: origin.to_string(), errors: r.errors });
+    }
+    let (lengths, areas, inertias, densities, moduli, modes) = (
+        lengths.expect("checked"),
+        areas.expect("checked"),
+        inertias.expect("checked"),
+        densities.expect("checked"),
+        moduli.expect("checked"),
+        modes.expect("checked"),
+    );
+    let sections = (0..n)
+        .map(|k| SectionParams {
+            length: lengths[k],
+            mass_per_length: densities[k] * areas[k],
+            bending_stiffness: moduli[k] * inertias[k],
+            modes: modes[k],
+        })
+        .collect();
+    let contact = contact.unwrap_or(super::schema::ContactSpec { points: 2, stiffness: 1.0, damping: 0.0, clearance: 0.0 });
+    let params = ModelParams {
+        sections,
+        vehicle_mass: file.masses.vehicle,
+        load_mass: file.masses.load,
+        gravity: file.gravity.g,
+        force_flow: file.gravity.force_flow,
+        contact_points: contact.points,
+        contact: ContactLaw { stiffness: contact.stiffness, damping: contact.damping, clearance: contact.clearance },
+        positions,
+        drive: drive.expect("checked"),
+    };
+    Ok(Scene {
+        name: file.name.clone(),
+        description: file.description.clone(),
+        params,
+        time: TimeSpan { start: t.start, end: t.end, sample: t.sample },
+        references: file.reference.clone(),
+        file,
+    })
+}

@@ -1,0 +1,49 @@
+//! Command-line interface: the subcommands and the options they share.
+
+use anyhow::Context;
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+use telescopic_runtime::Scene;
+
+/// Telescopic multi-section beams with clearance (Barthelis & Wauer 2005): derived Galerkin
+/// equations, eigenfrequencies and simulation.
+#[derive(Debug, Parser)]
+#[command(name = "telescopic", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Natural frequencies and mode shapes, linearized about the straight state with closed
+    /// contacts (clearance and contact damping ignored, as for the paper's Table I).
+    Modes(crate::modes::ModesArgs),
+}
+
+/// A scene file and its overrides: shared by every command that reads a scene.
+#[derive(Debug, Args)]
+pub struct SceneArgs {
+    /// Scene file (TOML); see scenes/README.md.
+    pub scene: PathBuf,
+    /// Override one scene value by its dotted TOML key, e.g. `--set contact.clearance=0.01`
+    /// or `--set sections.modes=[6,4]`; repeatable. Validated like the file.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+}
+
+impl SceneArgs {
+    /// Loads and validates the scene with its overrides.
+    pub fn load(&self) -> anyhow::Result<Scene> {
+        Scene::load(&self.scene, &self.overrides).with_context(|| format!("cannot use scene {}", self.scene.display()))
+    }
+}
+
+impl Cli {
+    /// Runs the chosen command.
+    pub fn run(self) -> anyhow::Result<()> {
+        match self.command {
+            Command::Modes(args) => crate::modes::run(&args),
+        }
+    }
+}

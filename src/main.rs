@@ -1,0 +1,18 @@
+//! `telescopic`: equations of motion, simulation and eigen analysis of telescopic
+//! multi-section beams with clearance. See the README for the commands.
+
+mod cli;
+mod modes;
+
+use clap::Parser;
+
+fn main() -> std::process::ExitCode {
+    let cli = cli::Cli::parse();
+    match cli.run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
