@@ -88,7 +88,10 @@ fn safeguarded_newton(g: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, s
         }
         if (gx < 0.0) == (g_lo < 0.0) { lo = x } else { hi = x }
         let newton = x - gx / dgx;
-        let next = if newton > lo && newton < hi && dgx != 0.0 { newton } else { 0.5 * (lo + hi) };
+        if newton == x {
+            return x; // the step is below half an ulp: converged
+        }
+        let next = if newton >= lo && newton <= hi && dgx != 0.0 { newton } else { 0.5 * (lo + hi) };
         if (next - x).abs() <= 2.0 * f64::EPSILON * x.abs() {
             return next;
         }
