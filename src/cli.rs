@@ -1,6 +1,5 @@
 //! Command-line interface: the subcommands and the options they share.
 
-use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 use telescopic_runtime::Scene;
@@ -24,7 +23,7 @@ enum Command {
 /// A scene file and its overrides: shared by every command that reads a scene.
 #[derive(Debug, Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML); see scenes/README.md.
+    /// Scene file (TOML); the schema is in the README.
     pub scene: PathBuf,
     /// Override one scene value by its dotted TOML key, e.g. `--set contact.clearance=0.01`
     /// or `--set sections.modes=[6,4]`; repeatable. Validated like the file.
@@ -35,7 +34,7 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// Loads and validates the scene with its overrides.
     pub fn load(&self) -> anyhow::Result<Scene> {
-        Scene::load(&self.scene, &self.overrides).with_context(|| format!("cannot use scene {}", self.scene.display()))
+        Ok(Scene::load(&self.scene, &self.overrides)?)
     }
 }
 

@@ -5,7 +5,9 @@ use crate::cli::SceneArgs;
 use clap::Args;
 use serde::Serialize;
 use std::fmt::Write as _;
-use telescopic_runtime::{AssembledModel, ModalAnalysis, Model, Scene, modal_analysis, sample_shape};
+use telescopic_runtime::{
+    AssembledModel, ModalAnalysis, Model, Scene, modal_analysis, sample_shape,
+};
 
 /// Options of `telescopic modes`.
 #[derive(Debug, Args)]
@@ -61,16 +63,25 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
     }
     let model = AssembledModel::new(&scene.params)?;
     let modal = modal_analysis(&model, t)?;
-    let count = args.count.unwrap_or(modal.frequencies_hz.len()).min(modal.frequencies_hz.len());
+    let count = args
+        .count
+        .unwrap_or(modal.frequencies_hz.len())
+        .min(modal.frequencies_hz.len());
     let shapes = args.shapes.map(|points| {
         modal.shapes[..count]
             .iter()
             .zip(&modal.frequencies_hz)
             .map(|(v, &f)| {
                 let mut sections = sample_shape(&model, v, points);
-                let peak = sections.iter().flatten().fold(0.0_f64, |m, w| m.max(w.abs()));
+                let peak = sections
+                    .iter()
+                    .flatten()
+                    .fold(0.0_f64, |m, w| m.max(w.abs()));
                 sections.iter_mut().flatten().for_each(|w| *w /= peak);
-                ModeShapeJson { frequency_hz: f, sections }
+                ModeShapeJson {
+                    frequency_hz: f,
+                    sections,
+                }
             })
             .collect::<Vec<_>>()
     });
@@ -95,7 +106,13 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
 }
 
 /// The text table: ours, then each reference column with the difference in percent.
-fn table(scene: &Scene, model: &AssembledModel, modal: &ModalAnalysis, count: usize, t: f64) -> String {
+fn table(
+    scene: &Scene,
+    model: &AssembledModel,
+    modal: &ModalAnalysis,
+    count: usize,
+    t: f64,
+) -> String {
     let mut s = String::new();
     let modes = scene.params.modes();
     let _ = writeln!(
@@ -138,13 +155,17 @@ fn table(scene: &Scene, model: &AssembledModel, modal: &ModalAnalysis, count: us
         let _ = writeln!(s, "{line}");
     }
     if !scene.references.is_empty() {
-        let _ = writeln!(s, "diff = (reference - ours) / reference, as in the paper's Table I");
+        let _ = writeln!(
+            s,
+            "diff = (reference - ours) / reference, as in the paper's Table I"
+        );
     }
     s
 }
 
 fn shape_table(shapes: &[ModeShapeJson]) -> String {
-    let mut s = String::from("\nmode shapes (w along each section, foot to top, largest |w| = 1):\n");
+    let mut s =
+        String::from("\nmode shapes (w along each section, foot to top, largest |w| = 1):\n");
     for (i, m) in shapes.iter().enumerate() {
         let _ = writeln!(s, "f{} = {:.6} Hz", i + 1, m.frequency_hz);
         for (k, w) in m.sections.iter().enumerate() {

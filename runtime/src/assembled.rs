@@ -36,9 +36,19 @@ impl LocalBasis {
     #[inline]
     fn eval(&self, x: f64, deriv: u8) -> f64 {
         match self {
-            LocalBasis::Translation => if deriv == 0 { 1.0 } else { 0.0 },
+            LocalBasis::Translation => {
+                if deriv == 0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
             LocalBasis::Shape(f, shift) => {
-                if deriv == 0 { f.eval(x, 0) - shift } else { f.eval(x, deriv) }
+                if deriv == 0 {
+                    f.eval(x, 0) - shift
+                } else {
+                    f.eval(x, deriv)
+                }
             }
         }
     }
@@ -85,7 +95,11 @@ pub fn paper_section_matrices(
 ) -> (DMatrix<f64>, DMatrix<f64>) {
     let shapes = SectionShapes::new(kind, section.modes, section.length);
     let quad = SectionQuadrature::for_modes(section.length, shapes.max_beta());
-    let basis: Vec<_> = shapes.functions().iter().map(|&f| LocalBasis::Shape(f, 0.0)).collect();
+    let basis: Vec<_> = shapes
+        .functions()
+        .iter()
+        .map(|&f| LocalBasis::Shape(f, 0.0))
+        .collect();
     section_integrals(section, &quad, &basis, prestress)
 }
 
@@ -108,15 +122,19 @@ impl ContactEntries {
     /// `(index, g, gdot)` for every entry.
     #[inline]
     fn entries(&self) -> impl Iterator<Item = (usize, f64, f64)> + '_ {
-        let inner = (0..self.inner_len).map(|i| (self.inner_offset + i, self.inner[i], self.inner_rate[i]));
-        let outer = (0..self.outer_len).map(|i| (self.outer_offset + i, self.outer[i], self.outer_rate[i]));
+        let inner =
+            (0..self.inner_len).map(|i| (self.inner_offset + i, self.inner[i], self.inner_rate[i]));
+        let outer =
+            (0..self.outer_len).map(|i| (self.outer_offset + i, self.outer[i], self.outer_rate[i]));
         inner.chain(outer)
     }
 
     /// `(xi, xi_dot)` at state `z`, `zd`.
     #[inline]
     fn gap(&self, z: &[f64], zd: &[f64]) -> (f64, f64) {
-        self.entries().fold((0.0, 0.0), |(xi, xid), (j, g, gd)| (xi + g * z[j], xid + g * zd[j] + gd * z[j]))
+        self.entries().fold((0.0, 0.0), |(xi, xid), (j, g, gd)| {
+            (xi + g * z[j], xid + g * zd[j] + gd * z[j])
+        })
     }
 }
 
@@ -149,11 +167,20 @@ impl AssembledModel {
     /// [`ModelError`] if the parameters break the layout rules or `M` is not positive definite.
     pub fn new(params: &ModelParams) -> Result<Self, ModelError> {
         let n = params.sections.len();
-        if n == 0 || params.sections.iter().any(|s| s.modes == 0 || s.modes > MAX_MODES) {
-            return Err(ModelError::Invalid(format!("every section needs 1..={MAX_MODES} modes")));
+        if n == 0
+            || params
+                .sections
+                .iter()
+                .any(|s| s.modes == 0 || s.modes > MAX_MODES)
+        {
+            return Err(ModelError::Invalid(format!(
+                "every section needs 1..={MAX_MODES} modes"
+            )));
         }
         if n > 1 && (params.contact_points < 2 || params.positions.len() != n - 1) {
-            return Err(ModelError::Invalid("need n_c >= 2 and one telescopic position per overlap".into()));
+            return Err(ModelError::Invalid(
+                "need n_c >= 2 and one telescopic position per overlap".into(),
+            ));
         }
         let layout = Layout::new(&params.modes(), params.contact_points);
         let dof = layout.dof();
@@ -168,7 +195,9 @@ impl AssembledModel {
             for f in shapes.functions() {
                 match (k, f.index()) {
                     (1, 1) => {} // section 1's rigid mode is the translation, index 0
-                    (1, i) => basis.push((layout.index(1, i), LocalBasis::Shape(*f, f.eval(0.0, 0)))),
+                    (1, i) => {
+                        basis.push((layout.index(1, i), LocalBasis::Shape(*f, f.eval(0.0, 0))))
+                    }
                     (_, i) => basis.push((layout.index(k, i), LocalBasis::Shape(*f, 0.0))),
                 }
             }
@@ -199,9 +228,12 @@ impl AssembledModel {
         drive[0] = 1.0;
         let mass_factor = mass.clone().cholesky().ok_or(ModelError::SingularMass)?;
         let relative_mass_factor = match params.drive {
-            Drive::Motion(_) if dof > 1 => {
-                Some(mass.view((1, 1), (dof - 1, dof - 1)).into_owned().cholesky().ok_or(ModelError::SingularMass)?)
-            }
+            Drive::Motion(_) if dof > 1 => Some(
+                mass.view((1, 1), (dof - 1, dof - 1))
+                    .into_owned()
+                    .cholesky()
+                    .ok_or(ModelError::SingularMass)?,
+            ),
             _ => None,
         };
         let mut model = Self {
@@ -219,7 +251,11 @@ impl AssembledModel {
             quadrature_points,
         };
         if params.positions.iter().all(Profile::is_constant) {
-            let fixed = model.layout.contacts().map(|c| model.contact_entries(c, 0.0)).collect();
+            let fixed = model
+                .layout
+                .contacts()
+                .map(|c| model.contact_entries(c, 0.0))
+                .collect();
             model.fixed_contacts = Some(fixed);
         }
         Ok(model)
@@ -392,7 +428,9 @@ impl Model for AssembledModel {
         });
         // ... then become -M^-1 times that
         match &self.relative_mass_factor {
-            None => self.mass_factor.solve_mut(&mut jac.view_mut((n, 0), (n, 2 * n))),
+            None => self
+                .mass_factor
+                .solve_mut(&mut jac.view_mut((n, 0), (n, 2 * n))),
             Some(factor) => {
                 jac.row_mut(n).fill(0.0);
                 factor.solve_mut(&mut jac.view_mut((n + 1, 0), (n - 1, 2 * n)));
@@ -402,7 +440,10 @@ impl Model for AssembledModel {
     }
 
     fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
-        self.bases[section - 1].iter().map(|(j, b)| z[*j] * b.eval(x, 0)).sum()
+        self.bases[section - 1]
+            .iter()
+            .map(|(j, b)| z[*j] * b.eval(x, 0))
+            .sum()
     }
 
     fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
@@ -419,7 +460,13 @@ impl Model for AssembledModel {
         });
         if matches!(self.params.drive, Drive::Motion(_)) {
             // reaction: row 0 of M zdd = F (K's row 0 and every g_c[0] vanish)
-            out[3 + 2 * nc] = self.mass.row(0).iter().zip(&ydot[n..]).map(|(a, b)| a * b).sum();
+            out[3 + 2 * nc] = self
+                .mass
+                .row(0)
+                .iter()
+                .zip(&ydot[n..])
+                .map(|(a, b)| a * b)
+                .sum();
         }
     }
 }

@@ -50,7 +50,11 @@ impl ContactLaw {
     pub fn state(&self, xi: f64) -> ContactState {
         let h = self.half_band();
         if self.is_linear() {
-            if xi < 0.0 { ContactState::Lower } else { ContactState::Upper }
+            if xi < 0.0 {
+                ContactState::Lower
+            } else {
+                ContactState::Upper
+            }
         } else if xi > h {
             ContactState::Upper
         } else if xi < -h {
@@ -76,16 +80,34 @@ impl ContactLaw {
         let h = self.half_band();
         let (c, d) = (self.stiffness, self.damping);
         match state {
-            ContactState::Upper => ContactForce { force: c * (xi - h) + d * xi_dot, d_gap: c, d_rate: d },
-            ContactState::Lower => ContactForce { force: c * (xi + h) + d * xi_dot, d_gap: c, d_rate: d },
-            ContactState::Free => ContactForce { force: 0.0, d_gap: 0.0, d_rate: 0.0 },
+            ContactState::Upper => ContactForce {
+                force: c * (xi - h) + d * xi_dot,
+                d_gap: c,
+                d_rate: d,
+            },
+            ContactState::Lower => ContactForce {
+                force: c * (xi + h) + d * xi_dot,
+                d_gap: c,
+                d_rate: d,
+            },
+            ContactState::Free => ContactForce {
+                force: 0.0,
+                d_gap: 0.0,
+                d_rate: 0.0,
+            },
         }
     }
 
     /// Potential energy stored in the contact spring at gap `xi` (J).
     pub fn spring_energy(&self, xi: f64) -> f64 {
         let h = self.half_band();
-        let pen = if xi > h { xi - h } else if xi < -h { xi + h } else { 0.0 };
+        let pen = if xi > h {
+            xi - h
+        } else if xi < -h {
+            xi + h
+        } else {
+            0.0
+        };
         0.5 * self.stiffness * pen * pen
     }
 }
@@ -95,7 +117,11 @@ mod tests {
     use super::*;
 
     fn law(l_s: f64) -> ContactLaw {
-        ContactLaw { stiffness: 2.0e8, damping: 1.0e3, clearance: l_s }
+        ContactLaw {
+            stiffness: 2.0e8,
+            damping: 1.0e3,
+            clearance: l_s,
+        }
     }
 
     #[test]
@@ -103,9 +129,18 @@ mod tests {
         // eq. 11 and 12 of the paper, written with sign(): an independent form of the law
         let (c, d, l_s) = (2.0e8, 1.0e3, 0.01);
         let paper = |xi: f64, xid: f64| {
-            let sg = |v: f64| if v > 0.0 { 1.0 } else if v < 0.0 { -1.0 } else { 0.0 };
-            let fk = c * (xi - 0.5 * (xi + l_s / 2.0) * sg(xi + l_s / 2.0)
-                + 0.5 * (xi - l_s / 2.0) * sg(xi - l_s / 2.0));
+            let sg = |v: f64| {
+                if v > 0.0 {
+                    1.0
+                } else if v < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                }
+            };
+            let fk = c
+                * (xi - 0.5 * (xi + l_s / 2.0) * sg(xi + l_s / 2.0)
+                    + 0.5 * (xi - l_s / 2.0) * sg(xi - l_s / 2.0));
             let dk = d * (1.0 - 0.5 * sg(xi + l_s / 2.0) + 0.5 * sg(xi - l_s / 2.0));
             fk + dk * xid
         };

@@ -20,7 +20,6 @@ use crate::params::Drive;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use std::f64::consts::PI;
 
-
 /// Result of [`modal_analysis`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModalAnalysis {
@@ -96,8 +95,12 @@ pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenE
     let chol = m_r.cholesky().ok_or(EigenError::MassNotPositiveDefinite)?;
     let l = chol.l();
     // A = L^-1 K L^-T, symmetric
-    let mut a = l.solve_lower_triangular(&k_r).expect("Cholesky factor is invertible");
-    a = l.solve_lower_triangular(&a.transpose()).expect("Cholesky factor is invertible");
+    let mut a = l
+        .solve_lower_triangular(&k_r)
+        .expect("Cholesky factor is invertible");
+    a = l
+        .solve_lower_triangular(&a.transpose())
+        .expect("Cholesky factor is invertible");
     a = 0.5 * (&a + a.transpose());
     let eig = SymmetricEigen::new(a);
     let mut order: Vec<usize> = (0..r).collect();
@@ -113,7 +116,10 @@ pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenE
         } else {
             // v = L^-T w gives v' M_r v = 1
             let w = eig.eigenvectors.column(i).into_owned();
-            let p = l.transpose().solve_upper_triangular(&w).expect("Cholesky factor is invertible");
+            let p = l
+                .transpose()
+                .solve_upper_triangular(&w)
+                .expect("Cholesky factor is invertible");
             let mut shape = DVector::zeros(n);
             shape.rows_mut(1, r).copy_from(&p);
             if free_vehicle {
@@ -137,7 +143,11 @@ pub fn sample_shape(model: &dyn Model, shape: &DVector<f64>, points: usize) -> V
             let l = params.sections[k - 1].length;
             (0..points)
                 .map(|s| {
-                    let x = if points > 1 { l * s as f64 / (points - 1) as f64 } else { 0.0 };
+                    let x = if points > 1 {
+                        l * s as f64 / (points - 1) as f64
+                    } else {
+                        0.0
+                    };
                     model.displacement(k, x, shape.as_slice())
                 })
                 .collect()

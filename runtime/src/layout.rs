@@ -31,8 +31,14 @@ impl Layout {
     /// If there are no sections, a section has no modes, or `contact_points < 2` with more
     /// than one section.
     pub fn new(modes: &[usize], contact_points: usize) -> Self {
-        assert!(!modes.is_empty() && modes.iter().all(|&m| m >= 1), "every section needs a mode");
-        assert!(modes.len() == 1 || contact_points >= 2, "at least two contacts per overlap");
+        assert!(
+            !modes.is_empty() && modes.iter().all(|&m| m >= 1),
+            "every section needs a mode"
+        );
+        assert!(
+            modes.len() == 1 || contact_points >= 2,
+            "at least two contacts per overlap"
+        );
         let offsets = modes
             .iter()
             .scan(0, |acc, &m| {
@@ -41,7 +47,11 @@ impl Layout {
                 Some(o)
             })
             .collect();
-        Self { modes: modes.to_vec(), offsets, contact_points }
+        Self {
+            modes: modes.to_vec(),
+            offsets,
+            contact_points,
+        }
     }
 
     /// Number of sections `n`.
@@ -88,7 +98,11 @@ impl Layout {
     pub fn contacts(&self) -> impl Iterator<Item = ContactPoint> + '_ {
         let nc = self.contact_points;
         (2..=self.sections()).flat_map(move |k| {
-            (0..nc).map(move |j| ContactPoint { overlap: k, point: j, fraction: j as f64 / (nc - 1) as f64 })
+            (0..nc).map(move |j| ContactPoint {
+                overlap: k,
+                point: j,
+                fraction: j as f64 / (nc - 1) as f64,
+            })
         })
     }
 
@@ -96,9 +110,19 @@ impl Layout {
     /// and `f_k_j` for every contact, then `drive_force` when the vehicle motion is
     /// prescribed.
     pub fn output_names(&self, prescribed_motion: bool) -> Vec<String> {
-        let mut names = vec!["vehicle".to_string(), "tip_rel".to_string(), "top1_rel".to_string()];
-        names.extend(self.contacts().map(|c| format!("xi_{}_{}", c.overlap, c.point)));
-        names.extend(self.contacts().map(|c| format!("f_{}_{}", c.overlap, c.point)));
+        let mut names = vec![
+            "vehicle".to_string(),
+            "tip_rel".to_string(),
+            "top1_rel".to_string(),
+        ];
+        names.extend(
+            self.contacts()
+                .map(|c| format!("xi_{}_{}", c.overlap, c.point)),
+        );
+        names.extend(
+            self.contacts()
+                .map(|c| format!("f_{}_{}", c.overlap, c.point)),
+        );
         if prescribed_motion {
             names.push("drive_force".to_string());
         }

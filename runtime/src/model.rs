@@ -80,12 +80,19 @@ pub trait Model {
 
     /// Names of [`Model::outputs`].
     fn output_names(&self) -> Vec<String> {
-        self.layout().output_names(matches!(self.params().drive, Drive::Motion(_)))
+        self.layout()
+            .output_names(matches!(self.params().drive, Drive::Motion(_)))
     }
 
     /// The contact force and partials at contact `c` for gap `xi`, rate `xi_dot`, in the branch
     /// `states[c]` if given.
-    fn contact_force(&self, c: usize, xi: f64, xi_dot: f64, states: Option<&[ContactState]>) -> ContactForce {
+    fn contact_force(
+        &self,
+        c: usize,
+        xi: f64,
+        xi_dot: f64,
+        states: Option<&[ContactState]>,
+    ) -> ContactForce {
         let law = &self.params().contact;
         match states {
             Some(s) => law.force_in_state(s[c], xi, xi_dot),
@@ -117,6 +124,9 @@ pub fn mechanical_energy(model: &dyn Model, t: f64, y: &[f64]) -> f64 {
     let nc = model.layout().contact_count();
     let (mut xi, mut xid) = (vec![0.0; nc], vec![0.0; nc]);
     model.contact_gaps(t, y, &mut xi, &mut xid);
-    let springs: f64 = xi.iter().map(|&x| model.params().contact.spring_energy(x)).sum();
+    let springs: f64 = xi
+        .iter()
+        .map(|&x| model.params().contact.spring_energy(x))
+        .sum();
     kinetic + potential + springs
 }

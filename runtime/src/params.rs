@@ -78,7 +78,13 @@ impl ModelParams {
 
     /// Total mass: sections, vehicle and load (kg).
     pub fn total_mass(&self) -> f64 {
-        self.vehicle_mass + self.load_mass + self.sections.iter().map(|s| s.mass_per_length * s.length).sum::<f64>()
+        self.vehicle_mass
+            + self.load_mass
+            + self
+                .sections
+                .iter()
+                .map(|s| s.mass_per_length * s.length)
+                .sum::<f64>()
     }
 
     /// Axial compressive force `P_k(x) = p0 + p1 x` of section `k` (1-based) as `(p0, p1)`
@@ -90,10 +96,23 @@ impl ModelParams {
         let above = match self.force_flow {
             ForceFlow::None => return (0.0, 0.0),
             ForceFlow::Cable => {
-                self.sections[k..].iter().map(|u| u.mass_per_length * u.length).sum::<f64>() + self.load_mass
+                self.sections[k..]
+                    .iter()
+                    .map(|u| u.mass_per_length * u.length)
+                    .sum::<f64>()
+                    + self.load_mass
             }
-            ForceFlow::External => if k == n { self.load_mass } else { 0.0 },
+            ForceFlow::External => {
+                if k == n {
+                    self.load_mass
+                } else {
+                    0.0
+                }
+            }
         };
-        (g * (s.mass_per_length * s.length + above), -g * s.mass_per_length)
+        (
+            g * (s.mass_per_length * s.length + above),
+            -g * s.mass_per_length,
+        )
     }
 }

@@ -87,7 +87,8 @@ impl<'de> Deserialize<'de> for Profile {
                 Ok(Profile::Constant(v as f64))
             }
             fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Profile, A::Error> {
-                ShapedProfile::deserialize(de::value::MapAccessDeserializer::new(map)).map(Profile::Shaped)
+                ShapedProfile::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(Profile::Shaped)
             }
         }
         deserializer.deserialize_any(ProfileVisitor)
@@ -127,7 +128,9 @@ impl Profile {
     pub fn has_continuous_rate(&self) -> bool {
         match self {
             Profile::Constant(_) => true,
-            Profile::Shaped(ShapedProfile::Constant { .. } | ShapedProfile::Smoothstep { .. }) => true,
+            Profile::Shaped(ShapedProfile::Constant { .. } | ShapedProfile::Smoothstep { .. }) => {
+                true
+            }
             Profile::Shaped(_) => self.is_constant(),
         }
     }
@@ -172,15 +175,27 @@ impl Profile {
     /// All numbers the profile holds, with their field names (for validation).
     pub(crate) fn numbers(&self) -> Vec<(&'static str, f64)> {
         match self {
-            Profile::Constant(v) | Profile::Shaped(ShapedProfile::Constant { value: v }) => vec![("", *v)],
+            Profile::Constant(v) | Profile::Shaped(ShapedProfile::Constant { value: v }) => {
+                vec![("", *v)]
+            }
             Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values })
             | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, values }) => times
                 .iter()
                 .map(|&t| ("times", t))
                 .chain(values.iter().map(|&v| ("values", v)))
                 .collect(),
-            Profile::Shaped(ShapedProfile::Smoothstep { start, end, from, to }) => {
-                vec![("start", *start), ("end", *end), ("from", *from), ("to", *to)]
+            Profile::Shaped(ShapedProfile::Smoothstep {
+                start,
+                end,
+                from,
+                to,
+            }) => {
+                vec![
+                    ("start", *start),
+                    ("end", *end),
+                    ("from", *from),
+                    ("to", *to),
+                ]
             }
         }
     }
@@ -188,7 +203,9 @@ impl Profile {
     /// `(value, rate, acceleration)` at `t`.
     fn eval(&self, t: f64) -> (f64, f64, f64) {
         match self {
-            Profile::Constant(v) | Profile::Shaped(ShapedProfile::Constant { value: v }) => (*v, 0.0, 0.0),
+            Profile::Constant(v) | Profile::Shaped(ShapedProfile::Constant { value: v }) => {
+                (*v, 0.0, 0.0)
+            }
             Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values }) => {
                 let i = times.partition_point(|&ti| ti <= t);
                 (values[i.saturating_sub(1)], 0.0, 0.0)
@@ -204,7 +221,12 @@ impl Profile {
                     (values[i - 1] + slope * (t - times[i - 1]), slope, 0.0)
                 }
             }
-            Profile::Shaped(ShapedProfile::Smoothstep { start, end, from, to }) => {
+            Profile::Shaped(ShapedProfile::Smoothstep {
+                start,
+                end,
+                from,
+                to,
+            }) => {
                 let span = end - start;
                 if t <= *start {
                     (*from, 0.0, 0.0)
@@ -216,7 +238,11 @@ impl Profile {
                     let s = u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
                     let ds = 30.0 * u * u * (1.0 - u) * (1.0 - u);
                     let dds = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u);
-                    (from + jump * s, jump * ds / span, jump * dds / (span * span))
+                    (
+                        from + jump * s,
+                        jump * ds / span,
+                        jump * dds / (span * span),
+                    )
                 }
             }
         }
@@ -229,7 +255,12 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn smoothstep() -> Profile {
-        Profile::Shaped(ShapedProfile::Smoothstep { start: 0.0, end: 12.0, from: 0.35, to: 1.15 })
+        Profile::Shaped(ShapedProfile::Smoothstep {
+            start: 0.0,
+            end: 12.0,
+            from: 0.35,
+            to: 1.15,
+        })
     }
 
     #[test]
@@ -237,7 +268,11 @@ mod tests {
         let p = smoothstep();
         for t in [0.5, 3.0, 6.0, 11.0] {
             let h = 1e-5;
-            assert_relative_eq!(p.rate(t), (p.value(t + h) - p.value(t - h)) / (2.0 * h), max_relative = 1e-7);
+            assert_relative_eq!(
+                p.rate(t),
+                (p.value(t + h) - p.value(t - h)) / (2.0 * h),
+                max_relative = 1e-7
+            );
             assert_relative_eq!(
                 p.acceleration(t),
                 (p.rate(t + h) - p.rate(t - h)) / (2.0 * h),
@@ -261,7 +296,10 @@ mod tests {
         assert_eq!(f.value(9.0), -100.0);
         assert_eq!(f.value(15.0), 0.0);
         assert_eq!(f.range(0.0, 16.0), (-100.0, 100.0));
-        let g = Profile::Shaped(ShapedProfile::PiecewiseLinear { times: vec![1.0, 3.0], values: vec![0.0, 10.0] });
+        let g = Profile::Shaped(ShapedProfile::PiecewiseLinear {
+            times: vec![1.0, 3.0],
+            values: vec![0.0, 10.0],
+        });
         assert_eq!(g.value(0.0), 0.0);
         assert_eq!(g.value(2.0), 5.0);
         assert_eq!(g.rate(2.0), 5.0);

@@ -50,6 +50,10 @@ impl SectionQuadrature {
 
     /// `int_0^l f(x) dx`.
     pub fn integrate(&self, mut f: impl FnMut(f64) -> f64) -> f64 {
-        self.nodes.iter().zip(&self.weights).map(|(&x, &w)| w * f(x)).sum()
+        self.nodes
+            .iter()
+            .zip(&self.weights)
+            .map(|(&x, &w)| w * f(x))
+            .sum()
     }
 }

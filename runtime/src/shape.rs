@@ -35,7 +35,11 @@ pub enum SectionKind {
 impl SectionKind {
     /// The kind of section `k` (1-based).
     pub fn of_section(k: usize) -> Self {
-        if k == 1 { Self::GuidedFree } else { Self::FreeFree }
+        if k == 1 {
+            Self::GuidedFree
+        } else {
+            Self::FreeFree
+        }
     }
 }
 
@@ -86,12 +90,20 @@ fn safeguarded_newton(g: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, s
         if gx == 0.0 {
             return x;
         }
-        if (gx < 0.0) == (g_lo < 0.0) { lo = x } else { hi = x }
+        if (gx < 0.0) == (g_lo < 0.0) {
+            lo = x
+        } else {
+            hi = x
+        }
         let newton = x - gx / dgx;
         if newton == x {
             return x; // the step is below half an ulp: converged
         }
-        let next = if newton >= lo && newton <= hi && dgx != 0.0 { newton } else { 0.5 * (lo + hi) };
+        let next = if newton >= lo && newton <= hi && dgx != 0.0 {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
         if (next - x).abs() <= 2.0 * f64::EPSILON * x.abs() {
             return next;
         }
@@ -125,7 +137,10 @@ impl ShapeFunction {
     /// # Panics
     /// If `i == 0` or `length` is not positive and finite.
     pub fn new(kind: SectionKind, i: usize, length: f64) -> Self {
-        assert!(length > 0.0 && length.is_finite(), "section length must be positive");
+        assert!(
+            length > 0.0 && length.is_finite(),
+            "section length must be positive"
+        );
         let beta = mode_root(kind, i);
         let (s, c) = beta.sin_cos();
         let e = (-beta).exp();
@@ -136,7 +151,16 @@ impl ShapeFunction {
         } else {
             (0.0, 0.0)
         };
-        Self { kind, index: i, length, beta, lambda: beta / length, cos_beta: c, ratio, sigma }
+        Self {
+            kind,
+            index: i,
+            length,
+            beta,
+            lambda: beta / length,
+            cos_beta: c,
+            ratio,
+            sigma,
+        }
     }
 
     /// Mode index `i` (1-based).
@@ -170,14 +194,25 @@ impl ShapeFunction {
     /// If `deriv > 3`.
     #[inline]
     pub fn eval(&self, x: f64, deriv: u8) -> f64 {
-        assert!(deriv <= 3, "shape functions are evaluated up to the third derivative");
+        assert!(
+            deriv <= 3,
+            "shape functions are evaluated up to the third derivative"
+        );
         match self.kind {
             SectionKind::GuidedFree if self.index == 1 => {
-                if deriv == 0 { 2.0 } else { 0.0 }
+                if deriv == 0 {
+                    2.0
+                } else {
+                    0.0
+                }
             }
             SectionKind::GuidedFree => self.eval_guided_free(x, deriv),
             SectionKind::FreeFree if self.index == 1 => {
-                if deriv == 0 { 1.0 } else { 0.0 }
+                if deriv == 0 {
+                    1.0
+                } else {
+                    0.0
+                }
             }
             SectionKind::FreeFree if self.index == 2 => match deriv {
                 0 => x,
@@ -272,7 +307,11 @@ pub struct SectionShapes {
 impl SectionShapes {
     /// The first `modes` shape functions of a section of the given kind and length (m).
     pub fn new(kind: SectionKind, modes: usize, length: f64) -> Self {
-        Self { functions: (1..=modes).map(|i| ShapeFunction::new(kind, i, length)).collect() }
+        Self {
+            functions: (1..=modes)
+                .map(|i| ShapeFunction::new(kind, i, length))
+                .collect(),
+        }
     }
 
     /// The shape functions, mode 1 first.
@@ -305,11 +344,17 @@ mod tests {
     fn roots_match_the_papers_listed_digits() {
         let gf = [0.0, 2.36502, 5.49780, 8.63938, 11.78097];
         for (i, want) in gf.iter().enumerate() {
-            assert!((mode_root(SectionKind::GuidedFree, i + 1) - want).abs() < 6e-6, "guided-free {i}");
+            assert!(
+                (mode_root(SectionKind::GuidedFree, i + 1) - want).abs() < 6e-6,
+                "guided-free {i}"
+            );
         }
         let ff = [4.73004, 7.85320, 10.99561, 14.13717];
         for (i, want) in ff.iter().enumerate() {
-            assert!((mode_root(SectionKind::FreeFree, i + 3) - want).abs() < 6e-6, "free-free {i}");
+            assert!(
+                (mode_root(SectionKind::FreeFree, i + 3) - want).abs() < 6e-6,
+                "free-free {i}"
+            );
         }
     }
 
@@ -319,12 +364,18 @@ mod tests {
             let b = mode_root(SectionKind::GuidedFree, i);
             // tan b + tanh b = 0 <=> sin b cosh b + cos b sinh b = 0; scaled by 1/cosh b.
             // residual of a correctly rounded root: a few ulps of beta times |g'| ~ 1.4
-            assert!((b.sin() + b.cos() * b.tanh()).abs() < 8.0 * f64::EPSILON * b, "mode {i}");
+            assert!(
+                (b.sin() + b.cos() * b.tanh()).abs() < 8.0 * f64::EPSILON * b,
+                "mode {i}"
+            );
             assert_relative_eq!(b, (i as f64 - 1.25) * PI, max_relative = 0.02);
         }
         for i in 3..=MAX_MODES {
             let b = mode_root(SectionKind::FreeFree, i);
-            assert!((b.cos() - 1.0 / b.cosh()).abs() < 8.0 * f64::EPSILON * b, "mode {i}");
+            assert!(
+                (b.cos() - 1.0 / b.cosh()).abs() < 8.0 * f64::EPSILON * b,
+                "mode {i}"
+            );
             assert_relative_eq!(b, (i as f64 - 1.5) * PI, max_relative = 0.01);
         }
     }

@@ -6,23 +6,40 @@ use approx::assert_relative_eq;
 use nalgebra::DMatrix;
 use telescopic_runtime::quadrature::SectionQuadrature;
 use telescopic_runtime::{
-    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionKind, SectionParams,
-    SectionShapes, paper_section_matrices,
+    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionKind,
+    SectionParams, SectionShapes, paper_section_matrices,
 };
 
 fn section(modes: usize) -> SectionParams {
-    SectionParams { length: 1.35, mass_per_length: 7.85, bending_stiffness: 1743.0, modes }
+    SectionParams {
+        length: 1.35,
+        mass_per_length: 7.85,
+        bending_stiffness: 1743.0,
+        modes,
+    }
 }
 
 fn two_sections(modes: [usize; 2], gravity: f64, vehicle: f64, load: f64) -> ModelParams {
     ModelParams {
-        sections: vec![section(modes[0]), SectionParams { length: 1.1, mass_per_length: 5.0, bending_stiffness: 900.0, modes: modes[1] }],
+        sections: vec![
+            section(modes[0]),
+            SectionParams {
+                length: 1.1,
+                mass_per_length: 5.0,
+                bending_stiffness: 900.0,
+                modes: modes[1],
+            },
+        ],
         vehicle_mass: vehicle,
         load_mass: load,
         gravity,
         force_flow: ForceFlow::Cable,
         contact_points: 3,
-        contact: ContactLaw { stiffness: 2.375e8, damping: 1000.0, clearance: 0.0 },
+        contact: ContactLaw {
+            stiffness: 2.375e8,
+            damping: 1000.0,
+            clearance: 0.0,
+        },
         positions: vec![Profile::Constant(1.15)],
         drive: Drive::Force(Profile::Constant(100.0)),
     }
@@ -34,7 +51,9 @@ fn off_diagonal(m: &DMatrix<f64>, skip: &[(usize, usize)]) -> f64 {
     for i in 0..m.nrows() {
         for j in 0..m.ncols() {
             if i != j && !skip.contains(&(i, j)) && !skip.contains(&(j, i)) {
-                let scale = (m[(i, i)].abs() * m[(j, j)].abs()).sqrt().max(f64::MIN_POSITIVE);
+                let scale = (m[(i, i)].abs() * m[(j, j)].abs())
+                    .sqrt()
+                    .max(f64::MIN_POSITIVE);
                 worst = worst.max(m[(i, j)].abs() / scale);
             }
         }
@@ -56,8 +75,14 @@ fn quadrature_is_converged_for_mode_30() {
                 for d in 0..=2u8 {
                     let a = coarse.integrate(|x| f.eval(x, d) * g.eval(x, d) * (1.0 + x));
                     let b = fine.integrate(|x| f.eval(x, d) * g.eval(x, d) * (1.0 + x));
-                    let scale = (f.wavenumber().max(1.0) * g.wavenumber().max(1.0)).powi(d as i32) * s.length;
-                    assert!((a - b).abs() <= 1e-13 * scale, "{kind:?} {} {} d={d}: {a} vs {b}", f.index(), g.index());
+                    let scale = (f.wavenumber().max(1.0) * g.wavenumber().max(1.0)).powi(d as i32)
+                        * s.length;
+                    assert!(
+                        (a - b).abs() <= 1e-13 * scale,
+                        "{kind:?} {} {} d={d}: {a} vs {b}",
+                        f.index(),
+                        g.index()
+                    );
                 }
             }
         }
@@ -68,8 +93,19 @@ fn quadrature_is_converged_for_mode_30() {
 fn free_free_modes_have_closed_form_norms() {
     // With the printed normalisation: int phi^2 = l and int phi''^2 = kap^4 l for i >= 3;
     // the rigid modes give int 1 = l, int x^2 = l^3/3, int x = l^2/2.
-    let s = SectionParams { modes: 30, ..section(30) };
-    let (m, k) = paper_section_matrices(&SectionParams { mass_per_length: 1.0, bending_stiffness: 1.0, ..s }, SectionKind::FreeFree, (0.0, 0.0));
+    let s = SectionParams {
+        modes: 30,
+        ..section(30)
+    };
+    let (m, k) = paper_section_matrices(
+        &SectionParams {
+            mass_per_length: 1.0,
+            bending_stiffness: 1.0,
+            ..s
+        },
+        SectionKind::FreeFree,
+        (0.0, 0.0),
+    );
     let l = s.length;
     assert_relative_eq!(m[(0, 0)], l, max_relative = 1e-13);
     assert_relative_eq!(m[(1, 1)], l.powi(3) / 3.0, max_relative = 1e-13);
@@ -86,16 +122,25 @@ fn modes_are_orthogonal_without_point_masses_and_gravity() {
     for kind in [SectionKind::GuidedFree, SectionKind::FreeFree] {
         let (m, k) = paper_section_matrices(&section(30), kind, (0.0, 0.0));
         // free-free: the rigid modes 1 and x are coupled in M (int x dx != 0), nothing else
-        let skip: &[(usize, usize)] = if kind == SectionKind::FreeFree { &[(0, 1)] } else { &[] };
+        let skip: &[(usize, usize)] = if kind == SectionKind::FreeFree {
+            &[(0, 1)]
+        } else {
+            &[]
+        };
         let off_m = off_diagonal(&m, skip);
         assert!(off_m < 1e-12, "{kind:?}: M off-diagonal {off_m:e}");
         // K has zero rows for the rigid modes; scale its elastic part by its diagonal
         let first = if kind == SectionKind::FreeFree { 2 } else { 1 };
-        let k_el = k.view((first, first), (30 - first, 30 - first)).into_owned();
+        let k_el = k
+            .view((first, first), (30 - first, 30 - first))
+            .into_owned();
         let off_k = off_diagonal(&k_el, &[]);
         assert!(off_k < 1e-12, "{kind:?}: K off-diagonal {off_k:e}");
         let rigid_rows = k.rows(0, first).abs().max();
-        assert!(rigid_rows < 1e-9 * k[(29, 29)], "{kind:?}: rigid rows of K {rigid_rows:e}");
+        assert!(
+            rigid_rows < 1e-9 * k[(29, 29)],
+            "{kind:?}: rigid rows of K {rigid_rows:e}"
+        );
         if kind == SectionKind::FreeFree {
             assert!(m[(0, 1)].abs() > 0.1, "the rigid modes 1 and x must couple");
         }
@@ -128,11 +173,17 @@ fn paper_system(p: &ModelParams) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
             t[(offset, 0)] = 1.0; // q_{k,1} = z_{k,1} + u
         }
         if k0 == n - 1 {
-            let top: Vec<f64> = shapes.functions().iter().map(|f| f.eval(s.length, 0)).collect();
+            let top: Vec<f64> = shapes
+                .functions()
+                .iter()
+                .map(|f| f.eval(s.length, 0))
+                .collect();
             mk += p.load_mass * DMatrix::from_fn(s.modes, s.modes, |i, j| top[i] * top[j]);
         }
-        m.view_mut((offset, offset), (s.modes, s.modes)).copy_from(&mk);
-        k.view_mut((offset, offset), (s.modes, s.modes)).copy_from(&kk);
+        m.view_mut((offset, offset), (s.modes, s.modes))
+            .copy_from(&mk);
+        k.view_mut((offset, offset), (s.modes, s.modes))
+            .copy_from(&kk);
         offset += s.modes;
     }
     (m, k, t)
@@ -148,8 +199,14 @@ fn computing_coordinates_are_an_exact_change_of_variables() {
         let k_z = t.transpose() * &k * &t;
         let scale_m = m_z.abs().max();
         let scale_k = k_z.abs().max();
-        assert!((model.mass_matrix() - &m_z).abs().max() < 1e-12 * scale_m, "M for {modes:?}");
-        assert!((model.stiffness_matrix() - &k_z).abs().max() < 1e-12 * scale_k, "K for {modes:?}");
+        assert!(
+            (model.mass_matrix() - &m_z).abs().max() < 1e-12 * scale_m,
+            "M for {modes:?}"
+        );
+        assert!(
+            (model.stiffness_matrix() - &k_z).abs().max() < 1e-12 * scale_k,
+            "K for {modes:?}"
+        );
         // b = T' b_paper with b_paper = phi_{1,i}(0) on section 1's rows
         let shapes = SectionShapes::new(SectionKind::GuidedFree, modes[0], 1.35);
         let mut b = nalgebra::DVector::zeros(m.nrows());
@@ -165,7 +222,11 @@ fn computing_coordinates_are_an_exact_change_of_variables() {
 fn mass_matrix_carries_the_total_mass_on_the_translation() {
     let p = two_sections([5, 5], 9.81, 100.0, 17.897);
     let model = AssembledModel::new(&p).unwrap();
-    assert_relative_eq!(model.mass_matrix()[(0, 0)], p.total_mass(), max_relative = 1e-14);
+    assert_relative_eq!(
+        model.mass_matrix()[(0, 0)],
+        p.total_mass(),
+        max_relative = 1e-14
+    );
     // the translation stores no elastic or prestress energy
     assert_eq!(model.stiffness_matrix().row(0).abs().max(), 0.0);
 }

@@ -14,12 +14,14 @@ struct Hp {
 
 impl Hp {
     fn new() -> Self {
-        Self { cc: Consts::new().expect("constants cache") }
+        Self {
+            cc: Consts::new().expect("constants cache"),
+        }
     }
     fn num(&self, v: f64) -> BigFloat {
         BigFloat::from_f64(v, P)
     }
-    fn to_f64(&mut self, v: &BigFloat) -> f64 {
+    fn as_f64(&mut self, v: &BigFloat) -> f64 {
         let s = v.format(Radix::Dec, RM, &mut self.cc).expect("format");
         s.parse().unwrap_or_else(|_| panic!("cannot parse {s}"))
     }
@@ -91,7 +93,7 @@ impl Hp {
         for _ in 0..deriv {
             scaled = scaled.mul(&lam, P, RM);
         }
-        self.to_f64(&scaled)
+        self.as_f64(&scaled)
     }
 }
 
@@ -109,29 +111,49 @@ fn cancellation_free_forms_are_accurate_to_1e_12_up_to_mode_30() {
     let mut worst: f64 = 0.0;
     let mut worst_printed_high: f64 = 0.0;
     for kind in [SectionKind::GuidedFree, SectionKind::FreeFree] {
-        let first_elastic = if kind == SectionKind::GuidedFree { 2 } else { 3 };
+        let first_elastic = if kind == SectionKind::GuidedFree {
+            2
+        } else {
+            3
+        };
         for i in first_elastic..=MAX_MODES {
             let f = ShapeFunction::new(kind, i, l);
             let beta = hp.root(kind, f.beta());
             // the f64 root is the correctly rounded one (within an ulp)
-            let beta_f64 = hp.to_f64(&beta);
-            assert!((f.beta() - beta_f64).abs() <= 2.0 * f64::EPSILON * beta_f64, "{kind:?} root {i}: {} vs {beta_f64}", f.beta());
+            let beta_f64 = hp.as_f64(&beta);
+            assert!(
+                (f.beta() - beta_f64).abs() <= 2.0 * f64::EPSILON * beta_f64,
+                "{kind:?} root {i}: {} vs {beta_f64}",
+                f.beta()
+            );
             for frac in [0.0, 0.1, 0.37, 0.5, 0.77, 0.93, 1.0] {
                 let x = frac * l;
                 for d in 0..=3u8 {
                     let exact = hp.printed(kind, &beta, l, x, d);
                     let err = scaled_error(f.eval(x, d), exact, f.wavenumber(), d);
-                    assert!(err <= 1e-12, "{kind:?} mode {i} x = {x} d = {d}: error {err:e}");
+                    assert!(
+                        err <= 1e-12,
+                        "{kind:?} mode {i} x = {x} d = {d}: error {err:e}"
+                    );
                     worst = worst.max(err);
                     if i >= 20 {
-                        worst_printed_high =
-                            worst_printed_high.max(scaled_error(f.eval_printed(x, d), exact, f.wavenumber(), d));
+                        worst_printed_high = worst_printed_high.max(scaled_error(
+                            f.eval_printed(x, d),
+                            exact,
+                            f.wavenumber(),
+                            d,
+                        ));
                     }
                 }
             }
         }
     }
-    eprintln!("worst scaled error, cancellation-free: {worst:e}; printed form, modes 20..30: {worst_printed_high:e}");
+    eprintln!(
+        "worst scaled error, cancellation-free: {worst:e}; printed form, modes 20..30: {worst_printed_high:e}"
+    );
     // the printed form is not usable there: it loses far more than half the digits
-    assert!(worst_printed_high > 1e-6, "printed form unexpectedly accurate: {worst_printed_high:e}");
+    assert!(
+        worst_printed_high > 1e-6,
+        "printed form unexpectedly accurate: {worst_printed_high:e}"
+    );
 }

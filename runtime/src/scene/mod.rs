@@ -119,7 +119,10 @@ impl Scene {
     /// # Errors
     /// [`SceneError`] naming the field and the rule for every problem found.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.to_owned(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
         Self::from_toml_str(&text, path, overrides)
     }
 
@@ -127,22 +130,38 @@ impl Scene {
     ///
     /// # Errors
     /// [`SceneError`] naming the field and the rule for every problem found.
-    pub fn from_toml_str(text: &str, path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
-        let mut table: toml::Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| SceneError::Syntax { path: path.to_owned(), message: e.to_string() })?;
+    pub fn from_toml_str(
+        text: &str,
+        path: &Path,
+        overrides: &[String],
+    ) -> Result<Self, SceneError> {
+        let mut table: toml::Table =
+            text.parse()
+                .map_err(|e: toml::de::Error| SceneError::Syntax {
+                    path: path.to_owned(),
+                    message: e.to_string(),
+                })?;
         for o in overrides {
             apply_override(&mut table, o)?;
         }
         let origin = if overrides.is_empty() {
             path.display().to_string()
         } else {
-            format!("{} (with --set {})", path.display(), overrides.join(", --set "))
+            format!(
+                "{} (with --set {})",
+                path.display(),
+                overrides.join(", --set ")
+            )
         };
-        let file: SceneFile = serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
-            let field = e.path().to_string();
-            SceneError::Schema { origin: origin.clone(), field, message: e.into_inner().to_string() }
-        })?;
+        let file: SceneFile =
+            serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+                let field = e.path().to_string();
+                SceneError::Schema {
+                    origin: origin.clone(),
+                    field,
+                    message: e.into_inner().to_string(),
+                }
+            })?;
         validate::build(file, &origin)
     }
 }

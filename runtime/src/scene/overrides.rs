@@ -11,8 +11,13 @@ use super::SceneError;
 /// [`SceneError::Override`] when the argument has no `=`, the key is empty, or the path runs
 /// through a value that is not a table or list, or past the end of a list.
 pub fn apply_override(table: &mut toml::Table, argument: &str) -> Result<(), SceneError> {
-    let err = |rule: String| SceneError::Override { argument: argument.to_string(), rule };
-    let (key, raw) = argument.split_once('=').ok_or_else(|| err("expected KEY=VALUE".into()))?;
+    let err = |rule: String| SceneError::Override {
+        argument: argument.to_string(),
+        rule,
+    };
+    let (key, raw) = argument
+        .split_once('=')
+        .ok_or_else(|| err("expected KEY=VALUE".into()))?;
     let key = key.trim();
     let segments: Vec<&str> = key.split('.').map(str::trim).collect();
     if key.is_empty() || segments.iter().any(|s| s.is_empty()) {
@@ -23,11 +28,14 @@ pub fn apply_override(table: &mut toml::Table, argument: &str) -> Result<(), Sce
     let mut node = TomlNode::Table(table);
     let mut walked = String::new();
     for seg in parents {
-        node = node.child(seg).map_err(|e| err(format!("at `{walked}{seg}`: {e}")))?;
+        node = node
+            .child(seg)
+            .map_err(|e| err(format!("at `{walked}{seg}`: {e}")))?;
         walked.push_str(seg);
         walked.push('.');
     }
-    node.set(last, value).map_err(|e| err(format!("at `{walked}{last}`: {e}")))
+    node.set(last, value)
+        .map_err(|e| err(format!("at `{walked}{last}`: {e}")))
 }
 
 fn parse_value(raw: &str) -> toml::Value {
@@ -45,7 +53,9 @@ enum TomlNode<'a> {
 impl<'a> TomlNode<'a> {
     fn child(self, seg: &str) -> Result<TomlNode<'a>, String> {
         let value = match self {
-            TomlNode::Table(t) => t.entry(seg.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new())),
+            TomlNode::Table(t) => t
+                .entry(seg.to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new())),
             TomlNode::Array(a) => index(a, seg)?,
         };
         match value {
@@ -68,6 +78,9 @@ impl<'a> TomlNode<'a> {
 
 fn index<'a>(a: &'a mut [toml::Value], seg: &str) -> Result<&'a mut toml::Value, String> {
     let len = a.len();
-    let i: usize = seg.parse().map_err(|_| format!("a list takes a numeric index (0..{len}), not `{seg}`"))?;
-    a.get_mut(i).ok_or_else(|| format!("index {i} is past the end of a list of {len}"))
+    let i: usize = seg
+        .parse()
+        .map_err(|_| format!("a list takes a numeric index (0..{len}), not `{seg}`"))?;
+    a.get_mut(i)
+        .ok_or_else(|| format!("index {i} is past the end of a list of {len}"))
 }

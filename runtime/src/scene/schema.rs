@@ -171,7 +171,9 @@ impl<'de, T: Deserialize<'de>> Deserialize<'de> for PerSection<T> {
         impl<'de, T: Deserialize<'de>> Visitor<'de> for PerSectionVisitor<T> {
             type Value = PerSection<T>;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number (shared by all sections) or a list with one number per section")
+                f.write_str(
+                    "a number (shared by all sections) or a list with one number per section",
+                )
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
                 T::deserialize(de::value::F64Deserializer::new(v)).map(PerSection::Shared)
@@ -183,7 +185,8 @@ impl<'de, T: Deserialize<'de>> Deserialize<'de> for PerSection<T> {
                 T::deserialize(de::value::U64Deserializer::new(v)).map(PerSection::Shared)
             }
             fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
-                Vec::<T>::deserialize(de::value::SeqAccessDeserializer::new(seq)).map(PerSection::Each)
+                Vec::<T>::deserialize(de::value::SeqAccessDeserializer::new(seq))
+                    .map(PerSection::Each)
             }
         }
         deserializer.deserialize_any(PerSectionVisitor(PhantomData))

@@ -15,7 +15,10 @@ struct Rules {
 
 impl Rules {
     fn fail(&mut self, field: impl Into<String>, rule: impl Into<String>) {
-        self.errors.push(FieldError { field: field.into(), rule: rule.into() });
+        self.errors.push(FieldError {
+            field: field.into(),
+            rule: rule.into(),
+        });
     }
 
     fn positive(&mut self, field: &str, v: f64) {
@@ -45,23 +48,33 @@ impl Rules {
         count: usize,
         mut check: impl FnMut(&mut Self, &str, T),
     ) -> Option<Vec<T>> {
-        if let Some(given) = spec.given() {
-            if given != count {
-                self.fail(field, format!("has {given} values but sections.count is {count} (give one per section, or one number)"));
-                return None;
-            }
+        if let Some(given) = spec.given()
+            && given != count
+        {
+            self.fail(field, format!("has {given} values but sections.count is {count} (give one per section, or one number)"));
+            return None;
         }
-        let values: Vec<T> = (1..=count).map(|k| spec.get(k).expect("count checked")).collect();
-        for (i, &v) in values.iter().enumerate() {
-            let name = if spec.given().is_some() { format!("{field}[{i}]") } else { field.to_string() };
-            check(self, &name, v);
+        let values: Vec<T> = (1..=count)
+            .map(|k| spec.get(k).expect("count checked"))
+            .collect();
+        match spec {
+            PerSection::Shared(v) => check(self, field, *v),
+            PerSection::Each(list) => {
+                for (i, &v) in list.iter().enumerate() {
+                    check(self, &format!("{field}[{i}]"), v);
+                }
+            }
         }
         Some(values)
     }
 
     fn profile(&mut self, field: &str, p: &Profile) {
         for (part, v) in p.numbers() {
-            let name = if part.is_empty() { field.to_string() } else { format!("{field}.{part}") };
+            let name = if part.is_empty() {
+                field.to_string()
+            } else {
+                format!("{field}.{part}")
+            };
             self.finite(&name, v);
         }
         match p {
@@ -73,18 +86,30 @@ impl Rules {
                 if times.len() != values.len() {
                     self.fail(
                         format!("{field}.values"),
-                        format!("must have one value per time ({} times, {} values)", times.len(), values.len()),
+                        format!(
+                            "must have one value per time ({} times, {} values)",
+                            times.len(),
+                            values.len()
+                        ),
                     );
                 }
                 if let Some(i) = times.windows(2).position(|w| w[1] <= w[0]) {
                     self.fail(
                         format!("{field}.times"),
-                        format!("must be strictly increasing (times[{}] = {} follows {})", i + 1, times[i + 1], times[i]),
+                        format!(
+                            "must be strictly increasing (times[{}] = {} follows {})",
+                            i + 1,
+                            times[i + 1],
+                            times[i]
+                        ),
                     );
                 }
             }
             Profile::Shaped(ShapedProfile::Smoothstep { start, end, .. }) if end <= start => {
-                self.fail(format!("{field}.end"), format!("must be after start (start {start}, end {end})"));
+                self.fail(
+                    format!("{field}.end"),
+                    format!("must be after start (start {start}, end {end})"),
+                );
             }
             _ => {}
         }
@@ -101,9 +126,18 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     }
     let lengths = r.per_section("sections.length", &s.length, n, |r, f, v| r.positive(f, v));
     let areas = r.per_section("sections.area", &s.area, n, |r, f, v| r.positive(f, v));
-    let inertias = r.per_section("sections.inertia", &s.inertia, n, |r, f, v| r.positive(f, v));
-    let densities = r.per_section("sections.density", &s.density, n, |r, f, v| r.positive(f, v));
-    let moduli = r.per_section("sections.youngs_modulus", &s.youngs_modulus, n, |r, f, v| r.positive(f, v));
+    let inertias = r.per_section("sections.inertia", &s.inertia, n, |r, f, v| {
+        r.positive(f, v)
+    });
+    let densities = r.per_section("sections.density", &s.density, n, |r, f, v| {
+        r.positive(f, v)
+    });
+    let moduli = r.per_section(
+        "sections.youngs_modulus",
+        &s.youngs_modulus,
+        n,
+        |r, f, v| r.positive(f, v),
+    );
     let modes = r.per_section("sections.modes", &s.modes, n, |r, f, v| {
         if !(1..=MAX_MODES).contains(&v) {
             r.fail(f, format!("must be in 1..={MAX_MODES} (got {v})"));
@@ -118,18 +152,34 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     r.finite("time.start", t.start);
     r.finite("time.end", t.end);
     if t.start.is_finite() && t.end.is_finite() && t.end <= t.start {
-        r.fail("time.end", format!("the time span is empty: end ({}) must be after start ({})", t.end, t.start));
+        r.fail(
+            "time.end",
+            format!(
+                "the time span is empty: end ({}) must be after start ({})",
+                t.end, t.start
+            ),
+        );
     }
     r.positive("time.sample", t.sample);
     if t.sample > t.end - t.start && t.end > t.start {
-        r.fail("time.sample", format!("must not exceed the time span ({} s, got {})", t.end - t.start, t.sample));
+        r.fail(
+            "time.sample",
+            format!(
+                "must not exceed the time span ({} s, got {})",
+                t.end - t.start,
+                t.sample
+            ),
+        );
     }
 
     // contacts and telescopic positions
     let contact = match (&file.contact, n) {
         (Some(c), _) => {
             if c.points < 2 {
-                r.fail("contact.points", format!("must be at least 2 (got {})", c.points));
+                r.fail(
+                    "contact.points",
+                    format!("must be at least 2 (got {})", c.points),
+                );
             }
             r.positive("contact.stiffness", c.stiffness);
             r.non_negative("contact.damping", c.damping);
@@ -142,11 +192,19 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             None
         }
     };
-    let positions = file.telescope.as_ref().map(|t| t.positions.clone()).unwrap_or_default();
+    let positions = file
+        .telescope
+        .as_ref()
+        .map(|t| t.positions.clone())
+        .unwrap_or_default();
     if n >= 1 && positions.len() != n - 1 {
         r.fail(
             "telescope.positions",
-            format!("must hold one profile per overlap, a_2..a_n: {} expected, {} given", n - 1, positions.len()),
+            format!(
+                "must hold one profile per overlap, a_2..a_n: {} expected, {} given",
+                n - 1,
+                positions.len()
+            ),
         );
     }
     for (i, p) in positions.iter().enumerate() {
@@ -154,7 +212,10 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         let before = r.errors.len();
         r.profile(&field, p);
         // overlap o_k = l_{k-1} - a_k must stay in (0, min(l_{k-1}, l_k)] at every time
-        if let (Some(l), true) = (&lengths, r.errors.len() == before && t.end > t.start && i + 1 < n) {
+        if let (Some(l), true) = (
+            &lengths,
+            r.errors.len() == before && t.end > t.start && i + 1 < n,
+        ) {
             let (l_out, l_in) = (l[i], l[i + 1]);
             let (a_lo, a_hi) = p.range(t.start, t.end);
             let (o_lo, o_hi) = (l_out - a_hi, l_out - a_lo);
@@ -208,7 +269,10 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     }
 
     if !r.errors.is_empty() {
-        return Err(SceneError::Invalid { origin: origin.to_string(), errors: r.errors });
+        return Err(SceneError::Invalid {
+            origin: origin.to_string(),
+            errors: r.errors,
+        });
     }
     let (lengths, areas, inertias, densities, moduli, modes) = (
         lengths.expect("checked"),
@@ -226,7 +290,12 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             modes: modes[k],
         })
         .collect();
-    let contact = contact.unwrap_or(super::schema::ContactSpec { points: 2, stiffness: 1.0, damping: 0.0, clearance: 0.0 });
+    let contact = contact.unwrap_or(super::schema::ContactSpec {
+        points: 2,
+        stiffness: 1.0,
+        damping: 0.0,
+        clearance: 0.0,
+    });
     let params = ModelParams {
         sections,
         vehicle_mass: file.masses.vehicle,
@@ -234,7 +303,11 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         gravity: file.gravity.g,
         force_flow: file.gravity.force_flow,
         contact_points: contact.points,
-        contact: ContactLaw { stiffness: contact.stiffness, damping: contact.damping, clearance: contact.clearance },
+        contact: ContactLaw {
+            stiffness: contact.stiffness,
+            damping: contact.damping,
+            clearance: contact.clearance,
+        },
         positions,
         drive: drive.expect("checked"),
     };
@@ -242,7 +315,11 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         name: file.name.clone(),
         description: file.description.clone(),
         params,
-        time: TimeSpan { start: t.start, end: t.end, sample: t.sample },
+        time: TimeSpan {
+            start: t.start,
+            end: t.end,
+            sample: t.sample,
+        },
         references: file.reference.clone(),
         file,
     })
