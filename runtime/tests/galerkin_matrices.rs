@@ -2,46 +2,34 @@
 //! modes, closed-form integrals, and the change to computing coordinates against the
 //! paper-basis matrices of MODEL.md section 4.
 
+mod common;
+
 use approx::assert_relative_eq;
 use nalgebra::DMatrix;
 use telescopic_runtime::quadrature::SectionQuadrature;
 use telescopic_runtime::{
-    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionKind,
-    SectionParams, SectionShapes, paper_section_matrices,
+    AssembledModel, Model, ModelParams, SectionKind, SectionParams, SectionShapes,
+    paper_section_matrices,
 };
 
 fn section(modes: usize) -> SectionParams {
-    SectionParams {
-        length: 1.35,
-        mass_per_length: 7.85,
-        bending_stiffness: 1743.0,
-        modes,
-    }
+    common::rig_section(modes)
 }
 
+/// The rig with a different upper section, to break the symmetry of the two.
 fn two_sections(modes: [usize; 2], gravity: f64, vehicle: f64, load: f64) -> ModelParams {
+    let mut p = common::rig(modes);
+    p.sections[1] = SectionParams {
+        length: 1.1,
+        mass_per_length: 5.0,
+        bending_stiffness: 900.0,
+        modes: modes[1],
+    };
     ModelParams {
-        sections: vec![
-            section(modes[0]),
-            SectionParams {
-                length: 1.1,
-                mass_per_length: 5.0,
-                bending_stiffness: 900.0,
-                modes: modes[1],
-            },
-        ],
+        gravity,
         vehicle_mass: vehicle,
         load_mass: load,
-        gravity,
-        force_flow: ForceFlow::Cable,
-        contact_points: 3,
-        contact: ContactLaw {
-            stiffness: 2.375e8,
-            damping: 1000.0,
-            clearance: 0.0,
-        },
-        positions: vec![Profile::Constant(1.15)],
-        drive: Drive::Force(Profile::Constant(100.0)),
+        ..p
     }
 }
 

@@ -5,7 +5,8 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use telescopic_runtime::{
-    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionParams, ShapedProfile, rest_state,
+    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionParams,
+    ShapedProfile, rest_state,
 };
 
 struct Counting;
@@ -26,12 +27,30 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn per_call_methods_do_not_allocate() {
-    let sec = SectionParams { length: 1.35, mass_per_length: 7.85, bending_stiffness: 1743.0, modes: 6 };
+    let sec = SectionParams {
+        length: 1.35,
+        mass_per_length: 7.85,
+        bending_stiffness: 1743.0,
+        modes: 6,
+    };
     for (positions, drive) in [
-        (Profile::Constant(1.15), Drive::Force(Profile::Constant(100.0))),
         (
-            Profile::Shaped(ShapedProfile::Smoothstep { start: 0.0, end: 12.0, from: 0.35, to: 1.15 }),
-            Drive::Motion(Profile::Shaped(ShapedProfile::Smoothstep { start: 0.0, end: 4.0, from: 0.0, to: 2.0 })),
+            Profile::Constant(1.15),
+            Drive::Force(Profile::Constant(100.0)),
+        ),
+        (
+            Profile::Shaped(ShapedProfile::Smoothstep {
+                start: 0.0,
+                end: 12.0,
+                from: 0.35,
+                to: 1.15,
+            }),
+            Drive::Motion(Profile::Shaped(ShapedProfile::Smoothstep {
+                start: 0.0,
+                end: 4.0,
+                from: 0.0,
+                to: 2.0,
+            })),
         ),
     ] {
         let params = ModelParams {
@@ -41,14 +60,20 @@ fn per_call_methods_do_not_allocate() {
             gravity: 9.81,
             force_flow: ForceFlow::Cable,
             contact_points: 3,
-            contact: ContactLaw { stiffness: 2.375e8, damping: 1000.0, clearance: 0.01 },
+            contact: ContactLaw {
+                stiffness: 2.375e8,
+                damping: 1000.0,
+                clearance: 0.01,
+            },
             positions: vec![Profile::Constant(1.0), positions],
             drive,
         };
         let model = AssembledModel::new(&params).unwrap();
         let n = model.dof();
         let mut y = rest_state(&model, 0.0);
-        y.iter_mut().enumerate().for_each(|(i, v)| *v += 1e-3 * ((i * 7919 % 13) as f64 - 6.0));
+        y.iter_mut()
+            .enumerate()
+            .for_each(|(i, v)| *v += 1e-3 * ((i * 7919 % 13) as f64 - 6.0));
         let mut ydot = vec![0.0; 2 * n];
         let mut jac = nalgebra::DMatrix::zeros(2 * n, 2 * n);
         let nc = model.layout().contact_count();
@@ -63,7 +88,12 @@ fn per_call_methods_do_not_allocate() {
             model.outputs(t, &y, &ydot, &mut out);
         }
         let after = ALLOCATIONS.load(Ordering::SeqCst);
-        assert_eq!(after - before, 0, "{} allocations in 100 calls of each", after - before);
+        assert_eq!(
+            after - before,
+            0,
+            "{} allocations in 100 calls of each",
+            after - before
+        );
         assert!(ydot.iter().all(|v| v.is_finite()));
     }
 }

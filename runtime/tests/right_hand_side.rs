@@ -1,22 +1,14 @@
 //! The first-order right-hand side and its Jacobian: finite differences, momentum and power
 //! balances, and contact gaps against the paper-basis displacement field.
 
+mod common;
+
+use common::Rng;
 use nalgebra::{DMatrix, DVector};
 use telescopic_runtime::{
     AssembledModel, ContactLaw, ContactState, Drive, ForceFlow, Model, ModelParams, Profile,
     SectionKind, SectionParams, SectionShapes, ShapedProfile,
 };
-
-/// Deterministic pseudo-random numbers in [-1, 1] (xorshift), so failures reproduce.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
 
 fn ramp() -> Profile {
     Profile::Shaped(ShapedProfile::Smoothstep {
@@ -36,21 +28,7 @@ fn configurations() -> Vec<(&'static str, ModelParams)> {
         bending_stiffness: ei,
         modes,
     };
-    let base = ModelParams {
-        sections: vec![sec(1.35, 7.85, 1743.0, 5), sec(1.35, 7.85, 1743.0, 5)],
-        vehicle_mass: 100.0,
-        load_mass: 17.897,
-        gravity: 9.81,
-        force_flow: ForceFlow::Cable,
-        contact_points: 3,
-        contact: ContactLaw {
-            stiffness: 2.375e8,
-            damping: 1000.0,
-            clearance: 0.0,
-        },
-        positions: vec![Profile::Constant(1.15)],
-        drive: Drive::Force(Profile::Constant(100.0)),
-    };
+    let base = common::rig([5, 5]);
     let moving = ModelParams {
         sections: vec![sec(1.35, 7.85, 1743.0, 4), sec(1.35, 7.85, 1743.0, 4)],
         contact_points: 2,
