@@ -1,0 +1,480 @@
+//! Derivation of a configuration's equations: matrices, shape functions, generalized forces
+//! and their Jacobian, as expressions in the named physical parameters.
+//!
+//! Numbers (mode roots, shape-function coefficients, Galerkin integrals) are computed in high
+//! precision here ([`crate::exact`]) and enter the expressions as named constants `K_...`,
+//! each later emitted as one correctly rounded `f64`. Symbolica builds and normalizes the
+//! expressions and differentiates them (shape-function slopes, the Jacobian of the
+//! generalized forces); it runs on its own thread ([`crate::symbolic`]).
+//!
+//! Symbols: `rho_a_k` (kg/m), `ei_k` (N m^2), `l_k` (m), `m_t`, `m_l` (kg), `g` (m/s^2) are
+//! parameters; `xi` is the dimensionless position `x / l_k` on a section; `z_j`, `zd_j` the
+//! coordinates and their rates; `f_drive` the drive force; `f_c` the contact forces;
+//! `k_i_j` the entries of `K`; `g_c_j`, `gd_c_j` the contact vectors and their rates;
+//! `kc_c`, `dc_c`, `off_c` the slope, damping and offset of contact `c`'s law in its branch.
+
+use crate::CodegenError;
+use crate::config::{ForceFlow, ModelConfig};
+use crate::exact::{Func, RootTable, SectionIntegrals, Trig};
+use crate::expr::Expr;
+use crate::precise::{Kind, Real};
+use crate::symbolic;
+use std::collections::BTreeMap;
+use symbolica::atom::{Atom, AtomCore};
+
+/// A named numeric constant of the emitted code.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constant {
+    /// Name, `K_...` (emitted upper case).
+    pub name: String,
+    /// Value, correctly rounded from 512 bits.
+    pub value: f64,
+    /// What it is.
+    pub doc: String,
+}
+
+/// One basis function of a section in computing coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BasisFunction {
+    /// Global coordinate index.
+    pub index: usize,
+    /// Power of `l_k` in front of the dimensionless form.
+    pub length_power: i32,
+    /// `psi(xi)` without the length power.
+    pub value: Expr,
+    /// `d psi / d xi` without the length power.
+    pub slope: Expr,
+    /// Value at the top of the section, `xi = 1` (without the length power).
+    pub top: String,
+}
+
+/// Everything the emitter needs, as plain data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Derivation {
+    /// The configuration.
+    pub config: ModelConfig,
+    /// Named constants in order of creation.
+    pub constants: Vec<Constant>,
+    /// Nonzero entries `(i, j), i <= j` of the mass matrix.
+    pub mass: Vec<((usize, usize), Expr)>,
+    /// Nonzero entries `(i, j), i <= j` of the stiffness matrix.
+    pub stiffness: Vec<((usize, usize), Expr)>,
+    /// Per section (index k - 1), its elastic basis functions (the translation excluded).
+    pub bases: Vec<Vec<BasisFunction>>,
+    /// Generalized forces `q_i` (right-hand side before `M^-1`).
+    pub forces: Vec<Expr>,
+    /// Nonzero `d q_i / d z_j`.
+    pub jacobian_z: Vec<((usize, usize), Expr)>,
+    /// Nonzero `d q_i / d zd_j`.
+    pub jacobian_zd: Vec<((usize, usize), Expr)>,
+    /// Nonzero entries `j` of each contact vector (the same pattern for `g` and `gdot`).
+    pub contact_pattern: Vec<Vec<usize>>,
+}
+
+/// Integrals below this (relative to O(1) entries) are exact zeros that 512-bit round-off
+/// left behind (orthogonality): about 1e-150 in practice.
+const ZERO: f64 = 1e-60;
+
+struct Constants(Vec<Constant>);
+
+impl Constants {
+    fn add(&mut self, name: String, value: &Real, doc: String) -> String {
+        self.0.push(Constant {
+            name: name.clone(),
+            value: value.to_f64(),
+            doc,
+        });
+        name
+    }
+}
+
+fn is_zero(v: &Real) -> bool {
+    v.abs() < Real::from_f64(ZERO)
+}
+
+/// A section's local basis in computing coordinates: the translation (index 0) first, then
+/// the section's modes (section 1: `phi_i - phi_i(0)`, `i >= 2`).
+fn local_basis(config: &ModelConfig, k: usize, roots: &RootTable) -> Vec<(usize, Func, usize)> {
+    let kind = if k == 1 {
+        Kind::GuidedFree
+    } else {
+        Kind::FreeFree
+    };
+    let offset = config.offset(k);
+    let mut basis = vec![(0, Func::constant(Real::int(1)), 0)];
+    for i in 1..=config.modes[k - 1] {
+        if k == 1 && i == 1 {
+            continue;
+        }
+        let f = Func::paper_mode(kind, i, roots);
+        let f = if k == 1 {
+            let shift = f.value_at_end(roots, false);
+            f.minus_constant(shift)
+        } else {
+            f
+        };
+        basis.push((offset + i - 1, f, i));
+    }
+    basis
+}
+
+/// `l_k^p` as text.
+fn length_pow(k: usize, p: i32) -> String {
+    match p {
+        0 => "1".into(),
+        1 => format!("l_{k}"),
+        _ => format!("l_{k}^({p})"),
+    }
+}
+
+/// The shape function as text in `xi` with named constants; every exponential has a
+/// non-positive argument on `[0, 1]` (`e^(b xi) = e^b e^(b (xi - 1))`, `e^b` folded into the
+/// coefficient): the cancellation-free form.
+fn shape_text(f: &Func, roots: &RootTable, k: usize, i: usize, consts: &mut Constants) -> String {
+    let mut parts = Vec::new();
+    for (t, term) in f.terms.iter().enumerate() {
+        let mut coef = term.coef.clone();
+        let mut factors = Vec::new();
+        if let Some((sign, m)) = term.exp {
+            let beta = format!("K_BETA_{k}_{}", m + 1);
+            if sign > 0 {
+                coef = &coef * &roots.beta[m].exp();
+                factors.push(format!("exp({beta}*(xi-1))"));
+            } else {
+                factors.push(format!("exp(-{beta}*xi)"));
+            }
+        }
+        if let Some((trig, m)) = term.trig {
+            let beta = format!("K_BETA_{k}_{}", m + 1);
+            factors.push(match trig {
+                Trig::Cos => format!("cos({beta}*xi)"),
+                Trig::Sin => format!("sin({beta}*xi)"),
+            });
+        }
+        if term.power > 0 {
+            factors.push(format!("xi^{}", term.power));
+        }
+        if is_zero(&coef) {
+            continue;
+        }
+        let c = if coef == Real::int(1) {
+            "1".to_string()
+        } else if coef == Real::int(-1) {
+            "-1".to_string()
+        } else {
+            consts.add(
+                format!("K_C_{k}_{i}_{t}"),
+                &coef,
+                format!("coefficient {t} of psi_{k},{i} (xi)"),
+            )
+        };
+        factors.insert(0, c);
+        parts.push(factors.join("*"));
+    }
+    if parts.is_empty() {
+        "0".into()
+    } else {
+        parts.join(" + ")
+    }
+}
+
+/// Symbolic inputs of one derivation (strings for Symbolica, built outside its thread).
+struct Inputs {
+    mass: BTreeMap<(usize, usize), Vec<String>>,
+    stiffness: BTreeMap<(usize, usize), Vec<String>>,
+    shapes: Vec<Vec<(usize, i32, String, String)>>,
+    forces: Vec<String>,
+    contact_pattern: Vec<Vec<usize>>,
+    dof: usize,
+}
+
+/// Derives the equations of one configuration.
+///
+/// # Errors
+/// [`CodegenError`] for an invalid configuration or a failed Symbolica step.
+pub fn derive(config: &ModelConfig) -> Result<Derivation, CodegenError> {
+    config.validate().map_err(CodegenError::Config)?;
+    let n = config.sections();
+    let dof = config.dof();
+    let mut consts = Constants(Vec::new());
+    let mut mass: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
+    let mut stiffness: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
+    let mut shapes = Vec::new();
+    mass.entry((0, 0)).or_default().push("m_t".into());
+    for k in 1..=n {
+        let kind = if k == 1 {
+            Kind::GuidedFree
+        } else {
+            Kind::FreeFree
+        };
+        let roots = RootTable::new(kind, config.modes[k - 1]);
+        for (m, b) in roots.beta.iter().enumerate() {
+            if !b.is_zero() {
+                consts.add(
+                    format!("K_BETA_{k}_{}", m + 1),
+                    b,
+                    format!("root beta of mode {} of section {k}", m + 1),
+                );
+            }
+        }
+        let basis = local_basis(config, k, &roots);
+        let funcs: Vec<Func> = basis.iter().map(|(_, f, _)| f.clone()).collect();
+        let ints = SectionIntegrals::new(&funcs, &roots);
+        // prestress P(x) = p0 + p1 x, p0 = g (rho_a_k l_k + above), p1 = -g rho_a_k
+        let above = match config.force_flow {
+            ForceFlow::Cable => {
+                let mut s: Vec<String> = (k + 1..=n).map(|j| format!("rho_a_{j}*l_{j}")).collect();
+                s.push("m_l".into());
+                Some(s.join(" + "))
+            }
+            ForceFlow::External if k == n => Some("m_l".into()),
+            ForceFlow::External => Some("0".into()),
+            ForceFlow::None => None,
+        };
+        for (a, (ga, fa, ia)) in basis.iter().enumerate() {
+            for (b, (gb, fb, ib)) in basis.iter().enumerate() {
+                if ga > gb {
+                    continue;
+                }
+                let lp = fa.length_power + fb.length_power;
+                let key = (*ga, *gb);
+                let tag = format!("{k}_{ia}_{ib}");
+                if !is_zero(&ints.mass[a][b]) {
+                    let c = consts.add(
+                        format!("K_M_{tag}"),
+                        &ints.mass[a][b],
+                        format!("int psi_{k},{ia} psi_{k},{ib} dxi"),
+                    );
+                    mass.entry(key)
+                        .or_default()
+                        .push(format!("rho_a_{k}*{}*{c}", length_pow(k, lp + 1)));
+                }
+                if !is_zero(&ints.bending[a][b]) {
+                    let c = consts.add(
+                        format!("K_EI_{tag}"),
+                        &ints.bending[a][b],
+                        format!("int psi_{k},{ia}'' psi_{k},{ib}'' dxi"),
+                    );
+                    stiffness
+                        .entry(key)
+                        .or_default()
+                        .push(format!("ei_{k}*{}*{c}", length_pow(k, lp - 3)));
+                }
+                if let Some(above) = &above {
+                    if !is_zero(&ints.axial[a][b]) {
+                        let c = consts.add(
+                            format!("K_AX_{tag}"),
+                            &ints.axial[a][b],
+                            format!("int psi_{k},{ia}' psi_{k},{ib}' dxi"),
+                        );
+                        stiffness.entry(key).or_default().push(format!(
+                            "-g*(rho_a_{k}*l_{k} + {above})*{}*{c}",
+                            length_pow(k, lp - 1)
+                        ));
+                    }
+                    if !is_zero(&ints.axial_x[a][b]) {
+                        let c = consts.add(
+                            format!("K_AXX_{tag}"),
+                            &ints.axial_x[a][b],
+                            format!("int xi psi_{k},{ia}' psi_{k},{ib}' dxi"),
+                        );
+                        stiffness
+                            .entry(key)
+                            .or_default()
+                            .push(format!("g*rho_a_{k}*{}*{c}", length_pow(k, lp)));
+                    }
+                }
+            }
+        }
+        // the load at the top of section n: m_L h h'
+        if k == n {
+            let tops: Vec<(usize, String)> = basis
+                .iter()
+                .map(|(g, f, i)| {
+                    let v = f.value_at_end(&roots, true);
+                    let name = if *g == 0 {
+                        "1".to_string()
+                    } else {
+                        consts.add(
+                            format!("K_TOP_{k}_{i}"),
+                            &v,
+                            format!("psi_{k},{i} at the top (xi = 1)"),
+                        )
+                    };
+                    (*g, format!("{}*{name}", length_pow(k, f.length_power)))
+                })
+                .collect();
+            for (ga, ha) in &tops {
+                for (gb, hb) in &tops {
+                    if ga <= gb {
+                        mass.entry((*ga, *gb))
+                            .or_default()
+                            .push(format!("m_l*{ha}*{hb}"));
+                    }
+                }
+            }
+        }
+        let mut section_shapes = Vec::new();
+        for (g, f, i) in basis.iter().skip(1) {
+            let text = shape_text(f, &roots, k, *i, &mut consts);
+            let top = f.value_at_end(&roots, true);
+            let top = consts.add(
+                format!("K_TOP_{k}_{i}"),
+                &top,
+                format!("psi_{k},{i} at the top (xi = 1)"),
+            );
+            section_shapes.push((*g, f.length_power, text, top));
+        }
+        shapes.push(section_shapes);
+    }
+    // the constants named twice (K_TOP of section n) keep their first entry
+    let mut seen = std::collections::HashSet::new();
+    consts.0.retain(|c| seen.insert(c.name.clone()));
+
+    // generalized forces: q_i = b_i f_drive - sum_j k_i_j z_j - sum_c f_c g_c_i
+    let mut contact_pattern = Vec::new();
+    for k in 2..=n {
+        let mut pattern: Vec<usize> =
+            (config.offset(k - 1)..config.offset(k) + config.modes[k - 1]).collect();
+        pattern.retain(|&j| j != 0);
+        for _ in 0..config.contacts {
+            contact_pattern.push(pattern.clone());
+        }
+    }
+    let mut forces = Vec::new();
+    for i in 0..dof {
+        let mut terms = Vec::new();
+        if i == 0 {
+            terms.push("f_drive".to_string());
+        }
+        for ((a, b), _) in stiffness.iter() {
+            if *a == i {
+                terms.push(format!("-k_{a}_{b}*z_{b}"));
+            } else if *b == i {
+                terms.push(format!("-k_{b}_{a}*z_{a}"));
+            }
+        }
+        for (c, pat) in contact_pattern.iter().enumerate() {
+            if pat.contains(&i) {
+                terms.push(format!("-f_{c}*g_{c}_{i}"));
+            }
+        }
+        forces.push(if terms.is_empty() {
+            "0".into()
+        } else {
+            terms.join(" + ")
+        });
+    }
+    let inputs = Inputs {
+        mass,
+        stiffness,
+        shapes,
+        forces,
+        contact_pattern,
+        dof,
+    };
+    let config_owned = config.clone();
+    let constants = consts.0;
+    symbolic::run(move || symbolic_part(inputs, config_owned, constants))?
+}
+
+/// Everything that needs Symbolica, on its thread.
+fn symbolic_part(
+    inputs: Inputs,
+    config: ModelConfig,
+    constants: Vec<Constant>,
+) -> Result<Derivation, CodegenError> {
+    let parse = |s: &str| -> Result<Atom, CodegenError> {
+        symbolica::try_parse!(s)
+            .map_err(|e| CodegenError::Symbolica(format!("cannot parse `{s}`: {e}")))
+    };
+    let convert = |a: &Atom| symbolic::to_expr(a.as_view()).map_err(CodegenError::Symbolica);
+    let is_zero_atom = |a: &Atom| a.is_zero();
+    let entries = |m: &BTreeMap<(usize, usize), Vec<String>>| -> Result<Vec<((usize, usize), Expr)>, CodegenError> {
+        let mut out = Vec::new();
+        for (key, terms) in m {
+            let a = parse(&terms.join(" + "))?.expand();
+            if !is_zero_atom(&a) {
+                out.push((*key, convert(&a)?));
+            }
+        }
+        Ok(out)
+    };
+    let mass = entries(&inputs.mass)?;
+    let stiffness = entries(&inputs.stiffness)?;
+    let xi = symbolica::symbol!("xi");
+    let mut bases = Vec::new();
+    for section in &inputs.shapes {
+        let mut funcs = Vec::new();
+        for (index, length_power, text, top) in section {
+            let value = parse(text)?;
+            let slope = value.derivative(xi);
+            funcs.push(BasisFunction {
+                index: *index,
+                length_power: *length_power,
+                value: convert(&value)?,
+                slope: convert(&slope)?,
+                top: top.clone(),
+            });
+        }
+        bases.push(funcs);
+    }
+    // q with f_c kept as symbols (emitted as named locals)
+    let forces_atoms: Vec<Atom> = inputs
+        .forces
+        .iter()
+        .map(|s| parse(s))
+        .collect::<Result<_, _>>()?;
+    let forces = forces_atoms
+        .iter()
+        .map(&convert)
+        .collect::<Result<Vec<_>, _>>()?;
+    // the Jacobian: substitute the law f_c = kc_c (xi_c - off_c) + dc_c xid_c with
+    // xi_c = g_c . z, xid_c = g_c . zd + gd_c . z, and differentiate
+    let mut laws = Vec::new();
+    for (c, pat) in inputs.contact_pattern.iter().enumerate() {
+        let xi_c: Vec<String> = pat.iter().map(|j| format!("g_{c}_{j}*z_{j}")).collect();
+        let xid_c: Vec<String> = pat
+            .iter()
+            .map(|j| format!("g_{c}_{j}*zd_{j} + gd_{c}_{j}*z_{j}"))
+            .collect();
+        laws.push((
+            symbolica::symbol!(&format!("f_{c}")),
+            parse(&format!(
+                "kc_{c}*({} - off_{c}) + dc_{c}*({})",
+                xi_c.join(" + "),
+                xid_c.join(" + ")
+            ))?,
+        ));
+    }
+    let mut jacobian_z = Vec::new();
+    let mut jacobian_zd = Vec::new();
+    for (i, q) in forces_atoms.iter().enumerate() {
+        let mut full = q.clone();
+        for (sym, law) in &laws {
+            full = full.replace(Atom::var(*sym)).with(law.to_pattern());
+        }
+        let full = full.expand();
+        for j in 0..inputs.dof {
+            for (name, out) in [("z", &mut jacobian_z), ("zd", &mut jacobian_zd)] {
+                let d = full
+                    .derivative(symbolica::symbol!(&format!("{name}_{j}")))
+                    .expand();
+                if !d.is_zero() {
+                    out.push(((i, j), convert(&d)?));
+                }
+            }
+        }
+    }
+    Ok(Derivation {
+        config,
+        constants,
+        mass,
+        stiffness,
+        bases,
+        forces,
+        jacobian_z,
+        jacobian_zd,
+        contact_pattern: inputs.contact_pattern,
+    })
+}
