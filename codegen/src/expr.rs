@@ -104,7 +104,11 @@ impl Expr {
             }
             Expr::Mul(v) => {
                 let parts: Vec<TokenStream> = v.iter().map(Expr::to_tokens).collect();
-                quote!((#(#parts)**))
+                // quote's `#(..)*` cannot take `*` as a separator: join by hand
+                let mut it = parts.into_iter();
+                let first = it.next().unwrap_or_else(|| quote!(1.0));
+                let product = it.fold(first, |acc, p| quote!(#acc * #p));
+                quote!((#product))
             }
             Expr::Pow(b, n) => {
                 let b = b.to_tokens();

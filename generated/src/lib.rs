@@ -1,0 +1,74 @@
+//! Models generated at build time by `telescopic-codegen` for the configurations listed in
+//! `generated/models.toml`, and a registry to find the one that matches a scene.
+//!
+//! Add a configuration: append a `[[model]]` entry to `models.toml` (the CLI prints the
+//! exact entry when a scene has no generated model) and rebuild.
+
+#![warn(missing_docs)]
+
+use telescopic_runtime::{Drive, ForceFlow, Model, ModelParams};
+
+include!(concat!(env!("OUT_DIR"), "/registry.rs"));
+
+/// The configuration key of a scene's parameters, as `telescopic-codegen` names it, e.g.
+/// `s2_m5x5_c3_cable_linear_fixed_force`.
+pub fn key_for(params: &ModelParams) -> String {
+    let modes: Vec<String> = params.modes().iter().map(|m| m.to_string()).collect();
+    format!(
+        "s{}_m{}_c{}_{}_{}_{}_{}",
+        params.sections.len(),
+        modes.join("x"),
+        params.contact_points,
+        match params.force_flow {
+            ForceFlow::Cable => "cable",
+            ForceFlow::External => "external",
+            ForceFlow::None => "noflow",
+        },
+        if params.contact.clearance > 0.0 {
+            "clearance"
+        } else {
+            "linear"
+        },
+        if params.positions.iter().all(|p| p.is_constant()) {
+            "fixed"
+        } else {
+            "moving"
+        },
+        match params.drive {
+            Drive::Force(_) => "force",
+            Drive::Motion(_) => "motion",
+        }
+    )
+}
+
+/// The `models.toml` entry that would generate a model for these parameters.
+pub fn models_toml_entry(params: &ModelParams) -> String {
+    format!(
+        "[[model]]\nmodes = {:?}\ncontacts = {}\nforce_flow = \"{}\"\nclearance = {}\npositions = \"{}\"\ndrive = \"{}\"\n",
+        params.modes(),
+        params.contact_points,
+        match params.force_flow {
+            ForceFlow::Cable => "cable",
+            ForceFlow::External => "external",
+            ForceFlow::None => "none",
+        },
+        params.contact.clearance > 0.0,
+        if params.positions.iter().all(|p| p.is_constant()) {
+            "fixed"
+        } else {
+            "moving"
+        },
+        match params.drive {
+            Drive::Force(_) => "force",
+            Drive::Motion(_) => "motion",
+        }
+    )
+}
+
+/// The generated model for `params`, if its configuration was generated.
+///
+/// # Errors
+/// `Some(Err)` if the generated model rejects the parameters (a mismatch the key missed).
+pub fn prepare(params: &ModelParams) -> Option<Result<Box<dyn Model>, String>> {
+    prepare_by_key(&key_for(params), params)
+}

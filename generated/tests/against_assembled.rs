@@ -1,0 +1,204 @@
+//! Every generated model against the quadrature-assembled model of the runtime: `M`, `K`,
+//! `b`, contact vectors and their rates, right-hand side and Jacobian, at several states,
+//! times and telescopic positions. Two independent paths: closed-form 512-bit integrals,
+//! Symbolica and emitted code vs Gauss-Legendre quadrature and generic code.
+
+use nalgebra::DMatrix;
+use telescopic_codegen::{DriveKind, ForceFlow, ModelConfig, ModelList, Positions};
+use telescopic_generated::{CONFIGURATIONS, key_for, prepare};
+use telescopic_runtime::{
+    AssembledModel, ContactLaw, ContactState, Drive, Model, ModelParams, Profile, SectionParams,
+    ShapedProfile,
+};
+
+fn configs() -> Vec<ModelConfig> {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/models.toml")).unwrap();
+    toml::from_str::<ModelList>(&text).unwrap().model
+}
+
+/// Parameters of a configuration, with distinct values per section so no symmetry hides an
+/// index mistake.
+fn params_for(c: &ModelConfig, variant: usize) -> ModelParams {
+    let n = c.sections();
+    let v = variant as f64;
+    let sections = (0..n)
+        .map(|k| SectionParams {
+            length: 1.35 - 0.05 * k as f64 + 0.01 * v,
+            mass_per_length: 15.7 / (1.0 + 0.4 * k as f64),
+            bending_stiffness: 6972.0 / (1.0 + k as f64).powi(2),
+            modes: c.modes[k],
+        })
+        .collect();
+    let positions = (0..n.saturating_sub(1))
+        .map(|k| match c.positions {
+            Positions::Fixed => Profile::Constant(0.95 - 0.1 * k as f64 + 0.02 * v),
+            Positions::Moving => Profile::Shaped(ShapedProfile::Smoothstep {
+                start: 0.0,
+                end: 12.0,
+                from: 0.35,
+                to: 1.15 - 0.1 * k as f64,
+            }),
+        })
+        .collect();
+    ModelParams {
+        sections,
+        vehicle_mass: 100.0 + 10.0 * v,
+        load_mass: 17.897,
+        gravity: 9.81,
+        force_flow: match c.force_flow {
+            ForceFlow::Cable => telescopic_runtime::ForceFlow::Cable,
+            ForceFlow::External => telescopic_runtime::ForceFlow::External,
+            ForceFlow::None => telescopic_runtime::ForceFlow::None,
+        },
+        contact_points: c.contacts,
+        contact: ContactLaw {
+            stiffness: 2.375e8,
+            damping: 1000.0,
+            clearance: if c.clearance { 0.004 } else { 0.0 },
+        },
+        positions,
+        drive: match c.drive {
+            DriveKind::Force => Drive::Force(Profile::Shaped(ShapedProfile::PiecewiseConstant {
+                times: vec![0.0, 4.0, 8.0],
+                values: vec![100.0, 0.0, -100.0],
+            })),
+            DriveKind::Motion => Drive::Motion(Profile::Shaped(ShapedProfile::Smoothstep {
+                start: 0.0,
+                end: 6.0,
+                from: 0.0,
+                to: 3.0,
+            })),
+        },
+    }
+}
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+fn assert_close(what: &str, a: &DMatrix<f64>, b: &DMatrix<f64>, rel: f64) {
+    let scale = b.abs().max().max(a.abs().max());
+    let diff = (a - b).abs().max();
+    if std::env::var_os("SHOW_DIFFS").is_some() {
+        eprintln!("DIFF {:e} {what}", diff / scale);
+    }
+    assert!(
+        diff <= rel * scale,
+        "{what}: differs by {diff:e} at scale {scale:e}"
+    );
+}
+
+#[test]
+fn every_listed_configuration_was_generated_and_is_found_by_key() {
+    let list = configs();
+    assert_eq!(CONFIGURATIONS.len(), list.len());
+    for c in &list {
+        let p = params_for(c, 0);
+        assert_eq!(
+            key_for(&p),
+            c.key(),
+            "the runtime's key must be the generator's"
+        );
+        assert!(prepare(&p).is_some(), "{} not in the registry", c.key());
+    }
+}
+
+#[test]
+fn generated_models_agree_with_the_assembled_model() {
+    let mut rng = Rng(0x2545f4914f6cdd1d);
+    for c in configs() {
+        for variant in 0..2 {
+            let p = params_for(&c, variant);
+            let generated = prepare(&p).unwrap().unwrap();
+            let assembled = AssembledModel::new(&p).unwrap();
+            let key = c.key();
+            let n = assembled.dof();
+            let nc = assembled.layout().contact_count();
+            assert_close(
+                &format!("{key}: M"),
+                generated.mass_matrix(),
+                assembled.mass_matrix(),
+                1e-12,
+            );
+            assert_close(
+                &format!("{key}: K"),
+                generated.stiffness_matrix(),
+                assembled.stiffness_matrix(),
+                1e-12,
+            );
+            assert_eq!(
+                generated.drive_vector(),
+                assembled.drive_vector(),
+                "{key}: b"
+            );
+            for t in [0.0, 2.7, 6.1, 11.5] {
+                let (mut g1, mut gd1) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
+                let (mut g2, mut gd2) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
+                generated.contact_vectors(t, &mut g1, &mut gd1);
+                assembled.contact_vectors(t, &mut g2, &mut gd2);
+                assert_close(&format!("{key} t = {t}: g"), &g1, &g2, 1e-12);
+                if gd2.abs().max() > 0.0 {
+                    assert_close(&format!("{key} t = {t}: gdot"), &gd1, &gd2, 1e-12);
+                } else {
+                    assert_eq!(gd1.abs().max(), 0.0, "{key}: fixed positions have no gdot");
+                }
+                let mut y: Vec<f64> = (0..2 * n).map(|_| 3e-3 * rng.next()).collect();
+                y[0] = 5.0 + rng.next();
+                let (mut xi, mut xid) = (vec![0.0; nc], vec![0.0; nc]);
+                assembled.contact_gaps(t, &y, &mut xi, &mut xid);
+                let states: Vec<ContactState> = xi.iter().map(|&x| p.contact.state(x)).collect();
+                for st in [None, Some(states.as_slice())] {
+                    let (mut f1, mut f2) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+                    generated.rhs(t, &y, st, &mut f1);
+                    assembled.rhs(t, &y, st, &mut f2);
+                    let (a, b) = (
+                        DMatrix::from_column_slice(2 * n, 1, &f1),
+                        DMatrix::from_column_slice(2 * n, 1, &f2),
+                    );
+                    assert_close(&format!("{key} t = {t}: rhs"), &a, &b, 1e-12);
+                    let (mut j1, mut j2) =
+                        (DMatrix::zeros(2 * n, 2 * n), DMatrix::zeros(2 * n, 2 * n));
+                    generated.jacobian(t, &y, st, &mut j1);
+                    assembled.jacobian(t, &y, st, &mut j2);
+                    assert_close(&format!("{key} t = {t}: Jacobian"), &j1, &j2, 1e-12);
+                }
+                let names = assembled.output_names();
+                assert_eq!(generated.output_names(), names);
+                let mut ydot = vec![0.0; 2 * n];
+                assembled.rhs(t, &y, None, &mut ydot);
+                let (mut o1, mut o2) = (vec![0.0; names.len()], vec![0.0; names.len()]);
+                generated.outputs(t, &y, &ydot, &mut o1);
+                assembled.outputs(t, &y, &ydot, &mut o2);
+                for (i, name) in names.iter().enumerate() {
+                    let scale = o2[i].abs().max(1e-9);
+                    assert!(
+                        (o1[i] - o2[i]).abs()
+                            <= 1e-12
+                                * scale.max(o2.iter().fold(0.0_f64, |m, v| m.max(v.abs())) * 1e-3),
+                        "{key}: output {name}: {} vs {}",
+                        o1[i],
+                        o2[i]
+                    );
+                }
+                for k in 1..=c.sections() {
+                    let x = 0.37 * p.sections[k - 1].length;
+                    let (w1, w2) = (
+                        generated.displacement(k, x, &y[..n]),
+                        assembled.displacement(k, x, &y[..n]),
+                    );
+                    assert!(
+                        (w1 - w2).abs() <= 1e-12 * w2.abs().max(1.0),
+                        "{key}: w_{k}: {w1} vs {w2}"
+                    );
+                }
+            }
+        }
+    }
+}
