@@ -1,6 +1,7 @@
 //! `telescopic`: equations of motion, simulation and eigen analysis of telescopic
 //! multi-section beams with clearance. See the README for the commands.
 
+mod choose;
 mod cli;
 mod modes;
 

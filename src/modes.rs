@@ -1,13 +1,12 @@
 //! `telescopic modes`: eigenfrequencies in Hz, with published reference columns beside
 //! them, as a table or JSON.
 
+use crate::choose::{ModelChoice, build_model};
 use crate::cli::SceneArgs;
 use clap::Args;
 use serde::Serialize;
 use std::fmt::Write as _;
-use telescopic_runtime::{
-    AssembledModel, ModalAnalysis, Model, Scene, modal_analysis, sample_shape,
-};
+use telescopic_runtime::{ModalAnalysis, Model, Scene, modal_analysis, sample_shape};
 
 /// Options of `telescopic modes`.
 #[derive(Debug, Args)]
@@ -26,6 +25,9 @@ pub struct ModesArgs {
     /// Also give mode shapes, sampled at this many points per section (JSON: `mode_shapes`).
     #[arg(long, value_name = "POINTS")]
     shapes: Option<usize>,
+    /// Which model computes the matrices.
+    #[arg(long, value_enum, default_value_t)]
+    model: ModelChoice,
 }
 
 /// The JSON document of `telescopic modes --json`.
@@ -33,6 +35,7 @@ pub struct ModesArgs {
 struct ModesJson {
     scene: String,
     time_s: f64,
+    model: String,
     frequencies_hz: Vec<f64>,
     rigid_modes: usize,
     unstable_growth_rates_per_s: Vec<f64>,
@@ -61,8 +64,9 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
     if let Some(0 | 1) = args.shapes {
         anyhow::bail!("--shapes: needs at least 2 points per section");
     }
-    let model = AssembledModel::new(&scene.params)?;
-    let modal = modal_analysis(&model, t)?;
+    let (model, which) = build_model(&scene.params, args.model)?;
+    let model = model.as_ref();
+    let modal = modal_analysis(model, t)?;
     let count = args
         .count
         .unwrap_or(modal.frequencies_hz.len())
@@ -72,7 +76,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
             .iter()
             .zip(&modal.frequencies_hz)
             .map(|(v, &f)| {
-                let mut sections = sample_shape(&model, v, points);
+                let mut sections = sample_shape(model, v, points);
                 let peak = sections
                     .iter()
                     .flatten()
@@ -89,6 +93,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
         let doc = ModesJson {
             scene: scene.name.clone(),
             time_s: t,
+            model: which.clone(),
             frequencies_hz: modal.frequencies_hz[..count].to_vec(),
             rigid_modes: modal.rigid_modes,
             unstable_growth_rates_per_s: modal.unstable_growth_rates.clone(),
@@ -97,7 +102,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
         };
         println!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
-        print!("{}", table(&scene, &model, &modal, count, t));
+        print!("{}", table(&scene, model, &which, &modal, count, t));
         if let Some(shapes) = shapes {
             print!("{}", shape_table(&shapes));
         }
@@ -108,7 +113,8 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
 /// The text table: ours, then each reference column with the difference in percent.
 fn table(
     scene: &Scene,
-    model: &AssembledModel,
+    model: &dyn Model,
+    which: &str,
     modal: &ModalAnalysis,
     count: usize,
     t: f64,
@@ -125,6 +131,7 @@ fn table(
         scene.params.contact.stiffness,
         t
     );
+    let _ = writeln!(s, "model: {which}");
     let _ = writeln!(s, "rigid-body modes: {} (not listed)", modal.rigid_modes);
     if !modal.unstable_growth_rates.is_empty() {
         let _ = writeln!(

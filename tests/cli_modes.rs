@@ -174,3 +174,70 @@ fn bad_input_fails_cleanly_and_names_the_field() {
         &["--shapes"],
     );
 }
+
+#[test]
+fn generated_and_assembled_models_give_the_same_frequencies() {
+    let freqs = |model: &str| -> Vec<f64> {
+        let v = json(&["modes", "scenes/test-rig.toml", "--json", "--model", model]);
+        assert!(
+            v["model"]
+                .as_str()
+                .unwrap()
+                .contains(if model == "generated" {
+                    "generated"
+                } else {
+                    "assembled"
+                })
+        );
+        v["frequencies_hz"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let (g, a) = (freqs("generated"), freqs("assembled"));
+    assert_eq!(g.len(), a.len());
+    for (fg, fa) in g.iter().zip(&a) {
+        assert!((fg - fa).abs() <= 1e-9 * fa, "{fg} vs {fa}");
+    }
+}
+
+#[test]
+fn a_scene_without_a_generated_model_falls_back_and_says_what_to_add() {
+    let out = telescopic(&[
+        "modes",
+        "scenes/test-rig.toml",
+        "--json",
+        "--set",
+        "sections.modes=[6,7]",
+    ]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no generated model for configuration s2_m6x7_c3_cable_linear_fixed_force"),
+        "{err}"
+    );
+    assert!(
+        err.contains("[[model]]\nmodes = [6, 7]\ncontacts = 3"),
+        "{err}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("stdout is still clean JSON");
+    assert_eq!(v["model"], "quadrature-assembled model");
+    fails_with(
+        &[
+            "modes",
+            "scenes/test-rig.toml",
+            "--model",
+            "generated",
+            "--set",
+            "sections.modes=[6,7]",
+        ],
+        &[
+            "--model generated",
+            "s2_m6x7_c3_cable_linear_fixed_force",
+            "models.toml",
+        ],
+    );
+}

@@ -1,0 +1,119 @@
+//! The generated Jacobian against central differences of the generated right-hand side, in
+//! fixed contact branches (away from the kinks of the law), for every generated model.
+
+use nalgebra::DMatrix;
+use telescopic_runtime::{
+    ContactLaw, ContactState, Drive, ForceFlow, Model, ModelParams, Profile, SectionParams,
+    ShapedProfile,
+};
+
+fn params(
+    modes: &[usize],
+    flow: ForceFlow,
+    clearance: f64,
+    moving: bool,
+    motion: bool,
+    contacts: usize,
+) -> ModelParams {
+    let n = modes.len();
+    ModelParams {
+        sections: modes
+            .iter()
+            .enumerate()
+            .map(|(k, &m)| SectionParams {
+                length: 1.35,
+                mass_per_length: 15.7 / (1.0 + k as f64),
+                bending_stiffness: 6972.0 / (1.0 + k as f64),
+                modes: m,
+            })
+            .collect(),
+        vehicle_mass: 100.0,
+        load_mass: 17.897,
+        gravity: 9.81,
+        force_flow: flow,
+        contact_points: contacts,
+        contact: ContactLaw {
+            stiffness: 2.375e8,
+            damping: 1000.0,
+            clearance,
+        },
+        positions: (1..n)
+            .map(|_| {
+                if moving {
+                    Profile::Shaped(ShapedProfile::Smoothstep {
+                        start: 0.0,
+                        end: 12.0,
+                        from: 0.35,
+                        to: 1.15,
+                    })
+                } else {
+                    Profile::Constant(1.0)
+                }
+            })
+            .collect(),
+        drive: if motion {
+            Drive::Motion(Profile::Shaped(ShapedProfile::Smoothstep {
+                start: 0.0,
+                end: 6.0,
+                from: 0.0,
+                to: 3.0,
+            }))
+        } else {
+            Drive::Force(Profile::Constant(100.0))
+        },
+    }
+}
+
+#[test]
+fn generated_jacobians_match_central_differences() {
+    let cases = [
+        params(&[5, 5], ForceFlow::Cable, 0.0, false, false, 3),
+        params(&[4, 4], ForceFlow::Cable, 0.01, true, false, 2),
+        params(&[4, 4, 4], ForceFlow::Cable, 0.005, false, false, 2),
+        params(&[3, 4], ForceFlow::External, 0.0, true, true, 2),
+    ];
+    for p in cases {
+        let model = telescopic_generated::prepare(&p)
+            .expect("listed in models.toml")
+            .unwrap();
+        let key = telescopic_generated::key_for(&p);
+        let n2 = 2 * model.dof();
+        let nc = model.layout().contact_count();
+        for (trial, t) in [0.5, 5.0, 9.0].into_iter().enumerate() {
+            let y: Vec<f64> = (0..n2)
+                .map(|i| {
+                    4e-3 * (((i * 37 + trial * 11) % 17) as f64 / 8.0 - 1.0)
+                        + if i == 0 { 6.0 } else { 0.0 }
+                })
+                .collect();
+            let (mut xi, mut xid) = (vec![0.0; nc], vec![0.0; nc]);
+            model.contact_gaps(t, &y, &mut xi, &mut xid);
+            let states: Vec<ContactState> = xi.iter().map(|&x| p.contact.state(x)).collect();
+            let mut jac = DMatrix::zeros(n2, n2);
+            model.jacobian(t, &y, Some(&states), &mut jac);
+            let mut base = vec![0.0; n2];
+            model.rhs(t, &y, Some(&states), &mut base);
+            let size = base.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let (mut plus, mut minus) = (vec![0.0; n2], vec![0.0; n2]);
+            for j in 0..n2 {
+                // linear within fixed branches: a large step has no truncation error
+                let h = 1e-3 * y[j].abs().max(1e-3);
+                let (mut yp, mut ym) = (y.clone(), y.clone());
+                yp[j] += h;
+                ym[j] -= h;
+                model.rhs(t, &yp, Some(&states), &mut plus);
+                model.rhs(t, &ym, Some(&states), &mut minus);
+                let scale = jac.column(j).abs().max().max(1.0);
+                for i in 0..n2 {
+                    let fd = (plus[i] - minus[i]) / (2.0 * h);
+                    let tol = 1e-8 * scale + 64.0 * f64::EPSILON * size / h;
+                    assert!(
+                        (fd - jac[(i, j)]).abs() <= tol,
+                        "{key}: d f_{i}/d y_{j}: {} vs {fd}",
+                        jac[(i, j)]
+                    );
+                }
+            }
+        }
+    }
+}
