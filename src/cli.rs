@@ -18,6 +18,9 @@ enum Command {
     /// Natural frequencies and mode shapes, linearized about the straight state with closed
     /// contacts (clearance and contact damping ignored, as for the paper's Table I).
     Modes(crate::modes::ModesArgs),
+    /// The derived equations of motion of the scene's generated model: M, K, b, contact
+    /// terms, generalized forces and their Jacobian, with parameters by name.
+    Equations(crate::equations::EquationsArgs),
 }
 
 /// A scene file and its overrides: shared by every command that reads a scene.
@@ -43,6 +46,7 @@ impl Cli {
     pub fn run(self) -> anyhow::Result<()> {
         match self.command {
             Command::Modes(args) => crate::modes::run(&args),
+            Command::Equations(args) => crate::equations::run(&args),
         }
     }
 }

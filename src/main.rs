@@ -3,6 +3,7 @@
 
 mod choose;
 mod cli;
+mod equations;
 mod modes;
 
 use clap::Parser;

@@ -241,3 +241,51 @@ fn a_scene_without_a_generated_model_falls_back_and_says_what_to_add() {
         ],
     );
 }
+
+#[test]
+fn equations_are_printed_in_every_format_without_a_banner() {
+    for (format, marker) in [
+        ("text", "Mass matrix M"),
+        ("latex", "\\documentclass"),
+        ("rust", "impl Model for GeneratedModel"),
+        ("json", "\"key\": \"s2_m5x5_c3_cable_linear_fixed_force\""),
+    ] {
+        let out = telescopic(&["equations", "scenes/test-rig.toml", "--format", format]);
+        assert!(
+            out.status.success(),
+            "{format}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.contains(marker), "{format} lacks {marker}");
+        assert!(
+            !text.contains("Symbolica instance"),
+            "{format}: the banner leaked"
+        );
+        assert!(
+            text.contains("s2_m5x5_c3_cable_linear_fixed_force"),
+            "{format} names the configuration"
+        );
+    }
+    let json: serde_json::Value = serde_json::from_slice(
+        &telescopic(&["equations", "scenes/test-rig.toml", "--format", "json"]).stdout,
+    )
+    .unwrap();
+    assert_eq!(json["dof"], 10);
+    assert!(
+        json["mass"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e["i"] == 0 && e["j"] == 0)
+    );
+    fails_with(
+        &[
+            "equations",
+            "scenes/test-rig.toml",
+            "--set",
+            "sections.modes=[6,7]",
+        ],
+        &["no generated model for configuration s2_m6x7", "[[model]]"],
+    );
+}

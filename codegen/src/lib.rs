@@ -11,6 +11,7 @@ pub mod emit;
 pub mod exact;
 pub mod expr;
 pub mod precise;
+pub mod render;
 pub mod symbolic;
 
 pub use config::{DriveKind, ForceFlow, ModelConfig, ModelList, Positions};
@@ -28,6 +29,12 @@ pub struct GeneratedModel {
     pub module: String,
     /// Formatted Rust source; `include!` it inside a module.
     pub source: String,
+    /// Plain-text rendering of the equations.
+    pub text: String,
+    /// Standalone LaTeX document of the equations.
+    pub latex: String,
+    /// JSON rendering of the equations.
+    pub json: String,
 }
 
 /// Derives and emits the model of one configuration. Pure: touches no files.
@@ -48,6 +55,9 @@ pub fn generate(config: &ModelConfig) -> Result<GeneratedModel, CodegenError> {
         config: config.clone(),
         module: config.key(),
         source,
+        text: render::text(&derivation),
+        latex: render::latex_document(&derivation),
+        json: render::json(&derivation),
     })
 }
 
