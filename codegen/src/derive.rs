@@ -56,20 +56,23 @@ pub struct Derivation {
     /// Named constants in order of creation.
     pub constants: Vec<Constant>,
     /// Nonzero entries `(i, j), i <= j` of the mass matrix.
-    pub mass: Vec<((usize, usize), Expr)>,
+    pub mass: Entries,
     /// Nonzero entries `(i, j), i <= j` of the stiffness matrix.
-    pub stiffness: Vec<((usize, usize), Expr)>,
+    pub stiffness: Entries,
     /// Per section (index k - 1), its elastic basis functions (the translation excluded).
     pub bases: Vec<Vec<BasisFunction>>,
     /// Generalized forces `q_i` (right-hand side before `M^-1`).
     pub forces: Vec<Expr>,
     /// Nonzero `d q_i / d z_j`.
-    pub jacobian_z: Vec<((usize, usize), Expr)>,
+    pub jacobian_z: Entries,
     /// Nonzero `d q_i / d zd_j`.
-    pub jacobian_zd: Vec<((usize, usize), Expr)>,
+    pub jacobian_zd: Entries,
     /// Nonzero entries `j` of each contact vector (the same pattern for `g` and `gdot`).
     pub contact_pattern: Vec<Vec<usize>>,
 }
+
+/// Nonzero entries of a matrix: `((i, j), expression)`, upper triangle.
+pub type Entries = Vec<((usize, usize), Expr)>;
 
 /// Integrals below this (relative to O(1) entries) are exact zeros that 512-bit round-off
 /// left behind (orthogonality): about 1e-150 in practice.
@@ -390,7 +393,7 @@ fn symbolic_part(
     };
     let convert = |a: &Atom| symbolic::to_expr(a.as_view()).map_err(CodegenError::Symbolica);
     let is_zero_atom = |a: &Atom| a.is_zero();
-    let entries = |m: &BTreeMap<(usize, usize), Vec<String>>| -> Result<Vec<((usize, usize), Expr)>, CodegenError> {
+    let entries = |m: &BTreeMap<(usize, usize), Vec<String>>| -> Result<Entries, CodegenError> {
         let mut out = Vec::new();
         for (key, terms) in m {
             let a = parse(&terms.join(" + "))?.expand();

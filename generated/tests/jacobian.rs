@@ -1,10 +1,8 @@
 //! The generated Jacobian against central differences of the generated right-hand side, in
 //! fixed contact branches (away from the kinks of the law), for every generated model.
 
-use nalgebra::DMatrix;
 use telescopic_runtime::{
-    ContactLaw, ContactState, Drive, ForceFlow, Model, ModelParams, Profile, SectionParams,
-    ShapedProfile,
+    ContactLaw, ContactState, Drive, ForceFlow, ModelParams, Profile, SectionParams, ShapedProfile,
 };
 
 fn params(
@@ -89,31 +87,8 @@ fn generated_jacobians_match_central_differences() {
             let (mut xi, mut xid) = (vec![0.0; nc], vec![0.0; nc]);
             model.contact_gaps(t, &y, &mut xi, &mut xid);
             let states: Vec<ContactState> = xi.iter().map(|&x| p.contact.state(x)).collect();
-            let mut jac = DMatrix::zeros(n2, n2);
-            model.jacobian(t, &y, Some(&states), &mut jac);
-            let mut base = vec![0.0; n2];
-            model.rhs(t, &y, Some(&states), &mut base);
-            let size = base.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            let (mut plus, mut minus) = (vec![0.0; n2], vec![0.0; n2]);
-            for j in 0..n2 {
-                // linear within fixed branches: a large step has no truncation error
-                let h = 1e-3 * y[j].abs().max(1e-3);
-                let (mut yp, mut ym) = (y.clone(), y.clone());
-                yp[j] += h;
-                ym[j] -= h;
-                model.rhs(t, &yp, Some(&states), &mut plus);
-                model.rhs(t, &ym, Some(&states), &mut minus);
-                let scale = jac.column(j).abs().max().max(1.0);
-                for i in 0..n2 {
-                    let fd = (plus[i] - minus[i]) / (2.0 * h);
-                    let tol = 1e-8 * scale + 64.0 * f64::EPSILON * size / h;
-                    assert!(
-                        (fd - jac[(i, j)]).abs() <= tol,
-                        "{key}: d f_{i}/d y_{j}: {} vs {fd}",
-                        jac[(i, j)]
-                    );
-                }
-            }
+            telescopic_runtime::check::jacobian_against_differences(model.as_ref(), t, &y, &states)
+                .unwrap_or_else(|e| panic!("{key}: {e}"));
         }
     }
 }

@@ -21,6 +21,7 @@
 #![warn(missing_docs)]
 
 pub mod assembled;
+pub mod check;
 pub mod contact;
 pub mod eigen;
 pub mod layout;

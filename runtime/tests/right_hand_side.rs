@@ -4,7 +4,7 @@
 mod common;
 
 use common::Rng;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use telescopic_runtime::{
     AssembledModel, ContactLaw, ContactState, Drive, ForceFlow, Model, ModelParams, Profile,
     SectionKind, SectionParams, SectionShapes, ShapedProfile,
@@ -92,38 +92,13 @@ fn jacobian_matches_central_differences() {
     let mut rng = Rng(0x9e3779b97f4a7c15);
     for (name, p) in configurations() {
         let model = AssembledModel::new(&p).unwrap();
-        let n2 = 2 * model.dof();
         for trial in 0..4 {
             let t = 1.0 + 2.5 * trial as f64;
             let y = random_state(&model, &mut rng, 4e-3);
             // fix the branches: the law is then smooth and differences are meaningful
             let states = states_of(&model, t, &y);
-            let mut jac = DMatrix::zeros(n2, n2);
-            model.jacobian(t, &y, Some(&states), &mut jac);
-            let (mut plus, mut minus) = (vec![0.0; n2], vec![0.0; n2]);
-            let mut base = vec![0.0; n2];
-            model.rhs(t, &y, Some(&states), &mut base);
-            let rhs_size = base.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            for j in 0..n2 {
-                // within fixed branches the right-hand side is linear in y: a large step has
-                // no truncation error, and round-off is eps |f| / h
-                let h = 1e-3 * y[j].abs().max(1e-3);
-                let round_off = 64.0 * f64::EPSILON * rhs_size / h;
-                let (mut yp, mut ym) = (y.clone(), y.clone());
-                yp[j] += h;
-                ym[j] -= h;
-                model.rhs(t, &yp, Some(&states), &mut plus);
-                model.rhs(t, &ym, Some(&states), &mut minus);
-                let scale = jac.column(j).abs().max().max(1.0);
-                for i in 0..n2 {
-                    let fd = (plus[i] - minus[i]) / (2.0 * h);
-                    assert!(
-                        (fd - jac[(i, j)]).abs() <= 1e-8 * scale + round_off,
-                        "{name}: d f_{i} / d y_{j}: analytic {} vs differences {fd}",
-                        jac[(i, j)]
-                    );
-                }
-            }
+            telescopic_runtime::check::jacobian_against_differences(&model, t, &y, &states)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
         }
     }
 }
