@@ -289,26 +289,30 @@ pub fn derive(config: &ModelConfig) -> Result<Derivation, CodegenError> {
                 }
             }
         }
+        // every basis function's value at the top, registered once (index 0: the translation, 1)
+        let tops: Vec<String> = basis
+            .iter()
+            .map(|(g, f, i)| {
+                if *g == 0 {
+                    return "1".to_string();
+                }
+                let v = f.value_at_end(&roots, true);
+                consts.add(
+                    format!("K_TOP_{k}_{i}"),
+                    &v,
+                    format!("psi_{k},{i} at the top (xi = 1)"),
+                )
+            })
+            .collect();
         // the load at the top of section n: m_L h h'
         if k == n {
-            let tops: Vec<(usize, String)> = basis
+            let h: Vec<(usize, String)> = basis
                 .iter()
-                .map(|(g, f, i)| {
-                    let v = f.value_at_end(&roots, true);
-                    let name = if *g == 0 {
-                        "1".to_string()
-                    } else {
-                        consts.add(
-                            format!("K_TOP_{k}_{i}"),
-                            &v,
-                            format!("psi_{k},{i} at the top (xi = 1)"),
-                        )
-                    };
-                    (*g, format!("{}*{name}", length_pow(k, f.length_power)))
-                })
+                .zip(&tops)
+                .map(|((g, f, _), top)| (*g, format!("{}*{top}", length_pow(k, f.length_power))))
                 .collect();
-            for (ga, ha) in &tops {
-                for (gb, hb) in &tops {
+            for (ga, ha) in &h {
+                for (gb, hb) in &h {
                     if ga <= gb {
                         mass.entry((*ga, *gb))
                             .or_default()
@@ -318,21 +322,12 @@ pub fn derive(config: &ModelConfig) -> Result<Derivation, CodegenError> {
             }
         }
         let mut section_shapes = Vec::new();
-        for (g, f, i) in basis.iter().skip(1) {
+        for ((g, f, i), top) in basis.iter().zip(&tops).skip(1) {
             let text = shape_text(f, &roots, k, *i, &mut consts);
-            let top = f.value_at_end(&roots, true);
-            let top = consts.add(
-                format!("K_TOP_{k}_{i}"),
-                &top,
-                format!("psi_{k},{i} at the top (xi = 1)"),
-            );
-            section_shapes.push((*g, f.length_power, text, top));
+            section_shapes.push((*g, f.length_power, text, top.clone()));
         }
         shapes.push(section_shapes);
     }
-    // the constants named twice (K_TOP of section n) keep their first entry
-    let mut seen = std::collections::HashSet::new();
-    consts.0.retain(|c| seen.insert(c.name.clone()));
 
     // generalized forces: q_i = b_i f_drive - sum_j k_i_j z_j - sum_c f_c g_c_i
     let mut contact_pattern = Vec::new();
@@ -392,12 +387,11 @@ fn symbolic_part(
             .map_err(|e| CodegenError::Symbolica(format!("cannot parse `{s}`: {e}")))
     };
     let convert = |a: &Atom| symbolic::to_expr(a.as_view()).map_err(CodegenError::Symbolica);
-    let is_zero_atom = |a: &Atom| a.is_zero();
     let entries = |m: &BTreeMap<(usize, usize), Vec<String>>| -> Result<Entries, CodegenError> {
         let mut out = Vec::new();
         for (key, terms) in m {
             let a = parse(&terms.join(" + "))?.expand();
-            if !is_zero_atom(&a) {
+            if !a.is_zero() {
                 out.push((*key, convert(&a)?));
             }
         }

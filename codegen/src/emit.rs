@@ -64,7 +64,14 @@ fn tokens(e: &Expr, map: &dyn Fn(&str) -> Option<TokenStream>) -> TokenStream {
             let b = rec(b);
             quote!(#b.sin())
         }
-        other => other.to_tokens(),
+        Expr::Constant(s) => {
+            let id = format_ident!("{}", s.to_uppercase());
+            quote!(#id)
+        }
+        Expr::Temp(i) => {
+            let id = format_ident!("t{}", i);
+            quote!(#id)
+        }
     }
 }
 
@@ -375,6 +382,16 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
     } else {
         quote!(let positions: [(f64, f64); 0] = [];)
     };
+    // fixed positions: contact vectors once per scene (constant profiles, so any time will do)
+    let (fixed_field, fixed_init, fixed_finish) = if fixed {
+        (
+            quote!(fixed_geometry: Geometry,),
+            quote!(fixed_geometry: Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] },),
+            quote!(let mut model = model; model.fixed_geometry = model.geometry(0.0);),
+        )
+    } else {
+        (quote!(), quote!(), quote!())
+    };
     let geometry_source = if fixed {
         quote!(let geo = &self.fixed_geometry;)
     } else {
@@ -489,7 +506,7 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
             mass_col0: [f64; DOF],
             lengths: [f64; SECTIONS],
             length_factors: Vec<Vec<f64>>,
-            fixed_geometry: Geometry,
+            #fixed_field
             tip: [f64; DOF],
             top1: [f64; DOF],
         }
@@ -528,7 +545,7 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
                 #tip_sets
                 let mut top1 = [0.0; DOF];
                 #top1_sets
-                let mut model = Self {
+                let model = Self {
                     params: params.clone(),
                     layout: Layout::new(&MODES, params.contact_points),
                     mass,
@@ -539,11 +556,11 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
                     mass_col0,
                     lengths,
                     length_factors,
-                    fixed_geometry: Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] },
+                    #fixed_init
                     tip,
                     top1,
                 };
-                model.fixed_geometry = model.geometry(params_start_time());
+                #fixed_finish
                 Ok(model)
             }
 
@@ -579,9 +596,6 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
                 out
             }
         }
-
-        /// Fixed positions are the same at every time; the start of time is as good as any.
-        fn params_start_time() -> f64 { 0.0 }
 
         impl Model for GeneratedModel {
             fn layout(&self) -> &Layout { &self.layout }

@@ -1,8 +1,7 @@
 //! Our own expression tree: plain data that leaves the Symbolica thread, with common
-//! subexpression elimination and rendering as Rust tokens, text and LaTeX.
+//! subexpression elimination, evaluation and plain-text rendering (Rust tokens: `emit`,
+//! LaTeX: `render`).
 
-use proc_macro2::TokenStream;
-use quote::{format_ident, quote};
 use std::collections::HashMap;
 
 /// An expression over named symbols and named numeric constants.
@@ -72,60 +71,6 @@ impl Expr {
             Expr::Exp(b) => b.eval(lookup, temps).exp(),
             Expr::Cos(b) => b.eval(lookup, temps).cos(),
             Expr::Sin(b) => b.eval(lookup, temps).sin(),
-        }
-    }
-
-    /// Rust tokens; symbols and constants become identifiers (constants upper case).
-    pub fn to_tokens(&self) -> TokenStream {
-        match self {
-            Expr::Rational(n, 1) => {
-                let v = *n as f64;
-                quote!(#v)
-            }
-            Expr::Rational(n, d) => {
-                let (n, d) = (*n as f64, *d as f64);
-                quote!((#n / #d))
-            }
-            Expr::Symbol(s) => {
-                let id = format_ident!("{}", s);
-                quote!(#id)
-            }
-            Expr::Constant(s) => {
-                let id = format_ident!("{}", s.to_uppercase());
-                quote!(#id)
-            }
-            Expr::Temp(i) => {
-                let id = format_ident!("t{}", i);
-                quote!(#id)
-            }
-            Expr::Add(v) => {
-                let parts: Vec<TokenStream> = v.iter().map(Expr::to_tokens).collect();
-                quote!((#(#parts)+*))
-            }
-            Expr::Mul(v) => {
-                let parts: Vec<TokenStream> = v.iter().map(Expr::to_tokens).collect();
-                // quote's `#(..)*` cannot take `*` as a separator: join by hand
-                let mut it = parts.into_iter();
-                let first = it.next().unwrap_or_else(|| quote!(1.0));
-                let product = it.fold(first, |acc, p| quote!(#acc * #p));
-                quote!((#product))
-            }
-            Expr::Pow(b, n) => {
-                let b = b.to_tokens();
-                quote!(#b.powi(#n))
-            }
-            Expr::Exp(b) => {
-                let b = b.to_tokens();
-                quote!(#b.exp())
-            }
-            Expr::Cos(b) => {
-                let b = b.to_tokens();
-                quote!(#b.cos())
-            }
-            Expr::Sin(b) => {
-                let b = b.to_tokens();
-                quote!(#b.sin())
-            }
         }
     }
 

@@ -21,7 +21,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use std::sync::mpsc::{Sender, channel, sync_channel};
-use symbolica::atom::{Atom, AtomCore, AtomView};
+use symbolica::atom::{AtomCore, AtomView};
 use symbolica::coefficient::CoefficientView;
 
 type Job = Box<dyn FnOnce() + Send>;
@@ -65,7 +65,6 @@ fn first_touch_quietly() {
     unsafe {
         let saved = libc::dup(1);
         if saved >= 0 && libc::dup2(2, 1) >= 0 {
-            let _ = Atom::num(1).expand();
             let _ = symbolica::parse!("x_banner_probe").expand();
             let _ = std::io::stdout().flush();
             libc::dup2(saved, 1);

@@ -2,11 +2,13 @@
 //! outputs are called under a counting global allocator. (One test in this binary, so no
 //! other test thread allocates meanwhile.)
 
+mod common;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use telescopic_runtime::{
-    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionParams,
-    ShapedProfile, rest_state,
+    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, ShapedProfile,
+    rest_state,
 };
 
 struct Counting;
@@ -27,12 +29,7 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn per_call_methods_do_not_allocate() {
-    let sec = SectionParams {
-        length: 1.35,
-        mass_per_length: 7.85,
-        bending_stiffness: 1743.0,
-        modes: 6,
-    };
+    let sec = common::rig_section(6);
     for (positions, drive) in [
         (
             Profile::Constant(1.15),
