@@ -38,7 +38,7 @@ fn main() {
         write_if_changed(&out.join(format!("{}.json", model.module)), &model.json);
         registry.push_str(&format!(
             "#[doc = \"Generated model for configuration `{m}`.\"]\n\
-             #[allow(clippy::all, dead_code, unused_doc_comments, unused_parens, unused_variables, non_snake_case)]\n\
+             #[allow(clippy::all, dead_code, unused_variables, non_snake_case)]\n\
              pub mod {m} {{ include!(concat!(env!(\"OUT_DIR\"), \"/{m}.rs\")); }}\n\n",
             m = model.module
         ));

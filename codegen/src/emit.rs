@@ -13,64 +13,173 @@ use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::str::FromStr;
 
-/// An `f64` literal that reads back to the same value (shortest round-trip form).
+/// An `f64` literal that reads back to the same value (shortest round-trip form), with a
+/// leading `-` when negative.
 fn float(v: f64) -> TokenStream {
     let lit = Literal::from_str(&format!("{:?}", v.abs())).expect("a float literal");
     if v.is_sign_negative() {
-        quote!((-#lit))
+        quote!(-#lit)
     } else {
         quote!(#lit)
     }
 }
 
+/// How tightly emitted tokens bind, loosest first: a term of a sum needs at least
+/// `Product`, a factor at least `Literal`, a method receiver `Atom`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Binding {
+    Sum,
+    Negated,
+    Product,
+    Literal,
+    Atom,
+}
+
+/// Tokens and how tightly they bind.
+struct Emitted {
+    tokens: TokenStream,
+    binding: Binding,
+}
+
+impl Emitted {
+    /// The tokens, parenthesized unless they bind at least as tightly as `needed`.
+    fn at_least(self, needed: Binding) -> TokenStream {
+        let t = self.tokens;
+        if self.binding >= needed { t } else { quote!((#t)) }
+    }
+}
+
+/// Splits a product's numeric factors from the rest: (negative?, remaining factors, with a
+/// coefficient of magnitude 1 dropped).
+fn signed_factors(factors: &[Expr]) -> (bool, Vec<Expr>) {
+    let mut negative = false;
+    let mut rest = Vec::with_capacity(factors.len());
+    for f in factors {
+        match f {
+            Expr::Rational(n, d) => {
+                negative ^= (*n < 0) != (*d < 0);
+                if n.unsigned_abs() != d.unsigned_abs() {
+                    rest.push(Expr::Rational(n.abs(), d.abs()));
+                }
+            }
+            _ => rest.push(f.clone()),
+        }
+    }
+    (negative, rest)
+}
+
+/// The magnitude of a sum's term and whether it is subtracted.
+fn signed_term(term: &Expr) -> (bool, Expr) {
+    match term {
+        Expr::Rational(n, d) if (*n < 0) != (*d < 0) => (true, Expr::Rational(n.abs(), d.abs())),
+        Expr::Mul(factors) => {
+            let (negative, rest) = signed_factors(factors);
+            let magnitude = match rest.len() {
+                0 => Expr::Rational(1, 1),
+                1 => rest.into_iter().next().expect("one factor"),
+                _ => Expr::Mul(rest),
+            };
+            (negative, magnitude)
+        }
+        _ => (false, term.clone()),
+    }
+}
+
 /// Rust tokens for an expression, with symbols resolved by `map` (unmapped symbols become
-/// identifiers of the same name) and constants by their upper-case names.
+/// identifiers of the same name) and constants by their upper-case names. Parentheses only
+/// where precedence needs them or where they fix the evaluation order of the derivation
+/// (a nested sum or product keeps its own parentheses: floating-point `+` and `*` are not
+/// associative).
 fn tokens(e: &Expr, map: &dyn Fn(&str) -> Option<TokenStream>) -> TokenStream {
-    let rec = |x: &Expr| tokens(x, map);
+    emitted(e, map).tokens
+}
+
+fn emitted(e: &Expr, map: &dyn Fn(&str) -> Option<TokenStream>) -> Emitted {
+    let rec = |x: &Expr| emitted(x, map);
+    let atom = |tokens| Emitted {
+        tokens,
+        binding: Binding::Atom,
+    };
+    let call = |base: &Expr, method: TokenStream| {
+        let b = rec(base).at_least(Binding::Atom);
+        atom(quote!(#b.#method))
+    };
     match e {
         Expr::Rational(n, d) => {
-            let v = float(*n as f64 / *d as f64);
-            quote!(#v)
+            let v = *n as f64 / *d as f64;
+            Emitted {
+                tokens: float(v),
+                binding: if v < 0.0 {
+                    Binding::Negated
+                } else {
+                    Binding::Literal
+                },
+            }
         }
-        Expr::Symbol(s) => map(s).unwrap_or_else(|| {
+        Expr::Symbol(s) => atom(map(s).unwrap_or_else(|| {
             let id = format_ident!("{}", s);
             quote!(#id)
-        }),
-        Expr::Add(v) => {
-            let parts: Vec<TokenStream> = v.iter().map(rec).collect();
-            quote!((#(#parts)+*))
+        })),
+        Expr::Add(terms) => {
+            let mut out = TokenStream::new();
+            for (i, term) in terms.iter().enumerate() {
+                let (negative, magnitude) = signed_term(term);
+                let t = rec(&magnitude).at_least(Binding::Product);
+                out.extend(match (i, negative) {
+                    (0, false) => quote!(#t),
+                    (0, true) => quote!(-#t),
+                    (_, false) => quote!(+ #t),
+                    (_, true) => quote!(- #t),
+                });
+            }
+            Emitted {
+                tokens: out,
+                binding: Binding::Sum,
+            }
         }
-        Expr::Mul(v) => {
-            let parts: Vec<TokenStream> = v.iter().map(rec).collect();
+        Expr::Mul(factors) => {
+            let (negative, rest) = signed_factors(factors);
+            if !negative && rest.len() == 1 {
+                return rec(&rest[0]);
+            }
+            let mut parts = rest.iter().map(|f| rec(f).at_least(Binding::Literal));
+            let first = parts.next().unwrap_or_else(|| quote!(1.0));
             // quote's `#(..)*` cannot take `*` as a separator: join by hand
-            let mut it = parts.into_iter();
-            let first = it.next().unwrap_or_else(|| quote!(1.0));
-            let product = it.fold(first, |acc, p| quote!(#acc * #p));
-            quote!((#product))
+            let product = parts.fold(first, |acc, p| quote!(#acc * #p));
+            if negative {
+                // unary minus binds tighter than `*`; negation is exact, so `-a * b` is `-(a b)`
+                Emitted {
+                    tokens: quote!(-#product),
+                    binding: Binding::Negated,
+                }
+            } else {
+                Emitted {
+                    tokens: product,
+                    binding: Binding::Product,
+                }
+            }
         }
-        Expr::Pow(b, n) => {
-            let b = rec(b);
-            quote!(#b.powi(#n))
-        }
-        Expr::Exp(b) => {
-            let b = rec(b);
-            quote!(#b.exp())
-        }
-        Expr::Cos(b) => {
-            let b = rec(b);
-            quote!(#b.cos())
-        }
-        Expr::Sin(b) => {
-            let b = rec(b);
-            quote!(#b.sin())
-        }
+        Expr::Pow(b, n) => match *n {
+            -1 => call(b, quote!(recip())),
+            n => {
+                let lit = Literal::i32_unsuffixed(n.abs());
+                if n < 0 {
+                    call(b, quote!(powi(-#lit)))
+                } else {
+                    call(b, quote!(powi(#lit)))
+                }
+            }
+        },
+        Expr::Exp(b) => call(b, quote!(exp())),
+        Expr::Cos(b) => call(b, quote!(cos())),
+        Expr::Sin(b) => call(b, quote!(sin())),
         Expr::Constant(s) => {
             let id = format_ident!("{}", s.to_uppercase());
-            quote!(#id)
+            atom(quote!(#id))
         }
         Expr::Temp(i) => {
             let id = format_ident!("t{}", i);
-            quote!(#id)
+            atom(quote!(#id))
         }
     }
 }
@@ -141,6 +250,44 @@ fn parameter_bindings(config: &ModelConfig) -> TokenStream {
     out
 }
 
+/// Marks a doc attribute that [`emit`] turns into a plain `//` comment after formatting
+/// (quote cannot carry comments, and a doc comment on a block would be unused).
+const LINE_COMMENT: &str = "@line-comment@";
+
+/// A `// text` line comment before the next statement (`text` starts with a space).
+fn line_comment(text: &str) -> TokenStream {
+    let marked = format!("{LINE_COMMENT}{text}");
+    quote!(#[doc = #marked])
+}
+
+/// Integer literals without their type suffix (`2` rather than `quote`'s `2usize`): the
+/// types follow from the context in every place the module uses them.
+fn unsuffixed(tokens: TokenStream) -> TokenStream {
+    use proc_macro2::{Group, TokenTree};
+    tokens
+        .into_iter()
+        .map(|tree| match tree {
+            TokenTree::Group(g) => {
+                let mut inner = Group::new(g.delimiter(), unsuffixed(g.stream()));
+                inner.set_span(g.span());
+                TokenTree::Group(inner)
+            }
+            TokenTree::Literal(lit) => {
+                let text = lit.to_string();
+                let digits = ["usize", "i32"]
+                    .iter()
+                    .find_map(|suffix| text.strip_suffix(suffix))
+                    .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()));
+                match digits {
+                    Some(d) => TokenTree::Literal(Literal::from_str(d).expect("digits")),
+                    None => TokenTree::Literal(lit),
+                }
+            }
+            other => other,
+        })
+        .collect()
+}
+
 /// A symmetric matrix function from its upper-triangle entries, with common subexpressions
 /// as temporaries.
 fn matrix_fn(
@@ -161,9 +308,11 @@ fn matrix_fn(
         let v = tokens(e, &|_| None);
         let comment = format!(" {name}[{i}][{j}] = {}", original.to_text());
         if i == j {
-            quote! { #[doc = #comment] { m[(#i, #j)] = #v; } }
+            let note = line_comment(&comment);
+            quote! { #note { m[(#i, #j)] = #v; } }
         } else {
-            quote! { #[doc = #comment] { let v = #v; m[(#i, #j)] = v; m[(#j, #i)] = v; } }
+            let note = line_comment(&comment);
+            quote! { #note { let v = #v; m[(#i, #j)] = v; m[(#j, #i)] = v; } }
         }
     });
     let bindings = parameter_bindings(config);
@@ -227,7 +376,8 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
         let sets = exprs.chunks(2).enumerate().map(|(i, pair)| {
             let (v, s) = (tokens(&pair[0], &|_| None), tokens(&pair[1], &|_| None));
             let doc = format!(" psi_{k},{} = {}", basis[i].index, basis[i].value.to_text());
-            quote! { #[doc = #doc] { value[#i] = #v; slope[#i] = #s; } }
+            let note = line_comment(&doc);
+            quote! { #note { value[#i] = #v; slope[#i] = #s; } }
         });
         let doc = format!(
             " Basis functions of section {k} at `xi = x / l_{k}` (cancellation-free forms) and their `d/dxi`, \
@@ -320,7 +470,8 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
     let force_sets = forces.iter().enumerate().map(|(i, e)| {
         let v = tokens(e, &call_symbol);
         let doc = format!(" q[{i}] = {}", d.forces[i].to_text());
-        quote!(#[doc = #doc] { q[#i] = #v; })
+        let note = line_comment(&doc);
+        quote!(#note { q[#i] = #v; })
     });
     let jac_all: Vec<Expr> = d
         .jacobian_z
@@ -679,7 +830,7 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
             }
         }
     };
-    let text = file.to_string();
+    let text = unsuffixed(file).to_string();
     let parsed = syn::parse_file(&text).map_err(|e| {
         if let Some(dump) = std::env::var_os("TELESCOPIC_CODEGEN_DUMP") {
             let _ = std::fs::write(dump, &text);
@@ -694,6 +845,17 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
         out.push('\n');
     }
     out.push('\n');
-    out.push_str(&body);
+    for line in body.lines() {
+        let indent = &line[..line.len() - line.trim_start().len()];
+        match line.trim_start().strip_prefix("///").and_then(|rest| rest.strip_prefix(LINE_COMMENT)) {
+            Some(text) => {
+                out.push_str(indent);
+                out.push_str("//");
+                out.push_str(text);
+            }
+            None => out.push_str(line),
+        }
+        out.push('\n');
+    }
     Ok(out)
 }
