@@ -21,6 +21,8 @@ enum Command {
     /// The derived equations of motion of the scene's generated model: M, K, b, contact
     /// terms, generalized forces and their Jacobian, with parameters by name.
     Equations(crate::equations::EquationsArgs),
+    /// Integrate the scene with the clearance contact law and write its outputs as CSV.
+    Simulate(crate::simulate::SimulateArgs),
 }
 
 /// A scene file and its overrides: shared by every command that reads a scene.
@@ -47,6 +49,7 @@ impl Cli {
         match self.command {
             Command::Modes(args) => crate::modes::run(&args),
             Command::Equations(args) => crate::equations::run(&args),
+            Command::Simulate(args) => crate::simulate::run(&args),
         }
     }
 }

@@ -24,6 +24,7 @@ pub mod assembled;
 pub mod check;
 pub mod contact;
 pub mod eigen;
+pub mod integrate;
 pub mod layout;
 pub mod model;
 pub mod params;
@@ -34,6 +35,7 @@ pub mod shape;
 
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use contact::{ContactForce, ContactLaw, ContactState};
+pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use eigen::{EigenError, ModalAnalysis, modal_analysis, sample_shape};
 pub use layout::{ContactPoint, Layout};
 pub use model::{Model, mechanical_energy, rest_state};

@@ -66,6 +66,13 @@ pub struct ModelParams {
 }
 
 impl ModelParams {
+    /// The profile of the drive: `F(t)` (N) or `s(t)` (m).
+    pub fn drive_profile(&self) -> &Profile {
+        match &self.drive {
+            Drive::Force(p) | Drive::Motion(p) => p,
+        }
+    }
+
     /// Number of sections `n`.
     pub fn section_count(&self) -> usize {
         self.sections.len()

@@ -1,0 +1,508 @@
+//! The time loop shared by every method: step-size control, drive discontinuities, contact
+//! events, sampling, divergence checks.
+
+use super::{
+    ContactTracker, Method, Progress, RunStats, Settings, SimError, StepControl, StepFailure,
+    Stepper, System, make_stepper,
+};
+use crate::eigen::modal_analysis;
+use crate::model::Model;
+use crate::scene::TimeSpan;
+
+/// Consecutive Newton failures (each followed by a 4x shorter step) before giving up.
+const MAX_NEWTON_FAILURES: u32 = 12;
+
+pub(super) struct Driver<'m> {
+    sys: System<'m>,
+    method: Method,
+    stepper: Box<dyn Stepper>,
+    settings: Settings,
+    span: TimeSpan,
+    /// Times where the drive or a position profile is not smooth, inside the span, sorted.
+    breakpoints: Vec<f64>,
+    /// `(section k, min, max)`: `a_k` must stay in `[min, max)`.
+    position_ranges: Vec<(usize, f64, f64)>,
+    /// A displacement coordinate beyond this (m) means divergence.
+    size_limit: f64,
+    t: f64,
+    y: Vec<f64>,
+    f0: Vec<f64>,
+    y1: Vec<f64>,
+    f1: Vec<f64>,
+    y_trial: Vec<f64>,
+    y_sample: Vec<f64>,
+    ydot_sample: Vec<f64>,
+    h: f64,
+    next_sample: u64,
+    /// Number of output samples, the one at `start` included.
+    sample_total: u64,
+}
+
+impl<'m> Driver<'m> {
+    pub(super) fn new(
+        model: &'m dyn Model,
+        y0: &[f64],
+        span: &TimeSpan,
+        method: Method,
+        settings: &Settings,
+    ) -> Result<Self, SimError> {
+        let n = model.dof();
+        if y0.len() != 2 * n {
+            return Err(SimError::Settings(format!(
+                "initial state has {} entries, the model needs 2 dof = {}",
+                y0.len(),
+                2 * n
+            )));
+        }
+        let control = method.step_control();
+        match (control, settings.dt) {
+            (StepControl::Fixed, None) => {
+                return Err(SimError::Settings(format!(
+                    "method {method} has a fixed step: give --dt (s)"
+                )));
+            }
+            (_, Some(dt)) if !(dt > 0.0 && dt.is_finite()) => {
+                return Err(SimError::Settings(format!(
+                    "--dt must be a positive number of seconds (got {dt})"
+                )));
+            }
+            _ => {}
+        }
+        if control == StepControl::Adaptive
+            && !(settings.rtol > 0.0 && settings.atol > 0.0 && settings.rtol < 1.0)
+        {
+            return Err(SimError::Settings(format!(
+                "tolerances must be positive with rtol < 1 (got rtol = {}, atol = {})",
+                settings.rtol, settings.atol
+            )));
+        }
+        let params = model.params();
+        let mut breakpoints: Vec<f64> = params
+            .positions
+            .iter()
+            .flat_map(|p| p.breakpoints())
+            .chain(params.drive_profile().breakpoints())
+            .filter(|&b| b > span.start && b < span.end)
+            .collect();
+        breakpoints.sort_by(f64::total_cmp);
+        breakpoints.dedup();
+        let position_ranges = (1..params.sections.len())
+            .map(|k| {
+                let (below, above) = (params.sections[k - 1].length, params.sections[k].length);
+                (k + 1, below - below.min(above), below)
+            })
+            .collect();
+        let size_limit = 100.0 * params.sections.iter().map(|s| s.length).sum::<f64>();
+        // whole samples in the span (a last one within 1e-9 of a sample of the end counts)
+        let whole = ((span.end - span.start) / span.sample * (1.0 + 1e-9)).floor() as u64;
+        let ends_on_sample =
+            (span.start + whole as f64 * span.sample - span.end).abs() <= 1e-9 * span.sample;
+        let sample_total = whole + 1 + u64::from(!ends_on_sample);
+        let tracker = ContactTracker::new(model, span.start, y0);
+        let mut sys = System {
+            model,
+            tracker,
+            stats: RunStats::default(),
+            time_cap: f64::INFINITY,
+        };
+        let mut f0 = vec![0.0; 2 * n];
+        sys.rhs(span.start, y0, &mut f0);
+        Ok(Driver {
+            stepper: make_stepper(method, n, settings),
+            sys,
+            method,
+            settings: *settings,
+            span: *span,
+            breakpoints,
+            position_ranges,
+            size_limit,
+            t: span.start,
+            y: y0.to_vec(),
+            f0,
+            y1: vec![0.0; 2 * n],
+            f1: vec![0.0; 2 * n],
+            y_trial: vec![0.0; 2 * n],
+            y_sample: vec![0.0; 2 * n],
+            ydot_sample: vec![0.0; 2 * n],
+            h: 0.0,
+            next_sample: 0,
+            sample_total,
+        })
+    }
+
+    fn adaptive(&self) -> bool {
+        self.method.step_control() == StepControl::Adaptive
+    }
+
+    /// Hairer & Wanner's starting step for an adaptive method.
+    fn initial_step(&mut self) -> f64 {
+        let (rtol, atol) = (self.settings.rtol, self.settings.atol);
+        let scale = |v: f64| atol + rtol * v.abs();
+        let rms = |a: &[f64], b: &[f64]| {
+            (a.iter()
+                .zip(b)
+                .map(|(x, yv)| (x / scale(*yv)).powi(2))
+                .sum::<f64>()
+                / a.len() as f64)
+                .sqrt()
+        };
+        let d0 = rms(&self.y, &self.y);
+        let d1 = rms(&self.f0, &self.y);
+        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        };
+        for i in 0..self.y.len() {
+            self.y_trial[i] = self.y[i] + h0 * self.f0[i];
+        }
+        self.sys.rhs(self.t + h0, &self.y_trial, &mut self.f1);
+        let diff: Vec<f64> = self.f1.iter().zip(&self.f0).map(|(a, b)| a - b).collect();
+        let d2 = rms(&diff, &self.y) / h0;
+        let order = self.stepper.order() as f64 + 1.0;
+        let h1 = if d1.max(d2) <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / d1.max(d2)).powf(1.0 / order)
+        };
+        (100.0 * h0).min(h1).min(self.span.end - self.span.start)
+    }
+
+    pub(super) fn run(
+        &mut self,
+        observe: &mut dyn FnMut(f64, &[f64], &[f64]),
+        mut progress: Option<Progress>,
+    ) -> Result<RunStats, SimError> {
+        let end = self.span.end;
+        self.h = match (self.settings.dt, self.adaptive()) {
+            (Some(dt), _) => dt,
+            (None, true) => self.initial_step(),
+            (None, false) => unreachable!("checked in new"),
+        };
+        observe(self.t, &self.y, &self.f0);
+        self.next_sample = 1;
+        let mut newton_failures = 0u32;
+        let mut next_break = 0usize;
+        let mut last_report = self.t;
+        while self.t < end {
+            let stats = &self.sys.stats;
+            if stats.steps + stats.rejected >= self.settings.max_steps {
+                return Err(SimError::TooManySteps {
+                    t: self.t,
+                    method: self.method.name(),
+                    steps: stats.steps + stats.rejected,
+                    cause: self.too_many_steps_cause(),
+                });
+            }
+            while next_break < self.breakpoints.len() && self.breakpoints[next_break] <= self.t {
+                next_break += 1;
+            }
+            let t_break = self.breakpoints.get(next_break).copied().unwrap_or(end);
+            // adaptive methods end steps on sample times, so samples carry the method's own
+            // accuracy; fixed-step methods keep their grid and interpolate
+            let t_sample = if self.adaptive() && self.next_sample < self.sample_total {
+                self.sample_time(self.next_sample)
+            } else {
+                end
+            };
+            let t_stop = t_break.min(t_sample);
+            let remaining = t_stop - self.t;
+            // never leave a sliver before a stop
+            let mut h = if self.h >= remaining * (1.0 - 1e-9) {
+                remaining
+            } else {
+                self.h
+            };
+            let to_stop = h == remaining;
+            let at_break = to_stop && t_stop == t_break && t_break < end;
+            // the profiles' left limits apply up to a discontinuity
+            self.sys.time_cap = if at_break {
+                t_break.next_down()
+            } else {
+                f64::INFINITY
+            };
+            let h_min = 16.0 * f64::EPSILON * self.t.abs().max(1.0);
+            let outcome = self.stepper.step(
+                &mut self.sys,
+                self.t,
+                &self.y,
+                &self.f0,
+                h,
+                &mut self.y1,
+            );
+            let err = match outcome {
+                Ok(e) => {
+                    newton_failures = 0;
+                    e
+                }
+                Err(StepFailure::NewtonDiverged) => {
+                    newton_failures += 1;
+                    self.sys.stats.rejected += 1;
+                    // a fixed step does not shrink: the first failure is final
+                    if !self.adaptive()
+                        || newton_failures >= MAX_NEWTON_FAILURES
+                        || h / 4.0 < h_min
+                    {
+                        let remedy = if self.adaptive() {
+                            ""
+                        } else {
+                            "; a fixed step cannot be cut: take a smaller --dt or the adaptive galpha"
+                        };
+                        return Err(SimError::NewtonFailure {
+                            t: self.t,
+                            method: self.method.name(),
+                            h,
+                            attempts: newton_failures,
+                            cause: format!(
+                                "the Jacobian does not describe the step (a contact switch \
+                                 inside it, or a singular iteration matrix){remedy}"
+                            ),
+                        });
+                    }
+                    self.h = h / 4.0;
+                    continue;
+                }
+            };
+            let finite = self.y1.iter().all(|v| v.is_finite());
+            if self.adaptive() && (!finite || err > 1.0) {
+                self.sys.stats.rejected += 1;
+                let factor = if finite {
+                    (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).max(0.2)
+                } else {
+                    0.1
+                };
+                self.h = h * factor;
+                if self.h < h_min {
+                    return Err(SimError::StepUnderflow {
+                        t: self.t,
+                        method: self.method.name(),
+                        h: self.h,
+                        h_min,
+                        cause: "the tolerance is too tight for f64 at this time, or the \
+                                contacts chatter faster than any step can follow"
+                            .into(),
+                    });
+                }
+                continue;
+            }
+            self.check_size(h, finite)?;
+
+            // contact events inside the step
+            let mut switched = false;
+            let model = self.sys.model;
+            if self.sys.tracker.min_switch_value(model, self.t + h, &self.y1) < 0.0 {
+                h = self.locate_switch(h);
+                switched = true;
+            }
+            let t1 = if h == remaining { t_stop } else { self.t + h };
+            match (switched, self.stepper.end_derivative()) {
+                (false, Some(f)) => self.f1.copy_from_slice(f),
+                _ => {
+                    let (t_eval, y1) = (t1, &self.y1);
+                    self.sys.rhs(t_eval, y1, &mut self.f1);
+                }
+            }
+            self.emit_samples(t1, observe);
+            self.check_positions(t1)?;
+            self.sys.stats.steps += 1;
+            self.stepper.accepted();
+            self.t = t1;
+            std::mem::swap(&mut self.y, &mut self.y1);
+            self.sys.time_cap = f64::INFINITY;
+            if switched {
+                self.sys.stats.switches += self.sys.tracker.switch(model, self.t, &self.y);
+            }
+            if switched || at_break {
+                self.stepper.restart();
+                let (t, y) = (self.t, &self.y);
+                self.sys.rhs(t, y, &mut self.f0);
+            } else {
+                std::mem::swap(&mut self.f0, &mut self.f1);
+            }
+            if self.adaptive() {
+                let factor = if err <= 0.0 {
+                    5.0
+                } else {
+                    (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).clamp(0.2, 5.0)
+                };
+                // a step cut short by an event or a stop says nothing about the next one
+                let base = if switched || to_stop { self.h.max(h) } else { h };
+                self.h = base * factor;
+            }
+            if let Some(p) = progress.as_mut() {
+                if self.t - last_report >= 0.01 * (end - self.span.start) {
+                    p(self.t);
+                    last_report = self.t;
+                }
+            }
+        }
+        Ok(self.sys.stats.clone())
+    }
+
+    /// Shortens the step `h` so that it ends just past the first band-edge crossing
+    /// (Illinois on the step length; every trial is a full step of the method from the same
+    /// start). Leaves the state at the new end in `y1` and returns the new length.
+    fn locate_switch(&mut self, h: f64) -> f64 {
+        let model = self.sys.model;
+        let (mut lo, mut hi) = (0.0, h);
+        let mut g_lo = self
+            .sys
+            .tracker
+            .min_switch_value(model, self.t, &self.y)
+            .max(0.0);
+        let mut g_hi = self.sys.tracker.min_switch_value(model, self.t + h, &self.y1);
+        let mut side = 0i8;
+        let tol = 4.0 * f64::EPSILON * self.t.abs().max(1.0);
+        for _ in 0..200 {
+            if hi - lo <= tol {
+                break;
+            }
+            let mut tau = hi - g_hi * (hi - lo) / (g_hi - g_lo);
+            if !(tau > lo && tau < hi) {
+                tau = 0.5 * (lo + hi);
+            }
+            // a trial step: the result is only used through its switch functions
+            let _ = self.stepper.step(
+                &mut self.sys,
+                self.t,
+                &self.y,
+                &self.f0,
+                tau,
+                &mut self.y_trial,
+            );
+            let g = self
+                .sys
+                .tracker
+                .min_switch_value(model, self.t + tau, &self.y_trial);
+            if g < 0.0 {
+                hi = tau;
+                g_hi = g;
+                std::mem::swap(&mut self.y1, &mut self.y_trial);
+                if side == 1 {
+                    g_lo *= 0.5;
+                }
+                side = 1;
+            } else {
+                lo = tau;
+                g_lo = g;
+                if side == -1 {
+                    g_hi *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        hi
+    }
+
+    /// Time of output sample `k`: `start + k sample`, then `end` if the span is not a whole
+    /// number of samples.
+    fn sample_time(&self, k: u64) -> f64 {
+        (self.span.start + k as f64 * self.span.sample).min(self.span.end)
+    }
+
+    /// Samples at output times in `(t, t1]` from the cubic Hermite interpolant of the step.
+    fn emit_samples(&mut self, t1: f64, observe: &mut dyn FnMut(f64, &[f64], &[f64])) {
+        let (t0, h) = (self.t, t1 - self.t);
+        while self.next_sample < self.sample_total && self.sample_time(self.next_sample) <= t1 {
+            let ts = self.sample_time(self.next_sample);
+            let th = (ts - t0) / h;
+            let (th2, th3) = (th * th, th * th * th);
+            let (h00, h10, h01, h11) = (
+                2.0 * th3 - 3.0 * th2 + 1.0,
+                th3 - 2.0 * th2 + th,
+                -2.0 * th3 + 3.0 * th2,
+                th3 - th2,
+            );
+            let (d00, d10, d01, d11) = (
+                6.0 * th2 - 6.0 * th,
+                3.0 * th2 - 4.0 * th + 1.0,
+                -6.0 * th2 + 6.0 * th,
+                3.0 * th2 - 2.0 * th,
+            );
+            for i in 0..self.y.len() {
+                let (y0, f0, y1, f1) = (self.y[i], self.f0[i], self.y1[i], self.f1[i]);
+                self.y_sample[i] = h00 * y0 + h10 * h * f0 + h01 * y1 + h11 * h * f1;
+                self.ydot_sample[i] = (d00 * y0 + d01 * y1) / h + d10 * f0 + d11 * f1;
+            }
+            observe(ts, &self.y_sample, &self.ydot_sample);
+            self.next_sample += 1;
+        }
+    }
+
+    fn check_size(&self, h: f64, finite: bool) -> Result<(), SimError> {
+        let n = self.sys.dof();
+        let too_big = self.y1[1..n].iter().any(|v| v.abs() > self.size_limit);
+        if finite && !too_big {
+            return Ok(());
+        }
+        let what = if finite {
+            format!(
+                "a displacement coordinate exceeded {:.0} m (100 times the telescope's length)",
+                self.size_limit
+            )
+        } else {
+            "the state became non-finite".to_string()
+        };
+        let cause = match self.method.stability_limit() {
+            Some(limit) => {
+                let omega_max = modal_analysis(self.sys.model, self.t)
+                    .ok()
+                    .and_then(|m| m.frequencies_hz.last().copied())
+                    .map(|f| 2.0 * std::f64::consts::PI * f);
+                match omega_max {
+                    Some(w) if h * w > limit => format!(
+                        "{what}; the step {h:.3e} s is above the stability limit of {} \
+                         (h omega_max <= {limit:.3}): the stiffest mode with closed contacts has \
+                         omega_max = {w:.4e} rad/s, so the largest stable step is about {:.3e} s",
+                        self.method.name(),
+                        limit / w
+                    ),
+                    Some(w) => format!(
+                        "{what}; the step is below the linear stability limit ({:.3e} s for \
+                         omega_max = {w:.4e} rad/s), so the blow-up comes from the nonlinear \
+                         contact law: take a smaller step or an adaptive method",
+                        limit / w
+                    ),
+                    None => format!("{what}; take a smaller step"),
+                }
+            }
+            None => format!(
+                "{what}; the model or its parameters may be unstable (buckling under gravity?)"
+            ),
+        };
+        Err(SimError::Diverged {
+            t: self.t,
+            method: self.method.name(),
+            h,
+            cause,
+        })
+    }
+
+    fn check_positions(&self, t: f64) -> Result<(), SimError> {
+        for (i, p) in self.sys.model.params().positions.iter().enumerate() {
+            let (section, min, max) = self.position_ranges[i];
+            let a = p.value(t);
+            if !(a >= min && a < max) {
+                return Err(SimError::PositionOutOfRange {
+                    t,
+                    method: self.method.name(),
+                    section,
+                    value: a,
+                    min,
+                    max,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn too_many_steps_cause(&self) -> String {
+        if self.adaptive() {
+            "the tolerance is too tight or the contacts chatter; loosen --rtol/--atol or raise \
+             the step limit"
+                .into()
+        } else {
+            "the fixed step is too small for the span; take a larger --dt".into()
+        }
+    }
+}

@@ -1,0 +1,411 @@
+//! Time integration of a [`Model`] with the clearance contact law: methods, contact-switch
+//! events, output sampling, statistics and failure reports.
+//!
+//! The driver ([`simulate`]) keeps the branch of the contact law fixed per contact between
+//! switches, so the right-hand side is smooth within every step. After each accepted step
+//! it evaluates a switch function per contact (positive while the contact stays in its
+//! branch, see [`events`]); when one turns negative, the step is redone with shorter lengths
+//! (Illinois root finding on the step length, each trial a full step of the method, so the
+//! state at the switch has the method's own order), the contact changes branch and the
+//! method restarts. Discontinuities of the drive and position profiles are step ends too.
+//!
+//! Samples at the scene's output times come from the cubic Hermite interpolant of each
+//! accepted step (`y` and `ydot` at both ends).
+
+pub mod events;
+pub mod explicit;
+pub mod generalized_alpha;
+pub mod verlet;
+
+use crate::model::Model;
+use crate::scene::TimeSpan;
+use std::fmt;
+use std::time::{Duration, Instant};
+
+pub use events::ContactTracker;
+
+/// An integration method, selectable by name (`--method`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Method {
+    /// Dormand-Prince 5(4), adaptive, explicit.
+    Dopri5,
+    /// Classical Runge-Kutta 4, fixed step, explicit.
+    Rk4,
+    /// Stormer-Verlet (velocity form), fixed step, explicit, second order.
+    Verlet,
+    /// Generalized-alpha (Chung-Hulbert) with spectral radius at infinity `rho_inf` in
+    /// `[0, 1]`, Newton on the analytic Jacobian; fixed step or adaptive.
+    GeneralizedAlpha {
+        /// Spectral radius at infinite frequency (1: no numerical damping, 0: the most).
+        rho_inf: f64,
+        /// Adaptive step size from the local error estimate.
+        adaptive: bool,
+    },
+}
+
+/// How a method sets its step size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepControl {
+    /// Error-controlled step size (needs `rtol`, `atol`).
+    Adaptive,
+    /// A fixed step `dt`.
+    Fixed,
+}
+
+/// Names accepted by [`Method::from_name`], with a one-line description each.
+pub const METHOD_NAMES: [(&str, &str); 6] = [
+    ("dopri5", "Dormand-Prince 5(4), adaptive explicit Runge-Kutta"),
+    ("rk4", "classical Runge-Kutta 4, fixed step"),
+    ("verlet", "Stormer-Verlet (velocity form), fixed step"),
+    ("galpha", "generalized-alpha (Chung-Hulbert), adaptive, Newton on the analytic Jacobian"),
+    ("galpha-fixed", "generalized-alpha, fixed step"),
+    ("galpha-rho<R>", "generalized-alpha with spectral radius R, e.g. galpha-rho0.5 (default 0.8)"),
+];
+
+/// Default spectral radius at infinity of generalized-alpha.
+pub const DEFAULT_RHO_INF: f64 = 0.8;
+
+impl Method {
+    /// Parses a method name (see [`METHOD_NAMES`]); `galpha-rho0.5` and
+    /// `galpha-fixed-rho0.5` set the spectral radius.
+    ///
+    /// # Errors
+    /// A message listing the known names.
+    pub fn from_name(name: &str) -> Result<Self, String> {
+        let galpha = |rest: &str, adaptive: bool| -> Result<Self, String> {
+            let rho_inf = match rest.strip_prefix("-rho") {
+                None if rest.is_empty() => DEFAULT_RHO_INF,
+                Some(r) => r.parse::<f64>().map_err(|_| {
+                    format!("method `{name}`: `{r}` is not a number for the spectral radius")
+                })?,
+                None => return Err(unknown(name)),
+            };
+            if !(0.0..=1.0).contains(&rho_inf) {
+                return Err(format!(
+                    "method `{name}`: the spectral radius must be in [0, 1] (got {rho_inf})"
+                ));
+            }
+            Ok(Method::GeneralizedAlpha { rho_inf, adaptive })
+        };
+        fn unknown(name: &str) -> String {
+            let names: Vec<&str> = METHOD_NAMES.iter().map(|(n, _)| *n).collect();
+            format!("unknown method `{name}`; known: {}", names.join(", "))
+        }
+        match name {
+            "dopri5" => Ok(Method::Dopri5),
+            "rk4" => Ok(Method::Rk4),
+            "verlet" => Ok(Method::Verlet),
+            _ => {
+                if let Some(rest) = name.strip_prefix("galpha-fixed") {
+                    galpha(rest, false)
+                } else if let Some(rest) = name.strip_prefix("galpha") {
+                    galpha(rest, true)
+                } else {
+                    Err(unknown(name))
+                }
+            }
+        }
+    }
+
+    /// The method's name, as [`Method::from_name`] reads it.
+    pub fn name(&self) -> String {
+        match self {
+            Method::Dopri5 => "dopri5".into(),
+            Method::Rk4 => "rk4".into(),
+            Method::Verlet => "verlet".into(),
+            Method::GeneralizedAlpha { rho_inf, adaptive } => {
+                let kind = if *adaptive { "galpha" } else { "galpha-fixed" };
+                if *rho_inf == DEFAULT_RHO_INF {
+                    kind.to_string()
+                } else {
+                    format!("{kind}-rho{rho_inf}")
+                }
+            }
+        }
+    }
+
+    /// Adaptive or fixed step.
+    pub fn step_control(&self) -> StepControl {
+        match self {
+            Method::Dopri5 | Method::GeneralizedAlpha { adaptive: true, .. } => {
+                StepControl::Adaptive
+            }
+            _ => StepControl::Fixed,
+        }
+    }
+
+    /// Explicit stability limit `h omega_max` on the imaginary axis (undamped oscillation),
+    /// for the explicit fixed-step methods.
+    pub fn stability_limit(&self) -> Option<f64> {
+        match self {
+            Method::Rk4 => Some(2.0 * 2f64.sqrt()), // 2.828: RK4's interval on the imaginary axis
+            Method::Verlet => Some(2.0),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+/// Tolerances and step settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Relative tolerance (adaptive methods).
+    pub rtol: f64,
+    /// Absolute tolerance (adaptive methods; m, m/s: the units of the state).
+    pub atol: f64,
+    /// Step (s) of fixed-step methods; first trial step of adaptive ones if set.
+    pub dt: Option<f64>,
+    /// Most steps (accepted and rejected) before giving up.
+    pub max_steps: u64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            rtol: 1e-6,
+            atol: 1e-9,
+            dt: None,
+            max_steps: 50_000_000,
+        }
+    }
+}
+
+/// What a run did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunStats {
+    /// Accepted steps (partial steps to an event count).
+    pub steps: u64,
+    /// Rejected steps (error too large, or Newton not converged).
+    pub rejected: u64,
+    /// Right-hand side evaluations.
+    pub rhs_evals: u64,
+    /// Jacobian evaluations.
+    pub jacobian_evals: u64,
+    /// LU factorizations.
+    pub factorizations: u64,
+    /// Contact branch switches (band-edge crossings).
+    pub switches: u64,
+    /// Wall-clock time of the integration.
+    pub wall: Duration,
+}
+
+/// Why a run stopped early. Every message names the time, the method and the likely cause.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// The state stopped being finite or grew beyond any physical size.
+    #[error("the solution diverged at t = {t:.6} s (method {method}, step {h:.3e} s): {cause}")]
+    Diverged {
+        /// Time of the last good state (s).
+        t: f64,
+        /// Method name.
+        method: String,
+        /// Step that failed (s).
+        h: f64,
+        /// The likely cause.
+        cause: String,
+    },
+    /// The adaptive step size fell below the floor.
+    #[error(
+        "step size underflow at t = {t:.6} s (method {method}): the step {h:.3e} s fell below {h_min:.3e} s; \
+         likely cause: {cause}"
+    )]
+    StepUnderflow {
+        /// Time (s).
+        t: f64,
+        /// Method name.
+        method: String,
+        /// The rejected step (s).
+        h: f64,
+        /// The floor (s).
+        h_min: f64,
+        /// The likely cause.
+        cause: String,
+    },
+    /// Newton's method failed repeatedly.
+    #[error(
+        "Newton iteration failed at t = {t:.6} s (method {method}, step {h:.3e} s) {attempts} times in a row; \
+         likely cause: {cause}"
+    )]
+    NewtonFailure {
+        /// Time (s).
+        t: f64,
+        /// Method name.
+        method: String,
+        /// Last step tried (s).
+        h: f64,
+        /// Consecutive failures.
+        attempts: u32,
+        /// The likely cause.
+        cause: String,
+    },
+    /// A telescopic position left the range where the overlap is valid.
+    #[error(
+        "telescopic position a_{section} = {value:.6} m at t = {t:.6} s (method {method}) leaves its valid range \
+         [{min:.6}, {max:.6}) m: the overlap of sections {} and {section} would vanish or exceed a section",
+        section - 1
+    )]
+    PositionOutOfRange {
+        /// Time (s).
+        t: f64,
+        /// Method name.
+        method: String,
+        /// Section `k` (1-based) whose foot position `a_k` is out of range.
+        section: usize,
+        /// `a_k(t)` (m).
+        value: f64,
+        /// Smallest valid value (m).
+        min: f64,
+        /// Valid values are below this (m).
+        max: f64,
+    },
+    /// Too many steps.
+    #[error(
+        "gave up after {steps} steps at t = {t:.6} s (method {method}); likely cause: {cause}"
+    )]
+    TooManySteps {
+        /// Time reached (s).
+        t: f64,
+        /// Method name.
+        method: String,
+        /// Steps taken.
+        steps: u64,
+        /// The likely cause.
+        cause: String,
+    },
+    /// Settings that cannot work.
+    #[error("{0}")]
+    Settings(String),
+}
+
+/// The right-hand side with the contact branches held fixed, and its evaluation counts.
+pub struct System<'m> {
+    /// The model.
+    pub model: &'m dyn Model,
+    /// Contact branches (ignored for the linear law).
+    pub tracker: ContactTracker,
+    /// Evaluation counts so far.
+    pub stats: RunStats,
+    /// Times are clamped to this (s): just before a drive discontinuity, so a step that ends
+    /// on it sees the profile's left limit.
+    pub time_cap: f64,
+}
+
+impl System<'_> {
+    /// `ydot = f(t, y)` in the current contact branches.
+    #[inline]
+    pub fn rhs(&mut self, t: f64, y: &[f64], ydot: &mut [f64]) {
+        self.stats.rhs_evals += 1;
+        self.model
+            .rhs(t.min(self.time_cap), y, self.tracker.fixed_states(), ydot);
+    }
+
+    /// `d ydot / d y` in the current contact branches.
+    pub fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut nalgebra::DMatrix<f64>) {
+        self.stats.jacobian_evals += 1;
+        self.model
+            .jacobian(t.min(self.time_cap), y, self.tracker.fixed_states(), jac);
+    }
+
+    /// Number of generalized coordinates.
+    pub fn dof(&self) -> usize {
+        self.model.dof()
+    }
+}
+
+/// Why a single step could not be taken (the driver turns it into a retry or a [`SimError`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepFailure {
+    /// Newton did not converge within its iteration limit.
+    NewtonDiverged,
+}
+
+/// One step of a method. `f0 = f(t, y)` in the current branches is given; the method writes
+/// `y1` at `t + h` and returns the scaled local error estimate (1 = at tolerance) when it
+/// has one, else 0.
+pub trait Stepper {
+    /// Order used for step-size control (`err ~ h^(order+1)`).
+    fn order(&self) -> u32;
+
+    /// Takes one step.
+    ///
+    /// # Errors
+    /// [`StepFailure`] when the step cannot be completed (the driver retries shorter).
+    fn step(
+        &mut self,
+        sys: &mut System,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        y1: &mut [f64],
+    ) -> Result<f64, StepFailure>;
+
+    /// `f(t + h, y1)` of the last step, when the method computed it (first-same-as-last).
+    fn end_derivative(&self) -> Option<&[f64]> {
+        None
+    }
+
+    /// The last step taken was accepted (commit any carried history).
+    fn accepted(&mut self) {}
+
+    /// Forget history after a contact switch or a drive discontinuity.
+    fn restart(&mut self) {}
+}
+
+/// Scaled RMS norm of an error vector against `atol + rtol max(|y0|, |y1|)`.
+pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> f64 {
+    let n = err.len() as f64;
+    let sum: f64 = err
+        .iter()
+        .zip(y0.iter().zip(y1))
+        .map(|(e, (a, b))| {
+            let sc = atol + rtol * a.abs().max(b.abs());
+            (e / sc).powi(2)
+        })
+        .sum();
+    (sum / n).sqrt()
+}
+
+fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Stepper> {
+    match method {
+        Method::Dopri5 => Box::new(explicit::ExplicitRk::dopri5(2 * dof, settings)),
+        Method::Rk4 => Box::new(explicit::ExplicitRk::rk4(2 * dof)),
+        Method::Verlet => Box::new(verlet::StormerVerlet::new(dof)),
+        Method::GeneralizedAlpha { rho_inf, adaptive } => Box::new(
+            generalized_alpha::GeneralizedAlpha::new(dof, rho_inf, adaptive, settings),
+        ),
+    }
+}
+
+/// Progress callback: called now and then with the current time (s).
+pub type Progress<'a> = &'a mut dyn FnMut(f64);
+
+/// Integrates `model` from `y0` at `span.start` to `span.end`, calling `observe(t, y, ydot)`
+/// at every sample time `start + k sample` (and at `end`).
+///
+/// # Errors
+/// [`SimError`] naming the time, method and likely cause; `observe` has then seen only the
+/// samples before the failure.
+pub fn simulate(
+    model: &dyn Model,
+    y0: &[f64],
+    span: &TimeSpan,
+    method: Method,
+    settings: &Settings,
+    observe: &mut dyn FnMut(f64, &[f64], &[f64]),
+    progress: Option<Progress>,
+) -> Result<RunStats, SimError> {
+    let started = Instant::now();
+    let mut driver = Driver::new(model, y0, span, method, settings)?;
+    let mut stats = driver.run(observe, progress)?;
+    stats.wall = started.elapsed();
+    Ok(stats)
+}
+
+mod driver;
+use driver::Driver;

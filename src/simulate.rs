@@ -1,0 +1,229 @@
+//! `telescopic simulate`: integrates a scene with the chosen method, writes the MODEL.md
+//! section 5 outputs as CSV (complete or not at all) and a run summary on stderr.
+
+use crate::choose::{ModelChoice, build_model};
+use crate::cli::SceneArgs;
+use anyhow::{Context, bail};
+use clap::Args;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use telescopic_runtime::{Method, Model, RunStats, Scene, Settings, model::rest_state, simulate};
+
+/// Options of `telescopic simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Integration method: dopri5 (default), rk4, verlet, galpha, galpha-fixed,
+    /// galpha-rho<R> (see the README).
+    #[arg(long, default_value = "dopri5", value_name = "NAME")]
+    pub method: String,
+    /// Relative tolerance of adaptive methods.
+    #[arg(long, value_name = "R")]
+    pub rtol: Option<f64>,
+    /// Absolute tolerance of adaptive methods (m and m/s).
+    #[arg(long, value_name = "A")]
+    pub atol: Option<f64>,
+    /// Step (s) of fixed-step methods; first trial step of adaptive ones.
+    #[arg(long, value_name = "H")]
+    pub dt: Option<f64>,
+    /// CSV file for the outputs (written to a temporary file and renamed when complete);
+    /// default: standard output.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Which model computes the right-hand side.
+    #[arg(long, value_enum, default_value_t)]
+    pub model: ModelChoice,
+}
+
+/// One simulated scene: the output names and the samples (time first in each row).
+pub struct Trajectory {
+    /// Output names, without `t`.
+    pub names: Vec<String>,
+    /// Rows `[t, outputs...]`.
+    pub rows: Vec<Vec<f64>>,
+    /// What the run did.
+    pub stats: RunStats,
+}
+
+/// The method and settings from the command line.
+pub fn settings_from(args: &SimulateArgs) -> anyhow::Result<(Method, Settings)> {
+    let method = Method::from_name(&args.method).map_err(anyhow::Error::msg)?;
+    let mut settings = Settings::default();
+    if let Some(r) = args.rtol {
+        settings.rtol = r;
+    }
+    if let Some(a) = args.atol {
+        settings.atol = a;
+    }
+    settings.dt = args.dt;
+    Ok((method, settings))
+}
+
+/// Integrates `scene` on `model`, collecting every output sample.
+pub fn run_scene(
+    scene: &Scene,
+    model: &dyn Model,
+    method: Method,
+    settings: &Settings,
+) -> anyhow::Result<Trajectory> {
+    let names = model.output_names();
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    let mut out = vec![0.0; names.len()];
+    let mut bad_output: Option<(f64, String)> = None;
+    let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
+        model.outputs(t, y, ydot, &mut out);
+        if bad_output.is_none() {
+            if let Some(i) = out.iter().position(|v| !v.is_finite()) {
+                bad_output = Some((t, names[i].clone()));
+            }
+        }
+        let mut row = Vec::with_capacity(out.len() + 1);
+        row.push(t);
+        row.extend_from_slice(&out);
+        rows.push(row);
+    };
+    let bar = progress_bar(scene);
+    let mut tick = |t: f64| {
+        if let Some(b) = &bar {
+            b.set_position(((t - scene.time.start) / (scene.time.end - scene.time.start) * 1000.0) as u64);
+        }
+    };
+    let y0 = rest_state(model, scene.time.start);
+    let result = simulate(
+        model,
+        &y0,
+        &scene.time,
+        method,
+        settings,
+        &mut observe,
+        Some(&mut tick),
+    );
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let stats = result.with_context(|| format!("scene {} could not be simulated", scene.name))?;
+    if let Some((t, name)) = bad_output {
+        bail!("output `{name}` is not finite at t = {t} s (method {method}); no output written");
+    }
+    Ok(Trajectory { names, rows, stats })
+}
+
+/// A progress bar on stderr when it is a terminal (0..1000 over the span).
+fn progress_bar(scene: &Scene) -> Option<indicatif::ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(1000);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {percent}% ({elapsed})")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("simulating {}", scene.name));
+    Some(bar)
+}
+
+/// Writes the trajectory as CSV: to `path` via a temporary file renamed when complete, or to
+/// standard output.
+pub fn write_csv(traj: &Trajectory, path: Option<&Path>) -> anyhow::Result<()> {
+    let write_rows = |w: &mut dyn Write| -> std::io::Result<()> {
+        writeln!(w, "t,{}", traj.names.join(","))?;
+        for row in &traj.rows {
+            let cells: Vec<String> = row.iter().map(|&v| csv_number(v)).collect();
+            writeln!(w, "{}", cells.join(","))?;
+        }
+        w.flush()
+    };
+    match path {
+        None => {
+            let stdout = std::io::stdout();
+            let mut lock = std::io::BufWriter::new(stdout.lock());
+            write_rows(&mut lock).context("writing CSV to standard output")
+        }
+        Some(path) => write_atomically(path, |w| write_rows(w)),
+    }
+}
+
+/// A number as CSV text: shortest round-trip digits, positional for moderate magnitudes and
+/// with an exponent for tiny or huge ones.
+fn csv_number(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-4..1e7).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Writes `path` through a temporary file in the same directory, renamed when `fill`
+/// succeeded; removed otherwise, so no partial file is left.
+pub fn write_atomically(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> anyhow::Result<()> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let file_name = path
+        .file_name()
+        .with_context(|| format!("{} is not a file path", path.display()))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        file_name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| -> std::io::Result<()> {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::new(file);
+        fill(&mut w)?;
+        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e).with_context(|| format!("writing {}", path.display()));
+    }
+    Ok(())
+}
+
+/// The run summary printed on stderr.
+pub fn summary(scene: &Scene, model_word: &str, method: Method, settings: &Settings, traj: &Trajectory) -> String {
+    let s = &traj.stats;
+    let tol = match method.step_control() {
+        telescopic_runtime::integrate::StepControl::Adaptive => {
+            format!("rtol {:e}, atol {:e}", settings.rtol, settings.atol)
+        }
+        telescopic_runtime::integrate::StepControl::Fixed => {
+            format!("dt {:e} s", settings.dt.unwrap_or(f64::NAN))
+        }
+    };
+    format!(
+        "{} on the {model_word}: method {method} ({tol}), t = {} .. {} s, {} samples\n\
+         steps {} (rejected {}), rhs evaluations {}, Jacobian evaluations {}, factorizations {}, \
+         contact switches {}, wall time {:.3} s",
+        scene.name,
+        scene.time.start,
+        scene.time.end,
+        traj.rows.len(),
+        s.steps,
+        s.rejected,
+        s.rhs_evals,
+        s.jacobian_evals,
+        s.factorizations,
+        s.switches,
+        s.wall.as_secs_f64()
+    )
+}
+
+/// Runs `telescopic simulate`.
+pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let scene = args.scene.load()?;
+    let (method, settings) = settings_from(args)?;
+    let (model, word) = build_model(&scene.params, args.model)?;
+    let traj = run_scene(&scene, model.as_ref(), method, &settings)?;
+    write_csv(&traj, args.out.as_deref())?;
+    eprintln!("{}", summary(&scene, &word, method, &settings, &traj));
+    if let Some(p) = &args.out {
+        eprintln!("wrote {} ({} rows)", p.display(), traj.rows.len());
+    }
+    Ok(())
+}
