@@ -1,14 +1,8 @@
 //! End-to-end tests of `telescopic modes`: the binary, its output formats and its errors.
 
-use std::process::{Command, Output};
+mod common;
 
-fn telescopic(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_telescopic"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
-}
+use common::{fails_with, telescopic};
 
 fn json(args: &[&str]) -> serde_json::Value {
     let out = telescopic(args);
@@ -18,21 +12,6 @@ fn json(args: &[&str]) -> serde_json::Value {
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("stdout is one JSON document")
-}
-
-/// The command failed cleanly: non-zero exit, an error line naming `needles`, no panic.
-fn fails_with(args: &[&str], needles: &[&str]) {
-    let out = telescopic(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} should fail");
-    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
-    assert!(
-        out.stdout.is_empty(),
-        "{args:?} printed to stdout on failure"
-    );
-    for n in needles {
-        assert!(err.contains(n), "{args:?}: stderr lacks `{n}`:\n{err}");
-    }
 }
 
 #[test]

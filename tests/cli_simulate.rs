@@ -1,0 +1,100 @@
+//! End-to-end tests of `telescopic simulate`: CSV columns and rows, the run summary, and
+//! failures that leave no file behind.
+
+mod common;
+
+use common::{fails_with, telescopic};
+use std::path::PathBuf;
+
+/// A fresh directory for one test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("telescopic-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn csv_has_the_model_md_columns_and_one_row_per_sample() {
+    let dir = scratch("csv");
+    let csv = dir.join("run.csv");
+    let out = telescopic(&[
+        "simulate",
+        "scenes/adams-clearance.toml",
+        "--set",
+        "time.end=0.5",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(out.stdout.is_empty(), "CSV went to a file; stdout stays empty");
+    for needle in ["method dopri5", "steps ", "rejected ", "rhs evaluations ", "Jacobian evaluations ", "factorizations ", "contact switches ", "wall time "] {
+        assert!(err.contains(needle), "summary lacks `{needle}`: {err}");
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,vehicle,tip_rel,top1_rel,xi_2_0,xi_2_1,xi_2_2,f_2_0,f_2_1,f_2_2"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
+        .collect();
+    // 0 .. 0.5 s every millisecond
+    assert_eq!(rows.len(), 501);
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r.len(), 10);
+        assert!((r[0] - k as f64 * 1e-3).abs() < 1e-12, "row {k} at t = {}", r[0]);
+        assert!(r.iter().all(|v| v.is_finite()));
+    }
+    // gravity off, F = 100 N on ~118 kg: the vehicle moves forward
+    assert!(rows[500][1] > 0.05);
+    // a contact inside the band carries no force
+    for r in &rows {
+        for j in 0..3 {
+            if r[4 + j].abs() < 0.005 {
+                assert_eq!(r[7 + j], 0.0, "force inside the clearance at t = {}", r[0]);
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn divergence_is_an_error_and_leaves_no_file() {
+    let dir = scratch("diverge");
+    let csv = dir.join("run.csv");
+    fails_with(
+        &[
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--method",
+            "rk4",
+            "--dt",
+            "1e-3",
+            "--out",
+            csv.to_str().unwrap(),
+        ],
+        &["diverged at t = ", "method rk4", "stability limit", "largest stable step"],
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "files left behind: {left:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_method_settings_are_named() {
+    fails_with(
+        &["simulate", "scenes/adams-linear.toml", "--method", "euler"],
+        &["unknown method `euler`", "dopri5", "rk4", "verlet", "galpha"],
+    );
+    fails_with(
+        &["simulate", "scenes/adams-linear.toml", "--method", "verlet"],
+        &["fixed step", "--dt"],
+    );
+    fails_with(
+        &["simulate", "scenes/adams-linear.toml", "--rtol=-1"],
+        &["tolerances must be positive"],
+    );
+}

@@ -1,0 +1,201 @@
+//! End-to-end simulation of the shipped scenes on their generated models: every method
+//! against every other, the case-study's wedged upper section and free flight, the
+//! three-section telescope.
+
+use std::path::Path;
+use telescopic_runtime::{Method, Model, Scene, Settings, model::rest_state, simulate};
+
+fn scene(name: &str, overrides: &[&str]) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(format!("{name}.toml"));
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scene::load(&path, &overrides).unwrap()
+}
+
+fn generated(scene: &Scene) -> Box<dyn Model> {
+    telescopic_generated::prepare(&scene.params)
+        .expect("every shipped scene has a generated model")
+        .unwrap()
+}
+
+/// Output columns of a run: `(names, rows [t, outputs...])`.
+fn outputs(scene: &Scene, model: &dyn Model, method: Method, settings: &Settings) -> (Vec<String>, Vec<Vec<f64>>) {
+    let names = model.output_names();
+    let mut rows = Vec::new();
+    let mut out = vec![0.0; names.len()];
+    let y0 = rest_state(model, scene.time.start);
+    simulate(
+        model,
+        &y0,
+        &scene.time,
+        method,
+        settings,
+        &mut |t, y, ydot| {
+            model.outputs(t, y, ydot, &mut out);
+            let mut row = vec![t];
+            row.extend_from_slice(&out);
+            rows.push(row);
+        },
+        None,
+    )
+    .unwrap_or_else(|e| panic!("{} with {method}: {e}", scene.name));
+    (names, rows)
+}
+
+fn column(names: &[String], name: &str) -> usize {
+    1 + names.iter().position(|n| n == name).unwrap()
+}
+
+/// Every method at a tight setting.
+fn tight_methods() -> Vec<(Method, Settings)> {
+    let adaptive = |rtol: f64| Settings {
+        rtol,
+        atol: rtol * 1e-3,
+        ..Settings::default()
+    };
+    let fixed = |dt: f64| Settings {
+        dt: Some(dt),
+        ..Settings::default()
+    };
+    vec![
+        (Method::Dopri5, adaptive(1e-11)),
+        (
+            Method::GeneralizedAlpha {
+                rho_inf: 0.8,
+                adaptive: true,
+            },
+            adaptive(1e-10),
+        ),
+        (Method::Rk4, fixed(2e-5)),
+        (Method::Verlet, fixed(2e-6)),
+    ]
+}
+
+/// Largest `|tip_rel|` difference between each method and the first, up to `until` (s).
+fn agreement(name: &str, until: f64) -> Vec<(String, f64)> {
+    let scene = scene(name, &[]);
+    let model = generated(&scene);
+    let runs: Vec<(Method, Vec<Vec<f64>>, usize)> = tight_methods()
+        .into_iter()
+        .map(|(method, settings)| {
+            let (names, rows) = outputs(&scene, model.as_ref(), method, &settings);
+            (method, rows, column(&names, "tip_rel"))
+        })
+        .collect();
+    let (_, reference, tip) = &runs[0];
+    runs[1..]
+        .iter()
+        .map(|(method, rows, _)| {
+            assert_eq!(rows.len(), reference.len());
+            let worst = rows
+                .iter()
+                .zip(reference)
+                .filter(|(r, _)| r[0] <= until)
+                .map(|(r, q)| (r[*tip] - q[*tip]).abs())
+                .fold(0.0, f64::max);
+            eprintln!("{name}: {method} vs dopri5, worst |tip_rel| difference up to {until} s: {worst:.2e} m");
+            (method.name(), worst)
+        })
+        .collect()
+}
+
+#[test]
+fn methods_agree_on_the_linear_scenes_over_the_whole_span() {
+    for name in ["adams-linear", "case-study-no-clearance"] {
+        for (method, worst) in agreement(name, f64::INFINITY) {
+            assert!(worst < 1e-6, "{name}: {method} differs from dopri5 by {worst:e} m");
+        }
+    }
+}
+
+#[test]
+fn methods_agree_on_adams_clearance_inside_its_predictability_horizon() {
+    for (method, worst) in agreement("adams-clearance", 0.3) {
+        assert!(worst < 1e-6, "adams-clearance: {method} differs from dopri5 by {worst:e} m on [0, 0.3] s");
+    }
+}
+
+/// Fraction of the rows with `lo <= t < hi` that satisfy `pred`.
+fn fraction(rows: &[Vec<f64>], lo: f64, hi: f64, pred: impl Fn(&[f64]) -> bool) -> f64 {
+    let window: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] >= lo && r[0] < hi).collect();
+    window.iter().filter(|r| pred(r)).count() as f64 / window.len() as f64
+}
+
+#[test]
+fn case_study_wedges_while_driven_and_flies_free_after() {
+    let scene = scene("case-study", &[]);
+    let model = generated(&scene);
+    let half_band = 0.5 * scene.params.contact.clearance;
+    let methods = [
+        (Method::Dopri5, Settings::default()),
+        (
+            Method::Rk4,
+            Settings {
+                dt: Some(5e-5),
+                ..Settings::default()
+            },
+        ),
+    ];
+    for (method, settings) in methods {
+        let (names, rows) = outputs(&scene, model.as_ref(), method, &settings);
+        let (xi0, xi1) = (column(&names, "xi_2_0"), column(&names, "xi_2_1"));
+        let (f0, f1) = (column(&names, "f_2_0"), column(&names, "f_2_1"));
+        // F = +100 N on [0, 4), -100 N on [8, 12); half a second to fall into the guide
+        for (lo, hi, sign) in [(0.5, 4.0, 1.0), (8.5, 12.0, -1.0)] {
+            // tilted across the clearance, the way the acceleration pushes it
+            let oriented = fraction(&rows, lo, hi, |r| r[xi0] * sign > 0.0 && r[xi1] * sign < 0.0);
+            // both contacts pressed at once, and then always in opposite directions
+            let both = fraction(&rows, lo, hi, |r| r[f0] != 0.0 && r[f1] != 0.0);
+            let wedge = fraction(&rows, lo, hi, |r| r[f0] * r[f1] < 0.0);
+            eprintln!(
+                "case-study {method} [{lo}, {hi}) s: tilted with the drive {oriented:.2}, both contacts loaded {both:.2}, as a wedge {wedge:.2}"
+            );
+            assert!(oriented > 0.9, "{method}: tilted with the drive only {oriented:.2} of [{lo}, {hi})");
+            assert!(both > 0.5, "{method}: both contacts loaded only {both:.2} of [{lo}, {hi})");
+            // (not all: the Kelvin-Voigt law turns adhesive for a moment before separation,
+            // MODEL.md section 6, so a force may briefly have the other sign)
+            assert!(
+                wedge >= 0.99 * both,
+                "{method}: both contacts loaded in the same direction too often ({both:.3} vs {wedge:.3})"
+            );
+        }
+        // after the drive stops: stretches with both gaps inside the band
+        let mut longest = 0.0f64;
+        let mut start = None;
+        for r in rows.iter().filter(|r| r[0] > 12.0) {
+            let free = r[xi0].abs() <= half_band && r[xi1].abs() <= half_band;
+            match (free, start) {
+                (true, None) => start = Some(r[0]),
+                (false, Some(s)) => {
+                    longest = longest.max(r[0] - s);
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        eprintln!("case-study {method}: longest free flight after 12 s {longest:.3} s");
+        assert!(longest >= 0.05, "{method}: no free motion after 12 s (longest {longest} s)");
+    }
+}
+
+#[test]
+fn three_sections_run_to_the_end_and_stay_bounded() {
+    let scene = scene("three-section", &[]);
+    let model = generated(&scene);
+    let (names, rows) = outputs(&scene, model.as_ref(), Method::Dopri5, &Settings::default());
+    assert_eq!(rows.last().unwrap()[0], scene.time.end);
+    let tip = column(&names, "tip_rel");
+    let worst_tip = rows.iter().map(|r| r[tip].abs()).fold(0.0, f64::max);
+    let band = 0.5 * scene.params.contact.clearance;
+    let worst_gap = names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.starts_with("xi_"))
+        .flat_map(|(i, _)| rows.iter().map(move |r| r[i + 1].abs()))
+        .fold(0.0, f64::max);
+    eprintln!("three-section: max |tip_rel| {worst_tip:.3} m, max |xi| {worst_gap:.5} m");
+    assert!(worst_tip < 1.0, "tip_rel reached {worst_tip} m");
+    // penetrations are micrometres: the gaps stay at the guides
+    assert!(worst_gap < band + 1e-3, "a gap reached {worst_gap} m (band {band} m)");
+}
