@@ -5,6 +5,7 @@ mod choose;
 mod cli;
 mod equations;
 mod modes;
+mod plot;
 mod simulate;
 
 use clap::Parser;

@@ -31,6 +31,13 @@ pub struct SimulateArgs {
     /// default: standard output.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Draw the paper's figures for this scene to an SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// A second scene to simulate with the same method and overlay in the plot (e.g. the
+    /// case-study without clearance).
+    #[arg(long, value_name = "SCENE2", requires = "plot")]
+    pub compare: Option<PathBuf>,
     /// Which model computes the right-hand side.
     #[arg(long, value_enum, default_value_t)]
     pub model: ModelChoice,
@@ -216,6 +223,11 @@ pub fn summary(scene: &Scene, model_word: &str, method: Method, settings: &Setti
 
 /// Runs `telescopic simulate`.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    if let Some(p) = &args.plot {
+        if p.extension().and_then(|e| e.to_str()) != Some("svg") {
+            bail!("--plot {}: only SVG is written; name the file *.svg", p.display());
+        }
+    }
     let scene = args.scene.load()?;
     let (method, settings) = settings_from(args)?;
     let (model, word) = build_model(&scene.params, args.model)?;
@@ -224,6 +236,28 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     eprintln!("{}", summary(&scene, &word, method, &settings, &traj));
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), traj.rows.len());
+    }
+    if let Some(plot_path) = &args.plot {
+        let mut curves = vec![crate::plot::Curve {
+            label: &scene.name,
+            traj: &traj,
+            half_band: scene.params.contact.half_band(),
+        }];
+        let compared;
+        let other;
+        if let Some(path) = &args.compare {
+            other = Scene::load(path, &args.scene.overrides)?;
+            let (model2, word2) = build_model(&other.params, args.model)?;
+            compared = run_scene(&other, model2.as_ref(), method, &settings)?;
+            eprintln!("{}", summary(&other, &word2, method, &settings, &compared));
+            curves.push(crate::plot::Curve {
+                label: &other.name,
+                traj: &compared,
+                half_band: other.params.contact.half_band(),
+            });
+        }
+        crate::plot::plot(&scene.name, &curves, plot_path)?;
+        eprintln!("wrote {}", plot_path.display());
     }
     Ok(())
 }

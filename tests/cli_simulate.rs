@@ -98,3 +98,29 @@ fn bad_method_settings_are_named() {
         &["tolerances must be positive"],
     );
 }
+
+#[test]
+fn plot_draws_the_papers_figures_with_labelled_axes() {
+    let dir = scratch("plot");
+    let svg = dir.join("cs.svg");
+    let out = telescopic(&[
+        "simulate",
+        "scenes/case-study.toml",
+        "--set",
+        "time.end=0.3",
+        "--compare",
+        "scenes/case-study-no-clearance.toml",
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for needle in ["Fig. 8", "Fig. 9", "Fig. 10", "Fig. 11", "Fig. 12", "t [s]", "tip_rel [m]", "xi_2_1 [m]", "case-study-no-clearance"] {
+        assert!(text.contains(needle), "plot lacks `{needle}`");
+    }
+    fails_with(
+        &["simulate", "scenes/adams-linear.toml", "--plot", "run.png"],
+        &["only SVG"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

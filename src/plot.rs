@@ -1,0 +1,181 @@
+//! `simulate --plot`: the paper's figures as SVG with plotters. Case-study-like scenes get
+//! the vehicle (Fig. 8), `tip_rel` (Fig. 9), `top1_rel` (Fig. 10) and the gaps at the lower
+//! and upper contact of the first overlap (Figs. 11, 12) with the band edges `+-l_S/2`;
+//! the adams scenes get `tip_rel` (Figs. 14, 15). A second scene (`--compare`) is overlaid.
+
+use crate::simulate::Trajectory;
+use anyhow::Context;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// One scene's run, as plotted.
+pub struct Curve<'a> {
+    /// Legend label (the scene's name).
+    pub label: &'a str,
+    /// The run.
+    pub traj: &'a Trajectory,
+    /// Half the clearance `l_S/2` (m), for the band edges in gap panels.
+    pub half_band: f64,
+}
+
+/// A panel: output column, axis label, paper figure.
+struct Panel {
+    column: String,
+    axis: String,
+    title: String,
+}
+
+/// The panels for a scene: `tip_rel` alone for the adams scenes, else the five of Figs. 8-12.
+fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
+    let panel = |column: &str, axis: &str, title: &str| Panel {
+        column: column.to_string(),
+        axis: axis.to_string(),
+        title: title.to_string(),
+    };
+    if scene_name.starts_with("adams") {
+        return vec![panel(
+            "tip_rel",
+            "tip_rel [m]",
+            "load relative to the foot of the telescope (Figs. 14, 15)",
+        )];
+    }
+    let mut out = vec![
+        panel("vehicle", "vehicle [m]", "vehicle position (Fig. 8)"),
+        panel("tip_rel", "tip_rel [m]", "load relative to the foot (Fig. 9)"),
+        panel("top1_rel", "top1_rel [m]", "top of section 1 relative to the foot (Fig. 10)"),
+    ];
+    let gaps: Vec<&String> = names.iter().filter(|n| n.starts_with("xi_2_")).collect();
+    if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
+        out.push(panel(first, &format!("{first} [m]"), "gap at the lower contact (Fig. 11)"));
+        out.push(panel(last, &format!("{last} [m]"), "gap at the upper contact (Fig. 12)"));
+    }
+    out
+}
+
+/// Draws the panels of `curves[0]`'s scene to an SVG file at `path` (written completely or
+/// not at all).
+pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> anyhow::Result<()> {
+    let panels = panels(scene_name, &curves[0].traj.names);
+    let mut svg = String::new();
+    {
+        let height = 320 * panels.len() as u32;
+        let root = SVGBackend::with_string(&mut svg, (1000, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let areas = root.split_evenly((panels.len(), 1));
+        for (panel, area) in panels.iter().zip(&areas) {
+            draw_panel(area, panel, curves)?;
+        }
+        root.present().map_err(plot_error)?;
+    }
+    crate::simulate::write_atomically(path, |w| w.write_all(svg.as_bytes()))
+        .with_context(|| format!("writing the plot {}", path.display()))
+}
+
+fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow::anyhow!("drawing failed: {e:?}")
+}
+
+/// A tick label with as many decimals as the axis span needs (exponent form below 1e-3).
+fn tick_label(v: f64, span: f64) -> String {
+    if span <= 0.0 || !span.is_finite() {
+        return format!("{v}");
+    }
+    if span < 1e-3 {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2.0 - span.log10().floor()).max(0.0) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// At most `2 buckets` points: the smallest and largest value of each of `buckets` runs of
+/// consecutive points, in time order, so peaks and chatter stay visible in a small file.
+fn decimate(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
+    if points.len() <= 2 * buckets {
+        return points;
+    }
+    let size = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets);
+    for chunk in points.chunks(size) {
+        let lo = chunk.iter().min_by(|a, b| a.1.total_cmp(&b.1)).expect("non-empty");
+        let hi = chunk.iter().max_by(|a, b| a.1.total_cmp(&b.1)).expect("non-empty");
+        if lo.0 <= hi.0 {
+            out.extend([*lo, *hi]);
+        } else {
+            out.extend([*hi, *lo]);
+        }
+    }
+    out
+}
+
+const COLORS: [RGBColor; 3] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40), RGBColor(44, 160, 44)];
+
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &Panel,
+    curves: &[Curve],
+) -> anyhow::Result<()> {
+    let series: Vec<(usize, Vec<(f64, f64)>)> = curves
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let col = c.traj.names.iter().position(|n| *n == panel.column)? + 1;
+            let points: Vec<(f64, f64)> = c.traj.rows.iter().map(|r| (r[0], r[col])).collect();
+            Some((i, decimate(points, 2000)))
+        })
+        .collect();
+    let (mut t0, mut t1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for (_, s) in &series {
+        for &(t, y) in s {
+            t0 = t0.min(t);
+            t1 = t1.max(t);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+    }
+    let is_gap = panel.column.starts_with("xi_");
+    if is_gap {
+        for c in curves {
+            y0 = y0.min(-c.half_band);
+            y1 = y1.max(c.half_band);
+        }
+    }
+    let pad = 0.05 * (y1 - y0).max(1e-12);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(80)
+        .build_cartesian_2d(t0..t1, (y0 - pad)..(y1 + pad))
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .x_desc("t [s]")
+        .y_desc(panel.axis.as_str())
+        .y_label_formatter(&|v| tick_label(*v, y1 - y0))
+        .draw()
+        .map_err(plot_error)?;
+    if is_gap {
+        let h = curves[0].half_band;
+        for edge in [-h, h] {
+            chart
+                .draw_series(LineSeries::new([(t0, edge), (t1, edge)], BLACK.mix(0.4)))
+                .map_err(plot_error)?;
+        }
+    }
+    for (i, points) in series {
+        let color = COLORS[i % COLORS.len()];
+        chart
+            .draw_series(LineSeries::new(points, color.stroke_width(1)))
+            .map_err(plot_error)?
+            .label(curves[i].label)
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(plot_error)?;
+    Ok(())
+}
