@@ -41,13 +41,29 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
     }
     let mut out = vec![
         panel("vehicle", "vehicle [m]", "vehicle position (Fig. 8)"),
-        panel("tip_rel", "tip_rel [m]", "load relative to the foot (Fig. 9)"),
-        panel("top1_rel", "top1_rel [m]", "top of section 1 relative to the foot (Fig. 10)"),
+        panel(
+            "tip_rel",
+            "tip_rel [m]",
+            "load relative to the foot (Fig. 9)",
+        ),
+        panel(
+            "top1_rel",
+            "top1_rel [m]",
+            "top of section 1 relative to the foot (Fig. 10)",
+        ),
     ];
     let gaps: Vec<&String> = names.iter().filter(|n| n.starts_with("xi_2_")).collect();
     if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
-        out.push(panel(first, &format!("{first} [m]"), "gap at the lower contact (Fig. 11)"));
-        out.push(panel(last, &format!("{last} [m]"), "gap at the upper contact (Fig. 12)"));
+        out.push(panel(
+            first,
+            &format!("{first} [m]"),
+            "gap at the lower contact (Fig. 11)",
+        ));
+        out.push(panel(
+            last,
+            &format!("{last} [m]"),
+            "gap at the upper contact (Fig. 12)",
+        ));
     }
     out
 }
@@ -96,8 +112,14 @@ fn decimate(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
     let size = points.len().div_ceil(buckets);
     let mut out = Vec::with_capacity(2 * buckets);
     for chunk in points.chunks(size) {
-        let lo = chunk.iter().min_by(|a, b| a.1.total_cmp(&b.1)).expect("non-empty");
-        let hi = chunk.iter().max_by(|a, b| a.1.total_cmp(&b.1)).expect("non-empty");
+        let lo = chunk
+            .iter()
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("non-empty");
+        let hi = chunk
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("non-empty");
         if lo.0 <= hi.0 {
             out.extend([*lo, *hi]);
         } else {
@@ -107,7 +129,11 @@ fn decimate(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
     out
 }
 
-const COLORS: [RGBColor; 3] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40), RGBColor(44, 160, 44)];
+const COLORS: [RGBColor; 3] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+];
 
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,

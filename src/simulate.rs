@@ -80,10 +80,10 @@ pub fn run_scene(
     let mut bad_output: Option<(f64, String)> = None;
     let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
         model.outputs(t, y, ydot, &mut out);
-        if bad_output.is_none() {
-            if let Some(i) = out.iter().position(|v| !v.is_finite()) {
-                bad_output = Some((t, names[i].clone()));
-            }
+        if bad_output.is_none()
+            && let Some(i) = out.iter().position(|v| !v.is_finite())
+        {
+            bad_output = Some((t, names[i].clone()));
         }
         let mut row = Vec::with_capacity(out.len() + 1);
         row.push(t);
@@ -93,7 +93,9 @@ pub fn run_scene(
     let bar = progress_bar(scene);
     let mut tick = |t: f64| {
         if let Some(b) = &bar {
-            b.set_position(((t - scene.time.start) / (scene.time.end - scene.time.start) * 1000.0) as u64);
+            b.set_position(
+                ((t - scene.time.start) / (scene.time.end - scene.time.start) * 1000.0) as u64,
+            );
         }
     };
     let y0 = rest_state(model, scene.time.start);
@@ -169,7 +171,10 @@ pub fn write_atomically(
     path: &Path,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> anyhow::Result<()> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     let file_name = path
         .file_name()
         .with_context(|| format!("{} is not a file path", path.display()))?;
@@ -193,7 +198,13 @@ pub fn write_atomically(
 }
 
 /// The run summary printed on stderr.
-pub fn summary(scene: &Scene, model_word: &str, method: Method, settings: &Settings, traj: &Trajectory) -> String {
+pub fn summary(
+    scene: &Scene,
+    model_word: &str,
+    method: Method,
+    settings: &Settings,
+    traj: &Trajectory,
+) -> String {
     let s = &traj.stats;
     let tol = match method.step_control() {
         telescopic_runtime::integrate::StepControl::Adaptive => {
@@ -223,10 +234,13 @@ pub fn summary(scene: &Scene, model_word: &str, method: Method, settings: &Setti
 
 /// Runs `telescopic simulate`.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
-    if let Some(p) = &args.plot {
-        if p.extension().and_then(|e| e.to_str()) != Some("svg") {
-            bail!("--plot {}: only SVG is written; name the file *.svg", p.display());
-        }
+    if let Some(p) = &args.plot
+        && p.extension().and_then(|e| e.to_str()) != Some("svg")
+    {
+        bail!(
+            "--plot {}: only SVG is written; name the file *.svg",
+            p.display()
+        );
     }
     let scene = args.scene.load()?;
     let (method, settings) = settings_from(args)?;

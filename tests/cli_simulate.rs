@@ -28,8 +28,20 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
-    assert!(out.stdout.is_empty(), "CSV went to a file; stdout stays empty");
-    for needle in ["method dopri5", "steps ", "rejected ", "rhs evaluations ", "Jacobian evaluations ", "factorizations ", "contact switches ", "wall time "] {
+    assert!(
+        out.stdout.is_empty(),
+        "CSV went to a file; stdout stays empty"
+    );
+    for needle in [
+        "method dopri5",
+        "steps ",
+        "rejected ",
+        "rhs evaluations ",
+        "Jacobian evaluations ",
+        "factorizations ",
+        "contact switches ",
+        "wall time ",
+    ] {
         assert!(err.contains(needle), "summary lacks `{needle}`: {err}");
     }
     let text = std::fs::read_to_string(&csv).unwrap();
@@ -45,7 +57,11 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
     assert_eq!(rows.len(), 501);
     for (k, r) in rows.iter().enumerate() {
         assert_eq!(r.len(), 10);
-        assert!((r[0] - k as f64 * 1e-3).abs() < 1e-12, "row {k} at t = {}", r[0]);
+        assert!(
+            (r[0] - k as f64 * 1e-3).abs() < 1e-12,
+            "row {k} at t = {}",
+            r[0]
+        );
         assert!(r.iter().all(|v| v.is_finite()));
     }
     // gravity off, F = 100 N on ~118 kg: the vehicle moves forward
@@ -76,7 +92,12 @@ fn divergence_is_an_error_and_leaves_no_file() {
             "--out",
             csv.to_str().unwrap(),
         ],
-        &["diverged at t = ", "method rk4", "stability limit", "largest stable step"],
+        &[
+            "diverged at t = ",
+            "method rk4",
+            "stability limit",
+            "largest stable step",
+        ],
     );
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
     assert!(left.is_empty(), "files left behind: {left:?}");
@@ -87,7 +108,13 @@ fn divergence_is_an_error_and_leaves_no_file() {
 fn bad_method_settings_are_named() {
     fails_with(
         &["simulate", "scenes/adams-linear.toml", "--method", "euler"],
-        &["unknown method `euler`", "dopri5", "rk4", "verlet", "galpha"],
+        &[
+            "unknown method `euler`",
+            "dopri5",
+            "rk4",
+            "verlet",
+            "galpha",
+        ],
     );
     fails_with(
         &["simulate", "scenes/adams-linear.toml", "--method", "verlet"],
@@ -113,9 +140,23 @@ fn plot_draws_the_papers_figures_with_labelled_axes() {
         "--plot",
         svg.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = std::fs::read_to_string(&svg).unwrap();
-    for needle in ["Fig. 8", "Fig. 9", "Fig. 10", "Fig. 11", "Fig. 12", "t [s]", "tip_rel [m]", "xi_2_1 [m]", "case-study-no-clearance"] {
+    for needle in [
+        "Fig. 8",
+        "Fig. 9",
+        "Fig. 10",
+        "Fig. 11",
+        "Fig. 12",
+        "t [s]",
+        "tip_rel [m]",
+        "xi_2_1 [m]",
+        "case-study-no-clearance",
+    ] {
         assert!(text.contains(needle), "plot lacks `{needle}`");
     }
     fails_with(

@@ -20,7 +20,12 @@ fn generated(scene: &Scene) -> Box<dyn Model> {
 }
 
 /// Output columns of a run: `(names, rows [t, outputs...])`.
-fn outputs(scene: &Scene, model: &dyn Model, method: Method, settings: &Settings) -> (Vec<String>, Vec<Vec<f64>>) {
+fn outputs(
+    scene: &Scene,
+    model: &dyn Model,
+    method: Method,
+    settings: &Settings,
+) -> (Vec<String>, Vec<Vec<f64>>) {
     let names = model.output_names();
     let mut rows = Vec::new();
     let mut out = vec![0.0; names.len()];
@@ -104,7 +109,10 @@ fn agreement(name: &str, until: f64) -> Vec<(String, f64)> {
 fn methods_agree_on_the_linear_scenes_over_the_whole_span() {
     for name in ["adams-linear", "case-study-no-clearance"] {
         for (method, worst) in agreement(name, f64::INFINITY) {
-            assert!(worst < 1e-6, "{name}: {method} differs from dopri5 by {worst:e} m");
+            assert!(
+                worst < 1e-6,
+                "{name}: {method} differs from dopri5 by {worst:e} m"
+            );
         }
     }
 }
@@ -112,7 +120,10 @@ fn methods_agree_on_the_linear_scenes_over_the_whole_span() {
 #[test]
 fn methods_agree_on_adams_clearance_inside_its_predictability_horizon() {
     for (method, worst) in agreement("adams-clearance", 0.3) {
-        assert!(worst < 1e-6, "adams-clearance: {method} differs from dopri5 by {worst:e} m on [0, 0.3] s");
+        assert!(
+            worst < 1e-6,
+            "adams-clearance: {method} differs from dopri5 by {worst:e} m on [0, 0.3] s"
+        );
     }
 }
 
@@ -144,15 +155,23 @@ fn case_study_wedges_while_driven_and_flies_free_after() {
         // F = +100 N on [0, 4), -100 N on [8, 12); half a second to fall into the guide
         for (lo, hi, sign) in [(0.5, 4.0, 1.0), (8.5, 12.0, -1.0)] {
             // tilted across the clearance, the way the acceleration pushes it
-            let oriented = fraction(&rows, lo, hi, |r| r[xi0] * sign > 0.0 && r[xi1] * sign < 0.0);
+            let oriented = fraction(&rows, lo, hi, |r| {
+                r[xi0] * sign > 0.0 && r[xi1] * sign < 0.0
+            });
             // both contacts pressed at once, and then always in opposite directions
             let both = fraction(&rows, lo, hi, |r| r[f0] != 0.0 && r[f1] != 0.0);
             let wedge = fraction(&rows, lo, hi, |r| r[f0] * r[f1] < 0.0);
             eprintln!(
                 "case-study {method} [{lo}, {hi}) s: tilted with the drive {oriented:.2}, both contacts loaded {both:.2}, as a wedge {wedge:.2}"
             );
-            assert!(oriented > 0.9, "{method}: tilted with the drive only {oriented:.2} of [{lo}, {hi})");
-            assert!(both > 0.5, "{method}: both contacts loaded only {both:.2} of [{lo}, {hi})");
+            assert!(
+                oriented > 0.9,
+                "{method}: tilted with the drive only {oriented:.2} of [{lo}, {hi})"
+            );
+            assert!(
+                both > 0.5,
+                "{method}: both contacts loaded only {both:.2} of [{lo}, {hi})"
+            );
             // (not all: the Kelvin-Voigt law turns adhesive for a moment before separation,
             // MODEL.md section 6, so a force may briefly have the other sign)
             assert!(
@@ -175,7 +194,10 @@ fn case_study_wedges_while_driven_and_flies_free_after() {
             }
         }
         eprintln!("case-study {method}: longest free flight after 12 s {longest:.3} s");
-        assert!(longest >= 0.05, "{method}: no free motion after 12 s (longest {longest} s)");
+        assert!(
+            longest >= 0.05,
+            "{method}: no free motion after 12 s (longest {longest} s)"
+        );
     }
 }
 
@@ -197,5 +219,8 @@ fn three_sections_run_to_the_end_and_stay_bounded() {
     eprintln!("three-section: max |tip_rel| {worst_tip:.3} m, max |xi| {worst_gap:.5} m");
     assert!(worst_tip < 1.0, "tip_rel reached {worst_tip} m");
     // penetrations are micrometres: the gaps stay at the guides
-    assert!(worst_gap < band + 1e-3, "a gap reached {worst_gap} m (band {band} m)");
+    assert!(
+        worst_gap < band + 1e-3,
+        "a gap reached {worst_gap} m (band {band} m)"
+    );
 }

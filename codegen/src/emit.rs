@@ -45,7 +45,11 @@ impl Emitted {
     /// The tokens, parenthesized unless they bind at least as tightly as `needed`.
     fn at_least(self, needed: Binding) -> TokenStream {
         let t = self.tokens;
-        if self.binding >= needed { t } else { quote!((#t)) }
+        if self.binding >= needed {
+            t
+        } else {
+            quote!((#t))
+        }
     }
 }
 
@@ -847,7 +851,11 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
     out.push('\n');
     for line in body.lines() {
         let indent = &line[..line.len() - line.trim_start().len()];
-        match line.trim_start().strip_prefix("///").and_then(|rest| rest.strip_prefix(LINE_COMMENT)) {
+        match line
+            .trim_start()
+            .strip_prefix("///")
+            .and_then(|rest| rest.strip_prefix(LINE_COMMENT))
+        {
             Some(text) => {
                 out.push_str(indent);
                 out.push_str("//");

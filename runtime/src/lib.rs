@@ -35,8 +35,8 @@ pub mod shape;
 
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use contact::{ContactForce, ContactLaw, ContactState};
-pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use eigen::{EigenError, ModalAnalysis, modal_analysis, sample_shape};
+pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};
 pub use model::{Model, mechanical_energy, rest_state};
 pub use params::{Drive, ForceFlow, ModelParams, SectionParams};

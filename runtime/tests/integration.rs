@@ -129,7 +129,10 @@ fn energy_never_increases_with_damping() {
             );
         }
         let lost = 1.0 - energies.last().unwrap() / energies[0];
-        assert!(lost > 1e-3, "l_S = {clearance}: damping removed only {lost:e} of the energy");
+        assert!(
+            lost > 1e-3,
+            "l_S = {clearance}: damping removed only {lost:e} of the energy"
+        );
     }
 }
 
@@ -179,7 +182,8 @@ fn exact_lti(model: &dyn Model, force: f64, dt: f64, steps: usize) -> Vec<Vec<f6
         aug[(i, n + i)] = 1.0;
     }
     aug.view_mut((n, 0), (n, n)).copy_from(&(-&m_inv * &k_eff));
-    aug.view_mut((n, n), (n, n)).copy_from(&(-&m_inv * &damping));
+    aug.view_mut((n, n), (n, n))
+        .copy_from(&(-&m_inv * &damping));
     let forcing = &m_inv * model.drive_vector() * force;
     aug.view_mut((n, 2 * n), (n, 1)).copy_from(&forcing);
     let step = (aug * dt).exp();
@@ -247,7 +251,10 @@ fn linear_scene_matches_the_exact_solution() {
             .map(|((_, y), e)| (tip_rel(&model, y) - tip_rel(&model, e)).abs())
             .fold(0.0, f64::max);
         eprintln!("{method}: worst |tip_rel - exact| over 2 s = {worst:.2e} m");
-        assert!(worst < 1e-6, "{method}: tip_rel off the exact solution by {worst:e} m");
+        assert!(
+            worst < 1e-6,
+            "{method}: tip_rel off the exact solution by {worst:e} m"
+        );
     }
 }
 
@@ -268,7 +275,10 @@ fn explicit_method_above_its_stability_limit_reports_divergence() {
             method,
             &settings,
             &mut |_, y, _| {
-                assert!(y.iter().all(|v| v.is_finite()), "non-finite sample handed out");
+                assert!(
+                    y.iter().all(|v| v.is_finite()),
+                    "non-finite sample handed out"
+                );
                 seen += 1;
             },
             None,
@@ -276,10 +286,18 @@ fn explicit_method_above_its_stability_limit_reports_divergence() {
         .unwrap_err();
         let msg = err.to_string();
         assert!(matches!(err, SimError::Diverged { .. }), "{msg}");
-        for needle in ["diverged at t = ", &format!("method {method}"), "stability limit", "largest stable step"] {
+        for needle in [
+            "diverged at t = ",
+            &format!("method {method}"),
+            "stability limit",
+            "largest stable step",
+        ] {
             assert!(msg.contains(needle), "`{needle}` missing from: {msg}");
         }
-        assert!(seen < 1000, "{method}: the run went on to the end ({seen} samples)");
+        assert!(
+            seen < 1000,
+            "{method}: the run went on to the end ({seen} samples)"
+        );
     }
 }
 
@@ -294,10 +312,19 @@ fn impossible_tolerance_reports_step_underflow() {
         atol: 1e-40,
         ..Settings::default()
     };
-    let err = failure(run(&model, &y0, &span(0.1, 1e-3), Method::Dopri5, &settings));
+    let err = failure(run(
+        &model,
+        &y0,
+        &span(0.1, 1e-3),
+        Method::Dopri5,
+        &settings,
+    ));
     let msg = err.to_string();
     assert!(matches!(err, SimError::StepUnderflow { .. }), "{msg}");
-    assert!(msg.contains("method dopri5") && msg.contains("at t = "), "{msg}");
+    assert!(
+        msg.contains("method dopri5") && msg.contains("at t = "),
+        "{msg}"
+    );
     assert!(msg.contains("tolerance is too tight"), "{msg}");
 }
 
@@ -309,8 +336,17 @@ fn step_limit_reports_too_many_steps() {
         max_steps: 50,
         ..Settings::default()
     };
-    let err = failure(run(&model, &y0, &span(1.0, 1e-3), Method::Dopri5, &settings));
-    assert!(matches!(err, SimError::TooManySteps { steps: 50, .. }), "{err}");
+    let err = failure(run(
+        &model,
+        &y0,
+        &span(1.0, 1e-3),
+        Method::Dopri5,
+        &settings,
+    ));
+    assert!(
+        matches!(err, SimError::TooManySteps { steps: 50, .. }),
+        "{err}"
+    );
     assert!(err.to_string().contains("method dopri5"), "{err}");
 }
 
@@ -368,20 +404,31 @@ fn wrong_jacobian_reports_newton_failure() {
     let err = failure(run(&model, &y0, &span(0.1, 1e-3), method, &settings));
     let msg = err.to_string();
     assert!(matches!(err, SimError::NewtonFailure { .. }), "{msg}");
-    assert!(msg.contains("method galpha-fixed") && msg.contains("at t = 0.000000 s"), "{msg}");
+    assert!(
+        msg.contains("method galpha-fixed") && msg.contains("at t = 0.000000 s"),
+        "{msg}"
+    );
 }
 
 #[test]
 fn telescopic_position_leaving_its_range_is_an_error() {
     // scene validation forbids this; a caller building parameters by hand is stopped too
     let mut p = rig([3, 3]);
-    p.positions = vec![Profile::Shaped(telescopic_runtime::ShapedProfile::PiecewiseLinear {
-        times: vec![0.0, 1.0],
-        values: vec![1.0, 1.5],
-    })];
+    p.positions = vec![Profile::Shaped(
+        telescopic_runtime::ShapedProfile::PiecewiseLinear {
+            times: vec![0.0, 1.0],
+            values: vec![1.0, 1.5],
+        },
+    )];
     let model = AssembledModel::new(&p).unwrap();
     let y0 = vec![0.0; 2 * model.dof()];
-    let err = failure(run(&model, &y0, &span(1.0, 1e-3), Method::Dopri5, &Settings::default()));
+    let err = failure(run(
+        &model,
+        &y0,
+        &span(1.0, 1e-3),
+        Method::Dopri5,
+        &Settings::default(),
+    ));
     let SimError::PositionOutOfRange { t, section, .. } = &err else {
         panic!("{err}")
     };
@@ -393,17 +440,34 @@ fn telescopic_position_leaving_its_range_is_an_error() {
 
 #[test]
 fn method_names_round_trip_and_bad_names_are_listed() {
-    for name in ["dopri5", "rk4", "verlet", "galpha", "galpha-fixed", "galpha-rho0.5", "galpha-fixed-rho0"] {
+    for name in [
+        "dopri5",
+        "rk4",
+        "verlet",
+        "galpha",
+        "galpha-fixed",
+        "galpha-rho0.5",
+        "galpha-fixed-rho0",
+    ] {
         assert_eq!(Method::from_name(name).unwrap().name(), name);
     }
     let err = Method::from_name("euler").unwrap_err();
     for (known, _) in METHOD_NAMES.iter().take(5) {
         assert!(err.contains(known), "{err}");
     }
-    assert!(Method::from_name("galpha-rho1.5").unwrap_err().contains("[0, 1]"));
+    assert!(
+        Method::from_name("galpha-rho1.5")
+            .unwrap_err()
+            .contains("[0, 1]")
+    );
     let model = AssembledModel::new(&rig([3, 3])).unwrap();
     let y0 = vec![0.0; 2 * model.dof()];
-    let err = failure(run(&model, &y0, &span(0.1, 1e-3), Method::Rk4, &Settings::default()));
+    let err = failure(run(
+        &model,
+        &y0,
+        &span(0.1, 1e-3),
+        Method::Rk4,
+        &Settings::default(),
+    ));
     assert!(err.to_string().contains("give --dt"), "{err}");
 }
-

@@ -1,14 +1,18 @@
 //! The per-call path of a model allocates nothing: right-hand side, Jacobian, gaps and
-//! outputs are called under a counting global allocator. (One test in this binary, so no
-//! other test thread allocates meanwhile.)
+//! outputs are called under a counting global allocator; so are the integrators' steps.
+//! (One test in this binary, so no other test thread allocates meanwhile.)
 
 mod common;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use telescopic_runtime::integrate::explicit::{DOPRI5, ExplicitRk, RK4};
+use telescopic_runtime::integrate::generalized_alpha::GeneralizedAlpha;
+use telescopic_runtime::integrate::verlet::StormerVerlet;
+use telescopic_runtime::integrate::{ContactTracker, Stepper, System as Rhs};
 use telescopic_runtime::{
-    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, ShapedProfile,
-    rest_state,
+    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, RunStats, Settings,
+    ShapedProfile, rest_state,
 };
 
 struct Counting;
@@ -92,5 +96,58 @@ fn per_call_methods_do_not_allocate() {
             after - before
         );
         assert!(ydot.iter().all(|v| v.is_finite()));
+        steps_allocate_as_documented(&model, &y);
+    }
+}
+
+/// Explicit steps allocate nothing; a generalized-alpha step allocates only nalgebra's
+/// pivot record of its one LU factorization (the matrix storage is reused).
+fn steps_allocate_as_documented(model: &dyn Model, y: &[f64]) {
+    let n = model.dof();
+    let settings = Settings {
+        dt: Some(1e-5),
+        ..Settings::default()
+    };
+    let steppers: [(&str, Box<dyn Stepper>, usize); 4] = [
+        (
+            "dopri5",
+            Box::new(ExplicitRk::new(&DOPRI5, 2 * n, &settings)),
+            0,
+        ),
+        ("rk4", Box::new(ExplicitRk::new(&RK4, 2 * n, &settings)), 0),
+        ("verlet", Box::new(StormerVerlet::new(n)), 0),
+        (
+            "galpha",
+            Box::new(GeneralizedAlpha::new(n, 0.8, true, &settings)),
+            1,
+        ),
+    ];
+    for (name, mut stepper, per_step) in steppers {
+        let mut sys = Rhs {
+            model,
+            tracker: ContactTracker::new(model, 0.0, y),
+            stats: RunStats::default(),
+            time_cap: f64::INFINITY,
+        };
+        let mut f0 = vec![0.0; 2 * n];
+        let mut y1 = vec![0.0; 2 * n];
+        sys.rhs(0.0, y, &mut f0);
+        // first step outside the count (lazy set-up is allowed)
+        stepper.step(&mut sys, 0.0, y, &f0, 1e-5, &mut y1).unwrap();
+        stepper.accepted();
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        for k in 1..=100 {
+            stepper
+                .step(&mut sys, k as f64 * 1e-5, y, &f0, 1e-5, &mut y1)
+                .unwrap();
+            stepper.accepted();
+        }
+        let allocations = ALLOCATIONS.load(Ordering::SeqCst) - before;
+        assert_eq!(
+            allocations,
+            100 * per_step,
+            "{name}: {allocations} allocations in 100 steps"
+        );
+        assert!(y1.iter().all(|v| v.is_finite()), "{name}");
     }
 }

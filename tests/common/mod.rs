@@ -26,4 +26,3 @@ pub fn fails_with(args: &[&str], needles: &[&str]) {
         assert!(err.contains(n), "{args:?}: stderr lacks `{n}`:\n{err}");
     }
 }
-

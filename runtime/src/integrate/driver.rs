@@ -2,8 +2,8 @@
 //! events, sampling, divergence checks.
 
 use super::{
-    ContactTracker, Method, Progress, RunStats, Settings, SimError, StepControl, StepFailure,
-    Stepper, System, make_stepper,
+    ContactTracker, Method, Observer, Progress, RunStats, Settings, SimError, StepControl,
+    StepFailure, Stepper, System, make_stepper,
 };
 use crate::eigen::modal_analysis;
 use crate::model::Model;
@@ -170,7 +170,7 @@ impl<'m> Driver<'m> {
 
     pub(super) fn run(
         &mut self,
-        observe: &mut dyn FnMut(f64, &[f64], &[f64]),
+        mut observe: Observer,
         mut progress: Option<Progress>,
     ) -> Result<RunStats, SimError> {
         let end = self.span.end;
@@ -214,22 +214,17 @@ impl<'m> Driver<'m> {
                 self.h
             };
             let to_stop = h == remaining;
-            let at_break = to_stop && t_stop == t_break && t_break < end;
+            let toward_break = to_stop && t_stop == t_break && t_break < end;
             // the profiles' left limits apply up to a discontinuity
-            self.sys.time_cap = if at_break {
+            self.sys.time_cap = if toward_break {
                 t_break.next_down()
             } else {
                 f64::INFINITY
             };
             let h_min = 16.0 * f64::EPSILON * self.t.abs().max(1.0);
-            let outcome = self.stepper.step(
-                &mut self.sys,
-                self.t,
-                &self.y,
-                &self.f0,
-                h,
-                &mut self.y1,
-            );
+            let outcome =
+                self.stepper
+                    .step(&mut self.sys, self.t, &self.y, &self.f0, h, &mut self.y1);
             let err = match outcome {
                 Ok(e) => {
                     newton_failures = 0;
@@ -239,9 +234,7 @@ impl<'m> Driver<'m> {
                     newton_failures += 1;
                     self.sys.stats.rejected += 1;
                     // a fixed step does not shrink: the first failure is final
-                    if !self.adaptive()
-                        || newton_failures >= MAX_NEWTON_FAILURES
-                        || h / 4.0 < h_min
+                    if !self.adaptive() || newton_failures >= MAX_NEWTON_FAILURES || h / 4.0 < h_min
                     {
                         let remedy = if self.adaptive() {
                             ""
@@ -266,12 +259,7 @@ impl<'m> Driver<'m> {
             let finite = self.y1.iter().all(|v| v.is_finite());
             if self.adaptive() && (!finite || err > 1.0) {
                 self.sys.stats.rejected += 1;
-                let factor = if finite {
-                    (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).max(0.2)
-                } else {
-                    0.1
-                };
-                self.h = h * factor;
+                self.h = h * if finite { self.step_factor(err) } else { 0.1 };
                 if self.h < h_min {
                     return Err(SimError::StepUnderflow {
                         t: self.t,
@@ -290,11 +278,17 @@ impl<'m> Driver<'m> {
             // contact events inside the step
             let mut switched = false;
             let model = self.sys.model;
-            if self.sys.tracker.min_switch_value(model, self.t + h, &self.y1) < 0.0 {
+            if self
+                .sys
+                .tracker
+                .min_switch_value(model, self.t + h, &self.y1)
+                < 0.0
+            {
                 h = self.locate_switch(h);
                 switched = true;
             }
             let t1 = if h == remaining { t_stop } else { self.t + h };
+            let at_break = toward_break && t1 == t_break;
             match (switched, self.stepper.end_derivative()) {
                 (false, Some(f)) => self.f1.copy_from_slice(f),
                 _ => {
@@ -302,7 +296,7 @@ impl<'m> Driver<'m> {
                     self.sys.rhs(t_eval, y1, &mut self.f1);
                 }
             }
-            self.emit_samples(t1, observe);
+            self.emit_samples(t1, &mut observe);
             self.check_positions(t1)?;
             self.sys.stats.steps += 1;
             self.stepper.accepted();
@@ -320,20 +314,19 @@ impl<'m> Driver<'m> {
                 std::mem::swap(&mut self.f0, &mut self.f1);
             }
             if self.adaptive() {
-                let factor = if err <= 0.0 {
-                    5.0
-                } else {
-                    (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).clamp(0.2, 5.0)
-                };
                 // a step cut short by an event or a stop says nothing about the next one
-                let base = if switched || to_stop { self.h.max(h) } else { h };
-                self.h = base * factor;
+                let base = if switched || to_stop {
+                    self.h.max(h)
+                } else {
+                    h
+                };
+                self.h = base * self.step_factor(err);
             }
-            if let Some(p) = progress.as_mut() {
-                if self.t - last_report >= 0.01 * (end - self.span.start) {
-                    p(self.t);
-                    last_report = self.t;
-                }
+            if let Some(p) = progress.as_mut()
+                && self.t - last_report >= 0.01 * (end - self.span.start)
+            {
+                p(self.t);
+                last_report = self.t;
             }
         }
         Ok(self.sys.stats.clone())
@@ -350,7 +343,10 @@ impl<'m> Driver<'m> {
             .tracker
             .min_switch_value(model, self.t, &self.y)
             .max(0.0);
-        let mut g_hi = self.sys.tracker.min_switch_value(model, self.t + h, &self.y1);
+        let mut g_hi = self
+            .sys
+            .tracker
+            .min_switch_value(model, self.t + h, &self.y1);
         let mut side = 0i8;
         let tol = 4.0 * f64::EPSILON * self.t.abs().max(1.0);
         for _ in 0..200 {
@@ -394,6 +390,14 @@ impl<'m> Driver<'m> {
         hi
     }
 
+    /// Step-size factor from a scaled error estimate (1 = at tolerance), in `[0.2, 5]`.
+    fn step_factor(&self, err: f64) -> f64 {
+        if err <= 0.0 {
+            return 5.0;
+        }
+        (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).clamp(0.2, 5.0)
+    }
+
     /// Time of output sample `k`: `start + k sample`, then `end` if the span is not a whole
     /// number of samples.
     fn sample_time(&self, k: u64) -> f64 {
@@ -401,7 +405,7 @@ impl<'m> Driver<'m> {
     }
 
     /// Samples at output times in `(t, t1]` from the cubic Hermite interpolant of the step.
-    fn emit_samples(&mut self, t1: f64, observe: &mut dyn FnMut(f64, &[f64], &[f64])) {
+    fn emit_samples(&mut self, t1: f64, observe: &mut Observer) {
         let (t0, h) = (self.t, t1 - self.t);
         while self.next_sample < self.sample_total && self.sample_time(self.next_sample) <= t1 {
             let ts = self.sample_time(self.next_sample);

@@ -8,19 +8,87 @@
 
 use super::{Settings, StepFailure, Stepper, System, error_norm};
 
-/// An explicit Runge-Kutta method with optional embedded error estimate.
-pub struct ExplicitRk {
+/// A Butcher tableau, with the embedded error weights of an adaptive pair.
+pub struct Tableau {
     /// Nodes `c_i`.
-    c: &'static [f64],
+    pub c: &'static [f64],
     /// Lower-triangular `a_ij`, row by row (row `i` has `i` entries).
-    a: &'static [&'static [f64]],
+    pub a: &'static [&'static [f64]],
     /// Weights `b_i` of the propagated solution.
-    b: &'static [f64],
+    pub b: &'static [f64],
     /// `b_i - bhat_i` of the embedded pair, if any.
-    e: Option<&'static [f64]>,
-    /// True when the last stage is evaluated at `(t + h, y1)` (FSAL).
-    fsal: bool,
-    order: u32,
+    pub e: Option<&'static [f64]>,
+    /// True when the last stage is evaluated at `(t + h, y1)` (first same as last).
+    pub fsal: bool,
+    /// Order for step-size control.
+    pub order: u32,
+}
+
+/// Dormand & Prince (1980), the 5(4) pair with 5th-order propagation.
+pub const DOPRI5: Tableau = Tableau {
+    c: &[0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0],
+    a: &[
+        &[],
+        &[1.0 / 5.0],
+        &[3.0 / 40.0, 9.0 / 40.0],
+        &[44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
+        &[
+            19372.0 / 6561.0,
+            -25360.0 / 2187.0,
+            64448.0 / 6561.0,
+            -212.0 / 729.0,
+        ],
+        &[
+            9017.0 / 3168.0,
+            -355.0 / 33.0,
+            46732.0 / 5247.0,
+            49.0 / 176.0,
+            -5103.0 / 18656.0,
+        ],
+        &[
+            35.0 / 384.0,
+            0.0,
+            500.0 / 1113.0,
+            125.0 / 192.0,
+            -2187.0 / 6784.0,
+            11.0 / 84.0,
+        ],
+    ],
+    b: &[
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+        0.0,
+    ],
+    e: Some(&[
+        71.0 / 57600.0,
+        0.0,
+        -71.0 / 16695.0,
+        71.0 / 1920.0,
+        -17253.0 / 339200.0,
+        22.0 / 525.0,
+        -1.0 / 40.0,
+    ]),
+    fsal: true,
+    order: 4,
+};
+
+/// The classical fourth-order Runge-Kutta method.
+pub const RK4: Tableau = Tableau {
+    c: &[0.0, 0.5, 0.5, 1.0],
+    a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
+    b: &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
+    e: None,
+    fsal: false,
+    order: 4,
+};
+
+/// An explicit Runge-Kutta method with its stage storage.
+pub struct ExplicitRk {
+    tableau: &'static Tableau,
     rtol: f64,
     atol: f64,
     stages: Vec<Vec<f64>>,
@@ -28,88 +96,35 @@ pub struct ExplicitRk {
     err: Vec<f64>,
 }
 
-const DOPRI5_C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
-const DOPRI5_A: [&[f64]; 7] = [
-    &[],
-    &[1.0 / 5.0],
-    &[3.0 / 40.0, 9.0 / 40.0],
-    &[44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
-    &[19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0],
-    &[9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0],
-    &[35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
-];
-const DOPRI5_B: [f64; 7] = [
-    35.0 / 384.0,
-    0.0,
-    500.0 / 1113.0,
-    125.0 / 192.0,
-    -2187.0 / 6784.0,
-    11.0 / 84.0,
-    0.0,
-];
-const DOPRI5_E: [f64; 7] = [
-    71.0 / 57600.0,
-    0.0,
-    -71.0 / 16695.0,
-    71.0 / 1920.0,
-    -17253.0 / 339200.0,
-    22.0 / 525.0,
-    -1.0 / 40.0,
-];
-
-const RK4_C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
-const RK4_A: [&[f64]; 4] = [&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]];
-const RK4_B: [f64; 4] = [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
+/// `out = base + h sum_i w_i k_i` (`base` zero when `None`).
+fn combine(out: &mut [f64], base: Option<&[f64]>, h: f64, weights: &[f64], stages: &[Vec<f64>]) {
+    for (j, o) in out.iter_mut().enumerate() {
+        let mut acc = 0.0;
+        for (w, k) in weights.iter().zip(stages) {
+            acc += w * k[j];
+        }
+        *o = base.map_or(0.0, |b| b[j]) + h * acc;
+    }
+}
 
 impl ExplicitRk {
-    fn new(
-        n: usize,
-        c: &'static [f64],
-        a: &'static [&'static [f64]],
-        b: &'static [f64],
-        e: Option<&'static [f64]>,
-        fsal: bool,
-        order: u32,
-        settings: Option<&Settings>,
-    ) -> Self {
+    /// The method of `tableau` for a state of length `n`; `settings` give the tolerances
+    /// of an embedded pair.
+    pub fn new(tableau: &'static Tableau, n: usize, settings: &Settings) -> Self {
         ExplicitRk {
-            c,
-            a,
-            b,
-            e,
-            fsal,
-            order,
-            rtol: settings.map_or(0.0, |s| s.rtol),
-            atol: settings.map_or(0.0, |s| s.atol),
-            stages: vec![vec![0.0; n]; c.len()],
+            tableau,
+            rtol: settings.rtol,
+            atol: settings.atol,
+            stages: vec![vec![0.0; n]; tableau.c.len()],
             scratch: vec![0.0; n],
             err: vec![0.0; n],
         }
-    }
-
-    /// Dormand-Prince 5(4) for a state of length `n`.
-    pub fn dopri5(n: usize, settings: &Settings) -> Self {
-        Self::new(
-            n,
-            &DOPRI5_C,
-            &DOPRI5_A,
-            &DOPRI5_B,
-            Some(&DOPRI5_E),
-            true,
-            4,
-            Some(settings),
-        )
-    }
-
-    /// Classical RK4 for a state of length `n`.
-    pub fn rk4(n: usize) -> Self {
-        Self::new(n, &RK4_C, &RK4_A, &RK4_B, None, false, 4, None)
     }
 }
 
 impl Stepper for ExplicitRk {
     fn order(&self) -> u32 {
-        self.order
+        self.tableau.order
     }
 
     fn step(
@@ -121,49 +136,29 @@ impl Stepper for ExplicitRk {
         h: f64,
         y1: &mut [f64],
     ) -> Result<f64, StepFailure> {
-        let s = self.c.len();
+        let tab = self.tableau;
+        let s = tab.c.len();
         self.stages[0].copy_from_slice(f0);
-        let last = if self.fsal { s - 1 } else { s };
+        let last = if tab.fsal { s - 1 } else { s };
         for i in 1..last {
-            for (j, yj) in self.scratch.iter_mut().enumerate() {
-                let mut acc = 0.0;
-                for (aij, k) in self.a[i].iter().zip(&self.stages) {
-                    acc += aij * k[j];
-                }
-                *yj = y[j] + h * acc;
-            }
-            let (done, rest) = self.stages.split_at_mut(i);
-            let _ = done;
-            sys.rhs(t + self.c[i] * h, &self.scratch, &mut rest[0]);
+            combine(&mut self.scratch, Some(y), h, tab.a[i], &self.stages);
+            sys.rhs(t + tab.c[i] * h, &self.scratch, &mut self.stages[i]);
         }
-        for (j, out) in y1.iter_mut().enumerate() {
-            let mut acc = 0.0;
-            for (bi, k) in self.b.iter().zip(&self.stages) {
-                acc += bi * k[j];
-            }
-            *out = y[j] + h * acc;
+        combine(y1, Some(y), h, tab.b, &self.stages);
+        if tab.fsal {
+            sys.rhs(t + h, y1, &mut self.stages[s - 1]);
         }
-        if self.fsal {
-            let (_, rest) = self.stages.split_at_mut(s - 1);
-            sys.rhs(t + h, y1, &mut rest[0]);
-        }
-        match self.e {
+        match tab.e {
             None => Ok(0.0),
             Some(e) => {
-                for (j, ej) in self.err.iter_mut().enumerate() {
-                    let mut acc = 0.0;
-                    for (ei, k) in e.iter().zip(&self.stages) {
-                        acc += ei * k[j];
-                    }
-                    *ej = h * acc;
-                }
+                combine(&mut self.err, None, h, e, &self.stages);
                 Ok(error_norm(&self.err, y, y1, self.rtol, self.atol))
             }
         }
     }
 
     fn end_derivative(&self) -> Option<&[f64]> {
-        if self.fsal {
+        if self.tableau.fsal {
             self.stages.last().map(|v| v.as_slice())
         } else {
             None

@@ -54,12 +54,21 @@ pub enum StepControl {
 
 /// Names accepted by [`Method::from_name`], with a one-line description each.
 pub const METHOD_NAMES: [(&str, &str); 6] = [
-    ("dopri5", "Dormand-Prince 5(4), adaptive explicit Runge-Kutta"),
+    (
+        "dopri5",
+        "Dormand-Prince 5(4), adaptive explicit Runge-Kutta",
+    ),
     ("rk4", "classical Runge-Kutta 4, fixed step"),
     ("verlet", "Stormer-Verlet (velocity form), fixed step"),
-    ("galpha", "generalized-alpha (Chung-Hulbert), adaptive, Newton on the analytic Jacobian"),
+    (
+        "galpha",
+        "generalized-alpha (Chung-Hulbert), adaptive, Newton on the analytic Jacobian",
+    ),
     ("galpha-fixed", "generalized-alpha, fixed step"),
-    ("galpha-rho<R>", "generalized-alpha with spectral radius R, e.g. galpha-rho0.5 (default 0.8)"),
+    (
+        "galpha-rho<R>",
+        "generalized-alpha with spectral radius R, e.g. galpha-rho0.5 (default 0.8)",
+    ),
 ];
 
 /// Default spectral radius at infinity of generalized-alpha.
@@ -264,9 +273,7 @@ pub enum SimError {
         max: f64,
     },
     /// Too many steps.
-    #[error(
-        "gave up after {steps} steps at t = {t:.6} s (method {method}); likely cause: {cause}"
-    )]
+    #[error("gave up after {steps} steps at t = {t:.6} s (method {method}); likely cause: {cause}")]
     TooManySteps {
         /// Time reached (s).
         t: f64,
@@ -373,14 +380,21 @@ pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> 
 
 fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Stepper> {
     match method {
-        Method::Dopri5 => Box::new(explicit::ExplicitRk::dopri5(2 * dof, settings)),
-        Method::Rk4 => Box::new(explicit::ExplicitRk::rk4(2 * dof)),
+        Method::Dopri5 => Box::new(explicit::ExplicitRk::new(
+            &explicit::DOPRI5,
+            2 * dof,
+            settings,
+        )),
+        Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),
         Method::Verlet => Box::new(verlet::StormerVerlet::new(dof)),
         Method::GeneralizedAlpha { rho_inf, adaptive } => Box::new(
             generalized_alpha::GeneralizedAlpha::new(dof, rho_inf, adaptive, settings),
         ),
     }
 }
+
+/// Sample callback: `(t, y, ydot)` at each output time.
+pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);
 
 /// Progress callback: called now and then with the current time (s).
 pub type Progress<'a> = &'a mut dyn FnMut(f64);
@@ -397,7 +411,7 @@ pub fn simulate(
     span: &TimeSpan,
     method: Method,
     settings: &Settings,
-    observe: &mut dyn FnMut(f64, &[f64], &[f64]),
+    observe: Observer,
     progress: Option<Progress>,
 ) -> Result<RunStats, SimError> {
     let started = Instant::now();
