@@ -72,6 +72,9 @@ fn tight_methods() -> Vec<(Method, Settings)> {
             },
             adaptive(1e-10),
         ),
+        (Method::Dop853, adaptive(1e-10)),
+        (Method::Esdirk, adaptive(1e-10)),
+        (Method::Bdf { max_order: 5 }, adaptive(1e-10)),
         (Method::Rk4, fixed(2e-5)),
         (Method::Verlet, fixed(2e-6)),
     ]

@@ -227,6 +227,23 @@ fn linear_scene_matches_the_exact_solution() {
                 ..Settings::default()
             },
         ),
+        (Method::Dop853, tight()),
+        (
+            Method::Esdirk,
+            Settings {
+                rtol: 1e-10,
+                atol: 1e-13,
+                ..Settings::default()
+            },
+        ),
+        (
+            Method::Bdf { max_order: 5 },
+            Settings {
+                rtol: 1e-10,
+                atol: 1e-13,
+                ..Settings::default()
+            },
+        ),
         (
             Method::Rk4,
             Settings {
@@ -444,6 +461,10 @@ fn method_names_round_trip_and_bad_names_are_listed() {
         "dopri5",
         "rk4",
         "verlet",
+        "dop853",
+        "esdirk",
+        "bdf",
+        "bdf2",
         "galpha",
         "galpha-fixed",
         "galpha-rho0.5",
@@ -460,6 +481,10 @@ fn method_names_round_trip_and_bad_names_are_listed() {
             .unwrap_err()
             .contains("[0, 1]")
     );
+    for bad in ["bdf0", "bdf6", "bdfx"] {
+        let err = Method::from_name(bad).unwrap_err();
+        assert!(err.contains("1 to 5"), "{err}");
+    }
     let model = AssembledModel::new(&rig([3, 3])).unwrap();
     let y0 = vec![0.0; 2 * model.dof()];
     let err = failure(run(

@@ -6,7 +6,9 @@ mod common;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use telescopic_runtime::integrate::explicit::{DOPRI5, ExplicitRk, RK4};
+use telescopic_runtime::integrate::bdf::Bdf;
+use telescopic_runtime::integrate::esdirk::Esdirk;
+use telescopic_runtime::integrate::explicit::{DOP853, DOPRI5, ExplicitRk, RK4};
 use telescopic_runtime::integrate::generalized_alpha::GeneralizedAlpha;
 use telescopic_runtime::integrate::verlet::StormerVerlet;
 use telescopic_runtime::integrate::{ContactTracker, Stepper, System as Rhs};
@@ -100,21 +102,29 @@ fn per_call_methods_do_not_allocate() {
     }
 }
 
-/// Explicit steps allocate nothing; a generalized-alpha step allocates only nalgebra's
-/// pivot record of its one LU factorization (the matrix storage is reused).
+/// Explicit steps allocate nothing; a generalized-alpha, ESDIRK or BDF step allocates only
+/// nalgebra's pivot record of its one LU factorization (the matrix storage is reused).
 fn steps_allocate_as_documented(model: &dyn Model, y: &[f64]) {
     let n = model.dof();
     let settings = Settings {
         dt: Some(1e-5),
         ..Settings::default()
     };
-    let steppers: [(&str, Box<dyn Stepper>, usize); 4] = [
+    let steppers: [(&str, Box<dyn Stepper>, usize); 7] = [
         (
             "dopri5",
             Box::new(ExplicitRk::new(&DOPRI5, 2 * n, &settings)),
             0,
         ),
+        (
+            "dop853",
+            Box::new(ExplicitRk::new(&DOP853, 2 * n, &settings)),
+            0,
+        ),
         ("rk4", Box::new(ExplicitRk::new(&RK4, 2 * n, &settings)), 0),
+        // one Jacobian and one factorization per step, each LU allocating its pivot record
+        ("esdirk", Box::new(Esdirk::new(n, &settings)), 1),
+        ("bdf", Box::new(Bdf::new(n, 5, &settings)), 1),
         ("verlet", Box::new(StormerVerlet::new(n)), 0),
         (
             "galpha",

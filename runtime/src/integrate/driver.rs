@@ -320,7 +320,8 @@ impl<'m> Driver<'m> {
                 } else {
                     h
                 };
-                self.h = base * self.step_factor(err);
+                let control = self.stepper.control_error(err);
+                self.h = base * self.step_factor(control);
             }
             if let Some(p) = progress.as_mut()
                 && self.t - last_report >= 0.01 * (end - self.span.start)
@@ -392,10 +393,11 @@ impl<'m> Driver<'m> {
 
     /// Step-size factor from a scaled error estimate (1 = at tolerance), in `[0.2, 5]`.
     fn step_factor(&self, err: f64) -> f64 {
+        let growth = self.stepper.growth_limit();
         if err <= 0.0 {
-            return 5.0;
+            return growth;
         }
-        (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).clamp(0.2, 5.0)
+        (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).clamp(0.2, growth)
     }
 
     /// Time of output sample `k`: `start + k sample`, then `end` if the span is not a whole

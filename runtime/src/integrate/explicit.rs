@@ -1,5 +1,5 @@
-//! Explicit Runge-Kutta methods from their Butcher tableaus: Dormand-Prince 5(4) (adaptive,
-//! embedded error estimate, first-same-as-last) and classical RK4 (fixed step).
+//! Explicit Runge-Kutta methods from their Butcher tableaus: Dormand-Prince 5(4) and DOP853
+//! (adaptive, embedded error estimates, first-same-as-last) and classical RK4 (fixed step).
 //!
 //! Hand-written rather than taken from a crate: the driver must redo a step with any length
 //! from the same start (event location with full order) and restart at every contact
@@ -16,12 +16,29 @@ pub struct Tableau {
     pub a: &'static [&'static [f64]],
     /// Weights `b_i` of the propagated solution.
     pub b: &'static [f64],
-    /// `b_i - bhat_i` of the embedded pair, if any.
-    pub e: Option<&'static [f64]>,
+    /// How the local error is estimated.
+    pub error: ErrorEstimate,
     /// True when the last stage is evaluated at `(t + h, y1)` (first same as last).
     pub fsal: bool,
     /// Order for step-size control.
     pub order: u32,
+}
+
+/// The local error estimate of an explicit method.
+pub enum ErrorEstimate {
+    /// Fixed step: no estimate.
+    None,
+    /// `h sum_i e_i k_i` with `e_i = b_i - bhat_i` of an embedded pair.
+    Embedded(&'static [f64]),
+    /// DOP853 (Hairer, Norsett & Wanner): 5th- and 3rd-order differences `e5`, `e3`
+    /// combined as `err5^2 / sqrt(err5^2 + 0.01 err3^2)`, which stays reliable for large
+    /// steps where the 5th-order estimate alone is too optimistic.
+    Dop853 {
+        /// Weights of the 5th-order difference.
+        e5: &'static [f64],
+        /// Weights of the 3rd-order difference.
+        e3: &'static [f64],
+    },
 }
 
 /// Dormand & Prince (1980), the 5(4) pair with 5th-order propagation.
@@ -63,7 +80,7 @@ pub const DOPRI5: Tableau = Tableau {
         11.0 / 84.0,
         0.0,
     ],
-    e: Some(&[
+    error: ErrorEstimate::Embedded(&[
         71.0 / 57600.0,
         0.0,
         -71.0 / 16695.0,
@@ -76,12 +93,182 @@ pub const DOPRI5: Tableau = Tableau {
     order: 4,
 };
 
+/// Dormand & Prince's 8(5,3) pair DOP853 (Hairer, Norsett & Wanner, Solving ODEs I, 1993):
+/// 12 stages plus the first-same-as-last evaluation, 8th-order propagation.
+pub const DOP853: Tableau = Tableau {
+    c: &[
+        0.0,
+        0.0526001519587677318785587544488,
+        0.0789002279381515978178381316732,
+        0.11835034190722739672675719751,
+        0.28164965809277260327324280249,
+        1.0 / 3.0,
+        0.25,
+        4.0 / 13.0,
+        127.0 / 195.0,
+        0.6,
+        6.0 / 7.0,
+        1.0,
+        1.0,
+    ],
+    a: &[
+        &[],
+        &[5.26001519587677318785587544488e-2],
+        &[
+            1.97250569845378994544595329183e-2,
+            5.91751709536136983633785987549e-2,
+        ],
+        &[
+            2.95875854768068491816892993775e-2,
+            0.0,
+            8.87627564304205475450678981324e-2,
+        ],
+        &[
+            2.41365134159266685502369798665e-1,
+            0.0,
+            -8.84549479328286085344864962717e-1,
+            9.24834003261792003115737966543e-1,
+        ],
+        &[
+            3.7037037037037037037037037037e-2,
+            0.0,
+            0.0,
+            1.70828608729473871279604482173e-1,
+            1.25467687566822425016691814123e-1,
+        ],
+        &[
+            3.7109375e-2,
+            0.0,
+            0.0,
+            1.70252211019544039314978060272e-1,
+            6.02165389804559606850219397283e-2,
+            -1.7578125e-2,
+        ],
+        &[
+            3.70920001185047927108779319836e-2,
+            0.0,
+            0.0,
+            1.70383925712239993810214054705e-1,
+            1.07262030446373284651809199168e-1,
+            -1.53194377486244017527936158236e-2,
+            8.27378916381402288758473766002e-3,
+        ],
+        &[
+            6.24110958716075717114429577812e-1,
+            0.0,
+            0.0,
+            -3.36089262944694129406857109825,
+            -8.68219346841726006818189891453e-1,
+            2.75920996994467083049415600797e1,
+            2.01540675504778934086186788979e1,
+            -4.34898841810699588477366255144e1,
+        ],
+        &[
+            4.77662536438264365890433908527e-1,
+            0.0,
+            0.0,
+            -2.48811461997166764192642586468,
+            -5.90290826836842996371446475743e-1,
+            2.12300514481811942347288949897e1,
+            1.52792336328824235832596922938e1,
+            -3.32882109689848629194453265587e1,
+            -2.03312017085086261358222928593e-2,
+        ],
+        &[
+            -9.3714243008598732571704021658e-1,
+            0.0,
+            0.0,
+            5.18637242884406370830023853209,
+            1.09143734899672957818500254654,
+            -8.14978701074692612513997267357,
+            -1.85200656599969598641566180701e1,
+            2.27394870993505042818970056734e1,
+            2.49360555267965238987089396762,
+            -3.0467644718982195003823669022,
+        ],
+        &[
+            2.27331014751653820792359768449,
+            0.0,
+            0.0,
+            -1.05344954667372501984066689879e1,
+            -2.00087205822486249909675718444,
+            -1.79589318631187989172765950534e1,
+            2.79488845294199600508499808837e1,
+            -2.85899827713502369474065508674,
+            -8.87285693353062954433549289258,
+            1.23605671757943030647266201528e1,
+            6.43392746015763530355970484046e-1,
+        ],
+        &[
+            5.42937341165687622380535766363e-2,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            4.45031289275240888144113950566,
+            1.89151789931450038304281599044,
+            -5.8012039600105847814672114227,
+            3.1116436695781989440891606237e-1,
+            -1.52160949662516078556178806805e-1,
+            2.01365400804030348374776537501e-1,
+            4.47106157277725905176885569043e-2,
+        ],
+    ],
+    b: &[
+        5.42937341165687622380535766363e-2,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        4.45031289275240888144113950566,
+        1.89151789931450038304281599044,
+        -5.8012039600105847814672114227,
+        3.1116436695781989440891606237e-1,
+        -1.52160949662516078556178806805e-1,
+        2.01365400804030348374776537501e-1,
+        4.47106157277725905176885569043e-2,
+        0.0,
+    ],
+    error: ErrorEstimate::Dop853 {
+        e5: &[
+            0.01312004499419488073250102996,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            -1.225156446376204440720569753,
+            -0.4957589496572501915214079952,
+            1.664377182454986536961530415,
+            -0.3503288487499736816886487290,
+            0.3341791187130174790297318841,
+            0.08192320648511571246570742613,
+            -0.02235530786388629525884427845,
+        ],
+        e3: &[
+            5.42937341165687622380535766363e-2 - 0.244094488188976377952755905512,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            4.45031289275240888144113950566,
+            1.89151789931450038304281599044,
+            -5.8012039600105847814672114227,
+            3.1116436695781989440891606237e-1 - 0.733846688281611857341361741547,
+            -1.52160949662516078556178806805e-1,
+            2.01365400804030348374776537501e-1,
+            4.47106157277725905176885569043e-2 - 0.0220588235294117647058823529412,
+        ],
+    },
+    fsal: true,
+    order: 7,
+};
+
 /// The classical fourth-order Runge-Kutta method.
 pub const RK4: Tableau = Tableau {
     c: &[0.0, 0.5, 0.5, 1.0],
     a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
     b: &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
-    e: None,
+    error: ErrorEstimate::None,
     fsal: false,
     order: 4,
 };
@@ -94,6 +281,7 @@ pub struct ExplicitRk {
     stages: Vec<Vec<f64>>,
     scratch: Vec<f64>,
     err: Vec<f64>,
+    err3: Vec<f64>,
 }
 
 /// `out = base + h sum_i w_i k_i` (`base` zero when `None`).
@@ -118,6 +306,7 @@ impl ExplicitRk {
             stages: vec![vec![0.0; n]; tableau.c.len()],
             scratch: vec![0.0; n],
             err: vec![0.0; n],
+            err3: vec![0.0; n],
         }
     }
 }
@@ -148,11 +337,24 @@ impl Stepper for ExplicitRk {
         if tab.fsal {
             sys.rhs(t + h, y1, &mut self.stages[s - 1]);
         }
-        match tab.e {
-            None => Ok(0.0),
-            Some(e) => {
+        match tab.error {
+            ErrorEstimate::None => Ok(0.0),
+            ErrorEstimate::Embedded(e) => {
                 combine(&mut self.err, None, h, e, &self.stages);
                 Ok(error_norm(&self.err, y, y1, self.rtol, self.atol))
+            }
+            ErrorEstimate::Dop853 { e5, e3 } => {
+                combine(&mut self.err, None, h, e5, &self.stages);
+                combine(&mut self.err3, None, h, e3, &self.stages);
+                let n = y.len() as f64;
+                let sum5 = n * error_norm(&self.err, y, y1, self.rtol, self.atol).powi(2);
+                let sum3 = n * error_norm(&self.err3, y, y1, self.rtol, self.atol).powi(2);
+                let deno = sum5 + 0.01 * sum3;
+                Ok(if deno > 0.0 {
+                    sum5 / (n * deno).sqrt()
+                } else {
+                    0.0
+                })
             }
         }
     }

@@ -12,9 +12,12 @@
 //! Samples at the scene's output times come from the cubic Hermite interpolant of each
 //! accepted step (`y` and `ydot` at both ends).
 
+pub mod bdf;
+pub mod esdirk;
 pub mod events;
 pub mod explicit;
 pub mod generalized_alpha;
+pub mod newton;
 pub mod verlet;
 
 use crate::model::Model;
@@ -29,6 +32,17 @@ pub use events::ContactTracker;
 pub enum Method {
     /// Dormand-Prince 5(4), adaptive, explicit.
     Dopri5,
+    /// Dormand-Prince 8(5,3) (DOP853), adaptive, explicit.
+    Dop853,
+    /// ESDIRK4(3)6L[2]SA (Kennedy-Carpenter), adaptive, L-stable, Newton on the analytic
+    /// Jacobian.
+    Esdirk,
+    /// Variable-order variable-step BDF (orders 1 to `max_order`), Newton on the analytic
+    /// Jacobian.
+    Bdf {
+        /// Highest order used (1..=5; 1 and 2 are A-stable).
+        max_order: usize,
+    },
     /// Classical Runge-Kutta 4, fixed step, explicit.
     Rk4,
     /// Stormer-Verlet (velocity form), fixed step, explicit, second order.
@@ -53,10 +67,26 @@ pub enum StepControl {
 }
 
 /// Names accepted by [`Method::from_name`], with a one-line description each.
-pub const METHOD_NAMES: [(&str, &str); 6] = [
+pub const METHOD_NAMES: [(&str, &str); 10] = [
     (
         "dopri5",
         "Dormand-Prince 5(4), adaptive explicit Runge-Kutta",
+    ),
+    (
+        "dop853",
+        "Dormand-Prince 8(5,3), adaptive explicit Runge-Kutta of order 8",
+    ),
+    (
+        "esdirk",
+        "ESDIRK4(3)6L[2]SA, adaptive L-stable implicit Runge-Kutta, analytic Jacobian",
+    ),
+    (
+        "bdf",
+        "BDF of variable order 1-5 and variable step, analytic Jacobian",
+    ),
+    (
+        "bdf<K>",
+        "BDF with orders up to K (1-5), e.g. bdf2 (A-stable)",
     ),
     ("rk4", "classical Runge-Kutta 4, fixed step"),
     ("verlet", "Stormer-Verlet (velocity form), fixed step"),
@@ -102,6 +132,11 @@ impl Method {
         }
         match name {
             "dopri5" => Ok(Method::Dopri5),
+            "dop853" => Ok(Method::Dop853),
+            "esdirk" => Ok(Method::Esdirk),
+            "bdf" => Ok(Method::Bdf {
+                max_order: bdf::MAX_ORDER,
+            }),
             "rk4" => Ok(Method::Rk4),
             "verlet" => Ok(Method::Verlet),
             _ => {
@@ -109,6 +144,15 @@ impl Method {
                     galpha(rest, false)
                 } else if let Some(rest) = name.strip_prefix("galpha") {
                     galpha(rest, true)
+                } else if let Some(k) = name.strip_prefix("bdf") {
+                    match k.parse::<usize>() {
+                        Ok(max_order @ 1..=bdf::MAX_ORDER) => Ok(Method::Bdf { max_order }),
+                        _ => Err(format!(
+                            "method `{name}`: the highest BDF order must be 1 to {} \
+                             (e.g. bdf2)",
+                            bdf::MAX_ORDER
+                        )),
+                    }
                 } else {
                     Err(unknown(name))
                 }
@@ -120,6 +164,10 @@ impl Method {
     pub fn name(&self) -> String {
         match self {
             Method::Dopri5 => "dopri5".into(),
+            Method::Dop853 => "dop853".into(),
+            Method::Esdirk => "esdirk".into(),
+            Method::Bdf { max_order } if *max_order == bdf::MAX_ORDER => "bdf".into(),
+            Method::Bdf { max_order } => format!("bdf{max_order}"),
             Method::Rk4 => "rk4".into(),
             Method::Verlet => "verlet".into(),
             Method::GeneralizedAlpha { rho_inf, adaptive } => {
@@ -136,9 +184,11 @@ impl Method {
     /// Adaptive or fixed step.
     pub fn step_control(&self) -> StepControl {
         match self {
-            Method::Dopri5 | Method::GeneralizedAlpha { adaptive: true, .. } => {
-                StepControl::Adaptive
-            }
+            Method::Dopri5
+            | Method::Dop853
+            | Method::Esdirk
+            | Method::Bdf { .. }
+            | Method::GeneralizedAlpha { adaptive: true, .. } => StepControl::Adaptive,
             _ => StepControl::Fixed,
         }
     }
@@ -362,6 +412,17 @@ pub trait Stepper {
 
     /// Forget history after a contact switch or a drive discontinuity.
     fn restart(&mut self) {}
+
+    /// The error estimate that sets the next step after an accepted one with estimate `err`
+    /// (a variable-order method returns the estimate of the order it chose).
+    fn control_error(&self, err: f64) -> f64 {
+        err
+    }
+
+    /// Largest factor by which the step may grow from one step to the next.
+    fn growth_limit(&self) -> f64 {
+        5.0
+    }
 }
 
 /// Scaled RMS norm of an error vector against `atol + rtol max(|y0|, |y1|)`.
@@ -385,6 +446,13 @@ fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Step
             2 * dof,
             settings,
         )),
+        Method::Dop853 => Box::new(explicit::ExplicitRk::new(
+            &explicit::DOP853,
+            2 * dof,
+            settings,
+        )),
+        Method::Esdirk => Box::new(esdirk::Esdirk::new(dof, settings)),
+        Method::Bdf { max_order } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
         Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),
         Method::Verlet => Box::new(verlet::StormerVerlet::new(dof)),
         Method::GeneralizedAlpha { rho_inf, adaptive } => Box::new(
