@@ -95,6 +95,8 @@ pub const DOPRI5: Tableau = Tableau {
 
 /// Dormand & Prince's 8(5,3) pair DOP853 (Hairer, Norsett & Wanner, Solving ODEs I, 1993):
 /// 12 stages plus the first-same-as-last evaluation, 8th-order propagation.
+// the published digits, kept as printed (rounded to f64 by the compiler)
+#[allow(clippy::excessive_precision)]
 pub const DOP853: Tableau = Tableau {
     c: &[
         0.0,
