@@ -1,4 +1,4 @@
-//! `simulate --plot`: the paper's figures as SVG with plotters. Case-study-like scenes get
+//! `simulate --plot`: the paper's figures as SVG or PNG with plotters. Case-study-like scenes get
 //! the vehicle (Fig. 8), `tip_rel` (Fig. 9), `top1_rel` (Fig. 10) and the gaps at the lower
 //! and upper contact of the first overlap (Figs. 11, 12) with the band edges `+-l_S/2`;
 //! the adams scenes get `tip_rel` (Figs. 14, 15). A second scene (`--compare`) is overlaid.
@@ -68,23 +68,73 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
     out
 }
 
-/// Draws the panels of `curves[0]`'s scene to an SVG file at `path` (written completely or
-/// not at all).
+/// Output formats of [`plot`], by file extension.
+pub const PLOT_EXTENSIONS: [&str; 2] = ["svg", "png"];
+
+/// Width of a plot (pixels).
+const WIDTH: u32 = 1000;
+
+/// Draws the panels of `curves[0]`'s scene to an SVG or PNG file at `path` (by extension;
+/// written completely or not at all).
 pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> anyhow::Result<()> {
     let panels = panels(scene_name, &curves[0].traj.names);
-    let mut svg = String::new();
-    {
-        let height = 320 * panels.len() as u32;
-        let root = SVGBackend::with_string(&mut svg, (1000, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_error)?;
-        let areas = root.split_evenly((panels.len(), 1));
-        for (panel, area) in panels.iter().zip(&areas) {
-            draw_panel(area, panel, curves)?;
+    let size = (WIDTH, 320 * panels.len() as u32);
+    // both backends measure text with the font
+    register_font()?;
+    let bytes = match path.extension().and_then(|e| e.to_str()) {
+        Some("png") => {
+            let mut rgb = vec![0u8; 3 * (size.0 * size.1) as usize];
+            draw_all(
+                BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
+                &panels,
+                curves,
+            )?;
+            encode_png(&rgb, size)?
         }
-        root.present().map_err(plot_error)?;
-    }
-    crate::simulate::write_atomically(path, |w| w.write_all(svg.as_bytes()))
+        _ => {
+            let mut svg = String::new();
+            draw_all(
+                SVGBackend::with_string(&mut svg, size).into_drawing_area(),
+                &panels,
+                curves,
+            )?;
+            svg.into_bytes()
+        }
+    };
+    crate::simulate::write_atomically(path, |w| w.write_all(&bytes))
         .with_context(|| format!("writing the plot {}", path.display()))
+}
+
+/// The panels, one below the other, on `root`.
+fn draw_all<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    panels: &[Panel],
+    curves: &[Curve],
+) -> anyhow::Result<()> {
+    root.fill(&WHITE).map_err(plot_error)?;
+    let areas = root.split_evenly((panels.len(), 1));
+    for (panel, area) in panels.iter().zip(&areas) {
+        draw_panel(area, panel, curves)?;
+    }
+    root.present().map_err(plot_error)
+}
+
+/// Text needs a font: DejaVu Sans, compiled in, so plots look the same on any machine.
+fn register_font() -> anyhow::Result<()> {
+    plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+        .map_err(|_| anyhow::anyhow!("the built-in DejaVu Sans font could not be loaded"))
+}
+
+/// An RGB buffer as PNG bytes.
+fn encode_png(rgb: &[u8], (width, height): (u32, u32)) -> anyhow::Result<Vec<u8>> {
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().context("encoding PNG")?;
+    writer.write_image_data(rgb).context("encoding PNG")?;
+    writer.finish().context("encoding PNG")?;
+    Ok(out)
 }
 
 fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
@@ -96,6 +146,8 @@ fn tick_label(v: f64, span: f64) -> String {
     if span <= 0.0 || !span.is_finite() {
         return format!("{v}");
     }
+    // a rounding residue of zero would print as "-0.000"
+    let v = if v.abs() < 1e-9 * span { 0.0 } else { v };
     if span < 1e-3 {
         return format!("{v:.2e}");
     }

@@ -31,8 +31,8 @@ pub struct SimulateArgs {
     /// default: standard output.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Draw the paper's figures for this scene to an SVG file.
-    #[arg(long, value_name = "FILE.svg")]
+    /// Draw the paper's figures for this scene to an SVG or PNG file (by extension).
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub plot: Option<PathBuf>,
     /// A second scene to simulate with the same method and overlay in the plot (e.g. the
     /// case-study without clearance).
@@ -235,10 +235,13 @@ pub fn summary(
 /// Runs `telescopic simulate`.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     if let Some(p) = &args.plot
-        && p.extension().and_then(|e| e.to_str()) != Some("svg")
+        && !p
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| crate::plot::PLOT_EXTENSIONS.contains(&e))
     {
         bail!(
-            "--plot {}: only SVG is written; name the file *.svg",
+            "--plot {}: the file name must end in .svg or .png (the format follows it)",
             p.display()
         );
     }

@@ -160,8 +160,52 @@ fn plot_draws_the_papers_figures_with_labelled_axes() {
         assert!(text.contains(needle), "plot lacks `{needle}`");
     }
     fails_with(
-        &["simulate", "scenes/adams-linear.toml", "--plot", "run.png"],
-        &["only SVG"],
+        &["simulate", "scenes/adams-linear.toml", "--plot", "run.jpg"],
+        &["--plot run.jpg", ".svg or .png"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn plot_as_png_has_curves_and_text() {
+    let dir = scratch("png");
+    let path = dir.join("adams.png");
+    let out = telescopic(&[
+        "simulate",
+        "scenes/adams-clearance.toml",
+        "--set",
+        "time.end=0.5",
+        "--plot",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut rgb = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut rgb).unwrap();
+    // one panel (tip_rel) for the adams scenes
+    assert_eq!((info.width, info.height), (1000, 320));
+    let pixels: Vec<&[u8]> = rgb.chunks(3).collect();
+    let colored = pixels
+        .iter()
+        .filter(|p| p.iter().max().unwrap() - p.iter().min().unwrap() > 80)
+        .count();
+    // the axis labels: dark pixels left of the plot area (text needs the built-in font)
+    let label_ink = (0..320)
+        .flat_map(|y| (0..30).map(move |x| y * 1000 + x))
+        .filter(|&i| pixels[i].iter().all(|&c| c < 100))
+        .count();
+    assert!(
+        colored > 500,
+        "the curve is missing: {colored} colored pixels"
+    );
+    assert!(
+        label_ink > 20,
+        "the y-axis label is missing: {label_ink} dark pixels"
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
