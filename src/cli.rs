@@ -23,6 +23,9 @@ enum Command {
     Equations(crate::equations::EquationsArgs),
     /// Integrate the scene with the clearance contact law and write its outputs as CSV.
     Simulate(crate::simulate::SimulateArgs),
+    /// The stiffest frequency with closed contacts and the largest stable step of the
+    /// fixed-step explicit methods (textbook limits and the model's own).
+    Stability(crate::stability::StabilityArgs),
 }
 
 /// A scene file and its overrides: shared by every command that reads a scene.
@@ -50,6 +53,7 @@ impl Cli {
             Command::Modes(args) => crate::modes::run(&args),
             Command::Equations(args) => crate::equations::run(&args),
             Command::Simulate(args) => crate::simulate::run(&args),
+            Command::Stability(args) => crate::stability::run(&args),
         }
     }
 }

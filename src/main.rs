@@ -7,6 +7,7 @@ mod equations;
 mod modes;
 mod plot;
 mod simulate;
+mod stability;
 
 use clap::Parser;
 

@@ -14,8 +14,8 @@ use telescopic_runtime::{Method, Model, RunStats, Scene, Settings, model::rest_s
 pub struct SimulateArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Integration method: dopri5 (default), rk4, verlet, galpha, galpha-fixed,
-    /// galpha-rho<R> (see the README).
+    /// Integration method: dopri5 (default), dop853, esdirk, bdf, bdf<K>, rk4, verlet,
+    /// galpha, galpha-fixed, galpha-rho<R> (see the README).
     #[arg(long, default_value = "dopri5", value_name = "NAME")]
     pub method: String,
     /// Relative tolerance of adaptive methods.

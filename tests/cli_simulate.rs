@@ -209,3 +209,27 @@ fn plot_as_png_has_curves_and_text() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn stability_prints_omega_max_and_the_limits() {
+    let out = telescopic(&["stability", "scenes/adams-linear.toml"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = |m: &str| {
+        text.lines()
+            .find(|l| l.starts_with(m))
+            .unwrap_or_else(|| panic!("no {m} line in\n{text}"))
+            .to_string()
+    };
+    assert!(text.contains("omega_max = 2.83"), "{text}");
+    // the last number of each method's line is h omega_max at the model's limit
+    for (m, lo, hi) in [("rk4", 2.7, 3.1), ("verlet", 1.8, 2.0)] {
+        let l = line(m);
+        let last: f64 = l.split_whitespace().last().unwrap().parse().unwrap();
+        assert!((lo..=hi).contains(&last), "{l}");
+    }
+}

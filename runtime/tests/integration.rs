@@ -237,7 +237,10 @@ fn linear_scene_matches_the_exact_solution() {
             },
         ),
         (
-            Method::Bdf { max_order: 5 },
+            Method::Bdf {
+                max_order: 5,
+                adaptive: true,
+            },
             Settings {
                 rtol: 1e-10,
                 atol: 1e-13,
@@ -465,6 +468,8 @@ fn method_names_round_trip_and_bad_names_are_listed() {
         "esdirk",
         "bdf",
         "bdf2",
+        "bdf-fixed",
+        "bdf2-fixed",
         "galpha",
         "galpha-fixed",
         "galpha-rho0.5",
@@ -481,7 +486,7 @@ fn method_names_round_trip_and_bad_names_are_listed() {
             .unwrap_err()
             .contains("[0, 1]")
     );
-    for bad in ["bdf0", "bdf6", "bdfx"] {
+    for bad in ["bdf0", "bdf6", "bdfx", "bdf6-fixed"] {
         let err = Method::from_name(bad).unwrap_err();
         assert!(err.contains("1 to 5"), "{err}");
     }
@@ -495,4 +500,24 @@ fn method_names_round_trip_and_bad_names_are_listed() {
         &Settings::default(),
     ));
     assert!(err.to_string().contains("give --dt"), "{err}");
+}
+
+#[test]
+fn undamped_step_limits_are_the_textbook_ones() {
+    // two independent paths: omega_max from the symmetric eigenproblem, the limit from the
+    // spectral radius of the methods' step matrices
+    use telescopic_runtime::integrate::stability::{
+        RK4_IMAGINARY_AXIS, VERLET_LIMIT, stability_report,
+    };
+    let model = AssembledModel::new(&conservative(0.0)).unwrap();
+    let r = stability_report(&model, 0.0).unwrap();
+    eprintln!(
+        "omega_max = {:.6e} rad/s, rk4 h omega = {:.6}, verlet h omega = {:.6}",
+        r.omega_max,
+        r.rk4_step * r.omega_max,
+        r.verlet_step * r.omega_max
+    );
+    assert!(r.growth_rate < 1e-6 * r.omega_max);
+    assert!((r.rk4_step * r.omega_max / RK4_IMAGINARY_AXIS - 1.0).abs() < 1e-5);
+    assert!((r.verlet_step * r.omega_max / VERLET_LIMIT - 1.0).abs() < 1e-5);
 }

@@ -1,6 +1,7 @@
 //! The time loop shared by every method: step-size control, drive discontinuities, contact
 //! events, sampling, divergence checks.
 
+use super::stability::stable_step;
 use super::{
     ContactTracker, Method, Observer, Progress, RunStats, Settings, SimError, StepControl,
     StepFailure, Stepper, System, make_stepper,
@@ -450,27 +451,47 @@ impl<'m> Driver<'m> {
             "the state became non-finite".to_string()
         };
         let cause = match self.method.stability_limit() {
-            Some(limit) => {
+            Some(textbook) => {
                 let omega_max = modal_analysis(self.sys.model, self.t)
                     .ok()
                     .and_then(|m| m.frequencies_hz.last().copied())
                     .map(|f| 2.0 * std::f64::consts::PI * f);
                 match omega_max {
-                    Some(w) if h * w > limit => format!(
-                        "{what}; the step {h:.3e} s is above the stability limit of {} \
-                         (h omega_max <= {limit:.3}): the stiffest mode with closed contacts has \
-                         omega_max = {w:.4e} rad/s, so the largest stable step is about {:.3e} s",
-                        self.method.name(),
-                        limit / w
-                    ),
-                    Some(w) => format!(
-                        "{what}; the step is below the linear stability limit ({:.3e} s for \
-                         omega_max = {w:.4e} rad/s), so the blow-up comes from the nonlinear \
-                         contact law: take a smaller step or an adaptive method",
-                        limit / w
-                    ),
+                    Some(w) => {
+                        let limit = stable_step(self.sys.model, self.method, self.t, w);
+                        if h > limit {
+                            format!(
+                                "{what}; the step {h:.3e} s is above the stability limit of {}: \
+                                 the largest stable step on this model with closed contacts is \
+                                 {limit:.3e} s (h omega_max = {:.3} for omega_max = {w:.4e} rad/s; \
+                                 {textbook:.3} without damping); see `telescopic stability`",
+                                self.method.name(),
+                                limit * w
+                            )
+                        } else {
+                            format!(
+                                "{what}; the step is below the linear stability limit ({limit:.3e} s \
+                                 for omega_max = {w:.4e} rad/s), so the blow-up comes from the \
+                                 nonlinear contact law: take a smaller step or an adaptive method"
+                            )
+                        }
+                    }
                     None => format!("{what}; take a smaller step"),
                 }
+            }
+            None if matches!(
+                self.method,
+                Method::Bdf {
+                    max_order: 3..,
+                    adaptive: false
+                }
+            ) =>
+            {
+                format!(
+                    "{what}; BDF of order 3 to 5 is not A-stable: with a fixed step, modes with \
+                     h omega near the imaginary axis grow; take bdf2-fixed, galpha-fixed or a \
+                     smaller step"
+                )
             }
             None => format!(
                 "{what}; the model or its parameters may be unstable (buckling under gravity?)"

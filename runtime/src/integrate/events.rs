@@ -59,6 +59,12 @@ impl ContactTracker {
         }
     }
 
+    /// Presses every contact against its upper guide (closed contacts; for stability and
+    /// linearization studies).
+    pub fn press_all(&mut self) {
+        self.states.fill(ContactState::Upper);
+    }
+
     /// Current branches.
     pub fn states(&self) -> &[ContactState] {
         &self.states

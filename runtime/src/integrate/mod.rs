@@ -18,6 +18,7 @@ pub mod events;
 pub mod explicit;
 pub mod generalized_alpha;
 pub mod newton;
+pub mod stability;
 pub mod verlet;
 
 use crate::model::Model;
@@ -42,6 +43,8 @@ pub enum Method {
     Bdf {
         /// Highest order used (1..=5; 1 and 2 are A-stable).
         max_order: usize,
+        /// Adaptive step size from the local error estimate (else a fixed `dt`).
+        adaptive: bool,
     },
     /// Classical Runge-Kutta 4, fixed step, explicit.
     Rk4,
@@ -67,7 +70,7 @@ pub enum StepControl {
 }
 
 /// Names accepted by [`Method::from_name`], with a one-line description each.
-pub const METHOD_NAMES: [(&str, &str); 10] = [
+pub const METHOD_NAMES: [(&str, &str); 11] = [
     (
         "dopri5",
         "Dormand-Prince 5(4), adaptive explicit Runge-Kutta",
@@ -88,6 +91,7 @@ pub const METHOD_NAMES: [(&str, &str); 10] = [
         "bdf<K>",
         "BDF with orders up to K (1-5), e.g. bdf2 (A-stable)",
     ),
+    ("bdf[K]-fixed", "BDF with a fixed step, e.g. bdf2-fixed"),
     ("rk4", "classical Runge-Kutta 4, fixed step"),
     ("verlet", "Stormer-Verlet (velocity form), fixed step"),
     (
@@ -134,9 +138,6 @@ impl Method {
             "dopri5" => Ok(Method::Dopri5),
             "dop853" => Ok(Method::Dop853),
             "esdirk" => Ok(Method::Esdirk),
-            "bdf" => Ok(Method::Bdf {
-                max_order: bdf::MAX_ORDER,
-            }),
             "rk4" => Ok(Method::Rk4),
             "verlet" => Ok(Method::Verlet),
             _ => {
@@ -144,9 +145,21 @@ impl Method {
                     galpha(rest, false)
                 } else if let Some(rest) = name.strip_prefix("galpha") {
                     galpha(rest, true)
-                } else if let Some(k) = name.strip_prefix("bdf") {
-                    match k.parse::<usize>() {
-                        Ok(max_order @ 1..=bdf::MAX_ORDER) => Ok(Method::Bdf { max_order }),
+                } else if let Some(rest) = name.strip_prefix("bdf") {
+                    let (k, adaptive) = match rest.strip_suffix("-fixed") {
+                        Some(k) => (k, false),
+                        None => (rest, true),
+                    };
+                    let max_order = if k.is_empty() {
+                        Ok(bdf::MAX_ORDER)
+                    } else {
+                        k.parse::<usize>()
+                    };
+                    match max_order {
+                        Ok(max_order @ 1..=bdf::MAX_ORDER) => Ok(Method::Bdf {
+                            max_order,
+                            adaptive,
+                        }),
                         _ => Err(format!(
                             "method `{name}`: the highest BDF order must be 1 to {} \
                              (e.g. bdf2)",
@@ -166,8 +179,18 @@ impl Method {
             Method::Dopri5 => "dopri5".into(),
             Method::Dop853 => "dop853".into(),
             Method::Esdirk => "esdirk".into(),
-            Method::Bdf { max_order } if *max_order == bdf::MAX_ORDER => "bdf".into(),
-            Method::Bdf { max_order } => format!("bdf{max_order}"),
+            Method::Bdf {
+                max_order,
+                adaptive,
+            } => {
+                let order = if *max_order == bdf::MAX_ORDER {
+                    String::new()
+                } else {
+                    max_order.to_string()
+                };
+                let fixed = if *adaptive { "" } else { "-fixed" };
+                format!("bdf{order}{fixed}")
+            }
             Method::Rk4 => "rk4".into(),
             Method::Verlet => "verlet".into(),
             Method::GeneralizedAlpha { rho_inf, adaptive } => {
@@ -187,7 +210,7 @@ impl Method {
             Method::Dopri5
             | Method::Dop853
             | Method::Esdirk
-            | Method::Bdf { .. }
+            | Method::Bdf { adaptive: true, .. }
             | Method::GeneralizedAlpha { adaptive: true, .. } => StepControl::Adaptive,
             _ => StepControl::Fixed,
         }
@@ -452,7 +475,7 @@ fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Step
             settings,
         )),
         Method::Esdirk => Box::new(esdirk::Esdirk::new(dof, settings)),
-        Method::Bdf { max_order } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
+        Method::Bdf { max_order, .. } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
         Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),
         Method::Verlet => Box::new(verlet::StormerVerlet::new(dof)),
         Method::GeneralizedAlpha { rho_inf, adaptive } => Box::new(

@@ -1,0 +1,154 @@
+//! Where fixed-step methods fail: the stiffest frequency of a scene and the largest stable
+//! step of each fixed-step method on the scene's own linearized model.
+//!
+//! With every contact closed (pressed against a guide, or the linear law for `l_S = 0`) and
+//! the branches held fixed, the right-hand side is affine in the state, so one step of a
+//! method is an affine map `y1 = G(h) y0 + c`. Its matrix `G(h)` is built column by column
+//! from steps of the real stepper, and the step is stable while the spectral radius of
+//! `G(h)` does not exceed what the physics allows (`e^(sigma h)`, `sigma` the largest growth
+//! rate of the continuous system, zero for a stable scene). Bisection on `h` gives the limit.
+//! This is exact for the model, damping included; the textbook numbers (`h omega_max` of
+//! 2.785 on the negative real axis and 2.828 on the imaginary axis for RK4, 2 for undamped
+//! Stormer-Verlet) bracket it for a lightly damped structure.
+
+use super::events::ContactTracker;
+use super::{Method, RunStats, Settings, System, make_stepper};
+use crate::eigen::modal_analysis;
+use crate::model::Model;
+use nalgebra::DMatrix;
+
+/// The largest `|h lambda|` on the negative real axis inside RK4's stability region.
+pub const RK4_REAL_AXIS: f64 = 2.785_293_563_405_282;
+/// The same on the imaginary axis: `2 sqrt(2)`.
+pub const RK4_IMAGINARY_AXIS: f64 = 2.0 * std::f64::consts::SQRT_2;
+/// Stormer-Verlet's limit `h omega` for an undamped oscillator.
+pub const VERLET_LIMIT: f64 = 2.0;
+
+/// The stability facts of a model at one time.
+#[derive(Debug, Clone)]
+pub struct StabilityReport {
+    /// Time the model was linearized at (s).
+    pub time: f64,
+    /// Largest natural circular frequency with closed contacts (rad/s).
+    pub omega_max: f64,
+    /// Largest growth rate `Re(lambda)` of the closed-contact system (1/s; 0 when stable).
+    pub growth_rate: f64,
+    /// Largest stable step of RK4 on the model (s).
+    pub rk4_step: f64,
+    /// Largest stable step of Stormer-Verlet on the model (s).
+    pub verlet_step: f64,
+}
+
+/// The branches of a closed contact set: all pressed against the upper guide (the lower
+/// one has the same slope; the offset is in the affine part).
+fn closed(model: &dyn Model, t: f64) -> ContactTracker {
+    let mut tracker = ContactTracker::new(model, t, &vec![0.0; 2 * model.dof()]);
+    tracker.press_all();
+    tracker
+}
+
+/// The matrix `G(h)` of one step of `method` from time `t` with closed contacts.
+pub fn step_matrix(model: &dyn Model, method: Method, t: f64, h: f64) -> DMatrix<f64> {
+    let n = 2 * model.dof();
+    let settings = Settings {
+        dt: Some(h),
+        ..Settings::default()
+    };
+    let mut stepper = make_stepper(method, model.dof(), &settings);
+    let mut sys = System {
+        model,
+        tracker: closed(model, t),
+        stats: RunStats::default(),
+        time_cap: f64::INFINITY,
+    };
+    let (mut y0, mut f0, mut y1) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut step = |y0: &[f64], f0: &mut [f64], y1: &mut [f64]| {
+        sys.rhs(t, y0, f0);
+        stepper.restart();
+        // a failed implicit step would leave zeros: it shows as an unstable column
+        let _ = stepper.step(&mut sys, t, y0, f0, h, y1);
+    };
+    let mut offset = vec![0.0; n];
+    step(&y0, &mut f0, &mut offset);
+    let mut g = DMatrix::zeros(n, n);
+    for j in 0..n {
+        y0.fill(0.0);
+        y0[j] = 1.0;
+        step(&y0, &mut f0, &mut y1);
+        for i in 0..n {
+            g[(i, j)] = y1[i] - offset[i];
+        }
+    }
+    g
+}
+
+/// Spectral radius of a real square matrix.
+fn spectral_radius(m: DMatrix<f64>) -> f64 {
+    m.complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+}
+
+/// Largest growth rate `max Re(lambda)` of the closed-contact system at `t` (1/s, >= 0).
+fn growth_rate(model: &dyn Model, t: f64) -> f64 {
+    let n = 2 * model.dof();
+    let mut sys = System {
+        model,
+        tracker: closed(model, t),
+        stats: RunStats::default(),
+        time_cap: f64::INFINITY,
+    };
+    let mut jac = DMatrix::zeros(n, n);
+    sys.jacobian(t, &vec![0.0; n], &mut jac);
+    jac.complex_eigenvalues()
+        .iter()
+        .map(|z| z.re)
+        .fold(0.0, f64::max)
+}
+
+/// Largest stable step of a fixed-step `method` at time `t` (s), by bisection on the
+/// spectral radius of its step matrix, to a relative precision of 1e-6. `omega_max` (rad/s)
+/// brackets the search.
+pub fn stable_step(model: &dyn Model, method: Method, t: f64, omega_max: f64) -> f64 {
+    let sigma = growth_rate(model, t);
+    let stable =
+        |h: f64| spectral_radius(step_matrix(model, method, t, h)) <= (sigma * h).exp() + 1e-7;
+    let mut lo = 0.0;
+    let mut hi = 4.0 / omega_max;
+    while stable(hi) {
+        lo = hi;
+        hi *= 2.0;
+    }
+    while hi - lo > 1e-6 * hi {
+        let mid = 0.5 * (lo + hi);
+        if stable(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// The stability report of `model` at time `t`.
+///
+/// # Errors
+/// A message when the modal analysis fails (mass matrix not positive definite).
+pub fn stability_report(model: &dyn Model, t: f64) -> Result<StabilityReport, String> {
+    let modal = modal_analysis(model, t).map_err(|e| e.to_string())?;
+    let omega_max = 2.0
+        * std::f64::consts::PI
+        * modal
+            .frequencies_hz
+            .last()
+            .copied()
+            .ok_or("the model has no elastic modes")?;
+    Ok(StabilityReport {
+        time: t,
+        omega_max,
+        growth_rate: growth_rate(model, t),
+        rk4_step: stable_step(model, Method::Rk4, t, omega_max),
+        verlet_step: stable_step(model, Method::Verlet, t, omega_max),
+    })
+}
