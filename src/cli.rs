@@ -26,6 +26,9 @@ enum Command {
     /// The stiffest frequency with closed contacts and the largest stable step of the
     /// fixed-step explicit methods (textbook limits and the model's own).
     Stability(crate::stability::StabilityArgs),
+    /// Speed against accuracy: every method over a sweep of tolerances or steps, errors
+    /// inside the predictability horizon and on statistics beyond it; chart and CSV.
+    WorkPrecision(crate::work_precision::WorkPrecisionArgs),
 }
 
 /// A scene file and its overrides: shared by every command that reads a scene.
@@ -54,6 +57,7 @@ impl Cli {
             Command::Equations(args) => crate::equations::run(&args),
             Command::Simulate(args) => crate::simulate::run(&args),
             Command::Stability(args) => crate::stability::run(&args),
+            Command::WorkPrecision(args) => crate::work_precision::run(&args),
         }
     }
 }

@@ -8,6 +8,7 @@ mod modes;
 mod plot;
 mod simulate;
 mod stability;
+mod work_precision;
 
 use clap::Parser;
 

@@ -74,30 +74,32 @@ pub const PLOT_EXTENSIONS: [&str; 2] = ["svg", "png"];
 /// Width of a plot (pixels).
 const WIDTH: u32 = 1000;
 
-/// Draws the panels of `curves[0]`'s scene to an SVG or PNG file at `path` (by extension;
-/// written completely or not at all).
-pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> anyhow::Result<()> {
-    let panels = panels(scene_name, &curves[0].traj.names);
-    let size = (WIDTH, 320 * panels.len() as u32);
+/// A picture that can be drawn on any plotters backend.
+pub trait Figure {
+    /// Size in pixels.
+    fn size(&self) -> (u32, u32);
+    /// Draws the picture on `root`.
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> anyhow::Result<()>;
+}
+
+/// Saves `figure` as SVG or PNG by the extension of `path` (written completely or not at
+/// all).
+pub fn save<F: Figure>(figure: &F, path: &Path) -> anyhow::Result<()> {
     // both backends measure text with the font
     register_font()?;
+    let size = figure.size();
     let bytes = match path.extension().and_then(|e| e.to_str()) {
         Some("png") => {
             let mut rgb = vec![0u8; 3 * (size.0 * size.1) as usize];
-            draw_all(
-                BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
-                &panels,
-                curves,
-            )?;
+            figure.draw(BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area())?;
             encode_png(&rgb, size)?
         }
         _ => {
             let mut svg = String::new();
-            draw_all(
-                SVGBackend::with_string(&mut svg, size).into_drawing_area(),
-                &panels,
-                curves,
-            )?;
+            figure.draw(SVGBackend::with_string(&mut svg, size).into_drawing_area())?;
             svg.into_bytes()
         }
     };
@@ -105,18 +107,38 @@ pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> anyhow::Result<(
         .with_context(|| format!("writing the plot {}", path.display()))
 }
 
-/// The panels, one below the other, on `root`.
-fn draw_all<DB: DrawingBackend>(
-    root: DrawingArea<DB, plotters::coord::Shift>,
-    panels: &[Panel],
-    curves: &[Curve],
-) -> anyhow::Result<()> {
-    root.fill(&WHITE).map_err(plot_error)?;
-    let areas = root.split_evenly((panels.len(), 1));
-    for (panel, area) in panels.iter().zip(&areas) {
-        draw_panel(area, panel, curves)?;
+/// The paper's figures for one scene, with overlaid runs.
+struct PaperFigure<'a> {
+    panels: Vec<Panel>,
+    curves: &'a [Curve<'a>],
+}
+
+impl Figure for PaperFigure<'_> {
+    fn size(&self) -> (u32, u32) {
+        (WIDTH, 320 * self.panels.len() as u32)
     }
-    root.present().map_err(plot_error)
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> anyhow::Result<()> {
+        root.fill(&WHITE).map_err(plot_error)?;
+        let areas = root.split_evenly((self.panels.len(), 1));
+        for (panel, area) in self.panels.iter().zip(&areas) {
+            draw_panel(area, panel, self.curves)?;
+        }
+        root.present().map_err(plot_error)
+    }
+}
+
+/// Draws the panels of `curves[0]`'s scene to an SVG or PNG file at `path` (by extension;
+/// written completely or not at all).
+pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> anyhow::Result<()> {
+    let figure = PaperFigure {
+        panels: panels(scene_name, &curves[0].traj.names),
+        curves,
+    };
+    save(&figure, path)
 }
 
 /// Text needs a font: DejaVu Sans, compiled in, so plots look the same on any machine.
@@ -137,12 +159,12 @@ fn encode_png(rgb: &[u8], (width, height): (u32, u32)) -> anyhow::Result<Vec<u8>
     Ok(out)
 }
 
-fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+pub fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow::anyhow!("drawing failed: {e:?}")
 }
 
 /// A tick label with as many decimals as the axis span needs (exponent form below 1e-3).
-fn tick_label(v: f64, span: f64) -> String {
+pub fn tick_label(v: f64, span: f64) -> String {
     if span <= 0.0 || !span.is_finite() {
         return format!("{v}");
     }

@@ -233,3 +233,59 @@ fn stability_prints_omega_max_and_the_limits() {
         assert!((lo..=hi).contains(&last), "{l}");
     }
 }
+
+#[test]
+fn work_precision_writes_a_converging_table_and_a_chart() {
+    let dir = scratch("wp");
+    let (csv, svg) = (dir.join("wp.csv"), dir.join("wp.svg"));
+    let out = telescopic(&[
+        "work-precision",
+        "scenes/adams-linear.toml",
+        "--set",
+        "time.end=0.2",
+        "--methods",
+        "dopri5,rk4",
+        "--repeat",
+        "1",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    // no clearance: the references agree over the whole span
+    assert!(stderr.contains("T_h = 0.2000 s"), "{stderr}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 6 + 5, "{text}");
+    let error = |r: &Vec<&str>| r[5].parse::<f64>().unwrap();
+    let dopri5: Vec<f64> = rows
+        .iter()
+        .filter(|r| r[0] == "dopri5")
+        .map(error)
+        .collect();
+    let rk4: Vec<f64> = rows.iter().filter(|r| r[0] == "rk4").map(error).collect();
+    // tighter settings are more accurate: the last (tightest) far below the first
+    assert!(dopri5[5] < 1e-3 * dopri5[0], "{dopri5:?}");
+    assert!(rk4[4] < 1e-2 * rk4[0], "{rk4:?}");
+    assert!(
+        std::fs::read_to_string(&svg)
+            .unwrap()
+            .contains("work-precision, adams-linear")
+    );
+    fails_with(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--methods",
+            "euler",
+        ],
+        &["unknown method `euler`"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,543 @@
+//! `telescopic work-precision`: speed against accuracy for every method on one scene.
+//!
+//! A reference from two independent tight runs (dop853 at rtol 1e-12, dopri5 at 1e-10);
+//! where they agree to 1e-9 m in `tip_rel` is the scene's predictability horizon `T_h`.
+//! Each method then runs a sweep of tolerances (steps for fixed-step methods). Errors are
+//! measured pointwise on `[0, T_h]` (`tip_rel` and the first contact gap) and, over the whole
+//! span, on statistics that converge even where the motion does not: per-second peak and RMS
+//! of `tip_rel`, and the number of contact switches. Wall time is the median of repeated runs.
+
+use crate::choose::{ModelChoice, build_model};
+use crate::cli::SceneArgs;
+use crate::plot::{Figure, plot_error, save};
+use crate::simulate::{Trajectory, run_scene, write_atomically};
+use anyhow::bail;
+use clap::Args;
+use plotters::prelude::*;
+use std::io::Write;
+use std::path::PathBuf;
+use telescopic_runtime::integrate::stability::stability_report;
+use telescopic_runtime::{Method, Model, Scene, Settings};
+
+/// Options of `telescopic work-precision`.
+#[derive(Debug, Args)]
+pub struct WorkPrecisionArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Methods to compare, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "dopri5,dop853,esdirk,bdf,galpha,rk4,verlet"
+    )]
+    pub methods: Vec<String>,
+    /// Chart file (SVG or PNG by extension).
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
+    pub out: Option<PathBuf>,
+    /// CSV file with one row per run (the data behind the chart).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Timed repetitions per setting (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// Which model computes the right-hand side.
+    #[arg(long, value_enum, default_value_t)]
+    pub model: ModelChoice,
+}
+
+/// Agreement of the two reference runs that defines the predictability horizon (m).
+const HORIZON_AGREEMENT: f64 = 1e-9;
+/// Agreement with the reference that ends a run's own horizon (m).
+const RUN_AGREEMENT: f64 = 1e-6;
+/// Relative tolerances of the adaptive sweep (`atol = 1e-3 rtol`).
+const TOLERANCES: [f64; 6] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
+/// Fixed steps as fractions of the method's stability limit (rk4, verlet).
+const EXPLICIT_FRACTIONS: [f64; 5] = [0.9, 0.5, 0.25, 0.125, 0.0625];
+/// Fixed steps of the implicit fixed-step methods (s).
+const IMPLICIT_STEPS: [f64; 5] = [1e-3, 3e-4, 1e-4, 3e-5, 1e-5];
+
+/// One run of the sweep.
+struct Point {
+    method: String,
+    /// `rtol=...` or `dt=...`.
+    setting: String,
+    steps: u64,
+    rhs_evals: u64,
+    /// Median wall time (s).
+    wall: f64,
+    /// Largest `|tip_rel - reference|` on `[0, T_h]` (m).
+    tip_error: f64,
+    /// Largest gap error on `[0, T_h]` (m).
+    gap_error: f64,
+    /// Largest relative error of the per-second peak and RMS of `tip_rel`.
+    statistics_error: f64,
+    switches: u64,
+    /// Relative error of the switch count.
+    switch_error: f64,
+    /// Time the run stays within [`RUN_AGREEMENT`] of the reference (s).
+    agrees_until: f64,
+    /// Empty when the run finished, else the error.
+    failure: String,
+}
+
+/// Peak and RMS of `tip_rel` per whole second.
+fn per_second(traj: &Trajectory, col: usize) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64, usize)> = Vec::new();
+    let t0 = traj.rows[0][0];
+    for r in &traj.rows {
+        let k = ((r[0] - t0).floor() as usize).min(out.len().max(1) + 1);
+        while out.len() <= k {
+            out.push((0.0, 0.0, 0));
+        }
+        let e = &mut out[k];
+        e.0 = e.0.max(r[col].abs());
+        e.1 += r[col] * r[col];
+        e.2 += 1;
+    }
+    out.into_iter()
+        .filter(|e| e.2 > 1)
+        .map(|(p, s, n)| (p, (s / n as f64).sqrt()))
+        .collect()
+}
+
+fn column(traj: &Trajectory, name: &str) -> Option<usize> {
+    traj.names.iter().position(|n| n == name).map(|i| i + 1)
+}
+
+/// Compares a run with the reference.
+fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
+    let tip = column(reference, "tip_rel").expect("every model has tip_rel");
+    let gap = reference
+        .names
+        .iter()
+        .position(|n| n.starts_with("xi_"))
+        .map(|i| i + 1);
+    let (mut tip_error, mut gap_error) = (0.0f64, 0.0f64);
+    let mut agrees_until = f64::NAN;
+    for (a, b) in run.rows.iter().zip(&reference.rows) {
+        let d = (a[tip] - b[tip]).abs();
+        if agrees_until.is_nan() && d > RUN_AGREEMENT {
+            agrees_until = a[0];
+        }
+        if a[0] <= horizon {
+            tip_error = tip_error.max(d);
+            if let Some(g) = gap {
+                gap_error = gap_error.max((a[g] - b[g]).abs());
+            }
+        }
+    }
+    if agrees_until.is_nan() {
+        agrees_until = reference.rows.last().map_or(0.0, |r| r[0]);
+    }
+    let stats = per_second(run, tip)
+        .iter()
+        .zip(per_second(reference, tip))
+        .map(|(a, b)| ((a.0 - b.0).abs() / b.0.max(1e-12)).max((a.1 - b.1).abs() / b.1.max(1e-12)))
+        .fold(0.0, f64::max);
+    let switch_error = if reference.stats.switches == 0 {
+        0.0
+    } else {
+        (run.stats.switches as f64 - reference.stats.switches as f64).abs()
+            / reference.stats.switches as f64
+    };
+    [tip_error, gap_error, stats, switch_error, agrees_until]
+}
+
+/// The settings swept for `method` on `model`.
+fn sweep(
+    method: Method,
+    model: &dyn Model,
+    scene: &Scene,
+) -> anyhow::Result<Vec<(String, Settings)>> {
+    let adaptive = |rtol: f64| Settings {
+        rtol,
+        atol: 1e-3 * rtol,
+        ..Settings::default()
+    };
+    let fixed = |dt: f64| Settings {
+        dt: Some(dt),
+        ..Settings::default()
+    };
+    Ok(match method {
+        Method::Rk4 | Method::Verlet => {
+            let r = stability_report(model, scene.time.start).map_err(anyhow::Error::msg)?;
+            let limit = if method == Method::Rk4 {
+                r.rk4_step
+            } else {
+                r.verlet_step
+            };
+            EXPLICIT_FRACTIONS
+                .iter()
+                .map(|f| (format!("dt={:.3e}", f * limit), fixed(f * limit)))
+                .collect()
+        }
+        m if m.step_control() == telescopic_runtime::integrate::StepControl::Fixed => {
+            IMPLICIT_STEPS
+                .iter()
+                .map(|&dt| (format!("dt={dt:.0e}"), fixed(dt)))
+                .collect()
+        }
+        _ => TOLERANCES
+            .iter()
+            .map(|&r| (format!("rtol={r:.0e}"), adaptive(r)))
+            .collect(),
+    })
+}
+
+/// Runs `telescopic work-precision`.
+pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
+    let methods: Vec<Method> = args
+        .methods
+        .iter()
+        .map(|m| Method::from_name(m.trim()).map_err(anyhow::Error::msg))
+        .collect::<Result<_, _>>()?;
+    if args.repeat == 0 {
+        bail!("--repeat must be at least 1");
+    }
+    for p in [&args.out].into_iter().flatten() {
+        if !p
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| crate::plot::PLOT_EXTENSIONS.contains(&e))
+        {
+            bail!(
+                "--out {}: the chart file must end in .svg or .png",
+                p.display()
+            );
+        }
+    }
+    let scene = args.scene.load()?;
+    let (model, word) = build_model(&scene.params, args.model)?;
+    eprintln!(
+        "{} on the {word}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
+        scene.name
+    );
+    let tight = |rtol: f64| Settings {
+        rtol,
+        atol: 1e-3 * rtol,
+        ..Settings::default()
+    };
+    let reference = run_scene(&scene, model.as_ref(), Method::Dop853, &tight(1e-12))?;
+    let second = run_scene(&scene, model.as_ref(), Method::Dopri5, &tight(1e-10))?;
+    let tip = column(&reference, "tip_rel").expect("tip_rel");
+    let end = scene.time.end;
+    let horizon = reference
+        .rows
+        .iter()
+        .zip(&second.rows)
+        .find(|(a, b)| (a[tip] - b[tip]).abs() > HORIZON_AGREEMENT)
+        .map_or(end, |(a, _)| a[0]);
+    eprintln!(
+        "predictability horizon T_h = {horizon:.4} s (the two references agree in tip_rel to {HORIZON_AGREEMENT:e} m up to there; span {end} s)"
+    );
+    let mut points = Vec::new();
+    for &method in &methods {
+        for (setting, settings) in sweep(method, model.as_ref(), &scene)? {
+            let mut walls = Vec::new();
+            let mut last = None;
+            for _ in 0..args.repeat {
+                match run_scene(&scene, model.as_ref(), method, &settings) {
+                    Ok(t) => {
+                        walls.push(t.stats.wall.as_secs_f64());
+                        last = Some(Ok(t));
+                    }
+                    Err(e) => {
+                        last = Some(Err(e));
+                        break;
+                    }
+                }
+            }
+            walls.sort_by(f64::total_cmp);
+            let point = match last.expect("repeat >= 1") {
+                Ok(traj) => {
+                    let [
+                        tip_error,
+                        gap_error,
+                        statistics_error,
+                        switch_error,
+                        agrees_until,
+                    ] = measure(&traj, &reference, horizon);
+                    Point {
+                        method: method.name(),
+                        setting,
+                        steps: traj.stats.steps,
+                        rhs_evals: traj.stats.rhs_evals,
+                        wall: walls[walls.len() / 2],
+                        tip_error,
+                        gap_error,
+                        statistics_error,
+                        switches: traj.stats.switches,
+                        switch_error,
+                        agrees_until,
+                        failure: String::new(),
+                    }
+                }
+                Err(e) => Point {
+                    method: method.name(),
+                    setting,
+                    steps: 0,
+                    rhs_evals: 0,
+                    wall: f64::NAN,
+                    tip_error: f64::NAN,
+                    gap_error: f64::NAN,
+                    statistics_error: f64::NAN,
+                    switches: 0,
+                    switch_error: f64::NAN,
+                    agrees_until: f64::NAN,
+                    failure: format!("{e:#}").replace([',', '\n'], ";"),
+                },
+            };
+            eprintln!("{}", describe(&point));
+            points.push(point);
+        }
+    }
+    if let Some(path) = &args.csv {
+        write_atomically(path, |w| write_table(w, &points))?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.out {
+        let chart = WorkPrecisionChart {
+            scene: &scene.name,
+            horizon,
+            end,
+            points: &points,
+        };
+        save(&chart, path)?;
+        eprintln!("wrote {}", path.display());
+    }
+    if args.csv.is_none() {
+        write_table(&mut std::io::stdout().lock(), &points)?;
+    }
+    Ok(())
+}
+
+fn describe(p: &Point) -> String {
+    if !p.failure.is_empty() {
+        return format!("{:>8} {:<14} failed: {}", p.method, p.setting, p.failure);
+    }
+    format!(
+        "{:>8} {:<14} wall {:.4} s, rhs {:>9}, tip error on [0,T_h] {:.2e} m, gap {:.2e} m, statistics {:.2e}, switches {} ({:.1} %), within 1e-6 m until {:.3} s",
+        p.method,
+        p.setting,
+        p.wall,
+        p.rhs_evals,
+        p.tip_error,
+        p.gap_error,
+        p.statistics_error,
+        p.switches,
+        100.0 * p.switch_error,
+        p.agrees_until
+    )
+}
+
+fn write_table(w: &mut dyn Write, points: &[Point]) -> std::io::Result<()> {
+    writeln!(
+        w,
+        "method,setting,steps,rhs_evals,wall_s,tip_error_horizon_m,gap_error_horizon_m,statistics_error_rel,switches,switch_error_rel,agrees_until_s,failure"
+    )?;
+    for p in points {
+        let num = |v: f64| {
+            if v.is_finite() {
+                format!("{v:e}")
+            } else {
+                String::new()
+            }
+        };
+        writeln!(
+            w,
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            p.method,
+            p.setting,
+            p.steps,
+            p.rhs_evals,
+            num(p.wall),
+            num(p.tip_error),
+            num(p.gap_error),
+            num(p.statistics_error),
+            p.switches,
+            num(p.switch_error),
+            num(p.agrees_until),
+            p.failure
+        )?;
+    }
+    Ok(())
+}
+
+/// Six log-log panels: three errors against wall time, two against rhs evaluations, and how
+/// long each run agrees with the reference.
+struct WorkPrecisionChart<'a> {
+    scene: &'a str,
+    horizon: f64,
+    end: f64,
+    points: &'a [Point],
+}
+
+type Pick = fn(&Point) -> f64;
+
+const COLORS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+impl Figure for WorkPrecisionChart<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1500, 900)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> anyhow::Result<()> {
+        root.fill(&WHITE).map_err(plot_error)?;
+        let root = root
+            .titled(
+                &format!(
+                    "work-precision, {} (T_h = {:.3} s of {} s)",
+                    self.scene, self.horizon, self.end
+                ),
+                ("sans-serif", 22),
+            )
+            .map_err(plot_error)?;
+        let panels: [(&str, &str, Pick, &str, Pick); 6] = [
+            (
+                "tip_rel error on [0, T_h]",
+                "wall time [s]",
+                |p| p.wall,
+                "max |error| [m]",
+                |p| p.tip_error,
+            ),
+            (
+                "gap error on [0, T_h]",
+                "wall time [s]",
+                |p| p.wall,
+                "max |error| [m]",
+                |p| p.gap_error,
+            ),
+            (
+                "statistics error (whole span)",
+                "wall time [s]",
+                |p| p.wall,
+                "per-second peak/RMS, relative",
+                |p| p.statistics_error,
+            ),
+            (
+                "tip_rel error on [0, T_h]",
+                "rhs evaluations",
+                |p| p.rhs_evals as f64,
+                "max |error| [m]",
+                |p| p.tip_error,
+            ),
+            (
+                "gap error on [0, T_h]",
+                "rhs evaluations",
+                |p| p.rhs_evals as f64,
+                "max |error| [m]",
+                |p| p.gap_error,
+            ),
+            (
+                "agreement with the reference (1e-6 m)",
+                "wall time [s]",
+                |p| p.wall,
+                "agrees until [s]",
+                |p| p.agrees_until,
+            ),
+        ];
+        let areas = root.split_evenly((2, 3));
+        let methods: Vec<&str> = {
+            let mut m: Vec<&str> = self.points.iter().map(|p| p.method.as_str()).collect();
+            m.dedup();
+            m
+        };
+        for ((title, xd, fx, yd, fy), area) in panels.iter().zip(&areas) {
+            let linear_y = title.starts_with("agreement");
+            // log-log drawn as linear axes of log10 values (labels show the powers)
+            let pts: Vec<(&str, f64, f64)> = self
+                .points
+                .iter()
+                .filter(|p| p.failure.is_empty())
+                .map(|p| (p.method.as_str(), fx(p), fy(p)))
+                .filter(|(_, x, y)| x.is_finite() && *x > 0.0 && y.is_finite())
+                .map(|(m, x, y)| {
+                    (
+                        m,
+                        x.log10(),
+                        if linear_y { y } else { y.max(1e-16).log10() },
+                    )
+                })
+                .collect();
+            if pts.is_empty() {
+                continue;
+            }
+            let bounds = |v: &mut dyn Iterator<Item = f64>| {
+                v.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)))
+            };
+            let (x0, x1) = bounds(&mut pts.iter().map(|p| p.1));
+            let (mut y0, mut y1) = bounds(&mut pts.iter().map(|p| p.2));
+            if linear_y {
+                (y0, y1) = (0.0, self.end);
+            } else {
+                (y0, y1) = (y0 - 0.2, y1 + 0.2);
+            }
+            let (x0, x1) = (x0 - 0.1, x1 + 0.1);
+            let mut chart = ChartBuilder::on(area)
+                .caption(*title, ("sans-serif", 16))
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(70)
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(plot_error)?;
+            let power = |v: &f64| format!("{:.1e}", 10f64.powf(*v));
+            let plain = |v: &f64| format!("{v:.1}");
+            chart
+                .configure_mesh()
+                .x_desc(*xd)
+                .y_desc(*yd)
+                .x_label_formatter(&power)
+                .y_label_formatter(if linear_y { &plain } else { &power })
+                .draw()
+                .map_err(plot_error)?;
+            for (i, m) in methods.iter().enumerate() {
+                let color = COLORS[i % COLORS.len()];
+                let line: Vec<(f64, f64)> = pts
+                    .iter()
+                    .filter(|p| p.0 == *m)
+                    .map(|p| (p.1, p.2))
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
+                    .map_err(plot_error)?
+                    .label(*m)
+                    .legend(move |(x, y)| {
+                        PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                chart
+                    .draw_series(line.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(plot_error)?;
+            }
+            if linear_y {
+                chart
+                    .draw_series(LineSeries::new(
+                        [(x0, self.horizon), (x1, self.horizon)],
+                        BLACK.stroke_width(1),
+                    ))
+                    .map_err(plot_error)?
+                    .label("T_h")
+                    .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 11))
+                .draw()
+                .map_err(plot_error)?;
+        }
+        root.present().map_err(plot_error)
+    }
+}
