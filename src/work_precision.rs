@@ -85,7 +85,7 @@ fn per_second(traj: &Trajectory, col: usize) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64, usize)> = Vec::new();
     let t0 = traj.rows[0][0];
     for r in &traj.rows {
-        let k = ((r[0] - t0).floor() as usize).min(out.len().max(1) + 1);
+        let k = (r[0] - t0).floor() as usize;
         while out.len() <= k {
             out.push((0.0, 0.0, 0));
         }
