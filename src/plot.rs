@@ -68,8 +68,20 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
     out
 }
 
-/// Output formats of [`plot`], by file extension.
-pub const PLOT_EXTENSIONS: [&str; 2] = ["svg", "png"];
+/// Output formats of [`save`], by file extension.
+const PLOT_EXTENSIONS: [&str; 2] = ["svg", "png"];
+
+/// Checks before any work that a picture file named by `flag` ends in .svg or .png.
+pub fn check_picture_path(flag: &str, path: &Path) -> anyhow::Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str());
+    if !ext.is_some_and(|e| PLOT_EXTENSIONS.contains(&e)) {
+        anyhow::bail!(
+            "{flag} {}: the file name must end in .svg or .png (the format follows it)",
+            path.display()
+        );
+    }
+    Ok(())
+}
 
 /// Width of a plot (pixels).
 const WIDTH: u32 = 1000;
@@ -203,10 +215,16 @@ fn decimate(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
     out
 }
 
-const COLORS: [RGBColor; 3] = [
+/// Line colors, one per overlaid run or method.
+pub const COLORS: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
 ];
 
 fn draw_panel<DB: DrawingBackend>(

@@ -234,16 +234,8 @@ pub fn summary(
 
 /// Runs `telescopic simulate`.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
-    if let Some(p) = &args.plot
-        && !p
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| crate::plot::PLOT_EXTENSIONS.contains(&e))
-    {
-        bail!(
-            "--plot {}: the file name must end in .svg or .png (the format follows it)",
-            p.display()
-        );
+    if let Some(p) = &args.plot {
+        crate::plot::check_picture_path("--plot", p)?;
     }
     let scene = args.scene.load()?;
     let (method, settings) = settings_from(args)?;

@@ -9,7 +9,7 @@
 
 use crate::choose::{ModelChoice, build_model};
 use crate::cli::SceneArgs;
-use crate::plot::{Figure, plot_error, save};
+use crate::plot::{COLORS, Figure, plot_error, save};
 use crate::simulate::{Trajectory, run_scene, write_atomically};
 use anyhow::bail;
 use clap::Args;
@@ -143,17 +143,21 @@ fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
     [tip_error, gap_error, stats, switch_error, agrees_until]
 }
 
+/// Adaptive settings at `rtol` with `atol = 1e-3 rtol` (m, m/s).
+fn tolerance(rtol: f64) -> Settings {
+    Settings {
+        rtol,
+        atol: 1e-3 * rtol,
+        ..Settings::default()
+    }
+}
+
 /// The settings swept for `method` on `model`.
 fn sweep(
     method: Method,
     model: &dyn Model,
     scene: &Scene,
 ) -> anyhow::Result<Vec<(String, Settings)>> {
-    let adaptive = |rtol: f64| Settings {
-        rtol,
-        atol: 1e-3 * rtol,
-        ..Settings::default()
-    };
     let fixed = |dt: f64| Settings {
         dt: Some(dt),
         ..Settings::default()
@@ -179,7 +183,7 @@ fn sweep(
         }
         _ => TOLERANCES
             .iter()
-            .map(|&r| (format!("rtol={r:.0e}"), adaptive(r)))
+            .map(|&r| (format!("rtol={r:.0e}"), tolerance(r)))
             .collect(),
     })
 }
@@ -194,17 +198,8 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
     if args.repeat == 0 {
         bail!("--repeat must be at least 1");
     }
-    for p in [&args.out].into_iter().flatten() {
-        if !p
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| crate::plot::PLOT_EXTENSIONS.contains(&e))
-        {
-            bail!(
-                "--out {}: the chart file must end in .svg or .png",
-                p.display()
-            );
-        }
+    if let Some(p) = &args.out {
+        crate::plot::check_picture_path("--out", p)?;
     }
     let scene = args.scene.load()?;
     let (model, word) = build_model(&scene.params, args.model)?;
@@ -212,13 +207,8 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         "{} on the {word}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
         scene.name
     );
-    let tight = |rtol: f64| Settings {
-        rtol,
-        atol: 1e-3 * rtol,
-        ..Settings::default()
-    };
-    let reference = run_scene(&scene, model.as_ref(), Method::Dop853, &tight(1e-12))?;
-    let second = run_scene(&scene, model.as_ref(), Method::Dopri5, &tight(1e-10))?;
+    let reference = run_scene(&scene, model.as_ref(), Method::Dop853, &tolerance(1e-12))?;
+    let second = run_scene(&scene, model.as_ref(), Method::Dopri5, &tolerance(1e-10))?;
     let tip = column(&reference, "tip_rel").expect("tip_rel");
     let end = scene.time.end;
     let horizon = reference
@@ -373,17 +363,6 @@ struct WorkPrecisionChart<'a> {
 }
 
 type Pick = fn(&Point) -> f64;
-
-const COLORS: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(23, 190, 207),
-];
 
 impl Figure for WorkPrecisionChart<'_> {
     fn size(&self) -> (u32, u32) {

@@ -163,6 +163,15 @@ fn plot_draws_the_papers_figures_with_labelled_axes() {
         &["simulate", "scenes/adams-linear.toml", "--plot", "run.jpg"],
         &["--plot run.jpg", ".svg or .png"],
     );
+    fails_with(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--out",
+            "chart.pdf",
+        ],
+        &["--out chart.pdf", ".svg or .png"],
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -225,7 +234,6 @@ fn stability_prints_omega_max_and_the_limits() {
             .unwrap_or_else(|| panic!("no {m} line in\n{text}"))
             .to_string()
     };
-    assert!(text.contains("omega_max = 2.83"), "{text}");
     // the last number of each method's line is h omega_max at the model's limit
     for (m, lo, hi) in [("rk4", 2.7, 3.1), ("verlet", 1.8, 2.0)] {
         let l = line(m);

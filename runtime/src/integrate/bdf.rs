@@ -48,7 +48,6 @@ pub struct Bdf {
     predictor: Vec<f64>,
     base: Vec<f64>,
     err: Vec<f64>,
-    jacobian_at: Option<f64>,
 }
 
 impl Bdf {
@@ -71,7 +70,6 @@ impl Bdf {
             predictor: vec![0.0; 2 * dof],
             base: vec![0.0; 2 * dof],
             err: vec![0.0; 2 * dof],
-            jacobian_at: None,
         }
     }
 
@@ -125,10 +123,7 @@ impl Stepper for Bdf {
     ) -> Result<f64, StepFailure> {
         self.start_t = t;
         self.start_y.copy_from_slice(y);
-        if self.jacobian_at != Some(t) {
-            self.newton.update_jacobian(sys, t, y);
-            self.jacobian_at = Some(t);
-        }
+        self.newton.prepare_step(sys, t, y);
         let k = self.order;
         let mut nodes = [0.0; KEPT + 2];
         nodes[0] = t + h;
@@ -194,7 +189,7 @@ impl Stepper for Bdf {
         self.past_t[0] = self.start_t;
         self.past_y[0].copy_from_slice(&self.start_y);
         self.past_count = (self.past_count + 1).min(KEPT);
-        self.jacobian_at = None;
+        self.newton.forget_jacobian();
         self.steps_at_order += 1;
         let k = self.order;
         self.control = self.estimates[1];
@@ -230,7 +225,7 @@ impl Stepper for Bdf {
         self.past_count = 0;
         self.order = 1;
         self.steps_at_order = 0;
-        self.jacobian_at = None;
+        self.newton.forget_jacobian();
     }
 
     fn control_error(&self, err: f64) -> f64 {

@@ -12,8 +12,8 @@ use super::newton::NewtonSolver;
 use super::{Settings, StepFailure, Stepper, System, error_norm};
 use std::f64::consts::SQRT_2;
 
-/// Diagonal coefficient `gamma`.
-const GAMMA: f64 = 0.25;
+/// Diagonal coefficient `gamma` (every implicit stage).
+pub const GAMMA: f64 = 0.25;
 const C3: f64 = (2.0 - SQRT_2) / 4.0;
 const C4: f64 = 5.0 / 8.0;
 const C5: f64 = 26.0 / 25.0;
@@ -27,6 +27,7 @@ const B2: f64 = (1181.0 - 987.0 * SQRT_2) / 13782.0;
 const B3: f64 = 47.0 * (-267.0 + 1783.0 * SQRT_2) / 273343.0;
 const B4: f64 = -16.0 * (-22922.0 + 3525.0 * SQRT_2) / 571953.0;
 const B5: f64 = -15625.0 * (97.0 + 376.0 * SQRT_2) / 90749876.0;
+const B1: f64 = 1.0 - B2 - B3 - B4 - B5 - GAMMA;
 const BH2: f64 = -480923228411.0 / 4982971448372.0;
 const BH3: f64 = 6709447293961.0 / 12833189095359.0;
 const BH4: f64 = 3513175791894.0 / 6748737351361.0;
@@ -43,14 +44,12 @@ pub const A: [[f64; 5]; 6] = [
     [C3 - A32 - GAMMA, A32, 0.0, 0.0, 0.0],
     [C4 - A42 - A43 - GAMMA, A42, A43, 0.0, 0.0],
     [C5 - A52 - A53 - A54 - GAMMA, A52, A53, A54, 0.0],
-    [1.0 - B2 - B3 - B4 - B5 - GAMMA, B2, B3, B4, B5],
+    [B1, B2, B3, B4, B5],
 ];
 /// Weights `b_i` (the last row of `A` with `gamma`: stiffly accurate).
-pub const B: [f64; 6] = [1.0 - B2 - B3 - B4 - B5 - GAMMA, B2, B3, B4, B5, GAMMA];
+pub const B: [f64; 6] = [B1, B2, B3, B4, B5, GAMMA];
 /// Embedded third-order weights `bhat_i`.
 pub const BHAT: [f64; 6] = [1.0 - BH2 - BH3 - BH4 - BH5 - BH6, BH2, BH3, BH4, BH5, BH6];
-/// The diagonal of the full Butcher matrix.
-pub const DIAGONAL: f64 = GAMMA;
 
 /// The ESDIRK stepper with its stage storage.
 pub struct Esdirk {
@@ -61,8 +60,6 @@ pub struct Esdirk {
     stages: Vec<Vec<f64>>,
     base: Vec<f64>,
     err: Vec<f64>,
-    /// Start time of the step the Jacobian belongs to (reused by retries from that start).
-    jacobian_at: Option<f64>,
 }
 
 impl Esdirk {
@@ -75,7 +72,6 @@ impl Esdirk {
             stages: vec![vec![0.0; 2 * dof]; 6],
             base: vec![0.0; 2 * dof],
             err: vec![0.0; 2 * dof],
-            jacobian_at: None,
         }
     }
 }
@@ -94,10 +90,7 @@ impl Stepper for Esdirk {
         h: f64,
         y1: &mut [f64],
     ) -> Result<f64, StepFailure> {
-        if self.jacobian_at != Some(t) {
-            self.newton.update_jacobian(sys, t, y);
-            self.jacobian_at = Some(t);
-        }
+        self.newton.prepare_step(sys, t, y);
         self.stages[0].copy_from_slice(f0);
         let hg = h * GAMMA;
         for i in 1..6 {
@@ -131,11 +124,11 @@ impl Stepper for Esdirk {
     }
 
     fn accepted(&mut self) {
-        self.jacobian_at = None;
+        self.newton.forget_jacobian();
     }
 
     fn restart(&mut self) {
-        self.jacobian_at = None;
+        self.newton.forget_jacobian();
     }
 }
 
@@ -150,7 +143,7 @@ mod tests {
         for i in 0..6 {
             a[i][..5].copy_from_slice(&A[i]);
             if i > 0 {
-                a[i][i] = DIAGONAL;
+                a[i][i] = GAMMA;
             }
         }
         a

@@ -220,8 +220,8 @@ impl Method {
     /// for the explicit fixed-step methods.
     pub fn stability_limit(&self) -> Option<f64> {
         match self {
-            Method::Rk4 => Some(2.0 * 2f64.sqrt()), // 2.828: RK4's interval on the imaginary axis
-            Method::Verlet => Some(2.0),
+            Method::Rk4 => Some(stability::RK4_IMAGINARY_AXIS),
+            Method::Verlet => Some(stability::VERLET_LIMIT),
             _ => None,
         }
     }

@@ -21,13 +21,15 @@ pub struct NewtonSolver {
     dof: usize,
     rtol: f64,
     atol: f64,
-    /// `d ydot / d y` (2 dof x 2 dof), evaluated by [`NewtonSolver::update_jacobian`].
+    /// `d ydot / d y` (2 dof x 2 dof), evaluated by [`NewtonSolver::prepare_step`].
     jac: DMatrix<f64>,
     /// Storage of the iteration matrix between factorizations.
     iteration: DMatrix<f64>,
     lu: Option<LU<f64, Dyn, Dyn>>,
     /// `hg` of the current factorization.
     factorized_hg: f64,
+    /// Start time of the step the Jacobian belongs to (retries from that start reuse it).
+    jacobian_at: Option<f64>,
     f: Vec<f64>,
     correction: Vec<f64>,
     dv: DVector<f64>,
@@ -44,16 +46,27 @@ impl NewtonSolver {
             iteration: DMatrix::zeros(dof, dof),
             lu: None,
             factorized_hg: f64::NAN,
+            jacobian_at: None,
             f: vec![0.0; 2 * dof],
             correction: vec![0.0; 2 * dof],
             dv: DVector::zeros(dof),
         }
     }
 
-    /// Evaluates the Jacobian at `(t, y)` and drops the factorization.
-    pub fn update_jacobian(&mut self, sys: &mut System, t: f64, y: &[f64]) {
+    /// Evaluates the Jacobian at the step start `(t, y)` unless it belongs to this start
+    /// already (a retried or event-located step), dropping the factorization when it does.
+    pub fn prepare_step(&mut self, sys: &mut System, t: f64, y: &[f64]) {
+        if self.jacobian_at == Some(t) {
+            return;
+        }
         sys.jacobian(t, y, &mut self.jac);
+        self.jacobian_at = Some(t);
         self.release();
+    }
+
+    /// The step start moved on (accepted step or restart): the next step needs a new Jacobian.
+    pub fn forget_jacobian(&mut self) {
+        self.jacobian_at = None;
     }
 
     /// Returns the factorization's storage (a square LU unpacks in place: no allocation).
