@@ -213,6 +213,9 @@ pub fn summary(
         telescopic_runtime::integrate::StepControl::Fixed => {
             format!("dt {:e} s", settings.dt.unwrap_or(f64::NAN))
         }
+        telescopic_runtime::integrate::StepControl::Exact => {
+            format!("{} matrix exponentials", traj.stats.exponentials)
+        }
     };
     format!(
         "{} on the {model_word}: method {method} ({tol}), t = {} .. {} s, {} samples\n\

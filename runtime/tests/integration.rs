@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::rig;
+use common::{exact_lti, rig, tip_rel};
 use nalgebra::{DMatrix, DVector};
 use telescopic_runtime::integrate::METHOD_NAMES;
 use telescopic_runtime::{
@@ -162,46 +162,6 @@ fn momentum_grows_as_force_times_time() {
             );
         }
     }
-}
-
-/// The exact solution of the linear time-invariant system (fixed positions, `l_S = 0`,
-/// constant force): `y_{k+1} = Phi y_k + Gamma` with `[Phi Gamma] = exp([[A, B], [0, 0]] dt)`.
-fn exact_lti(model: &dyn Model, force: f64, dt: f64, steps: usize) -> Vec<Vec<f64>> {
-    let n = model.dof();
-    let m = model.mass_matrix();
-    let law = model.params().contact;
-    let nc = model.layout().contact_count();
-    let (mut g, mut gd) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
-    model.contact_vectors(0.0, &mut g, &mut gd);
-    let ggt = &g * g.transpose();
-    let k_eff = model.stiffness_matrix() + law.stiffness * &ggt;
-    let damping = law.damping * &ggt;
-    let m_inv = m.clone().try_inverse().unwrap();
-    let mut aug = DMatrix::zeros(2 * n + 1, 2 * n + 1);
-    for i in 0..n {
-        aug[(i, n + i)] = 1.0;
-    }
-    aug.view_mut((n, 0), (n, n)).copy_from(&(-&m_inv * &k_eff));
-    aug.view_mut((n, n), (n, n))
-        .copy_from(&(-&m_inv * &damping));
-    let forcing = &m_inv * model.drive_vector() * force;
-    aug.view_mut((n, 2 * n), (n, 1)).copy_from(&forcing);
-    let step = (aug * dt).exp();
-    let mut y = DVector::zeros(2 * n + 1);
-    y[2 * n] = 1.0;
-    let mut out = vec![y.rows(0, 2 * n).iter().copied().collect()];
-    for _ in 0..steps {
-        y = &step * y;
-        out.push(y.rows(0, 2 * n).iter().copied().collect());
-    }
-    out
-}
-
-fn tip_rel(model: &dyn Model, y: &[f64]) -> f64 {
-    let mut out = vec![0.0; model.output_names().len()];
-    let ydot = vec![0.0; y.len()];
-    model.outputs(0.0, y, &ydot, &mut out);
-    out[1]
 }
 
 #[test]

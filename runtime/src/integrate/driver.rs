@@ -3,8 +3,8 @@
 
 use super::stability::stable_step;
 use super::{
-    ContactTracker, Method, Observer, Progress, RunStats, Settings, SimError, StepControl,
-    StepFailure, Stepper, System, make_stepper,
+    ContactTracker, Method, Observer, Progress, RunStats, SampleGrid, Settings, SimError,
+    StepControl, StepFailure, Stepper, System, make_stepper,
 };
 use crate::eigen::modal_analysis;
 use crate::model::Model;
@@ -35,8 +35,7 @@ pub(super) struct Driver<'m> {
     ydot_sample: Vec<f64>,
     h: f64,
     next_sample: u64,
-    /// Number of output samples, the one at `start` included.
-    sample_total: u64,
+    samples: SampleGrid,
 }
 
 impl<'m> Driver<'m> {
@@ -94,11 +93,6 @@ impl<'m> Driver<'m> {
             })
             .collect();
         let size_limit = 100.0 * params.sections.iter().map(|s| s.length).sum::<f64>();
-        // whole samples in the span (a last one within 1e-9 of a sample of the end counts)
-        let whole = ((span.end - span.start) / span.sample * (1.0 + 1e-9)).floor() as u64;
-        let ends_on_sample =
-            (span.start + whole as f64 * span.sample - span.end).abs() <= 1e-9 * span.sample;
-        let sample_total = whole + 1 + u64::from(!ends_on_sample);
         let tracker = ContactTracker::new(model, span.start, y0);
         let mut sys = System {
             model,
@@ -127,7 +121,7 @@ impl<'m> Driver<'m> {
             ydot_sample: vec![0.0; 2 * n],
             h: 0.0,
             next_sample: 0,
-            sample_total,
+            samples: SampleGrid::new(span),
         })
     }
 
@@ -201,8 +195,8 @@ impl<'m> Driver<'m> {
             let t_break = self.breakpoints.get(next_break).copied().unwrap_or(end);
             // adaptive methods end steps on sample times, so samples carry the method's own
             // accuracy; fixed-step methods keep their grid and interpolate
-            let t_sample = if self.adaptive() && self.next_sample < self.sample_total {
-                self.sample_time(self.next_sample)
+            let t_sample = if self.adaptive() && self.next_sample < self.samples.total {
+                self.samples.time(self.next_sample)
             } else {
                 end
             };
@@ -401,17 +395,11 @@ impl<'m> Driver<'m> {
         (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).clamp(0.2, growth)
     }
 
-    /// Time of output sample `k`: `start + k sample`, then `end` if the span is not a whole
-    /// number of samples.
-    fn sample_time(&self, k: u64) -> f64 {
-        (self.span.start + k as f64 * self.span.sample).min(self.span.end)
-    }
-
     /// Samples at output times in `(t, t1]` from the cubic Hermite interpolant of the step.
     fn emit_samples(&mut self, t1: f64, observe: &mut Observer) {
         let (t0, h) = (self.t, t1 - self.t);
-        while self.next_sample < self.sample_total && self.sample_time(self.next_sample) <= t1 {
-            let ts = self.sample_time(self.next_sample);
+        while self.next_sample < self.samples.total && self.samples.time(self.next_sample) <= t1 {
+            let ts = self.samples.time(self.next_sample);
             let th = (ts - t0) / h;
             let (th2, th3) = (th * th, th * th * th);
             let (h00, h10, h01, h11) = (

@@ -15,6 +15,7 @@
 pub mod bdf;
 pub mod esdirk;
 pub mod events;
+pub mod exact;
 pub mod explicit;
 pub mod generalized_alpha;
 pub mod newton;
@@ -48,6 +49,9 @@ pub enum Method {
     },
     /// Classical Runge-Kutta 4, fixed step, explicit.
     Rk4,
+    /// Exact stepping (matrix exponential per contact branch) of a scene that is linear and
+    /// time-invariant between contact switches: fixed positions, piecewise-constant force.
+    Exact,
     /// Stormer-Verlet (velocity form), fixed step, explicit, second order.
     Verlet,
     /// Generalized-alpha (Chung-Hulbert) with spectral radius at infinity `rho_inf` in
@@ -67,10 +71,12 @@ pub enum StepControl {
     Adaptive,
     /// A fixed step `dt`.
     Fixed,
+    /// Steps set by the model's own frequencies, exact up to rounding (no tolerance).
+    Exact,
 }
 
 /// Names accepted by [`Method::from_name`], with a one-line description each.
-pub const METHOD_NAMES: [(&str, &str); 11] = [
+pub const METHOD_NAMES: [(&str, &str); 12] = [
     (
         "dopri5",
         "Dormand-Prince 5(4), adaptive explicit Runge-Kutta",
@@ -93,6 +99,11 @@ pub const METHOD_NAMES: [(&str, &str); 11] = [
     ),
     ("bdf[K]-fixed", "BDF with a fixed step, e.g. bdf2-fixed"),
     ("rk4", "classical Runge-Kutta 4, fixed step"),
+    (
+        "exact",
+        "matrix exponential per contact branch: exact for fixed positions and a \
+         piecewise-constant force",
+    ),
     ("verlet", "Stormer-Verlet (velocity form), fixed step"),
     (
         "galpha",
@@ -139,6 +150,7 @@ impl Method {
             "dop853" => Ok(Method::Dop853),
             "esdirk" => Ok(Method::Esdirk),
             "rk4" => Ok(Method::Rk4),
+            "exact" => Ok(Method::Exact),
             "verlet" => Ok(Method::Verlet),
             _ => {
                 if let Some(rest) = name.strip_prefix("galpha-fixed") {
@@ -192,6 +204,7 @@ impl Method {
                 format!("bdf{order}{fixed}")
             }
             Method::Rk4 => "rk4".into(),
+            Method::Exact => "exact".into(),
             Method::Verlet => "verlet".into(),
             Method::GeneralizedAlpha { rho_inf, adaptive } => {
                 let kind = if *adaptive { "galpha" } else { "galpha-fixed" };
@@ -212,6 +225,7 @@ impl Method {
             | Method::Esdirk
             | Method::Bdf { adaptive: true, .. }
             | Method::GeneralizedAlpha { adaptive: true, .. } => StepControl::Adaptive,
+            Method::Exact => StepControl::Exact,
             _ => StepControl::Fixed,
         }
     }
@@ -272,6 +286,8 @@ pub struct RunStats {
     pub factorizations: u64,
     /// Contact branch switches (band-edge crossings).
     pub switches: u64,
+    /// Matrix exponentials (method `exact`: one per contact-branch combination met).
+    pub exponentials: u64,
     /// Wall-clock time of the integration.
     pub wall: Duration,
 }
@@ -477,10 +493,42 @@ fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Step
         Method::Esdirk => Box::new(esdirk::Esdirk::new(dof, settings)),
         Method::Bdf { max_order, .. } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
         Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),
+        Method::Exact => unreachable!("method exact has its own loop (exact.rs)"),
         Method::Verlet => Box::new(verlet::StormerVerlet::new(dof)),
         Method::GeneralizedAlpha { rho_inf, adaptive } => Box::new(
             generalized_alpha::GeneralizedAlpha::new(dof, rho_inf, adaptive, settings),
         ),
+    }
+}
+
+/// The output times of a span: `start + k sample`, then `end` if the span is not a whole
+/// number of samples.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SampleGrid {
+    start: f64,
+    end: f64,
+    sample: f64,
+    /// Number of output samples, the one at `start` included.
+    pub total: u64,
+}
+
+impl SampleGrid {
+    pub(crate) fn new(span: &TimeSpan) -> Self {
+        // whole samples in the span (a last one within 1e-9 of a sample of the end counts)
+        let whole = ((span.end - span.start) / span.sample * (1.0 + 1e-9)).floor() as u64;
+        let ends_on_sample =
+            (span.start + whole as f64 * span.sample - span.end).abs() <= 1e-9 * span.sample;
+        SampleGrid {
+            start: span.start,
+            end: span.end,
+            sample: span.sample,
+            total: whole + 1 + u64::from(!ends_on_sample),
+        }
+    }
+
+    /// Time of output sample `k` (s).
+    pub(crate) fn time(&self, k: u64) -> f64 {
+        (self.start + k as f64 * self.sample).min(self.end)
     }
 }
 
@@ -506,8 +554,11 @@ pub fn simulate(
     progress: Option<Progress>,
 ) -> Result<RunStats, SimError> {
     let started = Instant::now();
-    let mut driver = Driver::new(model, y0, span, method, settings)?;
-    let mut stats = driver.run(observe, progress)?;
+    let mut stats = if method == Method::Exact {
+        exact::run(model, y0, span, settings, observe, progress)?
+    } else {
+        Driver::new(model, y0, span, method, settings)?.run(observe, progress)?
+    };
     stats.wall = started.elapsed();
     Ok(stats)
 }

@@ -1,7 +1,10 @@
 //! Fixtures shared by the runtime's integration tests.
 #![allow(dead_code)]
 
-use telescopic_runtime::{ContactLaw, Drive, ForceFlow, ModelParams, Profile, SectionParams};
+use nalgebra::{DMatrix, DVector};
+use telescopic_runtime::{
+    ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionParams,
+};
 
 /// A section of the paper's test rig (1.35 m, rhoA = 7.85 kg/m, EI = 1743 N m^2).
 pub fn rig_section(modes: usize) -> SectionParams {
@@ -55,4 +58,61 @@ impl Rng {
         self.0 ^= self.0 << 17;
         (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     }
+}
+
+/// The exact solution of the linear time-invariant system (fixed positions, `l_S = 0`,
+/// constant force): `y_{k+1} = Phi y_k + Gamma` with `[Phi Gamma] = exp([[A, B], [0, 0]] dt)`.
+pub fn exact_lti(model: &dyn Model, force: f64, dt: f64, steps: usize) -> Vec<Vec<f64>> {
+    let n = model.dof();
+    let m = model.mass_matrix();
+    let law = model.params().contact;
+    let nc = model.layout().contact_count();
+    let (mut g, mut gd) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
+    model.contact_vectors(0.0, &mut g, &mut gd);
+    let ggt = &g * g.transpose();
+    let k_eff = model.stiffness_matrix() + law.stiffness * &ggt;
+    let damping = law.damping * &ggt;
+    let m_inv = m.clone().try_inverse().unwrap();
+    // velocities scaled by 1/s (s ~ the largest frequency) keep the exponent's norm near
+    // omega_max dt instead of omega_max^2 dt: scaling and squaring then loses far fewer digits
+    let stiffness = -&m_inv * &k_eff;
+    let s = stiffness.norm().sqrt();
+    let mut aug = DMatrix::zeros(2 * n + 1, 2 * n + 1);
+    for i in 0..n {
+        aug[(i, n + i)] = s;
+    }
+    aug.view_mut((n, 0), (n, n)).copy_from(&(stiffness / s));
+    aug.view_mut((n, n), (n, n))
+        .copy_from(&(-&m_inv * &damping));
+    let forcing = &m_inv * model.drive_vector() * force / s;
+    aug.view_mut((n, 2 * n), (n, 1)).copy_from(&forcing);
+    let mut step = (aug * dt).exp();
+    // back to unscaled velocities: Phi = D^-1 Phi_s D with D = diag(I, I/s, 1)
+    for i in 0..=2 * n {
+        for j in 0..=2 * n {
+            let row = if (n..2 * n).contains(&i) { s } else { 1.0 };
+            let col = if (n..2 * n).contains(&j) {
+                1.0 / s
+            } else {
+                1.0
+            };
+            step[(i, j)] *= row * col;
+        }
+    }
+    let mut y = DVector::zeros(2 * n + 1);
+    y[2 * n] = 1.0;
+    let mut out = vec![y.rows(0, 2 * n).iter().copied().collect()];
+    for _ in 0..steps {
+        y = &step * y;
+        out.push(y.rows(0, 2 * n).iter().copied().collect());
+    }
+    out
+}
+
+/// `tip_rel` (m) of state `y`.
+pub fn tip_rel(model: &dyn Model, y: &[f64]) -> f64 {
+    let mut out = vec![0.0; model.output_names().len()];
+    let ydot = vec![0.0; y.len()];
+    model.outputs(0.0, y, &ydot, &mut out);
+    out[1]
 }

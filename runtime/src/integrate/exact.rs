@@ -1,0 +1,608 @@
+//! Exact stepping of a scene that is linear and time-invariant between contact switches
+//! (method `exact`).
+//!
+//! With fixed telescopic positions and a piecewise-constant drive force, every branch of
+//! the clearance law (and `l_S = 0`'s single one) makes the first-order system affine and
+//! constant in time: `y' = A y + e`. Its flow over a step `h` is `y(h) = Phi y + Gamma` with
+//! `[[Phi, Gamma], [0, 1]] = exp([[A, e], [0, 0]] h)`, exact up to rounding. This module
+//! computes `A` and `e` from the model itself (its Jacobian and its right-hand side at
+//! `y = 0`, checked for affinity on a probe state), one matrix exponential per combination of
+//! contact branches and drive level, cached; a regular step is then one matrix-vector
+//! product.
+//!
+//! Regular steps are `sample / 2^m`, the largest with `h omega_b <= STEP_OMEGA` where
+//! `omega_b` is the spectral radius of the branch's `A`: closed contacts get short steps,
+//! free flight long ones, and sample times are step ends. A band-edge crossing is found
+//! exactly: after a step whose switch function changed sign (or whose cubic Hermite
+//! interpolant of it dips below zero: a double crossing inside the step), the flow from the
+//! step start is expanded in its Taylor series `y(tau) = sum_j tau^j u_j`, `u_j = A^j
+//! [y; 1] / j!` (`[A e]` acting on the augmented state), so each switch function is a
+//! polynomial in `tau`: scanned for the first sign change, refined by Illinois to rounding.
+//! Partial steps (to an event, back onto the grid, to a drive step) use the same series.
+//!
+//! Hand-written: no ODE crate offers exponential stepping with state events.
+
+use super::{ContactTracker, Observer, Progress, RunStats, SampleGrid, Settings, SimError};
+use crate::contact::ContactState;
+use crate::model::Model;
+use crate::params::{Drive, ModelParams};
+use crate::profile::{Profile, ShapedProfile};
+use crate::scene::TimeSpan;
+use nalgebra::{DMatrix, DVector};
+use std::collections::HashMap;
+
+/// Largest `h omega_b` of a regular step: below a quarter period of the fastest mode, so a
+/// gap cannot cross a band edge and return unseen except by grazing it (which the cubic
+/// Hermite check catches).
+pub const STEP_OMEGA: f64 = 1.5;
+
+/// Most Taylor terms of a partial step (`tau omega <= 1.5` needs about 30).
+const MAX_TAYLOR_TERMS: usize = 90;
+
+/// Points at which a switch polynomial is scanned for its first sign change.
+const SCAN_POINTS: usize = 32;
+
+/// Most contacts a branch key can encode (3^80 < 2^128).
+const MAX_CONTACTS: usize = 80;
+
+/// Why `params` cannot be stepped exactly, or `None` when it can: positions must be fixed
+/// and the drive a piecewise-constant force.
+pub fn lti_obstacle(params: &ModelParams) -> Option<String> {
+    if let Some(k) = params.positions.iter().position(|p| !p.is_constant()) {
+        return Some(format!(
+            "the telescopic position a_{} moves, so the contact vectors change in time",
+            k + 2
+        ));
+    }
+    match &params.drive {
+        Drive::Motion(_) => Some(
+            "the vehicle motion is prescribed (its acceleration enters as a function of time)"
+                .into(),
+        ),
+        Drive::Force(p) if !piecewise_constant(p) => {
+            Some("the drive force is not piecewise constant".into())
+        }
+        Drive::Force(_) if params.contact_points > MAX_CONTACTS => Some(format!(
+            "more than {MAX_CONTACTS} contact points per overlap"
+        )),
+        Drive::Force(_) => None,
+    }
+}
+
+fn piecewise_constant(p: &Profile) -> bool {
+    p.is_constant() || matches!(p, Profile::Shaped(ShapedProfile::PiecewiseConstant { .. }))
+}
+
+/// The affine flow of one combination of contact branches and drive level.
+struct Branch {
+    /// `A` (`2 dof x 2 dof`).
+    a: DMatrix<f64>,
+    /// `e` (`2 dof`).
+    e: DVector<f64>,
+    /// Regular step (s).
+    h: f64,
+    /// `exp(A h)`.
+    phi: DMatrix<f64>,
+    /// `int_0^h exp(A s) ds e`.
+    gamma: DVector<f64>,
+    /// Largest real part of the eigenvalues of `A` (1/s): positive means a growing mode.
+    growth: f64,
+}
+
+/// A switch function as a linear functional of the state: `sign xi_c + offset` (m).
+#[derive(Clone, Copy)]
+struct Functional {
+    contact: usize,
+    sign: f64,
+    offset: f64,
+}
+
+struct ExactRun<'m> {
+    model: &'m dyn Model,
+    n: usize,
+    span: TimeSpan,
+    samples: SampleGrid,
+    /// Contact vectors `g_c` as columns (`dof x contacts`), constant.
+    g: DMatrix<f64>,
+    tracker: ContactTracker,
+    functionals: Vec<Functional>,
+    /// Drive steps inside the span, sorted.
+    breakpoints: Vec<f64>,
+    branches: Vec<Branch>,
+    index: HashMap<(usize, u128), usize>,
+    stats: RunStats,
+    size_limit: f64,
+    y: DVector<f64>,
+    y1: DVector<f64>,
+    ydot: DVector<f64>,
+    /// Taylor vectors `u_j` of the flow from the current step start.
+    taylor: Vec<DVector<f64>>,
+    taylor_len: usize,
+    coefficients: Vec<f64>,
+    gaps0: Gaps,
+    gaps1: Gaps,
+}
+
+/// Gap `xi_c` (m) and rate `xi_dot_c` (m/s) of every contact.
+struct Gaps {
+    value: DVector<f64>,
+    rate: DVector<f64>,
+}
+
+impl Gaps {
+    fn new(contacts: usize) -> Self {
+        Gaps {
+            value: DVector::zeros(contacts),
+            rate: DVector::zeros(contacts),
+        }
+    }
+}
+
+/// Integrates an LTI scene exactly (see the module documentation).
+///
+/// # Errors
+/// [`SimError::Settings`] when the scene is not linear and time-invariant between switches;
+/// [`SimError::Diverged`] for a growing mode; [`SimError::TooManySteps`].
+pub(super) fn run(
+    model: &dyn Model,
+    y0: &[f64],
+    span: &TimeSpan,
+    settings: &Settings,
+    mut observe: Observer,
+    mut progress: Option<Progress>,
+) -> Result<RunStats, SimError> {
+    let params = model.params();
+    if let Some(why) = lti_obstacle(params) {
+        return Err(SimError::Settings(format!(
+            "method exact needs a scene that is linear and time-invariant between contact \
+             switches, but {why}; take dopri5 or another method"
+        )));
+    }
+    let n = model.dof();
+    if y0.len() != 2 * n {
+        return Err(SimError::Settings(format!(
+            "initial state has {} entries, the model needs 2 dof = {}",
+            y0.len(),
+            2 * n
+        )));
+    }
+    let nc = model.layout().contact_count();
+    let (mut g, mut gdot) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
+    model.contact_vectors(span.start, &mut g, &mut gdot);
+    let mut breakpoints: Vec<f64> = params
+        .drive_profile()
+        .breakpoints()
+        .into_iter()
+        .filter(|&b| b > span.start && b < span.end)
+        .collect();
+    breakpoints.sort_by(f64::total_cmp);
+    breakpoints.dedup();
+    let tracker = ContactTracker::new(model, span.start, y0);
+    let mut run = ExactRun {
+        model,
+        n,
+        span: *span,
+        samples: SampleGrid::new(span),
+        g,
+        tracker,
+        functionals: Vec::with_capacity(2 * nc),
+        breakpoints,
+        branches: Vec::new(),
+        index: HashMap::new(),
+        stats: RunStats::default(),
+        size_limit: 100.0 * params.sections.iter().map(|s| s.length).sum::<f64>(),
+        y: DVector::from_column_slice(y0),
+        y1: DVector::zeros(2 * n),
+        ydot: DVector::zeros(2 * n),
+        taylor: vec![DVector::zeros(2 * n); MAX_TAYLOR_TERMS],
+        taylor_len: 0,
+        coefficients: vec![0.0; MAX_TAYLOR_TERMS],
+        gaps0: Gaps::new(nc),
+        gaps1: Gaps::new(nc),
+    };
+    run.integrate(settings, &mut observe, &mut progress)?;
+    Ok(run.stats)
+}
+
+impl ExactRun<'_> {
+    fn integrate(
+        &mut self,
+        settings: &Settings,
+        observe: &mut Observer,
+        progress: &mut Option<Progress>,
+    ) -> Result<(), SimError> {
+        let (start, end) = (self.span.start, self.span.end);
+        let mut t = start;
+        let mut segment = 0usize;
+        let mut current = self.branch(t, segment)?;
+        self.emit(current, t, observe);
+        let mut next_sample = 1u64;
+        let mut last_report = t;
+        while t < end {
+            if self.stats.steps >= settings.max_steps {
+                return Err(SimError::TooManySteps {
+                    t,
+                    method: "exact".into(),
+                    steps: self.stats.steps,
+                    cause: "the contacts chatter without end at this time, or the step limit is \
+                            too low"
+                        .into(),
+                });
+            }
+            let h = self.branches[current].h;
+            // on the branch's grid `start + k h` (up to rounding of the time itself)?
+            let k = ((t - start) / h).round();
+            let on_grid = (t - (start + k * h)).abs() <= 1e-9 * h;
+            let k_next = if on_grid {
+                k + 1.0
+            } else {
+                ((t - start) / h).floor() + 1.0
+            };
+            let t_grid = start + k_next * h;
+            let t_sample = if next_sample < self.samples.total {
+                self.samples.time(next_sample)
+            } else {
+                end
+            };
+            let t_break = self.breakpoints.get(segment).copied().unwrap_or(end);
+            let stop = t_grid.min(t_sample).min(t_break).min(end);
+            let tau = stop - t;
+            let regular = on_grid && stop == t_grid;
+            if regular {
+                let b = &self.branches[current];
+                self.y1.gemv(1.0, &b.phi, &self.y, 0.0);
+                self.y1 += &b.gamma;
+                self.taylor_len = 0;
+            } else {
+                self.expand(current, tau)?;
+                self.sum_taylor(tau);
+            }
+            self.check_size(current, t, tau)?;
+            self.stats.steps += 1;
+            if let Some(tau_event) = self.find_event(current, t, tau)? {
+                // y1 holds the state just past the crossing
+                t += tau_event;
+                std::mem::swap(&mut self.y, &mut self.y1);
+                let y = self.y.as_slice();
+                self.stats.switches += self.tracker.switch(self.model, t, y);
+                current = self.branch(t, segment)?;
+                continue;
+            }
+            t = stop;
+            std::mem::swap(&mut self.y, &mut self.y1);
+            if t == t_sample && next_sample < self.samples.total {
+                self.emit(current, t, observe);
+                next_sample += 1;
+            }
+            if t == t_break && t < end {
+                segment += 1;
+                current = self.branch(t, segment)?;
+            }
+            if let Some(p) = progress.as_mut()
+                && t - last_report >= 0.01 * (end - start)
+            {
+                p(t);
+                last_report = t;
+            }
+        }
+        Ok(())
+    }
+
+    /// The branch for the current contact states and drive `segment`, built on first use.
+    fn branch(&mut self, t: f64, segment: usize) -> Result<usize, SimError> {
+        self.functionals.clear();
+        let half = self.model.params().contact.half_band();
+        if !self.tracker.is_linear() {
+            for (c, s) in self.tracker.states().iter().enumerate() {
+                let f = |sign, offset| Functional {
+                    contact: c,
+                    sign,
+                    offset,
+                };
+                match s {
+                    ContactState::Upper => self.functionals.push(f(1.0, -half)),
+                    ContactState::Lower => self.functionals.push(f(-1.0, -half)),
+                    ContactState::Free => {
+                        self.functionals.push(f(-1.0, half));
+                        self.functionals.push(f(1.0, half));
+                    }
+                }
+            }
+        }
+        let key = (segment, self.branch_code());
+        if let Some(&i) = self.index.get(&key) {
+            return Ok(i);
+        }
+        let branch = self.build_branch(t)?;
+        self.branches.push(branch);
+        self.index.insert(key, self.branches.len() - 1);
+        Ok(self.branches.len() - 1)
+    }
+
+    fn branch_code(&self) -> u128 {
+        if self.tracker.is_linear() {
+            return 0;
+        }
+        self.tracker.states().iter().fold(0u128, |code, s| {
+            3 * code
+                + match s {
+                    ContactState::Lower => 0,
+                    ContactState::Free => 1,
+                    ContactState::Upper => 2,
+                }
+        })
+    }
+
+    /// `A`, `e`, the regular step and its exponential for the current branches at `t`.
+    fn build_branch(&mut self, t: f64) -> Result<Branch, SimError> {
+        let (model, n2) = (self.model, 2 * self.n);
+        let states = self.tracker.fixed_states();
+        let mut a = DMatrix::zeros(n2, n2);
+        let mut e = DVector::zeros(n2);
+        model.jacobian(t, self.y.as_slice(), states, &mut a);
+        let zero = vec![0.0; n2];
+        model.rhs(t, &zero, states, e.as_mut_slice());
+        // affinity check on a probe state of the size of the current one
+        let scale = self.y.amax().max(1e-6);
+        let probe = DVector::from_fn(n2, |i, _| scale * (1.7 * i as f64 + 0.3).sin());
+        let mut f = DVector::zeros(n2);
+        model.rhs(t, probe.as_slice(), states, f.as_mut_slice());
+        let predicted = &a * &probe + &e;
+        self.stats.rhs_evals += 2;
+        self.stats.jacobian_evals += 1;
+        let mismatch = (&f - &predicted).amax();
+        if !(mismatch <= 1e-9 * (predicted.amax() + f.amax()).max(f64::MIN_POSITIVE)) {
+            return Err(SimError::Settings(format!(
+                "method exact: the model's right-hand side is not affine in the state within a \
+                 contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"
+            )));
+        }
+        let eigen = a.clone().complex_eigenvalues();
+        let omega = eigen.iter().map(|l| l.norm()).fold(0.0, f64::max);
+        let growth = eigen.iter().map(|l| l.re).fold(f64::NEG_INFINITY, f64::max);
+        // without switch functions (l_S = 0) the step is exact at any length: one per sample
+        let mut h = self.span.sample;
+        while !self.functionals.is_empty() && h * omega > STEP_OMEGA {
+            h *= 0.5;
+        }
+        let (phi, gamma) = balanced_flow(&a, &e, h, omega);
+        self.stats.exponentials += 1;
+        Ok(Branch {
+            phi,
+            gamma,
+            a,
+            e,
+            h,
+            growth,
+        })
+    }
+
+    /// Taylor vectors `u_j` of the flow of `branch` from `y`, enough for steps up to `tau`.
+    fn expand(&mut self, branch: usize, tau: f64) -> Result<(), SimError> {
+        let b = &self.branches[branch];
+        self.taylor[0].copy_from(&self.y);
+        {
+            let (first, rest) = self.taylor.split_at_mut(1);
+            rest[0].gemv(1.0, &b.a, &first[0], 0.0);
+            rest[0] += &b.e;
+        }
+        let size = self.taylor[0].amax().max(tau * self.taylor[1].amax());
+        let mut power = tau;
+        let mut small_terms = 0;
+        for j in 2..MAX_TAYLOR_TERMS {
+            let (done, rest) = self.taylor.split_at_mut(j);
+            rest[0].gemv(1.0 / j as f64, &b.a, &done[j - 1], 0.0);
+            power *= tau;
+            if power * rest[0].amax() <= 1e-18 * size {
+                small_terms += 1;
+                if small_terms == 2 {
+                    self.taylor_len = j + 1;
+                    return Ok(());
+                }
+            } else {
+                small_terms = 0;
+            }
+        }
+        Err(SimError::Settings(format!(
+            "method exact: the Taylor series of a partial step of {tau:.3e} s did not converge \
+             in {MAX_TAYLOR_TERMS} terms (spectral radius {:.3e} rad/s)",
+            1.0 / b.h * STEP_OMEGA
+        )))
+    }
+
+    /// `y1 = sum_j tau^j u_j` (Horner).
+    fn sum_taylor(&mut self, tau: f64) {
+        let last = self.taylor_len - 1;
+        self.y1.copy_from(&self.taylor[last]);
+        for j in (0..last).rev() {
+            self.y1 *= tau;
+            self.y1 += &self.taylor[j];
+        }
+    }
+
+    /// Gaps and gap rates of every contact at `y` (m, m/s), into `xi`.
+    fn gaps(g: &DMatrix<f64>, n: usize, y: &DVector<f64>, xi: &mut Gaps) {
+        xi.value.gemv_tr(1.0, g, &y.rows(0, n), 0.0);
+        xi.rate.gemv_tr(1.0, g, &y.rows(n, n), 0.0);
+    }
+
+    /// Looks for the first band-edge crossing in the step `[t, t + tau]` from `y` to `y1`.
+    /// On a crossing, leaves the state just past it in `y1` and returns its offset from `t`.
+    fn find_event(&mut self, branch: usize, t: f64, tau: f64) -> Result<Option<f64>, SimError> {
+        if self.functionals.is_empty() {
+            return Ok(None);
+        }
+        Self::gaps(&self.g, self.n, &self.y, &mut self.gaps0);
+        Self::gaps(&self.g, self.n, &self.y1, &mut self.gaps1);
+        let (g0, g1) = (&self.gaps0, &self.gaps1);
+        let suspect = self.functionals.iter().any(|f| {
+            let c = f.contact;
+            let f1 = f.sign * g1.value[c] + f.offset;
+            let (f0, d0) = (f.sign * g0.value[c] + f.offset, f.sign * g0.rate[c]);
+            f1 < 0.0 || (d0 < 0.0 && hermite_dips(f0, d0 * tau, f1, f.sign * g1.rate[c] * tau))
+        });
+        if !suspect {
+            return Ok(None);
+        }
+        if self.taylor_len == 0 {
+            self.expand(branch, tau)?;
+        }
+        // the earliest first sign change over all switch functions
+        let mut best: Option<f64> = None;
+        for i in 0..self.functionals.len() {
+            let f = self.functionals[i];
+            self.switch_polynomial(f);
+            let p = |x: f64| horner(&self.coefficients[..self.taylor_len], x);
+            let limit = best.unwrap_or(tau);
+            let mut lo = 0.0;
+            for s in 1..=SCAN_POINTS {
+                let hi = limit * s as f64 / SCAN_POINTS as f64;
+                if p(hi) < 0.0 {
+                    best = Some(illinois(&p, lo, hi, 4.0 * f64::EPSILON * t.abs().max(1.0)));
+                    break;
+                }
+                lo = hi;
+            }
+        }
+        let Some(mut tau_hi) = best else {
+            // a false alarm of the Hermite check, or rounding at the step end
+            return Ok(None);
+        };
+        // the state just past the crossing: the switch function must be negative there
+        let mut nudge = 4.0 * f64::EPSILON * t.abs().max(1.0);
+        for _ in 0..64 {
+            self.sum_taylor(tau_hi);
+            let y1 = self.y1.as_slice();
+            if self.tracker.min_switch_value(self.model, t + tau_hi, y1) < 0.0 {
+                return Ok(Some(tau_hi));
+            }
+            tau_hi += nudge;
+            nudge *= 2.0;
+        }
+        Ok(Some(tau_hi))
+    }
+
+    /// Coefficients of switch function `f` along the expanded flow.
+    fn switch_polynomial(&mut self, f: Functional) {
+        let gc = self.g.column(f.contact);
+        for j in 0..self.taylor_len {
+            self.coefficients[j] = f.sign * gc.dot(&self.taylor[j].rows(0, self.n));
+        }
+        self.coefficients[0] += f.offset;
+    }
+
+    /// Output sample at `t` from the state `y` of `branch`.
+    fn emit(&mut self, branch: usize, t: f64, observe: &mut Observer) {
+        let b = &self.branches[branch];
+        self.ydot.gemv(1.0, &b.a, &self.y, 0.0);
+        self.ydot += &b.e;
+        observe(t, self.y.as_slice(), self.ydot.as_slice());
+    }
+
+    fn check_size(&self, branch: usize, t: f64, tau: f64) -> Result<(), SimError> {
+        let finite = self.y1.iter().all(|v| v.is_finite());
+        if finite && self.y1.rows(1, self.n - 1).amax() <= self.size_limit {
+            return Ok(());
+        }
+        let growth = self.branches[branch].growth;
+        Err(SimError::Diverged {
+            t,
+            method: "exact".into(),
+            h: tau,
+            cause: format!(
+                "the exact solution grows without bound: the linear system of the current \
+                 contact branches has an eigenvalue with real part {growth:.3e} 1/s (buckling \
+                 under gravity, or a prestress beyond the critical load?)"
+            ),
+        })
+    }
+}
+
+/// `exp(A h)` and `int_0^h exp(A s) ds e` for `A = [[0, I], [A_vz, A_vv]]`-shaped systems,
+/// computed on velocities scaled by `1 / omega`: the similarity `D A D^-1` with
+/// `D = diag(I, I / omega)` has norm ~`omega` instead of ~`omega^2`, and the rounding error
+/// of scaling and squaring grows with that norm (measured on adams-linear: 5e-10 m of
+/// `tip_rel` over 2 s unscaled).
+fn balanced_flow(
+    a: &DMatrix<f64>,
+    e: &DVector<f64>,
+    h: f64,
+    omega: f64,
+) -> (DMatrix<f64>, DVector<f64>) {
+    let n2 = a.nrows();
+    let n = n2 / 2;
+    let s = omega.max(1.0);
+    let scale = |i: usize| if i < n { 1.0 } else { 1.0 / s };
+    let mut aug = DMatrix::zeros(n2 + 1, n2 + 1);
+    for j in 0..n2 {
+        for i in 0..n2 {
+            aug[(i, j)] = scale(i) * a[(i, j)] / scale(j) * h;
+        }
+        aug[(j, n2)] = scale(j) * e[j] * h;
+    }
+    let flow = aug.exp();
+    let phi = DMatrix::from_fn(n2, n2, |i, j| flow[(i, j)] / scale(i) * scale(j));
+    let gamma = DVector::from_fn(n2, |i, _| flow[(i, n2)] / scale(i));
+    (phi, gamma)
+}
+
+/// True when the cubic Hermite interpolant on `[0, 1]` of a function with values `f0, f1`
+/// and scaled slopes `s0 = h f'(0)`, `s1 = h f'(h)` (both values non-negative) goes below
+/// zero inside.
+fn hermite_dips(f0: f64, s0: f64, f1: f64, s1: f64) -> bool {
+    let a3 = 2.0 * f0 + s0 - 2.0 * f1 + s1;
+    let a2 = -3.0 * f0 - 2.0 * s0 + 3.0 * f1 - s1;
+    let cubic = |x: f64| ((a3 * x + a2) * x + s0) * x + f0;
+    // roots of 3 a3 x^2 + 2 a2 x + s0
+    let (qa, qb, qc) = (3.0 * a3, 2.0 * a2, s0);
+    let mut points = [f64::NAN; 2];
+    if qa.abs() <= 1e-300 {
+        if qb != 0.0 {
+            points[0] = -qc / qb;
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let r = disc.sqrt();
+            points = [(-qb - r) / (2.0 * qa), (-qb + r) / (2.0 * qa)];
+        }
+    }
+    points.iter().any(|&x| x > 0.0 && x < 1.0 && cubic(x) < 0.0)
+}
+
+fn horner(c: &[f64], x: f64) -> f64 {
+    c.iter().rev().fold(0.0, |acc, &cj| acc * x + cj)
+}
+
+/// Root of `p` in `[lo, hi]` with `p(lo) >= 0 > p(hi)`, to within `tol`; returns the end where
+/// `p < 0`.
+fn illinois(p: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
+    let (mut p_lo, mut p_hi) = (p(lo).max(0.0), p(hi));
+    let mut side = 0i8;
+    for _ in 0..200 {
+        if hi - lo <= tol {
+            break;
+        }
+        let mut x = hi - p_hi * (hi - lo) / (p_hi - p_lo);
+        if !(x > lo && x < hi) {
+            x = 0.5 * (lo + hi);
+        }
+        let v = p(x);
+        if v < 0.0 {
+            hi = x;
+            p_hi = v;
+            if side == 1 {
+                p_lo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = x;
+            p_lo = v;
+            if side == -1 {
+                p_hi *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    hi
+}

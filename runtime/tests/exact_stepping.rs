@@ -1,0 +1,216 @@
+//! Method `exact` (matrix exponential per contact branch) against independent paths: the
+//! exponential of matrices built from M, K and the contact vectors by hand, dop853 at a tight
+//! tolerance across contact switches, energy conservation across switches, and itself on a
+//! different step grid. On the quadrature-assembled model.
+
+mod common;
+
+use common::{exact_lti, rig, tip_rel};
+use telescopic_runtime::{
+    AssembledModel, Drive, ForceFlow, Method, Model, ModelParams, Profile, Settings, SimError,
+    TimeSpan, mechanical_energy, simulate,
+};
+
+fn span(end: f64, sample: f64) -> TimeSpan {
+    TimeSpan {
+        start: 0.0,
+        end,
+        sample,
+    }
+}
+
+/// `(t, y)` at every sample, and the run's switch count.
+fn run(
+    model: &dyn Model,
+    y0: &[f64],
+    span: &TimeSpan,
+    method: Method,
+    settings: &Settings,
+) -> Result<(Vec<(f64, Vec<f64>)>, u64), SimError> {
+    let mut samples = Vec::new();
+    let stats = simulate(
+        model,
+        y0,
+        span,
+        method,
+        settings,
+        &mut |t, y, _| samples.push((t, y.to_vec())),
+        None,
+    )?;
+    Ok((samples, stats.switches))
+}
+
+/// adams-clearance on the assembled model: gravity off, l_S = 0.01 m, F = 100 N from rest.
+fn adams_clearance() -> ModelParams {
+    let mut p = rig([5, 5]);
+    p.gravity = 0.0;
+    p.force_flow = ForceFlow::None;
+    p.contact.clearance = 0.01;
+    p
+}
+
+#[test]
+fn exact_method_matches_an_independent_matrix_exponential() {
+    let mut p = rig([5, 5]);
+    p.gravity = 0.0;
+    p.force_flow = ForceFlow::None;
+    let model = AssembledModel::new(&p).unwrap();
+    let (dt, steps) = (1e-3, 2000);
+    let reference = exact_lti(&model, 100.0, dt, steps);
+    let y0 = vec![0.0; 2 * model.dof()];
+    let (samples, _) = run(
+        &model,
+        &y0,
+        &span(dt * steps as f64, dt),
+        Method::Exact,
+        &Settings::default(),
+    )
+    .unwrap();
+    assert_eq!(samples.len(), steps + 1);
+    let worst = samples
+        .iter()
+        .zip(&reference)
+        .map(|((_, y), e)| (tip_rel(&model, y) - tip_rel(&model, e)).abs())
+        .fold(0.0, f64::max);
+    eprintln!("exact vs hand-built exponential: worst |tip_rel| difference over 2 s {worst:.2e} m");
+    // both are exact up to rounding; measured 7.8e-11 m (tip_rel ~0.1 m), and the method on
+    // 1 ms and 0.125 ms grids agrees with itself to 2.5e-11 m, dop853 at rtol 1e-12 to 5.5e-10 m
+    assert!(worst < 3e-10, "tip_rel differs by {worst:e} m");
+}
+
+#[test]
+fn exact_method_agrees_with_dop853_across_contact_switches() {
+    let model = AssembledModel::new(&adams_clearance()).unwrap();
+    let y0 = vec![0.0; 2 * model.dof()];
+    // inside the predictability horizon of the scene (~0.4 s)
+    let window = span(0.3, 1e-3);
+    let (exact, exact_switches) =
+        run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
+    let tight = Settings {
+        rtol: 1e-12,
+        atol: 1e-15,
+        ..Settings::default()
+    };
+    let (reference, reference_switches) =
+        run(&model, &y0, &window, Method::Dop853, &tight).unwrap();
+    let worst = exact
+        .iter()
+        .zip(&reference)
+        .map(|((_, a), (_, b))| (tip_rel(&model, a) - tip_rel(&model, b)).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "exact vs dop853 (rtol 1e-12) on [0, 0.3] s: worst |tip_rel| difference {worst:.2e} m, \
+         switches {exact_switches} vs {reference_switches}"
+    );
+    assert!(exact_switches > 10, "only {exact_switches} switches");
+    assert_eq!(exact_switches, reference_switches);
+    assert!(worst < 1e-9, "tip_rel differs by {worst:e} m");
+}
+
+#[test]
+fn exact_method_conserves_energy_across_contact_switches() {
+    // no damping, no gravity, no drive: energy is a constant of the piecewise-linear motion,
+    // so only the located switch times can make it drift
+    let mut p = adams_clearance();
+    p.contact.damping = 0.0;
+    p.contact.clearance = 0.004;
+    p.drive = Drive::Force(Profile::Constant(0.0));
+    let model = AssembledModel::new(&p).unwrap();
+    let n = model.dof();
+    let mut y0 = vec![0.0; 2 * n];
+    for i in 1..n {
+        y0[i] = 4e-3 / (1.0 + 0.3 * i as f64);
+        y0[n + i] = 0.08 * if i % 2 == 0 { 1.0 } else { -1.0 };
+    }
+    let e0 = mechanical_energy(&model, 0.0, &y0);
+    let (samples, switches) = run(
+        &model,
+        &y0,
+        &span(5.0, 0.01),
+        Method::Exact,
+        &Settings::default(),
+    )
+    .unwrap();
+    let worst = samples
+        .iter()
+        .map(|(t, y)| ((mechanical_energy(&model, *t, y) - e0) / e0).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "exact, undamped with clearance: {switches} switches, worst relative energy change {worst:.2e}"
+    );
+    assert!(
+        switches > 100,
+        "only {switches} switches: the test needs impacts"
+    );
+    // measured 3.6e-12 over 248k switches (dopri5 at rtol 1e-12: 4.9e-8 on a similar run)
+    assert!(worst < 1e-10, "energy drifted by {worst:e} relative");
+}
+
+#[test]
+fn exact_method_does_not_depend_on_its_step_grid() {
+    // samples of 1 ms and 0.25 ms put the regular steps and the partial steps (Taylor series)
+    // in different places; the motion must not notice
+    let mut p = adams_clearance();
+    p.drive = Drive::Force(Profile::Shaped(
+        telescopic_runtime::profile::ShapedProfile::PiecewiseConstant {
+            times: vec![0.0, 0.10037],
+            values: vec![100.0, -60.0],
+        },
+    ));
+    let model = AssembledModel::new(&p).unwrap();
+    let y0 = vec![0.0; 2 * model.dof()];
+    let (coarse, _) = run(
+        &model,
+        &y0,
+        &span(0.3, 1e-3),
+        Method::Exact,
+        &Settings::default(),
+    )
+    .unwrap();
+    let (fine, _) = run(
+        &model,
+        &y0,
+        &span(0.3, 2.5e-4),
+        Method::Exact,
+        &Settings::default(),
+    )
+    .unwrap();
+    let worst = coarse
+        .iter()
+        .zip(fine.iter().step_by(4))
+        .map(|((ta, a), (tb, b))| {
+            assert!((ta - tb).abs() < 1e-12);
+            (tip_rel(&model, a) - tip_rel(&model, b)).abs()
+        })
+        .fold(0.0, f64::max);
+    eprintln!("exact on 1 ms vs 0.25 ms grids: worst |tip_rel| difference {worst:.2e} m");
+    assert!(worst < 1e-10, "tip_rel differs by {worst:e} m");
+}
+
+#[test]
+fn exact_method_refuses_a_scene_that_is_not_time_invariant() {
+    let mut p = adams_clearance();
+    p.positions = vec![Profile::Shaped(
+        telescopic_runtime::profile::ShapedProfile::Smoothstep {
+            start: 0.0,
+            end: 1.0,
+            from: 0.5,
+            to: 1.15,
+        },
+    )];
+    let model = AssembledModel::new(&p).unwrap();
+    let y0 = vec![0.0; 2 * model.dof()];
+    let err = run(
+        &model,
+        &y0,
+        &span(0.1, 1e-3),
+        Method::Exact,
+        &Settings::default(),
+    )
+    .unwrap_err();
+    let message = err.to_string();
+    assert!(
+        matches!(err, SimError::Settings(_)) && message.contains("a_2 moves"),
+        "{message}"
+    );
+}
