@@ -227,6 +227,122 @@ pub const COLORS: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
+/// One line of a log-log panel: a label, points `(x, y)` and optional text at each point.
+pub struct LogSeries {
+    /// Legend entry.
+    pub label: String,
+    /// Points in data units (non-positive or non-finite ones are left out).
+    pub points: Vec<(f64, f64)>,
+    /// Text next to each point (empty: none).
+    pub marks: Vec<String>,
+}
+
+/// The y axis of a [`log_panel`].
+pub enum YAxis {
+    /// log10 of the values (labels show the powers).
+    Log,
+    /// The values themselves, on this range.
+    Linear(f64, f64),
+}
+
+/// A panel with a log10 x axis, one colored line with dots per series, an optional
+/// horizontal line `(y, label)` and a legend. Log axes are drawn as linear axes of log10
+/// values, labelled with the powers.
+pub fn log_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    (title, x_desc, y_desc): (&str, &str, &str),
+    series: &[LogSeries],
+    y_axis: YAxis,
+    level: Option<(f64, &str)>,
+) -> anyhow::Result<()> {
+    let log_y = matches!(y_axis, YAxis::Log);
+    let transformed: Vec<Vec<(f64, f64, &str)>> = series
+        .iter()
+        .map(|s| {
+            s.points
+                .iter()
+                .enumerate()
+                .filter(|(_, (x, y))| x.is_finite() && *x > 0.0 && y.is_finite())
+                .filter(|(_, (_, y))| !log_y || *y > 0.0)
+                .map(|(i, &(x, y))| {
+                    let mark = s.marks.get(i).map_or("", String::as_str);
+                    (x.log10(), if log_y { y.log10() } else { y }, mark)
+                })
+                .collect()
+        })
+        .collect();
+    let all = || transformed.iter().flatten();
+    if all().next().is_none() {
+        return Ok(());
+    }
+    let bounds = |v: &mut dyn Iterator<Item = f64>| {
+        v.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)))
+    };
+    let (x0, x1) = bounds(&mut all().map(|p| p.0));
+    let (y0, y1) = match y_axis {
+        YAxis::Log => {
+            let (mut y0, mut y1) = bounds(&mut all().map(|p| p.1));
+            if let Some((v, _)) = level.filter(|(v, _)| *v > 0.0) {
+                (y0, y1) = (y0.min(v.log10()), y1.max(v.log10()));
+            }
+            (y0 - 0.2, y1 + 0.2)
+        }
+        YAxis::Linear(a, b) => (a, b),
+    };
+    let (x0, x1) = (x0 - 0.1, x1 + 0.1);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(plot_error)?;
+    let power = |v: &f64| format!("{:.1e}", 10f64.powf(*v));
+    let plain = |v: &f64| format!("{v:.1}");
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&power)
+        .y_label_formatter(if log_y { &power } else { &plain })
+        .draw()
+        .map_err(plot_error)?;
+    for (i, (s, line)) in series.iter().zip(&transformed).enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        let xy: Vec<(f64, f64)> = line.iter().map(|p| (p.0, p.1)).collect();
+        chart
+            .draw_series(LineSeries::new(xy.clone(), color.stroke_width(2)))
+            .map_err(plot_error)?
+            .label(s.label.as_str())
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
+        chart
+            .draw_series(xy.iter().map(|&p| Circle::new(p, 3, color.filled())))
+            .map_err(plot_error)?;
+        chart
+            .draw_series(
+                line.iter()
+                    .filter(|p| !p.2.is_empty())
+                    .map(|p| Text::new(p.2.to_string(), (p.0, p.1), ("sans-serif", 11))),
+            )
+            .map_err(plot_error)?;
+    }
+    if let Some((v, label)) = level {
+        let y = if log_y { v.log10() } else { v };
+        chart
+            .draw_series(LineSeries::new([(x0, y), (x1, y)], BLACK.stroke_width(1)))
+            .map_err(plot_error)?
+            .label(label)
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 11))
+        .draw()
+        .map_err(plot_error)
+}
+
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     panel: &Panel,

@@ -7,16 +7,20 @@ use anyhow::{Context, bail};
 use clap::Args;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use telescopic_runtime::{Method, Model, RunStats, Scene, Settings, model::rest_state, simulate};
+use telescopic_runtime::{
+    Method, Model, ModelParams, RunStats, Scene, Settings, auto_method, model::rest_state, simulate,
+    specializations,
+};
 
 /// Options of `telescopic simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Integration method: dopri5 (default), dop853, esdirk, bdf, bdf<K>, rk4, verlet,
-    /// galpha, galpha-fixed, galpha-rho<R> (see the README).
-    #[arg(long, default_value = "dopri5", value_name = "NAME")]
+    /// Integration method: auto (default: exact for a scene that is linear and
+    /// time-invariant between contact switches, else dopri5), exact, dopri5, dop853, esdirk,
+    /// bdf, bdf<K>, rk4, verlet, galpha, galpha-fixed, galpha-rho<R> (see the README).
+    #[arg(long, default_value = "auto", value_name = "NAME")]
     pub method: String,
     /// Relative tolerance of adaptive methods.
     #[arg(long, value_name = "R")]
@@ -53,9 +57,21 @@ pub struct Trajectory {
     pub stats: RunStats,
 }
 
-/// The method and settings from the command line.
-pub fn settings_from(args: &SimulateArgs) -> anyhow::Result<(Method, Settings)> {
-    let method = Method::from_name(&args.method).map_err(anyhow::Error::msg)?;
+/// The method for a scene and how it was chosen (`auto` resolved on the scene's parameters),
+/// and the settings, from the command line.
+pub fn settings_from(
+    args: &SimulateArgs,
+    params: &ModelParams,
+) -> anyhow::Result<(Method, String, Settings)> {
+    let (method, how) = if args.method == "auto" {
+        let (m, why) = auto_method(params);
+        (m, format!("auto: {why}; "))
+    } else {
+        (
+            Method::from_name(&args.method).map_err(anyhow::Error::msg)?,
+            String::new(),
+        )
+    };
     let mut settings = Settings::default();
     if let Some(r) = args.rtol {
         settings.rtol = r;
@@ -64,7 +80,7 @@ pub fn settings_from(args: &SimulateArgs) -> anyhow::Result<(Method, Settings)> 
         settings.atol = a;
     }
     settings.dt = args.dt;
-    Ok((method, settings))
+    Ok((method, how, settings))
 }
 
 /// Integrates `scene` on `model`, collecting every output sample.
@@ -197,11 +213,12 @@ pub fn write_atomically(
     Ok(())
 }
 
-/// The run summary printed on stderr.
+/// The run summary printed on stderr: scene, model, method (and why, for `auto`), the
+/// specializations in use, and what the run did.
 pub fn summary(
     scene: &Scene,
     model_word: &str,
-    method: Method,
+    (method, how): (Method, &str),
     settings: &Settings,
     traj: &Trajectory,
 ) -> String {
@@ -214,11 +231,18 @@ pub fn summary(
             format!("dt {:e} s", settings.dt.unwrap_or(f64::NAN))
         }
         telescopic_runtime::integrate::StepControl::Exact => {
-            format!("{} matrix exponentials", traj.stats.exponentials)
+            format!("{} matrix exponentials", s.exponentials)
         }
     };
+    let special = specializations(&scene.params);
+    let special = if special.is_empty() {
+        "none".to_string()
+    } else {
+        special.join("; ")
+    };
     format!(
-        "{} on the {model_word}: method {method} ({tol}), t = {} .. {} s, {} samples\n\
+        "{} on the {model_word}: method {method} ({how}{tol}), t = {} .. {} s, {} samples\n\
+         specializations: {special}\n\
          steps {} (rejected {}), rhs evaluations {}, Jacobian evaluations {}, factorizations {}, \
          contact switches {}, wall time {:.3} s",
         scene.name,
@@ -241,11 +265,11 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         crate::plot::check_picture_path("--plot", p)?;
     }
     let scene = args.scene.load()?;
-    let (method, settings) = settings_from(args)?;
+    let (method, how, settings) = settings_from(args, &scene.params)?;
     let (model, word) = build_model(&scene.params, args.model)?;
     let traj = run_scene(&scene, model.as_ref(), method, &settings)?;
     write_csv(&traj, args.out.as_deref())?;
-    eprintln!("{}", summary(&scene, &word, method, &settings, &traj));
+    eprintln!("{}", summary(&scene, &word, (method, &how), &settings, &traj));
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), traj.rows.len());
     }
@@ -259,9 +283,13 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         let other;
         if let Some(path) = &args.compare {
             other = Scene::load(path, &args.scene.overrides)?;
+            let (method2, how2, _) = settings_from(args, &other.params)?;
             let (model2, word2) = build_model(&other.params, args.model)?;
-            compared = run_scene(&other, model2.as_ref(), method, &settings)?;
-            eprintln!("{}", summary(&other, &word2, method, &settings, &compared));
+            compared = run_scene(&other, model2.as_ref(), method2, &settings)?;
+            eprintln!(
+                "{}",
+                summary(&other, &word2, (method2, &how2), &settings, &compared)
+            );
             curves.push(crate::plot::Curve {
                 label: &other.name,
                 traj: &compared,

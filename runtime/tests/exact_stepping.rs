@@ -19,6 +19,9 @@ fn span(end: f64, sample: f64) -> TimeSpan {
     }
 }
 
+/// `(t, y)` at every sample.
+type Samples = Vec<(f64, Vec<f64>)>;
+
 /// `(t, y)` at every sample, and the run's switch count.
 fn run(
     model: &dyn Model,
@@ -26,7 +29,7 @@ fn run(
     span: &TimeSpan,
     method: Method,
     settings: &Settings,
-) -> Result<(Vec<(f64, Vec<f64>)>, u64), SimError> {
+) -> Result<(Samples, u64), SimError> {
     let mut samples = Vec::new();
     let stats = simulate(
         model,

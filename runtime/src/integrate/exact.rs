@@ -351,7 +351,8 @@ impl ExactRun<'_> {
         self.stats.rhs_evals += 2;
         self.stats.jacobian_evals += 1;
         let mismatch = (&f - &predicted).amax();
-        if !(mismatch <= 1e-9 * (predicted.amax() + f.amax()).max(f64::MIN_POSITIVE)) {
+        let allowed = 1e-9 * (predicted.amax() + f.amax()).max(f64::MIN_POSITIVE);
+        if mismatch.is_nan() || mismatch > allowed {
             return Err(SimError::Settings(format!(
                 "method exact: the model's right-hand side is not affine in the state within a \
                  contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"

@@ -3,7 +3,7 @@
 use super::schema::{PerSection, SceneFile};
 use super::{FieldError, Scene, SceneError, TimeSpan};
 use crate::contact::ContactLaw;
-use crate::params::{Drive, ModelParams, SectionParams};
+use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile};
 use crate::shape::MAX_MODES;
 
@@ -301,7 +301,12 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         vehicle_mass: file.masses.vehicle,
         load_mass: file.masses.load,
         gravity: file.gravity.g,
-        force_flow: file.gravity.force_flow,
+        // gravity off: every prestress term is zero, so the model without them is exact
+        force_flow: if file.gravity.g == 0.0 {
+            ForceFlow::None
+        } else {
+            file.gravity.force_flow
+        },
         contact_points: contact.points,
         contact: ContactLaw {
             stiffness: contact.stiffness,
