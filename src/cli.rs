@@ -29,6 +29,12 @@ enum Command {
     /// Speed against accuracy: every method over a sweep of tolerances or steps, errors
     /// inside the predictability horizon and on statistics beyond it; chart and CSV.
     WorkPrecision(crate::work_precision::WorkPrecisionArgs),
+    /// The smallest model a scene needs: modes per section (then contacts per overlap)
+    /// raised until tip_rel and the first three frequencies change by less than --tol.
+    Converge(crate::converge::ConvergeArgs),
+    /// Evaluation error of the shape functions for modes 1..30: the paper's printed forms
+    /// against the cancellation-free ones, both measured in 512-bit arithmetic.
+    ShapeErrors(crate::shape_errors::ShapeErrorsArgs),
 }
 
 /// A scene file and its overrides: shared by every command that reads a scene.
@@ -58,6 +64,8 @@ impl Cli {
             Command::Simulate(args) => crate::simulate::run(&args),
             Command::Stability(args) => crate::stability::run(&args),
             Command::WorkPrecision(args) => crate::work_precision::run(&args),
+            Command::Converge(args) => crate::converge::run(&args),
+            Command::ShapeErrors(args) => crate::shape_errors::run(&args),
         }
     }
 }

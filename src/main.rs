@@ -3,9 +3,11 @@
 
 mod choose;
 mod cli;
+mod converge;
 mod equations;
 mod modes;
 mod plot;
+mod shape_errors;
 mod simulate;
 mod stability;
 mod work_precision;

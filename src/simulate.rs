@@ -8,8 +8,8 @@ use clap::Args;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use telescopic_runtime::{
-    Method, Model, ModelParams, RunStats, Scene, Settings, auto_method, model::rest_state, simulate,
-    specializations,
+    Method, Model, ModelParams, RunStats, Scene, Settings, auto_method, model::rest_state,
+    simulate, specializations,
 };
 
 /// Options of `telescopic simulate`.
@@ -269,7 +269,10 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let (model, word) = build_model(&scene.params, args.model)?;
     let traj = run_scene(&scene, model.as_ref(), method, &settings)?;
     write_csv(&traj, args.out.as_deref())?;
-    eprintln!("{}", summary(&scene, &word, (method, &how), &settings, &traj));
+    eprintln!(
+        "{}",
+        summary(&scene, &word, (method, &how), &settings, &traj)
+    );
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), traj.rows.len());
     }

@@ -467,7 +467,13 @@ impl Figure for WorkPrecisionChart<'_> {
                 .collect();
             if title.starts_with("agreement") {
                 let axis = YAxis::Linear(0.0, self.end);
-                log_panel(area, (title, xd, yd), &series, axis, Some((self.horizon, "T_h")))?;
+                log_panel(
+                    area,
+                    (title, xd, yd),
+                    &series,
+                    axis,
+                    Some((self.horizon, "T_h")),
+                )?;
             } else {
                 log_panel(area, (title, xd, yd), &series, YAxis::Log, None)?;
             }

@@ -32,6 +32,8 @@ pub mod profile;
 pub mod quadrature;
 pub mod scene;
 pub mod shape;
+#[cfg(feature = "reference")]
+pub mod shape_reference;
 pub mod specialize;
 
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
@@ -43,5 +45,5 @@ pub use model::{Model, mechanical_energy, rest_state};
 pub use params::{Drive, ForceFlow, ModelParams, SectionParams};
 pub use profile::{Profile, ShapedProfile};
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
-pub use specialize::{auto_method, specializations};
 pub use shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction, mode_root};
+pub use specialize::{auto_method, specializations};
