@@ -80,6 +80,14 @@ pub fn settings_from(
         settings.atol = a;
     }
     settings.dt = args.dt;
+    // checked whatever the method (exact and fixed-step methods do not use them)
+    if !(settings.rtol > 0.0 && settings.rtol < 1.0 && settings.atol > 0.0) {
+        anyhow::bail!(
+            "tolerances must be positive with rtol < 1 (got --rtol {}, --atol {})",
+            settings.rtol,
+            settings.atol
+        );
+    }
     Ok((method, how, settings))
 }
 

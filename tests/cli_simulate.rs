@@ -33,7 +33,10 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
         "CSV went to a file; stdout stays empty"
     );
     for needle in [
-        "method dopri5",
+        // gravity off, fixed positions, a constant force: auto takes the exact method
+        "method exact (auto: the scene is linear and time-invariant between contact switches",
+        "specializations: fixed positions: contact vectors are constants",
+        "gravity off: no prestress terms",
         "steps ",
         "rejected ",
         "rhs evaluations ",
@@ -75,6 +78,31 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn auto_takes_dopri5_where_positions_move_and_says_why() {
+    let out = telescopic(&[
+        "simulate",
+        "scenes/case-study.toml",
+        "--set",
+        "time.end=0.05",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("method dopri5 (auto: not exact: the telescopic position a_2 moves"),
+        "{err}"
+    );
+    assert!(err.contains("specializations: none"), "{err}");
+    // asked for explicitly, exact refuses the scene with the reason
+    fails_with(
+        &["simulate", "scenes/case-study.toml", "--method", "exact"],
+        &[
+            "method exact needs a scene that is linear and time-invariant",
+            "a_2 moves",
+        ],
+    );
 }
 
 #[test]

@@ -121,6 +121,8 @@ struct ExactRun<'m> {
     coefficients: Vec<f64>,
     gaps0: Gaps,
     gaps1: Gaps,
+    /// `gaps0` holds the gaps of `y` (carried over from the last step's end).
+    gaps0_current: bool,
 }
 
 /// Gap `xi_c` (m) and rate `xi_dot_c` (m/s) of every contact.
@@ -199,6 +201,7 @@ pub(super) fn run(
         coefficients: vec![0.0; MAX_TAYLOR_TERMS],
         gaps0: Gaps::new(nc),
         gaps1: Gaps::new(nc),
+        gaps0_current: false,
     };
     run.integrate(settings, &mut observe, &mut progress)?;
     Ok(run.stats)
@@ -266,10 +269,13 @@ impl ExactRun<'_> {
                 let y = self.y.as_slice();
                 self.stats.switches += self.tracker.switch(self.model, t, y);
                 current = self.branch(t, segment)?;
+                self.gaps0_current = false;
                 continue;
             }
             t = stop;
             std::mem::swap(&mut self.y, &mut self.y1);
+            std::mem::swap(&mut self.gaps0, &mut self.gaps1);
+            self.gaps0_current = !self.functionals.is_empty();
             if t == t_sample && next_sample < self.samples.total {
                 self.emit(current, t, observe);
                 next_sample += 1;
@@ -433,7 +439,9 @@ impl ExactRun<'_> {
         if self.functionals.is_empty() {
             return Ok(None);
         }
-        Self::gaps(&self.g, self.n, &self.y, &mut self.gaps0);
+        if !self.gaps0_current {
+            Self::gaps(&self.g, self.n, &self.y, &mut self.gaps0);
+        }
         Self::gaps(&self.g, self.n, &self.y1, &mut self.gaps1);
         let (g0, g1) = (&self.gaps0, &self.gaps1);
         let suspect = self.functionals.iter().any(|f| {
