@@ -13,8 +13,8 @@
 //! Every model is the quadrature-assembled one, so costs compare like with like (a generated
 //! model exists only for the configurations in generated/models.toml).
 
-use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, save};
-use crate::simulate::{Trajectory, run_scene, write_atomically};
+use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, save, titled_page};
+use crate::simulate::{run_scene, write_atomically};
 use anyhow::{Context, bail};
 use clap::Args;
 use plotters::prelude::*;
@@ -90,7 +90,7 @@ fn trial(scene: &Scene, modes: usize, contacts: usize) -> anyhow::Result<Trial> 
     let model = AssembledModel::new(&scene.params)?;
     let modal = modal_analysis(&model, scene.time.start)?;
     let (method, _) = auto_method(&scene.params);
-    let traj: Trajectory = run_scene(
+    let traj = run_scene(
         &scene,
         &model,
         method,
@@ -300,17 +300,12 @@ impl Figure for ConvergenceChart<'_> {
         &self,
         root: DrawingArea<DB, plotters::coord::Shift>,
     ) -> anyhow::Result<()> {
-        root.fill(&WHITE).map_err(plot_error)?;
-        let root = root
-            .titled(
-                &format!(
-                    "model error vs cost, {} (modes per section 1..{})",
-                    self.scene,
-                    self.trials.len()
-                ),
-                ("sans-serif", 22),
-            )
-            .map_err(plot_error)?;
+        let title = format!(
+            "model error vs cost, {} (modes per section 1..{})",
+            self.scene,
+            self.trials.len()
+        );
+        let root = titled_page(root, &title)?;
         let largest = self.trials.last().expect("trials");
         let rest = &self.trials[..self.trials.len() - 1];
         let marks: Vec<String> = rest.iter().map(|t| format!("N={}", t.modes)).collect();

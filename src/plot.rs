@@ -227,6 +227,15 @@ pub const COLORS: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
+/// A white page with `title` on top (22 px); returns the area below the title.
+pub fn titled_page<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+) -> anyhow::Result<DrawingArea<DB, plotters::coord::Shift>> {
+    root.fill(&WHITE).map_err(plot_error)?;
+    root.titled(title, ("sans-serif", 22)).map_err(plot_error)
+}
+
 /// One line of a log-log panel: a label, points `(x, y)` and optional text at each point.
 pub struct LogSeries {
     /// Legend entry.

@@ -9,7 +9,7 @@
 
 use crate::choose::{ModelChoice, build_model};
 use crate::cli::SceneArgs;
-use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, save};
+use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, save, titled_page};
 use crate::simulate::{Trajectory, run_scene, write_atomically};
 use anyhow::bail;
 use clap::Args;
@@ -390,16 +390,11 @@ impl Figure for WorkPrecisionChart<'_> {
         &self,
         root: DrawingArea<DB, plotters::coord::Shift>,
     ) -> anyhow::Result<()> {
-        root.fill(&WHITE).map_err(plot_error)?;
-        let root = root
-            .titled(
-                &format!(
-                    "work-precision, {} (T_h = {:.3} s of {} s)",
-                    self.scene, self.horizon, self.end
-                ),
-                ("sans-serif", 22),
-            )
-            .map_err(plot_error)?;
+        let title = format!(
+            "work-precision, {} (T_h = {:.3} s of {} s)",
+            self.scene, self.horizon, self.end
+        );
+        let root = titled_page(root, &title)?;
         let panels: [(&str, &str, Pick, &str, Pick); 6] = [
             (
                 "tip_rel error on [0, T_h]",

@@ -5,43 +5,11 @@
 
 mod common;
 
-use common::{exact_lti, rig, tip_rel};
+use common::{exact_lti, rig, run_counted as run, span, tip_rel};
 use telescopic_runtime::{
     AssembledModel, Drive, ForceFlow, Method, Model, ModelParams, Profile, Settings, SimError,
-    TimeSpan, mechanical_energy, simulate,
+    mechanical_energy,
 };
-
-fn span(end: f64, sample: f64) -> TimeSpan {
-    TimeSpan {
-        start: 0.0,
-        end,
-        sample,
-    }
-}
-
-/// `(t, y)` at every sample.
-type Samples = Vec<(f64, Vec<f64>)>;
-
-/// `(t, y)` at every sample, and the run's switch count.
-fn run(
-    model: &dyn Model,
-    y0: &[f64],
-    span: &TimeSpan,
-    method: Method,
-    settings: &Settings,
-) -> Result<(Samples, u64), SimError> {
-    let mut samples = Vec::new();
-    let stats = simulate(
-        model,
-        y0,
-        span,
-        method,
-        settings,
-        &mut |t, y, _| samples.push((t, y.to_vec())),
-        None,
-    )?;
-    Ok((samples, stats.switches))
-}
 
 /// adams-clearance on the assembled model: gravity off, l_S = 0.01 m, F = 100 N from rest.
 fn adams_clearance() -> ModelParams {
@@ -87,15 +55,15 @@ fn exact_method_agrees_with_dop853_across_contact_switches() {
     let y0 = vec![0.0; 2 * model.dof()];
     // inside the predictability horizon of the scene (~0.4 s)
     let window = span(0.3, 1e-3);
-    let (exact, exact_switches) =
+    let (exact, exact_stats) =
         run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
     let tight = Settings {
         rtol: 1e-12,
         atol: 1e-15,
         ..Settings::default()
     };
-    let (reference, reference_switches) =
-        run(&model, &y0, &window, Method::Dop853, &tight).unwrap();
+    let (reference, reference_stats) = run(&model, &y0, &window, Method::Dop853, &tight).unwrap();
+    let (exact_switches, reference_switches) = (exact_stats.switches, reference_stats.switches);
     let worst = exact
         .iter()
         .zip(&reference)
@@ -126,7 +94,7 @@ fn exact_method_conserves_energy_across_contact_switches() {
         y0[n + i] = 0.08 * if i % 2 == 0 { 1.0 } else { -1.0 };
     }
     let e0 = mechanical_energy(&model, 0.0, &y0);
-    let (samples, switches) = run(
+    let (samples, stats) = run(
         &model,
         &y0,
         &span(5.0, 0.01),
@@ -134,6 +102,7 @@ fn exact_method_conserves_energy_across_contact_switches() {
         &Settings::default(),
     )
     .unwrap();
+    let switches = stats.switches;
     let worst = samples
         .iter()
         .map(|(t, y)| ((mechanical_energy(&model, *t, y) - e0) / e0).abs())

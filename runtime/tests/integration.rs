@@ -5,21 +5,13 @@
 
 mod common;
 
-use common::{exact_lti, rig, tip_rel};
+use common::{exact_lti, rig, run, span, tip_rel};
 use nalgebra::{DMatrix, DVector};
 use telescopic_runtime::integrate::METHOD_NAMES;
 use telescopic_runtime::{
     AssembledModel, ContactState, Drive, ForceFlow, Layout, Method, Model, ModelParams, Profile,
-    Settings, SimError, TimeSpan, mechanical_energy, simulate,
+    Settings, SimError, mechanical_energy, simulate,
 };
-
-fn span(end: f64, sample: f64) -> TimeSpan {
-    TimeSpan {
-        start: 0.0,
-        end,
-        sample,
-    }
-}
 
 fn tight() -> Settings {
     Settings {
@@ -50,27 +42,6 @@ fn excited(model: &dyn Model, scale: f64) -> Vec<f64> {
     }
     y[n] = 0.5;
     y
-}
-
-/// Runs and collects `(t, y)` at every sample.
-fn run(
-    model: &dyn Model,
-    y0: &[f64],
-    span: &TimeSpan,
-    method: Method,
-    settings: &Settings,
-) -> Result<Vec<(f64, Vec<f64>)>, SimError> {
-    let mut samples = Vec::new();
-    simulate(
-        model,
-        y0,
-        span,
-        method,
-        settings,
-        &mut |t, y, _| samples.push((t, y.to_vec())),
-        None,
-    )?;
-    Ok(samples)
 }
 
 /// The error of a run that must fail.

@@ -1,6 +1,7 @@
 //! The time loop shared by every method: step-size control, drive discontinuities, contact
 //! events, sampling, divergence checks.
 
+use super::events::illinois;
 use super::stability::stable_step;
 use super::{
     ContactTracker, Method, Observer, Progress, RunStats, SampleGrid, Settings, SimError,
@@ -333,57 +334,37 @@ impl<'m> Driver<'m> {
     /// start). Leaves the state at the new end in `y1` and returns the new length.
     fn locate_switch(&mut self, h: f64) -> f64 {
         let model = self.sys.model;
-        let (mut lo, mut hi) = (0.0, h);
-        let mut g_lo = self
+        let g_lo = self
             .sys
             .tracker
             .min_switch_value(model, self.t, &self.y)
             .max(0.0);
-        let mut g_hi = self
+        let g_hi = self
             .sys
             .tracker
             .min_switch_value(model, self.t + h, &self.y1);
-        let mut side = 0i8;
         let tol = 4.0 * f64::EPSILON * self.t.abs().max(1.0);
-        for _ in 0..200 {
-            if hi - lo <= tol {
-                break;
-            }
-            let mut tau = hi - g_hi * (hi - lo) / (g_hi - g_lo);
-            if !(tau > lo && tau < hi) {
-                tau = 0.5 * (lo + hi);
-            }
-            // a trial step: the result is only used through its switch functions
-            let _ = self.stepper.step(
-                &mut self.sys,
-                self.t,
-                &self.y,
-                &self.f0,
-                tau,
-                &mut self.y_trial,
-            );
-            let g = self
-                .sys
-                .tracker
-                .min_switch_value(model, self.t + tau, &self.y_trial);
+        let Driver {
+            stepper,
+            sys,
+            t,
+            y,
+            f0,
+            y1,
+            y_trial,
+            ..
+        } = self;
+        let mut trial = |tau: f64| {
+            // a trial step: the result is only used through its switch functions, and kept
+            // in y1 when it lands past the crossing (it is then the bracket's new end)
+            let _ = stepper.step(sys, *t, y, f0, tau, y_trial);
+            let g = sys.tracker.min_switch_value(model, *t + tau, y_trial);
             if g < 0.0 {
-                hi = tau;
-                g_hi = g;
-                std::mem::swap(&mut self.y1, &mut self.y_trial);
-                if side == 1 {
-                    g_lo *= 0.5;
-                }
-                side = 1;
-            } else {
-                lo = tau;
-                g_lo = g;
-                if side == -1 {
-                    g_hi *= 0.5;
-                }
-                side = -1;
+                std::mem::swap(y1, y_trial);
             }
-        }
-        hi
+            g
+        };
+        illinois(&mut trial, (0.0, g_lo), (h, g_hi), tol)
     }
 
     /// Step-size factor from a scaled error estimate (1 = at tolerance), in `[0.2, 5]`.

@@ -122,3 +122,42 @@ impl ContactTracker {
         switched
     }
 }
+
+/// A crossing of a switch function inside `[lo, hi]`, by Illinois (regula falsi with
+/// halving): `p(lo) = p_lo >= 0 > p(hi) = p_hi` on entry; returns the end of the final
+/// bracket where `p < 0`, within `tol` of the crossing. Every point `p` is called at that
+/// turns out negative becomes the new `hi` (callers keep the state they computed there).
+pub(crate) fn illinois(
+    p: &mut dyn FnMut(f64) -> f64,
+    (mut lo, mut p_lo): (f64, f64),
+    (mut hi, mut p_hi): (f64, f64),
+    tol: f64,
+) -> f64 {
+    let mut side = 0i8;
+    for _ in 0..200 {
+        if hi - lo <= tol {
+            break;
+        }
+        let mut x = hi - p_hi * (hi - lo) / (p_hi - p_lo);
+        if !(x > lo && x < hi) {
+            x = 0.5 * (lo + hi);
+        }
+        let v = p(x);
+        if v < 0.0 {
+            hi = x;
+            p_hi = v;
+            if side == 1 {
+                p_lo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = x;
+            p_lo = v;
+            if side == -1 {
+                p_hi *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    hi
+}

@@ -22,6 +22,7 @@
 //!
 //! Hand-written: no ODE crate offers exponential stepping with state events.
 
+use super::events::illinois;
 use super::{ContactTracker, Observer, Progress, RunStats, SampleGrid, Settings, SimError};
 use crate::contact::ContactState;
 use crate::model::Model;
@@ -62,9 +63,9 @@ pub fn lti_obstacle(params: &ModelParams) -> Option<String> {
         Drive::Force(p) if !piecewise_constant(p) => {
             Some("the drive force is not piecewise constant".into())
         }
-        Drive::Force(_) if params.contact_points > MAX_CONTACTS => Some(format!(
-            "more than {MAX_CONTACTS} contact points per overlap"
-        )),
+        Drive::Force(_) if params.contact_points * (params.sections.len() - 1) > MAX_CONTACTS => {
+            Some(format!("more than {MAX_CONTACTS} contact points in all"))
+        }
         Drive::Force(_) => None,
     }
 }
@@ -87,6 +88,8 @@ struct Branch {
     gamma: DVector<f64>,
     /// Largest real part of the eigenvalues of `A` (1/s): positive means a growing mode.
     growth: f64,
+    /// Spectral radius of `A` (rad/s).
+    omega: f64,
 }
 
 /// A switch function as a linear functional of the state: `sign xi_c + offset` (m).
@@ -381,6 +384,7 @@ impl ExactRun<'_> {
             e,
             h,
             growth,
+            omega,
         })
     }
 
@@ -413,7 +417,7 @@ impl ExactRun<'_> {
         Err(SimError::Settings(format!(
             "method exact: the Taylor series of a partial step of {tau:.3e} s did not converge \
              in {MAX_TAYLOR_TERMS} terms (spectral radius {:.3e} rad/s)",
-            1.0 / b.h * STEP_OMEGA
+            b.omega
         )))
     }
 
@@ -461,16 +465,18 @@ impl ExactRun<'_> {
         for i in 0..self.functionals.len() {
             let f = self.functionals[i];
             self.switch_polynomial(f);
-            let p = |x: f64| horner(&self.coefficients[..self.taylor_len], x);
+            let mut p = |x: f64| horner(&self.coefficients[..self.taylor_len], x);
             let limit = best.unwrap_or(tau);
-            let mut lo = 0.0;
+            let (mut lo, mut p_lo) = (0.0, p(0.0).max(0.0));
             for s in 1..=SCAN_POINTS {
                 let hi = limit * s as f64 / SCAN_POINTS as f64;
-                if p(hi) < 0.0 {
-                    best = Some(illinois(&p, lo, hi, 4.0 * f64::EPSILON * t.abs().max(1.0)));
+                let p_hi = p(hi);
+                if p_hi < 0.0 {
+                    let tol = 4.0 * f64::EPSILON * t.abs().max(1.0);
+                    best = Some(illinois(&mut p, (lo, p_lo), (hi, p_hi), tol));
                     break;
                 }
-                lo = hi;
+                (lo, p_lo) = (hi, p_hi);
             }
         }
         let Some(mut tau_hi) = best else {
@@ -581,37 +587,4 @@ fn hermite_dips(f0: f64, s0: f64, f1: f64, s1: f64) -> bool {
 
 fn horner(c: &[f64], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, &cj| acc * x + cj)
-}
-
-/// Root of `p` in `[lo, hi]` with `p(lo) >= 0 > p(hi)`, to within `tol`; returns the end where
-/// `p < 0`.
-fn illinois(p: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
-    let (mut p_lo, mut p_hi) = (p(lo).max(0.0), p(hi));
-    let mut side = 0i8;
-    for _ in 0..200 {
-        if hi - lo <= tol {
-            break;
-        }
-        let mut x = hi - p_hi * (hi - lo) / (p_hi - p_lo);
-        if !(x > lo && x < hi) {
-            x = 0.5 * (lo + hi);
-        }
-        let v = p(x);
-        if v < 0.0 {
-            hi = x;
-            p_hi = v;
-            if side == 1 {
-                p_lo *= 0.5;
-            }
-            side = 1;
-        } else {
-            lo = x;
-            p_lo = v;
-            if side == -1 {
-                p_hi *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    hi
 }

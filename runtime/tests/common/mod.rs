@@ -3,7 +3,8 @@
 
 use nalgebra::{DMatrix, DVector};
 use telescopic_runtime::{
-    ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, SectionParams,
+    ContactLaw, Drive, ForceFlow, Method, Model, ModelParams, Profile, RunStats, SectionParams,
+    Settings, SimError, TimeSpan, simulate,
 };
 
 /// A section of the paper's test rig (1.35 m, rhoA = 7.85 kg/m, EI = 1743 N m^2).
@@ -115,4 +116,48 @@ pub fn tip_rel(model: &dyn Model, y: &[f64]) -> f64 {
     let ydot = vec![0.0; y.len()];
     model.outputs(0.0, y, &ydot, &mut out);
     out[1]
+}
+
+/// The span `[0, end]` s sampled every `sample` s.
+pub fn span(end: f64, sample: f64) -> TimeSpan {
+    TimeSpan {
+        start: 0.0,
+        end,
+        sample,
+    }
+}
+
+/// `(t, y)` at every sample.
+pub type Samples = Vec<(f64, Vec<f64>)>;
+
+/// Runs and collects `(t, y)` at every sample, with the run's statistics.
+pub fn run_counted(
+    model: &dyn Model,
+    y0: &[f64],
+    span: &TimeSpan,
+    method: Method,
+    settings: &Settings,
+) -> Result<(Samples, RunStats), SimError> {
+    let mut samples = Vec::new();
+    let stats = simulate(
+        model,
+        y0,
+        span,
+        method,
+        settings,
+        &mut |t, y, _| samples.push((t, y.to_vec())),
+        None,
+    )?;
+    Ok((samples, stats))
+}
+
+/// Runs and collects `(t, y)` at every sample.
+pub fn run(
+    model: &dyn Model,
+    y0: &[f64],
+    span: &TimeSpan,
+    method: Method,
+    settings: &Settings,
+) -> Result<Samples, SimError> {
+    run_counted(model, y0, span, method, settings).map(|(samples, _)| samples)
 }
