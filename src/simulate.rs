@@ -8,8 +8,8 @@ use clap::Args;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use telescopic_runtime::{
-    Method, Model, ModelParams, RunStats, Scene, Settings, auto_method, model::rest_state,
-    simulate, specializations,
+    Method, Model, RunStats, Scene, Settings, auto_plan, model::rest_state, simulate,
+    specializations,
 };
 
 /// Options of `telescopic simulate`.
@@ -61,10 +61,12 @@ pub struct Trajectory {
 /// and the settings, from the command line.
 pub fn settings_from(
     args: &SimulateArgs,
-    params: &ModelParams,
+    scene: &Scene,
 ) -> anyhow::Result<(Method, String, Settings)> {
+    let mut settings = Settings::default();
     let (method, how) = if args.method == "auto" {
-        let (m, why) = auto_method(params);
+        let (m, exact_from, why) = auto_plan(&scene.params, &scene.time);
+        settings.exact_from = exact_from;
         (m, format!("auto: {why}; "))
     } else {
         (
@@ -72,7 +74,6 @@ pub fn settings_from(
             String::new(),
         )
     };
-    let mut settings = Settings::default();
     if let Some(r) = args.rtol {
         settings.rtol = r;
     }
@@ -225,6 +226,7 @@ pub fn write_atomically(
 /// specializations in use, and what the run did.
 pub fn summary(
     scene: &Scene,
+    model: &dyn Model,
     model_word: &str,
     (method, how): (Method, &str),
     settings: &Settings,
@@ -232,6 +234,10 @@ pub fn summary(
 ) -> String {
     let s = &traj.stats;
     let tol = match method.step_control() {
+        telescopic_runtime::integrate::StepControl::Adaptive if s.exponentials > 0 => format!(
+            "rtol {:e}, atol {:e}; {} matrix exponentials",
+            settings.rtol, settings.atol, s.exponentials
+        ),
         telescopic_runtime::integrate::StepControl::Adaptive => {
             format!("rtol {:e}, atol {:e}", settings.rtol, settings.atol)
         }
@@ -242,7 +248,7 @@ pub fn summary(
             format!("{} matrix exponentials", s.exponentials)
         }
     };
-    let special = specializations(&scene.params);
+    let special = specializations(model, &scene.time);
     let special = if special.is_empty() {
         "none".to_string()
     } else {
@@ -273,13 +279,20 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         crate::plot::check_picture_path("--plot", p)?;
     }
     let scene = args.scene.load()?;
-    let (method, how, settings) = settings_from(args, &scene.params)?;
+    let (method, how, settings) = settings_from(args, &scene)?;
     let (model, word) = build_model(&scene.params, args.model)?;
     let traj = run_scene(&scene, model.as_ref(), method, &settings)?;
     write_csv(&traj, args.out.as_deref())?;
     eprintln!(
         "{}",
-        summary(&scene, &word, (method, &how), &settings, &traj)
+        summary(
+            &scene,
+            model.as_ref(),
+            &word,
+            (method, &how),
+            &settings,
+            &traj
+        )
     );
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), traj.rows.len());
@@ -294,12 +307,19 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         let other;
         if let Some(path) = &args.compare {
             other = Scene::load(path, &args.scene.overrides)?;
-            let (method2, how2, _) = settings_from(args, &other.params)?;
+            let (method2, how2, settings2) = settings_from(args, &other)?;
             let (model2, word2) = build_model(&other.params, args.model)?;
-            compared = run_scene(&other, model2.as_ref(), method2, &settings)?;
+            compared = run_scene(&other, model2.as_ref(), method2, &settings2)?;
             eprintln!(
                 "{}",
-                summary(&other, &word2, (method2, &how2), &settings, &compared)
+                summary(
+                    &other,
+                    model2.as_ref(),
+                    &word2,
+                    (method2, &how2),
+                    &settings2,
+                    &compared
+                )
             );
             curves.push(crate::plot::Curve {
                 label: &other.name,

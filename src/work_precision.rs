@@ -17,7 +17,7 @@ use plotters::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
 use telescopic_runtime::integrate::stability::stability_report;
-use telescopic_runtime::{Method, Model, Scene, Settings};
+use telescopic_runtime::{Method, Model, Scene, Settings, auto_plan};
 
 /// Options of `telescopic work-precision`.
 #[derive(Debug, Args)]
@@ -25,11 +25,12 @@ pub struct WorkPrecisionArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Methods to compare, comma-separated (`exact` is skipped, with a note, on a scene that
-    /// is not linear and time-invariant between contact switches).
+    /// is not linear and time-invariant between contact switches; `auto` is simulate's
+    /// default, e.g. dopri5 while the positions move and exact once they rest).
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "exact,dopri5,dop853,esdirk,bdf,galpha,rk4,verlet"
+        default_value = "exact,auto,dopri5,dop853,esdirk,bdf,galpha,rk4,verlet"
     )]
     pub methods: Vec<String>,
     /// Chart file (SVG or PNG by extension).
@@ -193,11 +194,6 @@ fn sweep(
 
 /// Runs `telescopic work-precision`.
 pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
-    let methods: Vec<Method> = args
-        .methods
-        .iter()
-        .map(|m| Method::from_name(m.trim()).map_err(anyhow::Error::msg))
-        .collect::<Result<_, _>>()?;
     if args.repeat == 0 {
         bail!("--repeat must be at least 1");
     }
@@ -205,6 +201,20 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         crate::plot::check_picture_path("--out", p)?;
     }
     let scene = args.scene.load()?;
+    // (label, method, exact stepping from): `auto` is what `simulate` runs by default
+    let methods: Vec<(String, Method, Option<f64>)> = args
+        .methods
+        .iter()
+        .map(|m| match m.trim() {
+            "auto" => {
+                let (method, exact_from, _) = auto_plan(&scene.params, &scene.time);
+                Ok(("auto".to_string(), method, exact_from))
+            }
+            name => Method::from_name(name)
+                .map(|method| (method.name(), method, None))
+                .map_err(anyhow::Error::msg),
+        })
+        .collect::<anyhow::Result<_>>()?;
     let (model, word) = build_model(&scene.params, args.model)?;
     eprintln!(
         "{} on the {word}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
@@ -232,14 +242,21 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         100.0 * floor[3]
     );
     let mut points = Vec::new();
-    for &method in &methods {
+    for (label, method, exact_from) in &methods {
+        let (method, exact_from) = (*method, *exact_from);
+        let exact_listed = methods.iter().any(|(l, _, _)| l == "exact");
+        if label == "auto" && method == Method::Exact && exact_from.is_none() && exact_listed {
+            eprintln!("auto: the same runs as exact on this scene");
+            continue;
+        }
         if method == Method::Exact
             && let Some(why) = telescopic_runtime::integrate::exact::lti_obstacle(&scene.params)
         {
             eprintln!("exact: skipped ({why})");
             continue;
         }
-        for (setting, settings) in sweep(method, model.as_ref(), &scene)? {
+        for (setting, mut settings) in sweep(method, model.as_ref(), &scene)? {
+            settings.exact_from = exact_from;
             let mut walls = Vec::new();
             let mut last = None;
             for _ in 0..args.repeat {
@@ -265,7 +282,7 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
                         agrees_until,
                     ] = measure(&traj, &reference, horizon);
                     Point {
-                        method: method.name(),
+                        method: label.clone(),
                         setting,
                         steps: traj.stats.steps,
                         rhs_evals: traj.stats.rhs_evals,
@@ -280,7 +297,7 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
                     }
                 }
                 Err(e) => Point {
-                    method: method.name(),
+                    method: label.clone(),
                     setting,
                     steps: 0,
                     rhs_evals: 0,

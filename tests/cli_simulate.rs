@@ -94,7 +94,51 @@ fn auto_takes_dopri5_where_positions_move_and_says_why() {
         err.contains("method dopri5 (auto: not exact: the telescopic position a_2 moves"),
         "{err}"
     );
-    assert!(err.contains("specializations: none"), "{err}");
+    assert!(
+        err.contains("specializations: moving positions: contact vectors tabulated on [0, 12] s"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("exact from"),
+        "the positions move beyond the span: {err}"
+    );
+    // positions at rest from 0.02 s: auto hands the rest to exact stepping, on one sample grid
+    let dir = scratch("auto-tail");
+    let csv = dir.join("tail.csv");
+    let out = telescopic(&[
+        "simulate",
+        "scenes/case-study.toml",
+        "--set",
+        "time.end=0.05",
+        "--set",
+        "telescope.positions=[{ kind = \"smoothstep\", start = 0.0, end = 0.02, from = 0.35, to = 0.36 }]",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "method dopri5 (auto: dopri5 while the positions move, exact from t = 0.02 s on"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("1 matrix exponentials"), "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let times: Vec<f64> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(
+        times.len(),
+        51,
+        "one row per sample, the one at 0.02 s once"
+    );
+    for (k, t) in times.iter().enumerate() {
+        assert!((t - 1e-3 * k as f64).abs() < 1e-12, "row {k}: t = {t}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
     // asked for explicitly, exact refuses the scene with the reason
     fails_with(
         &["simulate", "scenes/case-study.toml", "--method", "exact"],

@@ -537,15 +537,50 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
     } else {
         quote!(let positions: [(f64, f64); 0] = [];)
     };
-    // fixed positions: contact vectors once per scene (constant profiles, so any time will do)
-    let (fixed_field, fixed_init, fixed_finish) = if fixed {
+    // fixed positions: contact vectors once per scene (constant profiles, so any time will do);
+    // moving positions: a table in time, built once per scene (runtime::ContactTable)
+    let (geometry_field, geometry_init, geometry_finish, geometry_lookup) = if fixed {
         (
             quote!(fixed_geometry: Geometry,),
             quote!(fixed_geometry: Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] },),
-            quote!(let mut model = model; model.fixed_geometry = model.geometry(0.0);),
+            quote!(let mut model = model; model.fixed_geometry = model.exact_geometry(0.0);),
+            quote!(),
         )
     } else {
-        (quote!(), quote!(), quote!())
+        (
+            quote!(contact_table: Option<telescopic_runtime::ContactTable>,),
+            quote!(contact_table: None,),
+            quote! {
+                let mut model = model;
+                model.contact_table = telescopic_runtime::ContactTable::build(&model.params.positions, CONTACTS * DOF, |t, g, gd| {
+                    let geo = model.exact_geometry(t);
+                    g.copy_from_slice(geo.g.as_flattened());
+                    gd.copy_from_slice(geo.gd.as_flattened());
+                });
+            },
+            quote! {
+                /// Contact vectors at time `t` (s): interpolated from the table while positions
+                /// move, exact without a table.
+                #[inline]
+                fn geometry(&self, t: f64) -> Geometry {
+                    match &self.contact_table {
+                        Some(table) => {
+                            let mut geo = Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] };
+                            table.interpolate(t, geo.g.as_flattened_mut(), geo.gd.as_flattened_mut());
+                            geo
+                        }
+                        None => self.exact_geometry(t),
+                    }
+                }
+            },
+        )
+    };
+    let table_accessor = if fixed {
+        quote!()
+    } else {
+        quote! {
+            fn contact_table(&self) -> Option<&telescopic_runtime::ContactTable> { self.contact_table.as_ref() }
+        }
     };
     let geometry_source = if fixed {
         quote!(let geo = &self.fixed_geometry;)
@@ -661,7 +696,7 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
             mass_col0: [f64; DOF],
             lengths: [f64; SECTIONS],
             length_factors: Vec<Vec<f64>>,
-            #fixed_field
+            #geometry_field
             tip: [f64; DOF],
             top1: [f64; DOF],
         }
@@ -711,22 +746,24 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
                     mass_col0,
                     lengths,
                     length_factors,
-                    #fixed_init
+                    #geometry_init
                     tip,
                     top1,
                 };
-                #fixed_finish
+                #geometry_finish
                 Ok(model)
             }
 
-            /// Contact vectors at time `t` (s).
+            /// Contact vectors at time `t` (s), evaluated from the shape functions.
             #[allow(unused_variables, unused_mut)]
-            fn geometry(&self, t: f64) -> Geometry {
+            fn exact_geometry(&self, t: f64) -> Geometry {
                 #positions_at
                 let mut geo = Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] };
                 #(#geo_stmts)*
                 geo
             }
+
+            #geometry_lookup
 
             fn drive_input(&self, t: f64) -> f64 {
                 match &self.params.drive {
@@ -758,6 +795,8 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
             fn mass_matrix(&self) -> &DMatrix<f64> { &self.mass }
             fn stiffness_matrix(&self) -> &DMatrix<f64> { &self.stiffness }
             fn drive_vector(&self) -> &DVector<f64> { &self.drive }
+
+            #table_accessor
 
             fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
                 #geometry_source

@@ -1,12 +1,13 @@
 //! Whole scenes on one core, on their generated models, outputs computed at every sample
-//! (as for the CSV, without writing it): the performance record. Run with
+//! (as for the CSV, without writing it): the performance record. Each iteration
+//! prepares the model too (M^-1, and for moving positions the contact-vector table). Run with
 //! `cargo bench -p telescopic-generated --bench whole_scene`; the README reports the medians
 //! and their ratios, measured in one run.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::path::Path;
-use telescopic_runtime::{Method, Scene, Settings, model::rest_state, simulate};
+use telescopic_runtime::{Method, Scene, Settings, auto_plan, model::rest_state, simulate};
 
 /// Scene file, method, settings.
 fn cases() -> Vec<(&'static str, &'static str, Settings)> {
@@ -20,6 +21,8 @@ fn cases() -> Vec<(&'static str, &'static str, Settings)> {
         ("adams-clearance.toml", "dopri5", rtol(1e-7)),
         ("adams-clearance.toml", "dop853", rtol(1e-6)),
         ("adams-clearance.toml", "esdirk", rtol(1e-8)),
+        ("case-study.toml", "auto", rtol(1e-7)),
+        ("case-study.toml", "dop853", rtol(1e-5)),
         ("case-study.toml", "dop853", rtol(1e-6)),
         ("case-study.toml", "dopri5", rtol(1e-8)),
     ]
@@ -34,15 +37,26 @@ fn whole_scene(c: &mut Criterion) {
             .join("scenes")
             .join(file);
         let scene = Scene::load(&path, &[]).expect("shipped scene");
-        let model = telescopic_generated::prepare(&scene.params)
-            .expect("generated")
-            .expect("prepared");
-        let method = Method::from_name(method_name).expect("method");
-        let mut out = vec![0.0; model.output_names().len()];
-        let y0 = rest_state(model.as_ref(), scene.time.start);
-        let label = format!("{}/{method_name}", scene.name);
+        let (method, settings) = if method_name == "auto" {
+            let (method, exact_from, _) = auto_plan(&scene.params, &scene.time);
+            (
+                method,
+                Settings {
+                    exact_from,
+                    ..settings
+                },
+            )
+        } else {
+            (Method::from_name(method_name).expect("method"), settings)
+        };
+        let label = format!("{}/{method_name}/rtol{:e}", scene.name, settings.rtol);
         group.bench_function(label, |b| {
             b.iter(|| {
+                let model = telescopic_generated::prepare(&scene.params)
+                    .expect("generated")
+                    .expect("prepared");
+                let mut out = vec![0.0; model.output_names().len()];
+                let y0 = rest_state(model.as_ref(), scene.time.start);
                 let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
                     model.outputs(t, y, ydot, &mut out);
                     black_box(&out);

@@ -83,6 +83,11 @@ impl Rng {
     }
 }
 
+/// Agreement of tabulated and exact contact-vector rates between table nodes: the table's
+/// `GD_TOLERANCE` of its largest entry, with a factor 10 for a time whose own largest entry is
+/// smaller.
+const TABLE_REL: f64 = 10.0 * telescopic_runtime::contact_table::GD_TOLERANCE;
+
 fn assert_close(what: &str, a: &DMatrix<f64>, b: &DMatrix<f64>, rel: f64) {
     let scale = b.abs().max().max(a.abs().max());
     let diff = (a - b).abs().max();
@@ -138,14 +143,25 @@ fn generated_models_agree_with_the_assembled_model() {
                 assembled.drive_vector(),
                 "{key}: b"
             );
-            for t in [0.0, 2.7, 6.1, 11.5] {
+            // moving positions: the generated model interpolates its contact vectors from a
+            // table (telescopic_runtime::ContactTable), exact at the nodes (compared to 1e-12
+            // there) and within the table's tolerances between them
+            let times = [0.0, 2.7, 6.1, 11.5];
+            let mut checks: Vec<(f64, f64)> = times.iter().map(|&t| (t, 1e-12)).collect();
+            if let Some(table) = generated.contact_table() {
+                let (start, _) = table.span();
+                let node = |t: f64| start + ((t - start) / table.step()).round() * table.step();
+                checks = times.iter().map(|&t| (node(t), 1e-12)).collect();
+                checks.extend(times.iter().map(|&t| (t, TABLE_REL)));
+            }
+            for (t, rel) in checks {
                 let (mut g1, mut gd1) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
                 let (mut g2, mut gd2) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
                 generated.contact_vectors(t, &mut g1, &mut gd1);
                 assembled.contact_vectors(t, &mut g2, &mut gd2);
-                assert_close(&format!("{key} t = {t}: g"), &g1, &g2, 1e-12);
+                assert_close(&format!("{key} t = {t}: g"), &g1, &g2, rel.min(1e-11));
                 if gd2.abs().max() > 0.0 {
-                    assert_close(&format!("{key} t = {t}: gdot"), &gd1, &gd2, 1e-12);
+                    assert_close(&format!("{key} t = {t}: gdot"), &gd1, &gd2, rel);
                 } else {
                     assert_eq!(gd1.abs().max(), 0.0, "{key}: fixed positions have no gdot");
                 }
@@ -176,11 +192,14 @@ fn generated_models_agree_with_the_assembled_model() {
                 let (mut o1, mut o2) = (vec![0.0; names.len()], vec![0.0; names.len()]);
                 generated.outputs(t, &y, &ydot, &mut o1);
                 assembled.outputs(t, &y, &ydot, &mut o2);
+                // between table nodes a contact force c (g . z) carries the 1e-12 of g, and
+                // more where g . z is a small difference of larger terms (measured 3e-12)
+                let output_rel = if rel > 1e-12 { 1e-10 } else { 1e-12 };
                 for (i, name) in names.iter().enumerate() {
                     let scale = o2[i].abs().max(1e-9);
                     assert!(
                         (o1[i] - o2[i]).abs()
-                            <= 1e-12
+                            <= output_rel
                                 * scale.max(o2.iter().fold(0.0_f64, |m, v| m.max(v.abs())) * 1e-3),
                         "{key}: output {name}: {} vs {}",
                         o1[i],

@@ -23,6 +23,7 @@
 pub mod assembled;
 pub mod check;
 pub mod contact;
+pub mod contact_table;
 pub mod eigen;
 pub mod integrate;
 pub mod layout;
@@ -38,6 +39,7 @@ pub mod specialize;
 
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use contact::{ContactForce, ContactLaw, ContactState};
+pub use contact_table::ContactTable;
 pub use eigen::{EigenError, ModalAnalysis, modal_analysis, sample_shape};
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};
@@ -46,4 +48,4 @@ pub use params::{Drive, ForceFlow, ModelParams, SectionParams};
 pub use profile::{Profile, ShapedProfile};
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
 pub use shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction, mode_root};
-pub use specialize::{auto_method, specializations};
+pub use specialize::{auto_method, auto_plan, specializations};

@@ -52,6 +52,12 @@ pub trait Model {
     /// derivative; both `dof x contact_count`. `xi_c = g_c . z`, `xi_dot_c = g_c . zd + gdot_c . z`.
     fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>);
 
+    /// The table the model interpolates its contact vectors from when positions move
+    /// ([`crate::ContactTable`]); `None` when it evaluates them exactly.
+    fn contact_table(&self) -> Option<&crate::ContactTable> {
+        None
+    }
+
     /// Gaps `xi_c` (m) and gap rates `xi_dot_c` (m/s) of every contact at time `t`, state `y`.
     fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]);
 

@@ -3,14 +3,27 @@
 //! stepping.
 
 use crate::integrate::Method;
-use crate::integrate::exact::lti_obstacle;
+use crate::integrate::exact::{exact_tail_start, lti_obstacle};
+use crate::model::Model;
 use crate::params::{ForceFlow, ModelParams};
+use crate::scene::TimeSpan;
 
-/// The specializations that apply to `params`, one phrase each.
-pub fn specializations(params: &ModelParams) -> Vec<String> {
+/// The specializations that apply to `model` over `span`, one phrase each.
+pub fn specializations(model: &dyn Model, span: &TimeSpan) -> Vec<String> {
+    let params = model.params();
     let mut found = Vec::new();
     if params.positions.iter().all(|p| p.is_constant()) {
         found.push("fixed positions: contact vectors are constants, computed once".to_string());
+    }
+    if let Some(table) = model.contact_table() {
+        let (start, end) = table.span();
+        let (error_g, error_gd) = table.checked_errors();
+        found.push(format!(
+            "moving positions: contact vectors tabulated on [{start}, {end}] s ({} intervals \
+             of {:.3} ms; checked error {error_g:.1e} of g, {error_gd:.1e} of its rate)",
+            table.intervals(),
+            1e3 * table.step()
+        ));
     }
     if params.contact.is_linear() {
         found.push("l_S = 0: linear contact law, no switch events".to_string());
@@ -30,7 +43,32 @@ pub fn specializations(params: &ModelParams) -> Vec<String> {
                 .to_string(),
         );
     }
+    if let Some(t) = exact_tail_start(params, span) {
+        found.push(format!(
+            "positions at rest from t = {t} s: linear time-invariant from there, exact \
+             stepping of the rest (method auto)"
+        ));
+    }
     found
+}
+
+/// What method `auto` runs on `span`: the method, the time from which exact stepping takes
+/// over when the positions come to rest inside the span (`None`: one method throughout), and
+/// why.
+pub fn auto_plan(params: &ModelParams, span: &TimeSpan) -> (Method, Option<f64>, String) {
+    let (method, why) = auto_method(params);
+    match exact_tail_start(params, span) {
+        // exact from the start needs no tail; anything but moving positions rules one out
+        Some(t) if method != Method::Exact => (
+            method,
+            Some(t),
+            format!(
+                "{} while the positions move, exact from t = {t} s on (positions at rest)",
+                method.name()
+            ),
+        ),
+        _ => (method, None, why),
+    }
 }
 
 /// The method `auto` stands for: `exact` for a scene that is linear and time-invariant

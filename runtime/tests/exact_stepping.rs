@@ -186,3 +186,112 @@ fn exact_method_refuses_a_scene_that_is_not_time_invariant() {
         "{message}"
     );
 }
+
+/// `params` with a_2 moving from 0.8 m to 1.15 m on `[0, rest]` s, at rest after.
+fn moving_until(mut params: ModelParams, rest: f64) -> ModelParams {
+    params.positions = vec![Profile::Shaped(
+        telescopic_runtime::profile::ShapedProfile::Smoothstep {
+            start: 0.0,
+            end: rest,
+            from: 0.8,
+            to: 1.15,
+        },
+    )];
+    params
+}
+
+/// Worst `|tip_rel|` difference (m) of two runs on the same sample times (asserted equal).
+fn worst_tip_difference(model: &dyn Model, a: &[(f64, Vec<f64>)], b: &[(f64, Vec<f64>)]) -> f64 {
+    assert_eq!(a.len(), b.len(), "sample counts");
+    a.iter()
+        .zip(b)
+        .map(|((ta, ya), (tb, yb))| {
+            assert_eq!(ta, tb, "sample times");
+            (tip_rel(model, ya) - tip_rel(model, yb)).abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn exact_stepping_takes_over_when_the_positions_come_to_rest() {
+    use telescopic_runtime::integrate::exact::exact_tail_start;
+    let tight = |rtol: f64| Settings {
+        rtol,
+        atol: 1e-3 * rtol,
+        ..Settings::default()
+    };
+    // l_S = 0: no events, no chaos, so the runs can agree pointwise over the whole span
+    let linear = moving_until(rig([4, 4]), 0.5);
+    let whole = span(1.0, 1e-3);
+    assert_eq!(exact_tail_start(&linear, &whole), Some(0.5));
+    assert_eq!(
+        exact_tail_start(&linear, &span(0.5, 1e-3)),
+        None,
+        "nothing left to step"
+    );
+    assert_eq!(
+        exact_tail_start(&rig([4, 4]), &whole),
+        None,
+        "exact from the start"
+    );
+    // rounded up to the sample grid
+    assert_eq!(
+        exact_tail_start(&moving_until(rig([4, 4]), 0.4995), &whole),
+        Some(0.5)
+    );
+    // and the clearance law, inside adams-clearance's predictability horizon (~0.4 s)
+    let clearance = moving_until(adams_clearance(), 0.1);
+    let window = span(0.3, 1e-3);
+    assert_eq!(exact_tail_start(&clearance, &window), Some(0.1));
+    for (params, span, limit) in [(linear, whole, 1e-9), (clearance, window, 1e-8)] {
+        let model = AssembledModel::new(&params).unwrap();
+        let y0 = vec![0.0; 2 * model.dof()];
+        let t_exact = exact_tail_start(&params, &span).unwrap();
+        let hybrid = Settings {
+            exact_from: Some(t_exact),
+            ..tight(1e-11)
+        };
+        let (mixed, mixed_stats) = run(&model, &y0, &span, Method::Dop853, &hybrid).unwrap();
+        let (reference, reference_stats) =
+            run(&model, &y0, &span, Method::Dop853, &tight(1e-12)).unwrap();
+        let worst = worst_tip_difference(&model, &mixed, &reference);
+        eprintln!(
+            "dop853 then exact from {t_exact} s vs dop853 (rtol 1e-12) on [0, {}] s (l_S = {} m): \
+             worst |tip_rel| difference {worst:.2e} m, switches {} vs {}, {} exponentials",
+            span.end,
+            params.contact.clearance,
+            mixed_stats.switches,
+            reference_stats.switches,
+            mixed_stats.exponentials
+        );
+        assert!(
+            mixed_stats.exponentials >= 1,
+            "the tail was stepped exactly"
+        );
+        assert_eq!(mixed_stats.switches, reference_stats.switches);
+        assert!(worst < limit, "tip_rel differs by {worst:e} m");
+    }
+}
+
+#[test]
+fn exact_stepping_from_a_time_off_the_sample_grid_is_refused() {
+    let params = moving_until(rig([3, 3]), 0.5);
+    let model = AssembledModel::new(&params).unwrap();
+    let y0 = vec![0.0; 2 * model.dof()];
+    let settings = Settings {
+        exact_from: Some(0.5005),
+        ..Settings::default()
+    };
+    let err = run(&model, &y0, &span(1.0, 1e-3), Method::Dopri5, &settings).unwrap_err();
+    assert!(
+        matches!(err, SimError::Settings(ref m) if m.contains("sample time")),
+        "{err}"
+    );
+    // and from a time at which the positions still move, exact stepping refuses as a whole
+    let settings = Settings {
+        exact_from: Some(0.25),
+        ..Settings::default()
+    };
+    let err = run(&model, &y0, &span(1.0, 1e-3), Method::Dopri5, &settings).unwrap_err();
+    assert!(err.to_string().contains("a_2 moves"), "{err}");
+}

@@ -178,6 +178,11 @@ impl<'m> Driver<'m> {
         observe(self.t, &self.y, &self.f0);
         self.next_sample = 1;
         let mut newton_failures = 0u32;
+        // after a rejection the next step may not grow (Hairer's dopri5 rule: at the
+        // stability boundary growing again at once is rejected again)
+        let mut just_rejected = false;
+        // the last accepted step's error for the PI controller (Hairer's start value)
+        let mut err_old = 1e-4;
         let mut next_break = 0usize;
         let mut last_report = self.t;
         while self.t < end {
@@ -249,6 +254,7 @@ impl<'m> Driver<'m> {
                         });
                     }
                     self.h = h / 4.0;
+                    just_rejected = true;
                     continue;
                 }
             };
@@ -256,6 +262,7 @@ impl<'m> Driver<'m> {
             if self.adaptive() && (!finite || err > 1.0) {
                 self.sys.stats.rejected += 1;
                 self.h = h * if finite { self.step_factor(err) } else { 0.1 };
+                just_rejected = true;
                 if self.h < h_min {
                     return Err(SimError::StepUnderflow {
                         t: self.t,
@@ -317,7 +324,16 @@ impl<'m> Driver<'m> {
                     h
                 };
                 let control = self.stepper.control_error(err);
-                self.h = base * self.step_factor(control);
+                let factor = self.pi_factor(control, err_old);
+                // a restart forgets the history, as at the start
+                err_old = if switched || at_break { 1e-4 } else { control };
+                self.h = base
+                    * if just_rejected {
+                        factor.min(1.0)
+                    } else {
+                        factor
+                    };
+                just_rejected = false;
             }
             if let Some(p) = progress.as_mut()
                 && self.t - last_report >= 0.01 * (end - self.span.start)
@@ -369,11 +385,20 @@ impl<'m> Driver<'m> {
 
     /// Step-size factor from a scaled error estimate (1 = at tolerance), in `[0.2, 5]`.
     fn step_factor(&self, err: f64) -> f64 {
+        self.pi_factor(err, 1.0)
+    }
+
+    /// Step-size factor of a PI controller (Gustafsson; Hairer's dopri5 form
+    /// `0.9 err^-(1/(p+1) - 0.75 beta) err_old^beta`) from this step's error and the last
+    /// accepted one's (both scaled, 1 = at tolerance, `err_old` at least 1e-4).
+    fn pi_factor(&self, err: f64, err_old: f64) -> f64 {
         let growth = self.stepper.growth_limit();
         if err <= 0.0 {
             return growth;
         }
-        (0.9 * err.powf(-1.0 / (self.stepper.order() as f64 + 1.0))).clamp(0.2, growth)
+        let beta = self.stepper.pi_beta();
+        let alpha = 1.0 / (self.stepper.order() as f64 + 1.0) - 0.75 * beta;
+        (0.9 * err.powf(-alpha) * err_old.max(1e-4).powf(beta)).clamp(0.2, growth)
     }
 
     /// Samples at output times in `(t, t1]` from the cubic Hermite interpolant of the step.

@@ -49,7 +49,14 @@ const MAX_CONTACTS: usize = 80;
 /// Why `params` cannot be stepped exactly, or `None` when it can: positions must be fixed
 /// and the drive a piecewise-constant force.
 pub fn lti_obstacle(params: &ModelParams) -> Option<String> {
-    if let Some(k) = params.positions.iter().position(|p| !p.is_constant()) {
+    lti_obstacle_from(params, f64::NEG_INFINITY)
+}
+
+/// Why `params` cannot be stepped exactly from time `t0` (s) on, or `None` when it can: as
+/// [`lti_obstacle`], but a position may move before `t0` (every profile holds its last value
+/// after its last breakpoint).
+pub fn lti_obstacle_from(params: &ModelParams, t0: f64) -> Option<String> {
+    if let Some(k) = params.positions.iter().position(|p| moves_after(p, t0)) {
         return Some(format!(
             "the telescopic position a_{} moves, so the contact vectors change in time",
             k + 2
@@ -68,6 +75,27 @@ pub fn lti_obstacle(params: &ModelParams) -> Option<String> {
         }
         Drive::Force(_) => None,
     }
+}
+
+/// True when the profile changes at some time after `t0` (s).
+fn moves_after(p: &Profile, t0: f64) -> bool {
+    !p.is_constant() && p.breakpoints().iter().any(|&b| b > t0)
+}
+
+/// The first sample time of `span` at or after which the scene can be stepped exactly while
+/// it cannot be from the start: the end of the positions' motion, rounded up to the sample
+/// grid. `None` when the whole span is exact, when no such time lies inside the span, or when
+/// something else (a motion drive, a non-piecewise-constant force) stands in the way.
+pub fn exact_tail_start(params: &ModelParams, span: &TimeSpan) -> Option<f64> {
+    lti_obstacle(params)?;
+    let rest = params
+        .positions
+        .iter()
+        .flat_map(|p| p.breakpoints())
+        .fold(span.start, f64::max);
+    let k = ((rest - span.start) / span.sample * (1.0 - 1e-12)).ceil();
+    let t = span.start + k * span.sample;
+    (t > span.start && t < span.end && lti_obstacle_from(params, t).is_none()).then_some(t)
 }
 
 fn piecewise_constant(p: &Profile) -> bool {
@@ -157,7 +185,7 @@ pub(super) fn run(
     mut progress: Option<Progress>,
 ) -> Result<RunStats, SimError> {
     let params = model.params();
-    if let Some(why) = lti_obstacle(params) {
+    if let Some(why) = lti_obstacle_from(params, span.start) {
         return Err(SimError::Settings(format!(
             "method exact needs a scene that is linear and time-invariant between contact \
              switches, but {why}; take dopri5 or another method"

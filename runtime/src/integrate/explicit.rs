@@ -278,12 +278,19 @@ pub struct ExplicitRk {
 
 /// `out = base + h sum_i w_i k_i` (`base` zero when `None`).
 fn combine(out: &mut [f64], base: Option<&[f64]>, h: f64, weights: &[f64], stages: &[Vec<f64>]) {
-    for (j, o) in out.iter_mut().enumerate() {
-        let mut acc = 0.0;
-        for (w, k) in weights.iter().zip(stages) {
-            acc += w * k[j];
+    // stage by stage (contiguous, vectorizes), skipping the tableaus' many zero weights; the
+    // same sums in the same order as weight by weight per entry
+    out.fill(0.0);
+    for (&w, k) in weights.iter().zip(stages) {
+        if w != 0.0 {
+            for (o, &kj) in out.iter_mut().zip(k) {
+                *o += w * kj;
+            }
         }
-        *o = base.map_or(0.0, |b| b[j]) + h * acc;
+    }
+    match base {
+        Some(b) => out.iter_mut().zip(b).for_each(|(o, &bj)| *o = bj + h * *o),
+        None => out.iter_mut().for_each(|o| *o *= h),
     }
 }
 
@@ -348,6 +355,16 @@ impl Stepper for ExplicitRk {
                     0.0
                 })
             }
+        }
+    }
+
+    fn pi_beta(&self) -> f64 {
+        // Hairer's defaults: 0.04 for dopri5 (case-study at rtol 1e-6: rejected steps 45k ->
+        // 34k, rhs evaluations -3 %), 0 for dop853 (measured: -6 % rhs on case-study but +9 %
+        // on adams-clearance with 0.04); fixed-step tableaus have no estimate to control
+        match self.tableau.error {
+            ErrorEstimate::Embedded(_) => 0.04,
+            ErrorEstimate::Dop853 { .. } | ErrorEstimate::None => 0.0,
         }
     }
 

@@ -258,6 +258,10 @@ pub struct Settings {
     pub dt: Option<f64>,
     /// Most steps (accepted and rejected) before giving up.
     pub max_steps: u64,
+    /// From this time (s) on, step exactly ([`Method::Exact`]) whatever the method: for a
+    /// scene whose positions come to rest (see [`exact::exact_tail_start`]). Must be a
+    /// sample time inside the span.
+    pub exact_from: Option<f64>,
 }
 
 impl Default for Settings {
@@ -267,6 +271,7 @@ impl Default for Settings {
             atol: 1e-9,
             dt: None,
             max_steps: 50_000_000,
+            exact_from: None,
         }
     }
 }
@@ -290,6 +295,20 @@ pub struct RunStats {
     pub exponentials: u64,
     /// Wall-clock time of the integration.
     pub wall: Duration,
+}
+
+impl RunStats {
+    /// Adds the counts of `other` (a later part of the same run); wall times add too.
+    pub fn add(&mut self, other: &RunStats) {
+        self.steps += other.steps;
+        self.rejected += other.rejected;
+        self.rhs_evals += other.rhs_evals;
+        self.jacobian_evals += other.jacobian_evals;
+        self.factorizations += other.factorizations;
+        self.switches += other.switches;
+        self.exponentials += other.exponentials;
+        self.wall += other.wall;
+    }
 }
 
 /// Why a run stopped early. Every message names the time, the method and the likely cause.
@@ -458,6 +477,11 @@ pub trait Stepper {
         err
     }
 
+    /// Weight `beta` of the previous error in the PI step controller (0: plain I control).
+    fn pi_beta(&self) -> f64 {
+        0.0
+    }
+
     /// Largest factor by which the step may grow from one step to the next.
     fn growth_limit(&self) -> f64 {
         5.0
@@ -554,12 +578,74 @@ pub fn simulate(
     progress: Option<Progress>,
 ) -> Result<RunStats, SimError> {
     let started = Instant::now();
-    let mut stats = if method == Method::Exact {
-        exact::run(model, y0, span, settings, observe, progress)?
-    } else {
-        Driver::new(model, y0, span, method, settings)?.run(observe, progress)?
+    let mut stats = match settings.exact_from {
+        _ if method == Method::Exact => exact::run(model, y0, span, settings, observe, progress)?,
+        Some(t_exact) => method_then_exact(
+            model, y0, span, method, settings, t_exact, observe, progress,
+        )?,
+        None => Driver::new(model, y0, span, method, settings)?.run(observe, progress)?,
     };
     stats.wall = started.elapsed();
+    Ok(stats)
+}
+
+/// `method` on `[start, t_exact]`, exact stepping on `[t_exact, end]` from the state reached;
+/// one stream of samples on the span's grid (the sample at `t_exact` once).
+#[allow(clippy::too_many_arguments)]
+fn method_then_exact(
+    model: &dyn Model,
+    y0: &[f64],
+    span: &TimeSpan,
+    method: Method,
+    settings: &Settings,
+    t_exact: f64,
+    observe: Observer,
+    mut progress: Option<Progress>,
+) -> Result<RunStats, SimError> {
+    let grid = SampleGrid::new(span);
+    let k_exact = ((t_exact - span.start) / span.sample).round();
+    if !(t_exact > span.start && t_exact < span.end)
+        || (grid.time(k_exact as u64) - t_exact).abs() > 1e-9 * span.sample
+    {
+        return Err(SimError::Settings(format!(
+            "exact stepping from t = {t_exact} s needs a sample time inside ({}, {}) s",
+            span.start, span.end
+        )));
+    }
+    let head = TimeSpan {
+        end: t_exact,
+        ..*span
+    };
+    let tail = TimeSpan {
+        start: t_exact,
+        ..*span
+    };
+    let mut y_exact = y0.to_vec();
+    let mut stats = {
+        let mut keep_last = |t: f64, y: &[f64], ydot: &[f64]| {
+            observe(t, y, ydot);
+            y_exact.copy_from_slice(y);
+        };
+        let head_progress = progress.as_mut().map(|p| &mut **p as &mut dyn FnMut(f64));
+        Driver::new(model, y0, &head, method, settings)?.run(&mut keep_last, head_progress)?
+    };
+    // the tail's samples are t_exact + k sample; report them as the span's own grid times
+    let mut first = true;
+    let mut on_grid = |t: f64, y: &[f64], ydot: &[f64]| {
+        if std::mem::take(&mut first) {
+            return;
+        }
+        let k = ((t - span.start) / span.sample).round();
+        let t_grid = grid.time(k as u64);
+        let t = if (t_grid - t).abs() <= 1e-9 * span.sample {
+            t_grid
+        } else {
+            t
+        };
+        observe(t, y, ydot);
+    };
+    let tail_stats = exact::run(model, &y_exact, &tail, settings, &mut on_grid, progress)?;
+    stats.add(&tail_stats);
     Ok(stats)
 }
 
