@@ -13,8 +13,8 @@ use telescopic_runtime::integrate::generalized_alpha::GeneralizedAlpha;
 use telescopic_runtime::integrate::verlet::StormerVerlet;
 use telescopic_runtime::integrate::{ContactTracker, Stepper, System as Rhs};
 use telescopic_runtime::{
-    AssembledModel, ContactLaw, Drive, ForceFlow, Model, ModelParams, Profile, RunStats, Settings,
-    ShapedProfile, rest_state,
+    AssembledModel, ContactLaw, Drive, ForceFlow, Method, Model, ModelParams, Profile, RunStats,
+    Settings, ShapedProfile, TimeSpan, rest_state, simulate,
 };
 
 struct Counting;
@@ -99,7 +99,49 @@ fn per_call_methods_do_not_allocate() {
         );
         assert!(ydot.iter().all(|v| v.is_finite()));
         steps_allocate_as_documented(&model, &y);
+        if matches!(model.params().drive, Drive::Force(_)) {
+            exact_runs_allocate_per_branch_not_per_step(&model, &y);
+        }
     }
+}
+
+/// Exact stepping allocates when it meets a new combination of contact branches (its matrix
+/// exponential and the matrices behind it) and at set-up, not per step: the allocations of a
+/// run, less a fixed number per combination, do not grow with the run's length.
+fn exact_runs_allocate_per_branch_not_per_step(model: &dyn Model, y: &[f64]) {
+    let run = |end: f64| {
+        let span = TimeSpan {
+            start: 0.0,
+            end,
+            sample: 1e-3,
+        };
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let stats = simulate(
+            model,
+            y,
+            &span,
+            Method::Exact,
+            &Settings::default(),
+            &mut |_, _, _| {},
+            None,
+        )
+        .unwrap();
+        (ALLOCATIONS.load(Ordering::SeqCst) - before, stats)
+    };
+    let (short, short_stats) = run(0.25);
+    let (long, long_stats) = run(1.0);
+    eprintln!(
+        "exact: {short} allocations in {} steps ({} exponentials), {long} in {} steps ({})",
+        short_stats.steps, short_stats.exponentials, long_stats.steps, long_stats.exponentials
+    );
+    assert!(long_stats.steps > 3 * short_stats.steps);
+    assert!(short_stats.switches > 0, "the rig touches its guides");
+    let per_branch = short as f64 / short_stats.exponentials as f64;
+    assert!(
+        long as f64 <= per_branch * long_stats.exponentials as f64 * 1.5,
+        "exact: {long} allocations for {} branches, {per_branch:.0} per branch in the short run",
+        long_stats.exponentials
+    );
 }
 
 /// Explicit steps allocate nothing; a generalized-alpha, ESDIRK or BDF step allocates only
