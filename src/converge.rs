@@ -60,6 +60,17 @@ struct Trial {
 }
 
 impl Trial {
+    /// Wall time, frequencies and `tip_rel` statistics, for the progress lines.
+    fn describe(&self) -> String {
+        let frequencies: Vec<String> = self.frequencies.iter().map(|f| format!("{f:.4}")).collect();
+        format!(
+            "wall {:.4} s, f1..f3 {frequencies:?} Hz, tip_rel peak {:.5e} m, RMS {:.5e} m",
+            self.wall, self.tip_peak, self.tip_rms
+        )
+    }
+}
+
+impl Trial {
     /// Largest relative difference to `other` over the compared quantities.
     fn change(&self, other: &Trial, pointwise: bool) -> f64 {
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
@@ -161,17 +172,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     let mut by_modes = Vec::new();
     for n in 1..=args.max_modes {
         let t = trial(&scene, n, contacts)?;
-        eprintln!(
-            "  N = {n:2}: dof {:3}, wall {:.4} s, f1..f3 {:?} Hz, tip_rel peak {:.5e} m, RMS {:.5e} m",
-            t.dof,
-            t.wall,
-            t.frequencies
-                .iter()
-                .map(|f| format!("{f:.4}"))
-                .collect::<Vec<_>>(),
-            t.tip_peak,
-            t.tip_rms
-        );
+        eprintln!("  N = {n:2}: dof {:3}, {}", t.dof, t.describe());
         by_modes.push(t);
     }
     let largest = by_modes.last().expect("at least two models");
@@ -192,16 +193,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     let mut by_contacts = Vec::new();
     for c in 2..=args.max_contacts {
         let t = trial(&scene, chosen.modes, c)?;
-        eprintln!(
-            "  n_c = {c}: wall {:.4} s, f1..f3 {:?} Hz, tip_rel peak {:.5e} m, RMS {:.5e} m",
-            t.wall,
-            t.frequencies
-                .iter()
-                .map(|f| format!("{f:.4}"))
-                .collect::<Vec<_>>(),
-            t.tip_peak,
-            t.tip_rms
-        );
+        eprintln!("  n_c = {c}: {}", t.describe());
         by_contacts.push(t);
     }
     let contacts_needed =

@@ -242,9 +242,9 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         100.0 * floor[3]
     );
     let mut points = Vec::new();
+    let exact_listed = methods.iter().any(|(l, _, _)| l == "exact");
     for (label, method, exact_from) in &methods {
         let (method, exact_from) = (*method, *exact_from);
-        let exact_listed = methods.iter().any(|(l, _, _)| l == "exact");
         if label == "auto" && method == Method::Exact && exact_from.is_none() && exact_listed {
             eprintln!("auto: the same runs as exact on this scene");
             continue;

@@ -367,5 +367,39 @@ fn work_precision_writes_a_converging_table_and_a_chart() {
         ],
         &["unknown method `euler`"],
     );
+    // `auto` on a scene whose position rests from 0.05 s: its own rows (dopri5, then exact),
+    // not skipped as plain exact, and on the reference over the whole span at every
+    // tolerance (dopri5 is held at its stability limit on [0, 0.05] s, exact after; measured
+    // 3e-12 to 1.3e-11 m)
+    let out = telescopic(&[
+        "work-precision",
+        "scenes/adams-linear.toml",
+        "--set",
+        "time.end=0.2",
+        "--set",
+        "telescope.positions=[{ kind = \"smoothstep\", start = 0.0, end = 0.05, from = 1.1, to = 1.15 }]",
+        "--methods",
+        "exact,auto",
+        "--repeat",
+        "1",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("exact: skipped (the telescopic position a_2 moves"),
+        "{stderr}"
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let auto: Vec<f64> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|r| r[0] == "auto")
+        .map(|r| r[5].parse::<f64>().unwrap())
+        .collect();
+    assert_eq!(auto.len(), 6, "{text}");
+    assert!(auto.iter().all(|e| *e < 1e-9), "{auto:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -179,9 +179,10 @@ impl ContactTable {
             &self.gd[i * w..(i + 1) * w],
             &self.gd[(i + 1) * w..(i + 2) * w],
         );
+        let (d00, d01) = (d00 / h, d01 / h);
         for k in 0..w {
             g[k] = h00 * g0[k] + h01 * g1[k] + h * (h10 * s0[k] + h11 * s1[k]);
-            gd[k] = (d00 * g0[k] + d01 * g1[k]) / h + d10 * s0[k] + d11 * s1[k];
+            gd[k] = d00 * g0[k] + d01 * g1[k] + d10 * s0[k] + d11 * s1[k];
         }
     }
 

@@ -48,13 +48,6 @@ impl<'m> Driver<'m> {
         settings: &Settings,
     ) -> Result<Self, SimError> {
         let n = model.dof();
-        if y0.len() != 2 * n {
-            return Err(SimError::Settings(format!(
-                "initial state has {} entries, the model needs 2 dof = {}",
-                y0.len(),
-                2 * n
-            )));
-        }
         let control = method.step_control();
         match (control, settings.dt) {
             (StepControl::Fixed, None) => {

@@ -192,13 +192,6 @@ pub(super) fn run(
         )));
     }
     let n = model.dof();
-    if y0.len() != 2 * n {
-        return Err(SimError::Settings(format!(
-            "initial state has {} entries, the model needs 2 dof = {}",
-            y0.len(),
-            2 * n
-        )));
-    }
     let nc = model.layout().contact_count();
     let (mut g, mut gdot) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
     model.contact_vectors(span.start, &mut g, &mut gdot);

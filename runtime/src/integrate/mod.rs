@@ -578,6 +578,13 @@ pub fn simulate(
     progress: Option<Progress>,
 ) -> Result<RunStats, SimError> {
     let started = Instant::now();
+    if y0.len() != 2 * model.dof() {
+        return Err(SimError::Settings(format!(
+            "initial state has {} entries, the model needs 2 dof = {}",
+            y0.len(),
+            2 * model.dof()
+        )));
+    }
     let mut stats = match settings.exact_from {
         _ if method == Method::Exact => exact::run(model, y0, span, settings, observe, progress)?,
         Some(t_exact) => method_then_exact(
