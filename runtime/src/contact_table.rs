@@ -44,7 +44,13 @@ pub struct ContactTable {
     start: f64,
     step: f64,
     intervals: usize,
+    /// Entries per node of `g` and `gd` as stored: the varying columns only, once compacted.
     width: usize,
+    /// The columns that change in time (indices into the full vectors), ascending.
+    varying: Vec<usize>,
+    /// The full `g` with the constant columns' values (0 at the varying ones); `gd` is 0
+    /// there.
+    constant_g: Vec<f64>,
     g: Vec<f64>,
     gd: Vec<f64>,
     error_g: f64,
@@ -71,7 +77,7 @@ impl ContactTable {
             .iter()
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
-        if !(end > start) {
+        if end.partial_cmp(&start) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         let mut intervals = START_INTERVALS;
@@ -81,6 +87,7 @@ impl ContactTable {
             if error_g <= G_TOLERANCE && error_gd <= GD_TOLERANCE {
                 table.error_g = error_g;
                 table.error_gd = error_gd;
+                table.drop_constant_columns();
                 return Some(table);
             }
             // the errors go as step^4 (g) and step^3 (gd): jump to the grid they predict
@@ -109,6 +116,8 @@ impl ContactTable {
             step: (end - start) / intervals as f64,
             intervals,
             width,
+            varying: (0..width).collect(),
+            constant_g: vec![0.0; width],
             g: vec![0.0; (intervals + 1) * width],
             gd: vec![0.0; (intervals + 1) * width],
             error_g: f64::NAN,
@@ -180,10 +189,57 @@ impl ContactTable {
             &self.gd[(i + 1) * w..(i + 2) * w],
         );
         let (d00, d01) = (d00 / h, d01 / h);
-        for k in 0..w {
-            g[k] = h00 * g0[k] + h01 * g1[k] + h * (h10 * s0[k] + h11 * s1[k]);
-            gd[k] = d00 * g0[k] + d01 * g1[k] + d10 * s0[k] + d11 * s1[k];
+        if w == self.constant_g.len() {
+            for k in 0..w {
+                g[k] = h00 * g0[k] + h01 * g1[k] + h * (h10 * s0[k] + h11 * s1[k]);
+                gd[k] = d00 * g0[k] + d01 * g1[k] + d10 * s0[k] + d11 * s1[k];
+            }
+            return;
         }
+        g[..self.constant_g.len()].copy_from_slice(&self.constant_g);
+        gd[..self.constant_g.len()].fill(0.0);
+        for (j, &k) in self.varying.iter().enumerate() {
+            g[k] = h00 * g0[j] + h01 * g1[j] + h * (h10 * s0[j] + h11 * s1[j]);
+            gd[k] = d00 * g0[j] + d01 * g1[j] + d10 * s0[j] + d11 * s1[j];
+        }
+    }
+
+    /// Stores only the columns that change: a contact point fixed on its section (the foot
+    /// of the inner section, the top of the outer one) has constant entries there and
+    /// `gd = 0`; case-study has half its columns so. Bitwise constant only: a column that
+    /// varies by rounding stays tabulated.
+    fn drop_constant_columns(&mut self) {
+        let (w, nodes) = (self.width, self.intervals + 1);
+        let varying: Vec<usize> = (0..w)
+            .filter(|&k| {
+                (0..nodes).any(|i| self.g[i * w + k] != self.g[k] || self.gd[i * w + k] != 0.0)
+            })
+            .collect();
+        if varying.len() == w {
+            return;
+        }
+        self.constant_g = (0..w)
+            .map(|k| if varying.contains(&k) { 0.0 } else { self.g[k] })
+            .collect();
+        let keep = |data: &[f64]| -> Vec<f64> {
+            (0..nodes)
+                .flat_map(|i| varying.iter().map(move |&k| data[i * w + k]))
+                .collect()
+        };
+        self.g = keep(&self.g);
+        self.gd = keep(&self.gd);
+        self.width = varying.len();
+        self.varying = varying;
+    }
+
+    /// Number of columns that change in time (of the vectors' full width).
+    pub fn varying_columns(&self) -> usize {
+        self.varying.len()
+    }
+
+    /// Entries of `g` (and of `gd`) in all.
+    pub fn full_width(&self) -> usize {
+        self.constant_g.len()
     }
 
     /// Number of grid intervals.
@@ -276,6 +332,36 @@ mod tests {
             table.intervals() > START_INTERVALS,
             "the check refined the grid"
         );
+    }
+
+    #[test]
+    fn constant_columns_are_exact_and_not_stored() {
+        let p = smoothstep(0.0, 12.0);
+        let moving = shapes_of(&p);
+        // columns 1 and 3 hold still (a contact point fixed on its section)
+        let exact = |t: f64, g: &mut [f64], gd: &mut [f64]| {
+            moving(t, g, gd);
+            (g[1], gd[1], g[3], gd[3]) = (0.75, 0.0, -2.5, 0.0);
+        };
+        let table = ContactTable::build(std::slice::from_ref(&p), 4, exact).expect("a table");
+        assert_eq!(table.varying_columns(), 2);
+        let (mut g, mut gd, mut ge, mut gde) = ([9.0; 4], [9.0; 4], [0.0; 4], [0.0; 4]);
+        for j in 0..=997 {
+            let t = 12.0 * j as f64 / 997.0;
+            table.interpolate(t, &mut g, &mut gd);
+            exact(t, &mut ge, &mut gde);
+            assert_eq!((g[1], gd[1], g[3], gd[3]), (0.75, 0.0, -2.5, 0.0));
+            for k in [0, 2] {
+                assert!(
+                    (g[k] - ge[k]).abs() <= 2.0 * G_TOLERANCE * 2.0,
+                    "g[{k}] at {t}"
+                );
+                assert!(
+                    (gd[k] - gde[k]).abs() <= 2.0 * GD_TOLERANCE * 20.0,
+                    "gd[{k}] at {t}"
+                );
+            }
+        }
     }
 
     #[test]

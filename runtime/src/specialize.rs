@@ -20,9 +20,12 @@ pub fn specializations(model: &dyn Model, span: &TimeSpan) -> Vec<String> {
         let (error_g, error_gd) = table.checked_errors();
         found.push(format!(
             "moving positions: contact vectors tabulated on [{start}, {end}] s ({} intervals \
-             of {:.3} ms; checked error {error_g:.1e} of g, {error_gd:.1e} of its rate)",
+             of {:.3} ms, {} of {} entries moving; checked error {error_g:.1e} of g, \
+             {error_gd:.1e} of its rate)",
             table.intervals(),
-            1e3 * table.step()
+            1e3 * table.step(),
+            table.varying_columns(),
+            table.full_width()
         ));
     }
     if params.contact.is_linear() {

@@ -1,7 +1,7 @@
 //! The time loop shared by every method: step-size control, drive discontinuities, contact
 //! events, sampling, divergence checks.
 
-use super::events::illinois;
+use super::events::{hermite_first_root, newton_in_bracket};
 use super::stability::stable_step;
 use super::{
     ContactTracker, Method, Observer, Progress, RunStats, SampleGrid, Settings, SimError,
@@ -34,6 +34,9 @@ pub(super) struct Driver<'m> {
     y_trial: Vec<f64>,
     y_sample: Vec<f64>,
     ydot_sample: Vec<f64>,
+    /// Switch functions (m) and rates (m/s) of every contact at a step's start and end.
+    switch_start: (Vec<f64>, Vec<f64>),
+    switch_end: (Vec<f64>, Vec<f64>),
     h: f64,
     next_sample: u64,
     samples: SampleGrid,
@@ -88,6 +91,7 @@ impl<'m> Driver<'m> {
             .collect();
         let size_limit = 100.0 * params.sections.iter().map(|s| s.length).sum::<f64>();
         let tracker = ContactTracker::new(model, span.start, y0);
+        let contacts = model.layout().contact_count();
         let mut sys = System {
             model,
             tracker,
@@ -113,6 +117,8 @@ impl<'m> Driver<'m> {
             y_trial: vec![0.0; 2 * n],
             y_sample: vec![0.0; 2 * n],
             ydot_sample: vec![0.0; 2 * n],
+            switch_start: (vec![0.0; contacts], vec![0.0; contacts]),
+            switch_end: (vec![0.0; contacts], vec![0.0; contacts]),
             h: 0.0,
             next_sample: 0,
             samples: SampleGrid::new(span),
@@ -338,25 +344,36 @@ impl<'m> Driver<'m> {
         Ok(self.sys.stats.clone())
     }
 
-    /// Shortens the step `h` so that it ends just past the first band-edge crossing
-    /// (Illinois on the step length; every trial is a full step of the method from the same
-    /// start). Leaves the state at the new end in `y1` and returns the new length.
+    /// Shortens the step `h` so that it ends just past the first band-edge crossing. Every
+    /// trial is a full step of the method from the same start, so the state at the switch
+    /// has the method's order. The first trial is the first root of the cubic Hermite
+    /// interpolant of the switch functions (values and rates at both ends of the step); from
+    /// there Newton's method on the step length, with the switch function's rate along the
+    /// motion as derivative, kept inside the bracket (regula falsi where Newton does not
+    /// converge). Leaves the state at the new end in `y1` and returns the new length.
     fn locate_switch(&mut self, h: f64) -> f64 {
         let model = self.sys.model;
-        let g_lo = self
-            .sys
+        let (t, t1) = (self.t, self.t + h);
+        let (v0, r0) = &mut self.switch_start;
+        self.sys.tracker.switch_functions(model, t, &self.y, v0, r0);
+        let (v1, r1) = &mut self.switch_end;
+        self.sys
             .tracker
-            .min_switch_value(model, self.t, &self.y)
-            .max(0.0);
-        let g_hi = self
-            .sys
-            .tracker
-            .min_switch_value(model, self.t + h, &self.y1);
+            .switch_functions(model, t1, &self.y1, v1, r1);
+        let (v0, r0) = &self.switch_start;
+        let (v1, r1) = &self.switch_end;
+        let g_lo = v0.iter().copied().fold(f64::INFINITY, f64::min).max(0.0);
+        let g_hi = v1.iter().copied().fold(f64::INFINITY, f64::min);
+        // the earliest crossing of the interpolants of the contacts that end past their edge
+        let first = (0..v0.len())
+            .filter(|&c| v1[c] < 0.0)
+            .filter_map(|c| hermite_first_root(v0[c].max(0.0), r0[c] * h, v1[c], r1[c] * h))
+            .fold(f64::NAN, f64::min)
+            * h;
         let tol = 4.0 * f64::EPSILON * self.t.abs().max(1.0);
         let Driver {
             stepper,
             sys,
-            t,
             y,
             f0,
             y1,
@@ -366,14 +383,16 @@ impl<'m> Driver<'m> {
         let mut trial = |tau: f64| {
             // a trial step: the result is only used through its switch functions, and kept
             // in y1 when it lands past the crossing (it is then the bracket's new end)
-            let _ = stepper.step(sys, *t, y, f0, tau, y_trial);
-            let g = sys.tracker.min_switch_value(model, *t + tau, y_trial);
+            let _ = stepper.step(sys, t, y, f0, tau, y_trial);
+            let (g, rate) = sys
+                .tracker
+                .min_switch_value_and_rate(model, t + tau, y_trial);
             if g < 0.0 {
                 std::mem::swap(y1, y_trial);
             }
-            g
+            (g, rate)
         };
-        illinois(&mut trial, (0.0, g_lo), (h, g_hi), tol)
+        newton_in_bracket(&mut trial, (0.0, g_lo), (h, g_hi), first, tol)
     }
 
     /// Step-size factor from a scaled error estimate (1 = at tolerance), in `[0.2, 5]`.

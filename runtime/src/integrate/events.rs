@@ -96,6 +96,57 @@ impl ContactTracker {
         min
     }
 
+    /// Rate of change (m/s) of the switch function of a contact in `state` at gap `xi` (m)
+    /// moving at `xi_dot` (m/s).
+    pub fn switch_rate(state: ContactState, xi: f64, xi_dot: f64) -> f64 {
+        match state {
+            ContactState::Upper => xi_dot,
+            ContactState::Lower => -xi_dot,
+            ContactState::Free => -xi.signum() * xi_dot,
+        }
+    }
+
+    /// Switch function (m) and its rate (m/s) of every contact at `(t, y)`, into `values`
+    /// and `rates` (one entry per contact). Nothing for the linear law.
+    pub fn switch_functions(
+        &mut self,
+        model: &dyn Model,
+        t: f64,
+        y: &[f64],
+        values: &mut [f64],
+        rates: &mut [f64],
+    ) {
+        if self.is_linear() || self.states.is_empty() {
+            return;
+        }
+        model.contact_gaps(t, y, &mut self.xi, &mut self.xi_dot);
+        for c in 0..self.states.len() {
+            values[c] = self.switch_value(self.states[c], self.xi[c]);
+            rates[c] = Self::switch_rate(self.states[c], self.xi[c], self.xi_dot[c]);
+        }
+    }
+
+    /// The smallest switch function over all contacts at `(t, y)` (m) and the rate (m/s) of
+    /// the contact it belongs to; `(+inf, 0)` for the linear law or no contacts.
+    pub fn min_switch_value_and_rate(
+        &mut self,
+        model: &dyn Model,
+        t: f64,
+        y: &[f64],
+    ) -> (f64, f64) {
+        let min = self.min_switch_value(model, t, y);
+        if !min.is_finite() {
+            return (min, 0.0);
+        }
+        let c = (0..self.states.len())
+            .find(|&c| self.values[c] == min)
+            .unwrap_or(0);
+        (
+            min,
+            Self::switch_rate(self.states[c], self.xi[c], self.xi_dot[c]),
+        )
+    }
+
     /// Moves every contact whose switch function is negative at `(t, y)` to the branch its
     /// gap is in; returns how many switched.
     pub fn switch(&mut self, model: &dyn Model, t: f64, y: &[f64]) -> u64 {
@@ -160,4 +211,159 @@ pub(crate) fn illinois(
         }
     }
     hi
+}
+
+/// A crossing of a switch function inside `[lo, hi]` by Newton's method kept inside the
+/// bracket: `p(x)` returns the value and its rate, `p(lo) = p_lo >= 0 > p(hi) = p_hi` on
+/// entry, `first` is the first point tried (an estimate of the crossing). Each Newton point
+/// is pushed `tol / 2` past the predicted crossing, so once the prediction is that good the
+/// bracket closes to `tol` from both sides. A point outside the bracket, or a Newton
+/// correction that did not at least halve, falls back to Illinois' regula falsi. Returns the
+/// end of the final bracket where `p < 0`; every point `p` is called at that turns out
+/// negative becomes the new `hi` (callers keep the state they computed there).
+pub(crate) fn newton_in_bracket(
+    p: &mut dyn FnMut(f64) -> (f64, f64),
+    (mut lo, mut p_lo): (f64, f64),
+    (mut hi, mut p_hi): (f64, f64),
+    first: f64,
+    tol: f64,
+) -> f64 {
+    let mut x = first;
+    let mut last_correction = f64::INFINITY;
+    let mut side = 0i8;
+    for _ in 0..200 {
+        if hi - lo <= tol {
+            break;
+        }
+        if !(x > lo && x < hi) {
+            x = hi - p_hi * (hi - lo) / (p_hi - p_lo);
+            if !(x > lo && x < hi) {
+                x = 0.5 * (lo + hi);
+            }
+        }
+        let (v, rate) = p(x);
+        // Illinois' halving keeps regula falsi from stalling on one side
+        if v < 0.0 {
+            (hi, p_hi) = (x, v);
+            if side == 1 {
+                p_lo *= 0.5;
+            }
+            side = 1;
+        } else {
+            (lo, p_lo) = (x, v);
+            if side == -1 {
+                p_hi *= 0.5;
+            }
+            side = -1;
+        }
+        let correction = -v / rate;
+        if correction.is_finite() && correction.abs() <= 0.5 * last_correction {
+            last_correction = correction.abs();
+            x += correction + if v < 0.0 { -0.5 * tol } else { 0.5 * tol };
+        } else {
+            // no trustworthy Newton step: regula falsi on the bracket next
+            last_correction = f64::INFINITY;
+            x = f64::NAN;
+        }
+    }
+    hi
+}
+
+/// The first root in `(0, 1)` of the cubic Hermite polynomial with values `f0 >= 0`, `f1`
+/// and scaled slopes `s0`, `s1` (slope times the interval) at 0 and 1, or `None`; found by
+/// scanning and regula falsi on the polynomial (no model evaluations).
+pub(crate) fn hermite_first_root(f0: f64, s0: f64, f1: f64, s1: f64) -> Option<f64> {
+    const SCAN: usize = 16;
+    let a3 = 2.0 * f0 + s0 - 2.0 * f1 + s1;
+    let a2 = -3.0 * f0 - 2.0 * s0 + 3.0 * f1 - s1;
+    let cubic = |x: f64| ((a3 * x + a2) * x + s0) * x + f0;
+    let (mut lo, mut p_lo) = (0.0, f0.max(0.0));
+    for k in 1..=SCAN {
+        let hi = k as f64 / SCAN as f64;
+        let p_hi = cubic(hi);
+        if p_hi < 0.0 {
+            let mut p = |x: f64| cubic(x);
+            return Some(illinois(&mut p, (lo, p_lo), (hi, p_hi), 1e-12));
+        }
+        (lo, p_lo) = (hi, p_hi);
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `cos x - 0.3` crosses zero downwards at `acos 0.3` inside `[0, 2]`.
+    fn falling(x: f64) -> (f64, f64) {
+        (x.cos() - 0.3, -x.sin())
+    }
+
+    #[test]
+    fn newton_in_bracket_closes_on_the_crossing_in_fewer_calls_than_illinois() {
+        let root = 0.3_f64.acos();
+        let tol = 1e-15;
+        let (lo, hi) = ((0.0, falling(0.0).0), (2.0, falling(2.0).0));
+        let mut newton_calls = 0;
+        let x = newton_in_bracket(
+            &mut |x| {
+                newton_calls += 1;
+                falling(x)
+            },
+            lo,
+            hi,
+            1.2,
+            tol,
+        );
+        assert!(falling(x).0 < 0.0, "the returned end is past the crossing");
+        assert!(
+            x - root <= 2.0 * tol && x >= root - 1e-16,
+            "x - root = {:e}",
+            x - root
+        );
+        let mut illinois_calls = 0;
+        let y = illinois(
+            &mut |x| {
+                illinois_calls += 1;
+                falling(x).0
+            },
+            lo,
+            hi,
+            tol,
+        );
+        assert!((y - root).abs() <= 2.0 * tol);
+        assert!(
+            newton_calls < illinois_calls,
+            "newton {newton_calls} calls, illinois {illinois_calls}"
+        );
+    }
+
+    #[test]
+    fn newton_in_bracket_survives_a_wrong_rate_and_a_bad_first_guess() {
+        let root = 0.3_f64.acos();
+        let tol = 1e-14;
+        // the rate has the wrong sign: every Newton step points away; the bracket decides
+        let x = newton_in_bracket(
+            &mut |x| (falling(x).0, 1.0),
+            (0.0, 0.7),
+            (2.0, falling(2.0).0),
+            5.0,
+            tol,
+        );
+        assert!(falling(x).0 < 0.0);
+        assert!((x - root).abs() <= 2.0 * tol, "x - root = {:e}", x - root);
+    }
+
+    #[test]
+    fn hermite_first_root_of_a_cubic_is_exact() {
+        // f(s) = (s - 0.3)(s - 0.8)(s + 1): positive at 0, roots 0.3 and 0.8 inside
+        let f = |s: f64| (s - 0.3) * (s - 0.8) * (s + 1.0);
+        let df = |s: f64| (s - 0.8) * (s + 1.0) + (s - 0.3) * (s + 1.0) + (s - 0.3) * (s - 0.8);
+        let root = hermite_first_root(f(0.0), df(0.0), f(1.0), df(1.0)).expect("a root");
+        assert!((root - 0.3).abs() < 1e-11, "root {root}");
+        // a cubic that stays positive on (0, 1) has none
+        let g = |s: f64| (s - 0.5) * (s - 0.5) + 0.01;
+        let dg = |s: f64| 2.0 * (s - 0.5);
+        assert_eq!(hermite_first_root(g(0.0), dg(0.0), g(1.0), dg(1.0)), None);
+    }
 }

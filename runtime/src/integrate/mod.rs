@@ -5,9 +5,10 @@
 //! switches, so the right-hand side is smooth within every step. After each accepted step
 //! it evaluates a switch function per contact (positive while the contact stays in its
 //! branch, see [`events`]); when one turns negative, the step is redone with shorter lengths
-//! (Illinois root finding on the step length, each trial a full step of the method, so the
-//! state at the switch has the method's own order), the contact changes branch and the
-//! method restarts. Discontinuities of the drive and position profiles are step ends too.
+//! (Newton's method on the step length from the crossing of the step's cubic Hermite
+//! interpolant, kept inside the bracket; each trial a full step of the method, so the state
+//! at the switch has the method's own order), the contact changes branch and the method
+//! restarts. Discontinuities of the drive and position profiles are step ends too.
 //!
 //! Samples at the scene's output times come from the cubic Hermite interpolant of each
 //! accepted step (`y` and `ydot` at both ends).
