@@ -18,7 +18,9 @@
 //! step start is expanded in its Taylor series `y(tau) = sum_j tau^j u_j`, `u_j = A^j
 //! [y; 1] / j!` (`[A e]` acting on the augmented state), so each switch function is a
 //! polynomial in `tau`: scanned for the first sign change, refined by Illinois to rounding.
-//! Partial steps (to an event, back onto the grid, to a drive step) use the same series.
+//! Partial steps (to an event, to a sample time, to a drive step) use the same series; after
+//! an event or a drive step the regular steps restart from there (the flow is
+//! time-invariant), and a sample time brings them back onto the start's grid.
 //!
 //! Hand-written: no ODE crate offers exponential stepping with state events.
 
@@ -245,6 +247,11 @@ impl ExactRun<'_> {
         self.emit(current, t, observe);
         let mut next_sample = 1u64;
         let mut last_report = t;
+        // regular steps run on the grid `anchor + k h`: from the start, and from each event
+        // or drive step (the flow is time-invariant, so a regular step is exact from any
+        // time); back on the start's grid at the next sample time, which lies on it. Without
+        // the re-anchoring every event would need a partial step back onto the start's grid.
+        let mut anchor = start;
         while t < end {
             if self.stats.steps >= settings.max_steps {
                 return Err(SimError::TooManySteps {
@@ -257,15 +264,15 @@ impl ExactRun<'_> {
                 });
             }
             let h = self.branches[current].h;
-            // on the branch's grid `start + k h` (up to rounding of the time itself)?
-            let k = ((t - start) / h).round();
-            let on_grid = (t - (start + k * h)).abs() <= 1e-9 * h;
+            // on the branch's grid `anchor + k h` (up to rounding of the time itself)?
+            let k = ((t - anchor) / h).round();
+            let on_grid = (t - (anchor + k * h)).abs() <= 1e-9 * h;
             let k_next = if on_grid {
                 k + 1.0
             } else {
-                ((t - start) / h).floor() + 1.0
+                ((t - anchor) / h).floor() + 1.0
             };
-            let t_grid = start + k_next * h;
+            let t_grid = anchor + k_next * h;
             let t_sample = if next_sample < self.samples.total {
                 self.samples.time(next_sample)
             } else {
@@ -294,6 +301,7 @@ impl ExactRun<'_> {
                 self.stats.switches += self.tracker.switch(self.model, t, y);
                 current = self.branch(t, segment)?;
                 self.gaps0_current = false;
+                anchor = t;
                 continue;
             }
             t = stop;
@@ -303,10 +311,12 @@ impl ExactRun<'_> {
             if t == t_sample && next_sample < self.samples.total {
                 self.emit(current, t, observe);
                 next_sample += 1;
+                anchor = start;
             }
             if t == t_break && t < end {
                 segment += 1;
                 current = self.branch(t, segment)?;
+                anchor = t;
             }
             if let Some(p) = progress.as_mut()
                 && t - last_report >= 0.01 * (end - start)
