@@ -189,13 +189,6 @@ impl ContactTable {
             &self.gd[(i + 1) * w..(i + 2) * w],
         );
         let (d00, d01) = (d00 / h, d01 / h);
-        if w == self.constant_g.len() {
-            for k in 0..w {
-                g[k] = h00 * g0[k] + h01 * g1[k] + h * (h10 * s0[k] + h11 * s1[k]);
-                gd[k] = d00 * g0[k] + d01 * g1[k] + d10 * s0[k] + d11 * s1[k];
-            }
-            return;
-        }
         g[..self.constant_g.len()].copy_from_slice(&self.constant_g);
         gd[..self.constant_g.len()].fill(0.0);
         for (j, &k) in self.varying.iter().enumerate() {
@@ -215,9 +208,6 @@ impl ContactTable {
                 (0..nodes).any(|i| self.g[i * w + k] != self.g[k] || self.gd[i * w + k] != 0.0)
             })
             .collect();
-        if varying.len() == w {
-            return;
-        }
         self.constant_g = (0..w)
             .map(|k| if varying.contains(&k) { 0.0 } else { self.g[k] })
             .collect();

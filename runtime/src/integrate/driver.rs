@@ -1,7 +1,7 @@
 //! The time loop shared by every method: step-size control, drive discontinuities, contact
 //! events, sampling, divergence checks.
 
-use super::events::{hermite_first_root, newton_in_bracket};
+use super::events::{HermiteCubic, newton_in_bracket};
 use super::stability::stable_step;
 use super::{
     ContactTracker, Method, Observer, Progress, RunStats, SampleGrid, Settings, SimError,
@@ -367,7 +367,9 @@ impl<'m> Driver<'m> {
         // the earliest crossing of the interpolants of the contacts that end past their edge
         let first = (0..v0.len())
             .filter(|&c| v1[c] < 0.0)
-            .filter_map(|c| hermite_first_root(v0[c].max(0.0), r0[c] * h, v1[c], r1[c] * h))
+            .filter_map(|c| {
+                HermiteCubic::new(v0[c].max(0.0), r0[c] * h, v1[c], r1[c] * h).first_root()
+            })
             .fold(f64::NAN, f64::min)
             * h;
         let tol = 4.0 * f64::EPSILON * self.t.abs().max(1.0);

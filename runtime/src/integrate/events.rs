@@ -178,39 +178,14 @@ impl ContactTracker {
 /// halving): `p(lo) = p_lo >= 0 > p(hi) = p_hi` on entry; returns the end of the final
 /// bracket where `p < 0`, within `tol` of the crossing. Every point `p` is called at that
 /// turns out negative becomes the new `hi` (callers keep the state they computed there).
+/// [`newton_in_bracket`] without a derivative.
 pub(crate) fn illinois(
     p: &mut dyn FnMut(f64) -> f64,
-    (mut lo, mut p_lo): (f64, f64),
-    (mut hi, mut p_hi): (f64, f64),
+    lo: (f64, f64),
+    hi: (f64, f64),
     tol: f64,
 ) -> f64 {
-    let mut side = 0i8;
-    for _ in 0..200 {
-        if hi - lo <= tol {
-            break;
-        }
-        let mut x = hi - p_hi * (hi - lo) / (p_hi - p_lo);
-        if !(x > lo && x < hi) {
-            x = 0.5 * (lo + hi);
-        }
-        let v = p(x);
-        if v < 0.0 {
-            hi = x;
-            p_hi = v;
-            if side == 1 {
-                p_lo *= 0.5;
-            }
-            side = 1;
-        } else {
-            lo = x;
-            p_lo = v;
-            if side == -1 {
-                p_hi *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    hi
+    newton_in_bracket(&mut |x| (p(x), f64::NAN), lo, hi, f64::NAN, tol)
 }
 
 /// A crossing of a switch function inside `[lo, hi]` by Newton's method kept inside the
@@ -269,21 +244,74 @@ pub(crate) fn newton_in_bracket(
     hi
 }
 
-/// The first root in `(0, 1)` of the cubic Hermite polynomial with values `f0 >= 0`, `f1`
-/// and scaled slopes `s0`, `s1` (slope times the interval) at 0 and 1, or `None`; found by
-/// scanning and regula falsi on the polynomial (no model evaluations).
-pub(crate) fn hermite_first_root(f0: f64, s0: f64, f1: f64, s1: f64) -> Option<f64> {
-    const SCAN: usize = 16;
-    let a3 = 2.0 * f0 + s0 - 2.0 * f1 + s1;
-    let a2 = -3.0 * f0 - 2.0 * s0 + 3.0 * f1 - s1;
-    let cubic = |x: f64| ((a3 * x + a2) * x + s0) * x + f0;
-    let (mut lo, mut p_lo) = (0.0, f0.max(0.0));
-    for k in 1..=SCAN {
-        let hi = k as f64 / SCAN as f64;
-        let p_hi = cubic(hi);
+/// The cubic Hermite polynomial on `[0, 1]` with values `f0`, `f1` and scaled slopes `s0`,
+/// `s1` (slope times the interval) at its ends.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct HermiteCubic {
+    f0: f64,
+    s0: f64,
+    a2: f64,
+    a3: f64,
+}
+
+impl HermiteCubic {
+    pub(crate) fn new(f0: f64, s0: f64, f1: f64, s1: f64) -> Self {
+        HermiteCubic {
+            f0,
+            s0,
+            a2: -3.0 * f0 - 2.0 * s0 + 3.0 * f1 - s1,
+            a3: 2.0 * f0 + s0 - 2.0 * f1 + s1,
+        }
+    }
+
+    /// Value at `x` in `[0, 1]`.
+    pub(crate) fn value(&self, x: f64) -> f64 {
+        ((self.a3 * x + self.a2) * x + self.s0) * x + self.f0
+    }
+
+    /// True when it goes below zero strictly inside `(0, 1)`, from its critical points
+    /// (both end values non-negative: a double crossing inside the interval).
+    pub(crate) fn dips(&self) -> bool {
+        // roots of 3 a3 x^2 + 2 a2 x + s0
+        let (qa, qb, qc) = (3.0 * self.a3, 2.0 * self.a2, self.s0);
+        let mut points = [f64::NAN; 2];
+        if qa.abs() <= 1e-300 {
+            if qb != 0.0 {
+                points[0] = -qc / qb;
+            }
+        } else {
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc >= 0.0 {
+                let r = disc.sqrt();
+                points = [(-qb - r) / (2.0 * qa), (-qb + r) / (2.0 * qa)];
+            }
+        }
+        points
+            .iter()
+            .any(|&x| x > 0.0 && x < 1.0 && self.value(x) < 0.0)
+    }
+
+    /// Its first root in `(0, 1)` when `f0 >= 0`, or `None` (see [`first_crossing`]).
+    pub(crate) fn first_root(&self) -> Option<f64> {
+        first_crossing(&mut |x| self.value(x), 1.0, 16, 1e-12)
+    }
+}
+
+/// The first downward crossing of `p` in `(0, limit]`: `p` is scanned at `points` equal
+/// steps for its first negative value (`p(0)` is taken as at least 0), the crossing refined
+/// by Illinois to `tol`. `None` when no scanned value is negative.
+pub(crate) fn first_crossing(
+    p: &mut dyn FnMut(f64) -> f64,
+    limit: f64,
+    points: usize,
+    tol: f64,
+) -> Option<f64> {
+    let (mut lo, mut p_lo) = (0.0, p(0.0).max(0.0));
+    for k in 1..=points {
+        let hi = limit * k as f64 / points as f64;
+        let p_hi = p(hi);
         if p_hi < 0.0 {
-            let mut p = |x: f64| cubic(x);
-            return Some(illinois(&mut p, (lo, p_lo), (hi, p_hi), 1e-12));
+            return Some(illinois(p, (lo, p_lo), (hi, p_hi), tol));
         }
         (lo, p_lo) = (hi, p_hi);
     }
@@ -355,15 +383,21 @@ mod tests {
     }
 
     #[test]
-    fn hermite_first_root_of_a_cubic_is_exact() {
+    fn hermite_cubic_first_root_is_exact_and_dips_are_seen() {
         // f(s) = (s - 0.3)(s - 0.8)(s + 1): positive at 0, roots 0.3 and 0.8 inside
         let f = |s: f64| (s - 0.3) * (s - 0.8) * (s + 1.0);
         let df = |s: f64| (s - 0.8) * (s + 1.0) + (s - 0.3) * (s + 1.0) + (s - 0.3) * (s - 0.8);
-        let root = hermite_first_root(f(0.0), df(0.0), f(1.0), df(1.0)).expect("a root");
+        let root = HermiteCubic::new(f(0.0), df(0.0), f(1.0), df(1.0))
+            .first_root()
+            .expect("a root");
         assert!((root - 0.3).abs() < 1e-11, "root {root}");
         // a cubic that stays positive on (0, 1) has none
         let g = |s: f64| (s - 0.5) * (s - 0.5) + 0.01;
         let dg = |s: f64| 2.0 * (s - 0.5);
-        assert_eq!(hermite_first_root(g(0.0), dg(0.0), g(1.0), dg(1.0)), None);
+        let positive = HermiteCubic::new(g(0.0), dg(0.0), g(1.0), dg(1.0));
+        assert_eq!(positive.first_root(), None);
+        assert!(!positive.dips());
+        // f0 = f1 = 0.01 with slopes -0.2 and +0.2: dips to about -0.04 in between
+        assert!(HermiteCubic::new(0.01, -0.2, 0.01, 0.2).dips());
     }
 }

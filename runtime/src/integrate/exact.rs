@@ -24,7 +24,7 @@
 //!
 //! Hand-written: no ODE crate offers exponential stepping with state events.
 
-use super::events::illinois;
+use super::events::{HermiteCubic, first_crossing};
 use super::{ContactTracker, Observer, Progress, RunStats, SampleGrid, Settings, SimError};
 use crate::contact::ContactState;
 use crate::model::Model;
@@ -483,7 +483,9 @@ impl ExactRun<'_> {
             let c = f.contact;
             let f1 = f.sign * g1.value[c] + f.offset;
             let (f0, d0) = (f.sign * g0.value[c] + f.offset, f.sign * g0.rate[c]);
-            f1 < 0.0 || (d0 < 0.0 && hermite_dips(f0, d0 * tau, f1, f.sign * g1.rate[c] * tau))
+            f1 < 0.0
+                || (d0 < 0.0
+                    && HermiteCubic::new(f0, d0 * tau, f1, f.sign * g1.rate[c] * tau).dips())
         });
         if !suspect {
             return Ok(None);
@@ -493,21 +495,14 @@ impl ExactRun<'_> {
         }
         // the earliest first sign change over all switch functions
         let mut best: Option<f64> = None;
+        let tol = 4.0 * f64::EPSILON * t.abs().max(1.0);
         for i in 0..self.functionals.len() {
             let f = self.functionals[i];
             self.switch_polynomial(f);
             let mut p = |x: f64| horner(&self.coefficients[..self.taylor_len], x);
             let limit = best.unwrap_or(tau);
-            let (mut lo, mut p_lo) = (0.0, p(0.0).max(0.0));
-            for s in 1..=SCAN_POINTS {
-                let hi = limit * s as f64 / SCAN_POINTS as f64;
-                let p_hi = p(hi);
-                if p_hi < 0.0 {
-                    let tol = 4.0 * f64::EPSILON * t.abs().max(1.0);
-                    best = Some(illinois(&mut p, (lo, p_lo), (hi, p_hi), tol));
-                    break;
-                }
-                (lo, p_lo) = (hi, p_hi);
+            if let Some(root) = first_crossing(&mut p, limit, SCAN_POINTS, tol) {
+                best = Some(root);
             }
         }
         let Some(mut tau_hi) = best else {
@@ -590,30 +585,6 @@ fn balanced_flow(
     let phi = DMatrix::from_fn(n2, n2, |i, j| flow[(i, j)] / scale(i) * scale(j));
     let gamma = DVector::from_fn(n2, |i, _| flow[(i, n2)] / scale(i));
     (phi, gamma)
-}
-
-/// True when the cubic Hermite interpolant on `[0, 1]` of a function with values `f0, f1`
-/// and scaled slopes `s0 = h f'(0)`, `s1 = h f'(h)` (both values non-negative) goes below
-/// zero inside.
-fn hermite_dips(f0: f64, s0: f64, f1: f64, s1: f64) -> bool {
-    let a3 = 2.0 * f0 + s0 - 2.0 * f1 + s1;
-    let a2 = -3.0 * f0 - 2.0 * s0 + 3.0 * f1 - s1;
-    let cubic = |x: f64| ((a3 * x + a2) * x + s0) * x + f0;
-    // roots of 3 a3 x^2 + 2 a2 x + s0
-    let (qa, qb, qc) = (3.0 * a3, 2.0 * a2, s0);
-    let mut points = [f64::NAN; 2];
-    if qa.abs() <= 1e-300 {
-        if qb != 0.0 {
-            points[0] = -qc / qb;
-        }
-    } else {
-        let disc = qb * qb - 4.0 * qa * qc;
-        if disc >= 0.0 {
-            let r = disc.sqrt();
-            points = [(-qb - r) / (2.0 * qa), (-qb + r) / (2.0 * qa)];
-        }
-    }
-    points.iter().any(|&x| x > 0.0 && x < 1.0 && cubic(x) < 0.0)
 }
 
 fn horner(c: &[f64], x: f64) -> f64 {
