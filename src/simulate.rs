@@ -31,6 +31,10 @@ pub struct SimulateArgs {
     /// Step (s) of fixed-step methods; first trial step of adaptive ones.
     #[arg(long, value_name = "H")]
     pub dt: Option<f64>,
+    /// Let dop853's step grow beyond its stable step while a contact is closed (the step
+    /// control then hovers at the stability boundary; for comparison).
+    #[arg(long)]
+    pub no_step_cap: bool,
     /// CSV file for the outputs (written to a temporary file and renamed when complete);
     /// default: standard output.
     #[arg(long, value_name = "FILE")]
@@ -81,6 +85,7 @@ pub fn settings_from(
         settings.atol = a;
     }
     settings.dt = args.dt;
+    settings.step_cap = !args.no_step_cap;
     // checked whatever the method (exact and fixed-step methods do not use them)
     if !(settings.rtol > 0.0 && settings.rtol < 1.0 && settings.atol > 0.0) {
         anyhow::bail!(
@@ -233,13 +238,16 @@ pub fn summary(
     traj: &Trajectory,
 ) -> String {
     let s = &traj.stats;
+    let cap = s.step_cap.map_or(String::new(), |c| {
+        format!("; step capped at {c:.3e} s while a contact is closed (its stable step)")
+    });
     let tol = match method.step_control() {
         telescopic_runtime::integrate::StepControl::Adaptive if s.exponentials > 0 => format!(
-            "rtol {:e}, atol {:e}; {} matrix exponentials",
+            "rtol {:e}, atol {:e}{cap}; {} matrix exponentials",
             settings.rtol, settings.atol, s.exponentials
         ),
         telescopic_runtime::integrate::StepControl::Adaptive => {
-            format!("rtol {:e}, atol {:e}", settings.rtol, settings.atol)
+            format!("rtol {:e}, atol {:e}{cap}", settings.rtol, settings.atol)
         }
         telescopic_runtime::integrate::StepControl::Fixed => {
             format!("dt {:e} s", settings.dt.unwrap_or(f64::NAN))

@@ -5,8 +5,10 @@
 use crate::choose::{ModelChoice, build_model};
 use crate::cli::SceneArgs;
 use clap::Args;
+use telescopic_runtime::Method;
 use telescopic_runtime::integrate::stability::{
-    RK4_IMAGINARY_AXIS, RK4_REAL_AXIS, StabilityReport, VERLET_LIMIT, stability_report,
+    RK4_IMAGINARY_AXIS, RK4_REAL_AXIS, STEP_CAP_SAFETY, StabilityReport, VERLET_LIMIT,
+    closed_contact_stable_step, linearization_times, stability_report,
 };
 
 /// Options of `telescopic stability`.
@@ -19,24 +21,11 @@ pub struct StabilityArgs {
     pub model: ModelChoice,
 }
 
-/// Times checked when the telescopic positions move (the start, the end and between).
-const TIMES_WHEN_MOVING: usize = 9;
-
 /// Runs `telescopic stability`.
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let scene = args.scene.load()?;
     let (model, word) = build_model(&scene.params, args.model)?;
-    let span = scene.time;
-    let moving = scene.params.positions.iter().any(|p| !p.is_constant());
-    let times: Vec<f64> = if moving {
-        (0..TIMES_WHEN_MOVING)
-            .map(|i| {
-                span.start + (span.end - span.start) * i as f64 / (TIMES_WHEN_MOVING - 1) as f64
-            })
-            .collect()
-    } else {
-        vec![span.start]
-    };
+    let times = linearization_times(model.as_ref(), &scene.time);
     let mut reports = Vec::new();
     for &t in &times {
         reports.push(stability_report(model.as_ref(), t).map_err(anyhow::Error::msg)?);
@@ -45,12 +34,27 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         .iter()
         .min_by(|a, b| a.rk4_step.total_cmp(&b.rk4_step))
         .expect("at least one time");
-    println!("{}", render(&scene.name, &word, worst, times.len()));
+    let adaptive = [Method::Dopri5, Method::Dop853].map(|m| {
+        (
+            m,
+            closed_contact_stable_step(model.as_ref(), m, &scene.time),
+        )
+    });
+    println!(
+        "{}",
+        render(&scene.name, &word, worst, times.len(), &adaptive)
+    );
     Ok(())
 }
 
 /// The report as text.
-fn render(scene: &str, word: &str, r: &StabilityReport, times: usize) -> String {
+fn render(
+    scene: &str,
+    word: &str,
+    r: &StabilityReport,
+    times: usize,
+    adaptive: &[(Method, Option<f64>)],
+) -> String {
     let w = r.omega_max;
     let at = if times > 1 {
         format!(
@@ -92,7 +96,18 @@ fn render(scene: &str, word: &str, r: &StabilityReport, times: usize) -> String 
           included; bisection to 1e-6). Above it the run stops with a divergence error.\n\
           No step limit: galpha, galpha-fixed (unconditionally stable for rho_inf <= 1), esdirk\n\
           (L-stable), bdf1, bdf2 (A-stable). bdf3..bdf5 are not A-stable near the imaginary axis;\n\
-          their error control keeps h omega small for excited modes. dopri5 and dop853 are\n\
-          explicit: on contact-stiff scenes their step control hovers at this omega_max.";
+          their error control keeps h omega small for excited modes.";
+    let steps: Vec<String> = adaptive
+        .iter()
+        .filter_map(|(m, step)| step.map(|h| format!("{m} {h:.4e} s (h omega_max {:.3})", h * w)))
+        .collect();
+    if !steps.is_empty() {
+        s += &format!(
+            "\nAdaptive explicit methods, largest stable step with closed contacts: {}.\n\
+             dop853's step is capped at {STEP_CAP_SAFETY} of it while a contact is closed, so its step\n\
+             control does not hover at the boundary; dopri5's PI control stays off it on its own.",
+            steps.join(", ")
+        );
+    }
     s
 }

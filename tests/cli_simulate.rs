@@ -312,6 +312,17 @@ fn stability_prints_omega_max_and_the_limits() {
         let last: f64 = l.split_whitespace().last().unwrap().parse().unwrap();
         assert!((lo..=hi).contains(&last), "{l}");
     }
+    // the adaptive explicit methods' caps: dop853's stability region reaches further along
+    // the imaginary axis than dopri5's (which leaves it near 0 and needs the damping)
+    let cap = |m: &str| -> f64 {
+        let at = text
+            .find(&format!("{m} "))
+            .and_then(|i| text[i..].find("h omega_max ").map(|j| i + j + 12))
+            .unwrap_or_else(|| panic!("no {m} cap in\n{text}"));
+        text[at..].split(')').next().unwrap().parse().unwrap()
+    };
+    let (dopri5, dop853) = (cap("dopri5"), cap("dop853"));
+    assert!(0.0 < dopri5 && dopri5 < dop853, "{text}");
 }
 
 #[test]

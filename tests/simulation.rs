@@ -2,9 +2,14 @@
 //! against every other, the case-study's wedged upper section and free flight, the
 //! three-section telescope.
 
+use nalgebra::{Complex, DMatrix};
 use std::path::Path;
-use telescopic_runtime::integrate::stability::stability_report;
-use telescopic_runtime::{Method, Model, Scene, Settings, SimError, model::rest_state, simulate};
+use telescopic_runtime::integrate::stability::{
+    STEP_CAP_SAFETY, closed_contact_stable_step, closed_contact_step_cap, stability_report,
+};
+use telescopic_runtime::{
+    ContactState, Method, Model, RunStats, Scene, Settings, SimError, model::rest_state, simulate,
+};
 
 fn scene(name: &str, overrides: &[&str]) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -27,11 +32,22 @@ fn outputs(
     method: Method,
     settings: &Settings,
 ) -> (Vec<String>, Vec<Vec<f64>>) {
+    let (names, rows, _) = outputs_and_stats(scene, model, method, settings);
+    (names, rows)
+}
+
+/// [`outputs`] and the run's counts.
+fn outputs_and_stats(
+    scene: &Scene,
+    model: &dyn Model,
+    method: Method,
+    settings: &Settings,
+) -> (Vec<String>, Vec<Vec<f64>>, RunStats) {
     let names = model.output_names();
     let mut rows = Vec::new();
     let mut out = vec![0.0; names.len()];
     let y0 = rest_state(model, scene.time.start);
-    simulate(
+    let stats = simulate(
         model,
         &y0,
         &scene.time,
@@ -46,7 +62,7 @@ fn outputs(
         None,
     )
     .unwrap_or_else(|e| panic!("{} with {method}: {e}", scene.name));
-    (names, rows)
+    (names, rows, stats)
 }
 
 fn column(names: &[String], name: &str) -> usize {
@@ -319,5 +335,116 @@ fn implicit_methods_stay_bounded_and_accurate_at_100_times_the_explicit_limit() 
             100.0 * worst / peak
         );
         assert!(worst < 0.02 * peak, "{name}: {worst} m of {peak} m");
+    }
+}
+
+/// Dormand-Prince 5(4)'s stability polynomial (the 5th-order propagated solution of its 7
+/// stages): `sum_{k<=5} z^k / k! + z^6 / 600`.
+fn dopri5_stability(z: Complex<f64>) -> Complex<f64> {
+    let mut term = Complex::new(1.0, 0.0);
+    let mut sum = term;
+    for k in 1..=5 {
+        term *= z / k as f64;
+        sum += term;
+    }
+    sum + z.powi(6) / 600.0
+}
+
+#[test]
+fn the_dopri5_stable_step_is_its_stability_polynomial_on_the_closed_contact_eigenvalues() {
+    // two paths: the runtime bisects on the spectral radius of real dopri5 steps of the
+    // model; here the textbook polynomial is evaluated on the Jacobian's eigenvalues
+    let scene = scene("adams-clearance", &[]);
+    let model = generated(&scene);
+    let step = closed_contact_stable_step(model.as_ref(), Method::Dopri5, &scene.time).unwrap();
+    let n = 2 * model.dof();
+    let closed = vec![ContactState::Upper; model.layout().contact_count()];
+    let mut jac = DMatrix::zeros(n, n);
+    model.jacobian(scene.time.start, &vec![0.0; n], Some(&closed), &mut jac);
+    let eigenvalues = jac.complex_eigenvalues();
+    let stable = |h: f64| {
+        eigenvalues
+            .iter()
+            .all(|&l| dopri5_stability(l * h).norm() <= 1.0 + 1e-7)
+    };
+    let (mut lo, mut hi) = (0.0, 1e-3);
+    assert!(!stable(hi));
+    while hi - lo > 1e-9 * hi {
+        let mid = 0.5 * (lo + hi);
+        if stable(mid) { lo = mid } else { hi = mid }
+    }
+    eprintln!("dopri5 stable step {lo:.6e} s from the polynomial, {step:.6e} s from its steps");
+    approx::assert_relative_eq!(step, lo, max_relative = 2e-3);
+    // the cap is dop853's alone, below its own stable step
+    assert!(closed_contact_step_cap(model.as_ref(), Method::Dopri5, &scene.time).is_none());
+    let dop853 = closed_contact_stable_step(model.as_ref(), Method::Dop853, &scene.time).unwrap();
+    let cap = closed_contact_step_cap(model.as_ref(), Method::Dop853, &scene.time).unwrap();
+    approx::assert_relative_eq!(cap, STEP_CAP_SAFETY * dop853);
+}
+
+/// `tip_rel` samples and the run's counts.
+fn tip_and_stats(
+    scene: &Scene,
+    model: &dyn Model,
+    method: Method,
+    settings: &Settings,
+) -> (Vec<f64>, RunStats) {
+    let (names, rows, stats) = outputs_and_stats(scene, model, method, settings);
+    let tip = column(&names, "tip_rel");
+    (rows.iter().map(|r| r[tip]).collect(), stats)
+}
+
+#[test]
+fn the_step_cap_takes_dop853_off_the_stability_boundary() {
+    // the whole scene for the step counts; errors pointwise inside the predictability
+    // horizon (0.4 s), against a tight run on [0, 0.3] s
+    let scene = scene("adams-clearance", &[]);
+    let model = generated(&scene);
+    let tight = Settings {
+        rtol: 1e-11,
+        atol: 1e-14,
+        ..Settings::default()
+    };
+    let horizon = self::scene("adams-clearance", &["time.end=0.3"]);
+    let (reference, _) = tip_and_stats(&horizon, model.as_ref(), Method::Dopri5, &tight);
+    let method = Method::Dop853;
+    let run = |step_cap: bool| {
+        let settings = Settings {
+            rtol: 1e-6,
+            atol: 1e-9,
+            step_cap,
+            ..Settings::default()
+        };
+        let (tips, stats) = tip_and_stats(&scene, model.as_ref(), method, &settings);
+        let worst = tips
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        (worst, stats)
+    };
+    let (capped_error, capped) = run(true);
+    let (free_error, free) = run(false);
+    eprintln!(
+        "{method}: capped at {:.3e} s: {} steps, {} rejected, {} rhs, error {capped_error:.2e} m; \
+         uncapped: {} steps, {} rejected, {} rhs, error {free_error:.2e} m",
+        capped.step_cap.unwrap(),
+        capped.steps,
+        capped.rejected,
+        capped.rhs_evals,
+        free.steps,
+        free.rejected,
+        free.rhs_evals
+    );
+    assert!(free.step_cap.is_none());
+    // the boundary hover: the uncapped control grows into instability and rejects
+    assert!(
+        2 * capped.rejected < free.rejected,
+        "{method}: {} rejected with the cap, {} without",
+        capped.rejected,
+        free.rejected
+    );
+    for (what, e) in [("capped", capped_error), ("uncapped", free_error)] {
+        assert!(e < 1e-6, "{method} {what}: tip_rel error {e:e} m");
     }
 }

@@ -2,7 +2,7 @@
 //! events, sampling, divergence checks.
 
 use super::events::{HermiteCubic, newton_in_bracket};
-use super::stability::stable_step;
+use super::stability::{closed_contact_step_cap, stable_step};
 use super::{
     ContactTracker, Method, Observer, Progress, RunStats, SampleGrid, Settings, SimError,
     StepControl, StepFailure, Stepper, System, make_stepper,
@@ -40,6 +40,8 @@ pub(super) struct Driver<'m> {
     h: f64,
     next_sample: u64,
     samples: SampleGrid,
+    /// Largest step (s) while a contact is closed ([`closed_contact_step_cap`]).
+    step_cap: f64,
 }
 
 impl<'m> Driver<'m> {
@@ -100,6 +102,12 @@ impl<'m> Driver<'m> {
         };
         let mut f0 = vec![0.0; 2 * n];
         sys.rhs(span.start, y0, &mut f0);
+        let step_cap = if settings.step_cap {
+            closed_contact_step_cap(model, method, span)
+        } else {
+            None
+        };
+        sys.stats.step_cap = step_cap;
         Ok(Driver {
             stepper: make_stepper(method, n, settings),
             sys,
@@ -122,6 +130,7 @@ impl<'m> Driver<'m> {
             h: 0.0,
             next_sample: 0,
             samples: SampleGrid::new(span),
+            step_cap: step_cap.unwrap_or(f64::INFINITY),
         })
     }
 
@@ -206,6 +215,9 @@ impl<'m> Driver<'m> {
                 end
             };
             let t_stop = t_break.min(t_sample);
+            if self.sys.tracker.any_closed() {
+                self.h = self.h.min(self.step_cap);
+            }
             let remaining = t_stop - self.t;
             // never leave a sliver before a stop
             let mut h = if self.h >= remaining * (1.0 - 1e-9) {

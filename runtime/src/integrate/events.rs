@@ -65,6 +65,13 @@ impl ContactTracker {
         self.states.fill(ContactState::Upper);
     }
 
+    /// True when some contact carries force: a branch other than free, or the linear law
+    /// (`l_S = 0`, every contact always in force).
+    #[inline]
+    pub fn any_closed(&self) -> bool {
+        self.is_linear() || self.states.iter().any(|&s| s != ContactState::Free)
+    }
+
     /// Current branches.
     pub fn states(&self) -> &[ContactState] {
         &self.states

@@ -263,6 +263,9 @@ pub struct Settings {
     /// scene whose positions come to rest (see [`exact::exact_tail_start`]). Must be a
     /// sample time inside the span.
     pub exact_from: Option<f64>,
+    /// Cap dop853's step below its stable step while a contact is closed
+    /// ([`stability::closed_contact_step_cap`]; other methods are never capped).
+    pub step_cap: bool,
 }
 
 impl Default for Settings {
@@ -273,6 +276,7 @@ impl Default for Settings {
             dt: None,
             max_steps: 50_000_000,
             exact_from: None,
+            step_cap: true,
         }
     }
 }
@@ -294,6 +298,8 @@ pub struct RunStats {
     pub switches: u64,
     /// Matrix exponentials (method `exact`: one per contact-branch combination met).
     pub exponentials: u64,
+    /// The step cap (s) applied while a contact was closed, if any.
+    pub step_cap: Option<f64>,
     /// Wall-clock time of the integration.
     pub wall: Duration,
 }
@@ -308,6 +314,7 @@ impl RunStats {
         self.factorizations += other.factorizations;
         self.switches += other.switches;
         self.exponentials += other.exponentials;
+        self.step_cap = self.step_cap.or(other.step_cap);
         self.wall += other.wall;
     }
 }
