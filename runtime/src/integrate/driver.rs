@@ -215,7 +215,8 @@ impl<'m> Driver<'m> {
                 end
             };
             let t_stop = t_break.min(t_sample);
-            if self.sys.tracker.any_closed() {
+            // only dop853 has a cap; skip the branch scan for every other method
+            if self.step_cap < f64::INFINITY && self.sys.tracker.any_closed() {
                 self.h = self.h.min(self.step_cap);
             }
             let remaining = t_stop - self.t;

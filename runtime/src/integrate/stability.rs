@@ -215,7 +215,7 @@ pub fn closed_contact_stable_step(
 /// Without it dop853's step control (I control, Hairer's default) hovers at the stability
 /// boundary on a contact-stiff scene: it grows the step until the contact mode starts to
 /// grow, rejects, shrinks and grows again (case-study at rtol 1e-5: 23k rejected steps of
-/// 67k; 6k with the cap, 13 % less wall time). dopri5's PI control already stays off the
+/// 67k; 6k with the cap, 13-15 % less wall time in two benchmark runs). dopri5's PI control already stays off the
 /// boundary: capped, it took 9 % longer on case-study, so it is not capped.
 pub fn closed_contact_step_cap(model: &dyn Model, method: Method, span: &TimeSpan) -> Option<f64> {
     if method != Method::Dop853 {
