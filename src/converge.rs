@@ -1,4 +1,4 @@
-//! `telescopic converge`: the smallest model a scene needs.
+//! The smallest model a scene needs.
 //!
 //! Raises the modes per section (the same number on every section) from 1 to `--max-modes`,
 //! simulating the scene and computing the first three frequencies with closed contacts for
@@ -13,50 +13,77 @@
 //! Every model is the quadrature-assembled one, so costs compare like with like (a generated
 //! model exists only for the configurations in generated/models.toml).
 
-use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, save, titled_page};
-use crate::simulate::{run_scene, write_atomically};
-use anyhow::{Context, bail};
-use clap::Args;
+use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
+use crate::report::Reporter;
+use crate::simulation::run_trajectory;
+use crate::{Error, Result};
 use plotters::prelude::*;
-use std::path::PathBuf;
-use telescopic_runtime::{AssembledModel, Model, Scene, auto_method, modal_analysis};
+use std::io::Write;
+use telescopic_runtime::scene::limits::MAX_CONTACT_POINTS;
+use telescopic_runtime::{AssembledModel, MAX_MODES, Model, Scene, auto_method, modal_analysis};
 
-/// Options of `telescopic converge`.
-#[derive(Debug, Args)]
-pub struct ConvergeArgs {
-    #[command(flatten)]
-    pub scene: crate::cli::SceneArgs,
-    /// Largest relative change between consecutive models that counts as converged.
-    #[arg(long, value_name = "TOL")]
+/// Options of [`converge`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvergeOptions {
+    /// Largest relative change between consecutive models that counts as converged, in
+    /// (0, 1).
     pub tol: f64,
-    /// Most modes per section tried.
-    #[arg(long, default_value_t = 12, value_name = "N")]
+    /// Most modes per section tried, 2 to 30 (default 12).
     pub max_modes: usize,
-    /// Most contact points per overlap tried (from 2).
-    #[arg(long, default_value_t = 5, value_name = "N")]
+    /// Most contact points per overlap tried from 2, 3 to 32 (default 5).
     pub max_contacts: usize,
-    /// Chart of model error against cost (SVG or PNG by extension).
-    #[arg(long, value_name = "FILE.svg|FILE.png")]
-    pub out: Option<PathBuf>,
-    /// CSV with one row per model tried.
-    #[arg(long, value_name = "FILE")]
-    pub csv: Option<PathBuf>,
+}
+
+impl Default for ConvergeOptions {
+    fn default() -> Self {
+        ConvergeOptions {
+            tol: 1e-2,
+            max_modes: 12,
+            max_contacts: 5,
+        }
+    }
 }
 
 /// One model of the sweep and what it gave.
-struct Trial {
-    modes: usize,
-    contacts: usize,
-    dof: usize,
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trial {
+    /// Modes per section.
+    pub modes: usize,
+    /// Contact points per overlap.
+    pub contacts: usize,
+    /// Generalized coordinates.
+    pub dof: usize,
     /// Wall time of the scene (s).
-    wall: f64,
+    pub wall: f64,
     /// First three frequencies with closed contacts (Hz).
-    frequencies: Vec<f64>,
-    /// Peak and RMS of `tip_rel` over the scene (m).
-    tip_peak: f64,
-    tip_rms: f64,
+    pub frequencies: Vec<f64>,
+    /// Peak of `|tip_rel|` over the scene (m).
+    pub tip_peak: f64,
+    /// RMS of `tip_rel` over the scene (m).
+    pub tip_rms: f64,
     /// `tip_rel` at every sample (m).
-    tip: Vec<f64>,
+    pub tip: Vec<f64>,
+}
+
+/// The result of [`converge`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Convergence {
+    /// The scene's name.
+    pub scene: String,
+    /// The tolerance asked for.
+    pub tol: f64,
+    /// Contact points per overlap of the scene.
+    pub contacts: usize,
+    /// Whether pointwise `tip_rel` differences were compared (`l_S = 0`).
+    pub pointwise: bool,
+    /// One trial per modes per section, 1 to `max_modes`, at the scene's contacts.
+    pub by_modes: Vec<Trial>,
+    /// Index into `by_modes` of the smallest converged model.
+    pub chosen: usize,
+    /// One trial per contact count, 2 to `max_contacts`, at the chosen modes.
+    pub by_contacts: Vec<Trial>,
+    /// The smallest converged contact count, if any.
+    pub contacts_needed: Option<usize>,
 }
 
 impl Trial {
@@ -72,7 +99,7 @@ impl Trial {
 
 impl Trial {
     /// Largest relative difference to `other` over the compared quantities.
-    fn change(&self, other: &Trial, pointwise: bool) -> f64 {
+    pub fn change(&self, other: &Trial, pointwise: bool) -> f64 {
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
         let mut change = rel(self.tip_peak, other.tip_peak).max(rel(self.tip_rms, other.tip_rms));
         for (a, b) in self.frequencies.iter().zip(&other.frequencies) {
@@ -92,22 +119,29 @@ impl Trial {
 }
 
 /// Simulates `scene` with `modes` per section and `contacts` per overlap.
-fn trial(scene: &Scene, modes: usize, contacts: usize) -> anyhow::Result<Trial> {
+fn trial(scene: &Scene, modes: usize, contacts: usize, reporter: &dyn Reporter) -> Result<Trial> {
     let mut scene = scene.clone();
     for s in &mut scene.params.sections {
         s.modes = modes;
     }
     scene.params.contact_points = contacts;
-    let model = AssembledModel::new(&scene.params)?;
-    let modal = modal_analysis(&model, scene.time.start)?;
+    let what = format!("{modes} modes per section, {contacts} contacts per overlap");
+    let in_trial = |source: Error| Error::Trial {
+        what: what.clone(),
+        source: Box::new(source),
+    };
+    let model =
+        AssembledModel::new(&scene.params).map_err(|e| in_trial(Error::Model(e.to_string())))?;
+    let modal = modal_analysis(&model, scene.time.start).map_err(|source| {
+        in_trial(Error::Eigen {
+            scene: scene.name.clone(),
+            source,
+        })
+    })?;
     let (method, _) = auto_method(&scene.params);
-    let traj = run_scene(
-        &scene,
-        &model,
-        method,
-        &telescopic_runtime::Settings::default(),
-    )
-    .with_context(|| format!("{modes} modes per section, {contacts} contacts per overlap"))?;
+    let settings = telescopic_runtime::Settings::default();
+    crate::budget::check_run(&scene, &model, method, &settings).map_err(in_trial)?;
+    let traj = run_trajectory(&scene, &model, method, &settings, reporter).map_err(in_trial)?;
     let col = traj
         .names
         .iter()
@@ -136,143 +170,172 @@ fn first_converged(trials: &[Trial], tol: f64, pointwise: bool) -> Option<usize>
         .position(|w| w[0].change(&w[1], pointwise) < tol)
 }
 
-/// Runs `telescopic converge`.
-pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
-    if !(args.tol > 0.0 && args.tol < 1.0) {
-        bail!(
-            "--tol must be a relative change in (0, 1) (got {})",
-            args.tol
-        );
+/// The smallest model `scene` needs: modes per section raised from 1, then contacts per
+/// overlap from 2, until the change to the next model is below `options.tol`. Progress
+/// lines go to `reporter`.
+///
+/// # Errors
+/// [`Error::Option`] for options out of range; [`Error::Analysis`] when no model up to
+/// `max_modes` converges; [`Error::Trial`] when a model fails.
+pub fn converge(
+    scene: &Scene,
+    options: &ConvergeOptions,
+    reporter: &dyn Reporter,
+) -> Result<Convergence> {
+    if !(options.tol > 0.0 && options.tol < 1.0) {
+        return Err(Error::option(
+            "--tol",
+            format!("must be a relative change in (0, 1) (got {})", options.tol),
+        ));
     }
-    if !(2..=telescopic_runtime::MAX_MODES).contains(&args.max_modes) {
-        bail!(
-            "--max-modes must be 2 to {} (got {})",
-            telescopic_runtime::MAX_MODES,
-            args.max_modes
-        );
+    if !(2..=MAX_MODES).contains(&options.max_modes) {
+        return Err(Error::option(
+            "--max-modes",
+            format!("must be 2 to {MAX_MODES} (got {})", options.max_modes),
+        ));
     }
-    if args.max_contacts < 3 {
-        bail!(
-            "--max-contacts must be at least 3 (got {}): contacts are raised from 2",
-            args.max_contacts
-        );
+    if !(3..=MAX_CONTACT_POINTS).contains(&options.max_contacts) {
+        return Err(Error::option(
+            "--max-contacts",
+            format!(
+                "must be 3 to {MAX_CONTACT_POINTS} (got {}): contacts are raised from 2",
+                options.max_contacts
+            ),
+        ));
     }
-    if let Some(p) = &args.out {
-        crate::plot::check_picture_path("--out", p)?;
-    }
-    let scene = args.scene.load()?;
     let contacts = scene.params.contact_points;
     let pointwise = scene.params.contact.is_linear();
     let (method, _) = auto_method(&scene.params);
-    eprintln!(
+    reporter.note(&format!(
         "{}: modes per section 1..{} with {contacts} contacts per overlap, method {method}, \
          assembled models",
-        scene.name, args.max_modes
-    );
+        scene.name, options.max_modes
+    ));
     let mut by_modes = Vec::new();
-    for n in 1..=args.max_modes {
-        let t = trial(&scene, n, contacts)?;
-        eprintln!("  N = {n:2}: dof {:3}, {}", t.dof, t.describe());
+    for n in 1..=options.max_modes {
+        let t = trial(scene, n, contacts, reporter)?;
+        reporter.note(&format!("  N = {n:2}: dof {:3}, {}", t.dof, t.describe()));
         by_modes.push(t);
     }
-    let largest = by_modes.last().expect("at least two models");
-    let Some(best) = first_converged(&by_modes, args.tol, pointwise) else {
-        bail!(
+    let Some(chosen) = first_converged(&by_modes, options.tol, pointwise) else {
+        return Err(Error::Analysis(format!(
             "no model up to {} modes per section changes by less than {} to the next; raise \
              --max-modes or --tol",
-            args.max_modes,
-            args.tol
-        );
+            options.max_modes, options.tol
+        )));
     };
-    let chosen = &by_modes[best];
-    // contacts per overlap at the chosen modes
-    eprintln!(
-        "contacts per overlap 2..{} at {} modes per section",
-        args.max_contacts, chosen.modes
-    );
+    let modes = by_modes[chosen].modes;
+    reporter.note(&format!(
+        "contacts per overlap 2..{} at {modes} modes per section",
+        options.max_contacts
+    ));
     let mut by_contacts = Vec::new();
-    for c in 2..=args.max_contacts {
-        let t = trial(&scene, chosen.modes, c)?;
-        eprintln!("  n_c = {c}: {}", t.describe());
+    for c in 2..=options.max_contacts {
+        let t = trial(scene, modes, c, reporter)?;
+        reporter.note(&format!("  n_c = {c}: {}", t.describe()));
         by_contacts.push(t);
     }
     let contacts_needed =
-        first_converged(&by_contacts, args.tol, pointwise).map(|i| by_contacts[i].contacts);
-    println!(
-        "smallest model for tol {}: {} modes per section ({} dof) with {contacts} contacts per \
-         overlap",
-        args.tol, chosen.modes, chosen.dof
-    );
-    println!(
-        "  its change to {} modes: {:.3e}; its difference to the largest model tried ({} \
-         modes): {:.3e}",
-        chosen.modes + 1,
-        chosen.change(&by_modes[best + 1], pointwise),
-        largest.modes,
-        chosen.change(largest, pointwise)
-    );
-    println!(
-        "  wall time {:.4} s against {:.4} s: {:.1}x faster than the largest model",
-        chosen.wall,
-        largest.wall,
-        largest.wall / chosen.wall
-    );
-    match contacts_needed {
-        Some(c) if c == contacts => {
-            println!("  contacts per overlap: {c} (the scene's) already converged to tol")
-        }
-        Some(c) => println!(
-            "  contacts per overlap: {c} would do (the scene has {contacts}; the paper's \
-             contacts are physical points, so this is for information)"
-        ),
-        None => println!(
-            "  contacts per overlap: no count up to {} changes by less than tol to the next",
-            args.max_contacts
-        ),
+        first_converged(&by_contacts, options.tol, pointwise).map(|i| by_contacts[i].contacts);
+    Ok(Convergence {
+        scene: scene.name.clone(),
+        tol: options.tol,
+        contacts,
+        pointwise,
+        by_modes,
+        chosen,
+        by_contacts,
+        contacts_needed,
+    })
+}
+
+impl Convergence {
+    /// The answer as text: the smallest model, its change and speed-up, the contacts.
+    pub fn render(&self) -> String {
+        let chosen = &self.by_modes[self.chosen];
+        let largest = self.by_modes.last().expect("at least two models");
+        let contacts = self.contacts;
+        let mut s = format!(
+            "smallest model for tol {}: {} modes per section ({} dof) with {contacts} contacts \
+             per overlap\n",
+            self.tol, chosen.modes, chosen.dof
+        );
+        s += &format!(
+            "  its change to {} modes: {:.3e}; its difference to the largest model tried ({} \
+             modes): {:.3e}\n",
+            chosen.modes + 1,
+            chosen.change(&self.by_modes[self.chosen + 1], self.pointwise),
+            largest.modes,
+            chosen.change(largest, self.pointwise)
+        );
+        s += &format!(
+            "  wall time {:.4} s against {:.4} s: {:.1}x faster than the largest model\n",
+            chosen.wall,
+            largest.wall,
+            largest.wall / chosen.wall
+        );
+        s += &match self.contacts_needed {
+            Some(c) if c == contacts => {
+                format!("  contacts per overlap: {c} (the scene's) already converged to tol\n")
+            }
+            Some(c) => format!(
+                "  contacts per overlap: {c} would do (the scene has {contacts}; the paper's \
+                 contacts are physical points, so this is for information)\n"
+            ),
+            None => format!(
+                "  contacts per overlap: no count up to {} changes by less than tol to the \
+                 next\n",
+                self.by_contacts.last().map_or(0, |t| t.contacts)
+            ),
+        };
+        s
     }
-    if let Some(path) = &args.csv {
-        write_atomically(path, |w| {
+
+    /// The CSV table: one row per model tried, with its error against the largest model of
+    /// its series.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_table(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        let largest = self.by_modes.last().expect("at least two models");
+        writeln!(
+            w,
+            "modes,contacts,dof,wall_s,f1_hz,f2_hz,f3_hz,tip_peak_m,tip_rms_m,error_vs_largest"
+        )?;
+        for t in self.by_modes.iter().chain(&self.by_contacts) {
+            let reference = if t.contacts == self.contacts {
+                largest
+            } else {
+                self.by_contacts.last().expect("contacts tried")
+            };
+            let f = |i: usize| t.frequencies.get(i).copied().unwrap_or(f64::NAN);
             writeln!(
                 w,
-                "modes,contacts,dof,wall_s,f1_hz,f2_hz,f3_hz,tip_peak_m,tip_rms_m,error_vs_largest"
+                "{},{},{},{:e},{},{},{},{:e},{:e},{:e}",
+                t.modes,
+                t.contacts,
+                t.dof,
+                t.wall,
+                f(0),
+                f(1),
+                f(2),
+                t.tip_peak,
+                t.tip_rms,
+                t.change(reference, self.pointwise)
             )?;
-            for t in by_modes.iter().chain(&by_contacts) {
-                let reference = if t.contacts == contacts {
-                    largest
-                } else {
-                    by_contacts.last().expect("contacts tried")
-                };
-                let f = |i: usize| t.frequencies.get(i).copied().unwrap_or(f64::NAN);
-                writeln!(
-                    w,
-                    "{},{},{},{:e},{},{},{},{:e},{:e},{:e}",
-                    t.modes,
-                    t.contacts,
-                    t.dof,
-                    t.wall,
-                    f(0),
-                    f(1),
-                    f(2),
-                    t.tip_peak,
-                    t.tip_rms,
-                    t.change(reference, pointwise)
-                )?;
-            }
-            Ok(())
-        })?;
-        eprintln!("wrote {}", path.display());
+        }
+        Ok(())
     }
-    if let Some(path) = &args.out {
-        let chart = ConvergenceChart {
-            scene: &scene.name,
-            tol: args.tol,
-            trials: &by_modes,
-            pointwise,
-        };
-        save(&chart, path)?;
-        eprintln!("wrote {}", path.display());
+
+    /// The error-against-cost chart (for [`crate::plot::save`]).
+    pub fn chart(&self) -> impl Figure + '_ {
+        ConvergenceChart {
+            scene: &self.scene,
+            tol: self.tol,
+            trials: &self.by_modes,
+            pointwise: self.pointwise,
+        }
     }
-    Ok(())
 }
 
 /// Model error against the largest model versus cost, one point per number of modes.
@@ -291,7 +354,7 @@ impl Figure for ConvergenceChart<'_> {
     fn draw<DB: DrawingBackend>(
         &self,
         root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> anyhow::Result<()> {
+    ) -> Result<()> {
         let title = format!(
             "model error vs cost, {} (modes per section 1..{})",
             self.scene,

@@ -1,12 +1,15 @@
-//! `telescopic equations`: the derived equations of the scene's generated model, as rendered
-//! at build time (the CLI never runs Symbolica).
+//! The derived equations of a scene's generated model, as rendered when it was generated
+//! (the library never runs Symbolica).
 
-use crate::cli::SceneArgs;
-use clap::{Args, ValueEnum};
+use crate::model_choice::no_generated_model;
+use crate::Result;
+use std::fmt;
+use std::str::FromStr;
+use telescopic_runtime::{Scene, configuration_key};
 
-/// Output format of `telescopic equations`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
-pub enum Format {
+/// A rendering of the equations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EquationFormat {
     /// Plain text.
     #[default]
     Text,
@@ -14,37 +17,50 @@ pub enum Format {
     Latex,
     /// The emitted Rust module.
     Rust,
-    /// JSON.
+    /// JSON (for controller-design tools).
     Json,
 }
 
-/// Options of `telescopic equations`.
-#[derive(Debug, Args)]
-pub struct EquationsArgs {
-    #[command(flatten)]
-    scene: SceneArgs,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t)]
-    format: Format,
+impl EquationFormat {
+    /// The name the generated lookup takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            EquationFormat::Text => "text",
+            EquationFormat::Latex => "latex",
+            EquationFormat::Rust => "rust",
+            EquationFormat::Json => "json",
+        }
+    }
 }
 
-/// Runs `telescopic equations`.
-pub fn run(args: &EquationsArgs) -> anyhow::Result<()> {
-    let scene = args.scene.load()?;
-    let key = telescopic_generated::key_for(&scene.params);
-    let format = match args.format {
-        Format::Text => "text",
-        Format::Latex => "latex",
-        Format::Rust => "rust",
-        Format::Json => "json",
-    };
-    let text = telescopic_generated::rendering(&key, format).ok_or_else(|| {
-        anyhow::anyhow!(
-            "no generated model for configuration {key}, so no derived equations to show; add this entry to \
-             generated/models.toml and rebuild:\n{}",
-            telescopic_generated::models_toml_entry(&scene.params)
-        )
-    })?;
-    print!("{text}");
-    Ok(())
+impl FromStr for EquationFormat {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "text" => Ok(EquationFormat::Text),
+            "latex" => Ok(EquationFormat::Latex),
+            "rust" => Ok(EquationFormat::Rust),
+            "json" => Ok(EquationFormat::Json),
+            _ => Err(format!("`{s}` is not a format; use text, latex, rust or json")),
+        }
+    }
 }
+
+impl fmt::Display for EquationFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The equations of `scene`'s generated model in `format`.
+///
+/// # Errors
+/// [`Error::Model`] when the scene's configuration was not generated (with the entry to add).
+pub fn equations(scene: &Scene, format: EquationFormat) -> Result<&'static str> {
+    let key = configuration_key(&scene.params);
+    telescopic_generated::rendering(&key, format.name()).ok_or_else(|| {
+        no_generated_model(&scene.params, "no derived equations to show")
+    })
+}
+

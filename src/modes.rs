@@ -1,77 +1,127 @@
-//! `telescopic modes`: eigenfrequencies in Hz, with published reference columns beside
-//! them, as a table or JSON.
+//! Natural frequencies and mode shapes of a scene, linearized about the straight state with
+//! closed contacts (`f = c xi`: clearance and contact damping ignored, as for the paper's
+//! Table I), with published reference columns beside them.
+//!
+//! ```
+//! use telescopic::modes::{ModesOptions, compute_modes};
+//! use telescopic::Scene;
+//!
+//! let scene = Scene::load("scenes/test-rig.toml".as_ref(), &[])?;
+//! let report = compute_modes(&scene, &ModesOptions::default())?;
+//! assert_eq!(report.rigid_modes, 1); // the vehicle's translation
+//! assert!((report.frequencies_hz[0] - 0.498).abs() < 1e-3); // f1 of the test rig, Hz
+//! # Ok::<(), telescopic::Error>(())
+//! ```
 
-use crate::choose::{ModelChoice, build_model};
-use crate::cli::SceneArgs;
-use clap::Args;
+use crate::model_choice::{ModelChoice, build_model};
+use crate::{Error, Result};
 use serde::Serialize;
 use std::fmt::Write as _;
-use telescopic_runtime::{ModalAnalysis, Model, Scene, modal_analysis, sample_shape};
+use telescopic_runtime::{Scene, modal_analysis, sample_shape};
 
-/// Options of `telescopic modes`.
-#[derive(Debug, Args)]
-pub struct ModesArgs {
-    #[command(flatten)]
-    scene: SceneArgs,
-    /// Print JSON instead of a table.
-    #[arg(long)]
-    json: bool,
-    /// Time (s) whose telescopic positions are used; default: the scene's start time.
-    #[arg(long, value_name = "SECONDS")]
-    at: Option<f64>,
-    /// How many frequencies to print (default: all).
-    #[arg(long, value_name = "N")]
-    count: Option<usize>,
-    /// Also give mode shapes, sampled at this many points per section (JSON: `mode_shapes`).
-    #[arg(long, value_name = "POINTS")]
-    shapes: Option<usize>,
+/// Options of [`compute_modes`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ModesOptions {
+    /// Time (s) whose telescopic positions are used; default: the scene's start.
+    pub at: Option<f64>,
+    /// How many frequencies to report (default: all).
+    pub count: Option<usize>,
+    /// Also sample mode shapes at this many points per section (2 or more).
+    pub shapes: Option<usize>,
     /// Which model computes the matrices.
-    #[arg(long, value_enum, default_value_t)]
-    model: ModelChoice,
+    pub model: ModelChoice,
 }
 
-/// The JSON document of `telescopic modes --json`.
-#[derive(Debug, Serialize)]
-struct ModesJson {
-    scene: String,
-    time_s: f64,
-    model: String,
-    frequencies_hz: Vec<f64>,
-    rigid_modes: usize,
-    unstable_growth_rates_per_s: Vec<f64>,
-    modes_per_section: Vec<usize>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    mode_shapes: Option<Vec<ModeShapeJson>>,
-}
+/// Most points per section of a sampled mode shape.
+pub const MAX_SHAPE_POINTS: usize = 10_000;
 
 /// One mode shape: displacement along each section, normalized to a largest value of 1.
-#[derive(Debug, Serialize)]
-struct ModeShapeJson {
-    frequency_hz: f64,
-    sections: Vec<Vec<f64>>,
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModeShape {
+    /// The mode's frequency (Hz).
+    pub frequency_hz: f64,
+    /// `w_k(x)` at evenly spaced points from the foot to the top of each section.
+    pub sections: Vec<Vec<f64>>,
 }
 
-/// Runs `telescopic modes`.
-pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
-    let scene = args.scene.load()?;
-    let t = args.at.unwrap_or(scene.time.start);
-    anyhow::ensure!(
-        t.is_finite() && t >= scene.time.start && t <= scene.time.end,
-        "--at {t}: must lie in the scene's time span [{}, {}] s",
-        scene.time.start,
-        scene.time.end
-    );
-    if let Some(0 | 1) = args.shapes {
-        anyhow::bail!("--shapes: needs at least 2 points per section");
+/// A reference column printed beside ours.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReferenceColumn {
+    /// Column heading.
+    pub label: String,
+    /// Frequencies (Hz).
+    pub frequencies_hz: Vec<f64>,
+}
+
+/// The result of [`compute_modes`]; its JSON form is `telescopic modes --json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModesReport {
+    /// The scene's name.
+    pub scene: String,
+    /// Time of the contact geometry (s).
+    pub time_s: f64,
+    /// Which model computed the matrices.
+    pub model: String,
+    /// Natural frequencies (Hz), ascending, rigid modes excluded.
+    pub frequencies_hz: Vec<f64>,
+    /// Rigid-body modes (zero frequency), counted, not listed.
+    pub rigid_modes: usize,
+    /// Growth rates (1/s) of modes buckled by the axial load.
+    pub unstable_growth_rates_per_s: Vec<f64>,
+    /// Modes per section.
+    pub modes_per_section: Vec<usize>,
+    /// Generalized coordinates.
+    #[serde(skip)]
+    pub dof: usize,
+    /// Contact stiffness `c` (N/m).
+    #[serde(skip)]
+    pub contact_stiffness: f64,
+    /// Published columns to print beside ours.
+    #[serde(skip)]
+    pub references: Vec<ReferenceColumn>,
+    /// Mode shapes, when asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mode_shapes: Option<Vec<ModeShape>>,
+    /// Set when the model choice fell back to the assembled model.
+    #[serde(skip)]
+    pub note: Option<String>,
+}
+
+/// Natural frequencies (and optionally mode shapes) of `scene`.
+///
+/// # Errors
+/// [`Error::Option`] for a time outside the span or too few shape points; [`Error::Model`]
+/// or [`Error::Eigen`] when the model or its eigen analysis fails.
+pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesReport> {
+    let t = options.at.unwrap_or(scene.time.start);
+    if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
+        return Err(Error::option(
+            "--at",
+            format!(
+                "{t}: must lie in the scene's time span [{}, {}] s",
+                scene.time.start, scene.time.end
+            ),
+        ));
     }
-    let (model, which) = build_model(&scene.params, args.model)?;
-    let model = model.as_ref();
-    let modal = modal_analysis(model, t)?;
-    let count = args
+    if let Some(points) = options.shapes
+        && !(2..=MAX_SHAPE_POINTS).contains(&points)
+    {
+        return Err(Error::option(
+            "--shapes",
+            format!("must be 2 to {MAX_SHAPE_POINTS} points per section (got {points})"),
+        ));
+    }
+    let chosen = build_model(&scene.params, options.model)?;
+    let model = chosen.model.as_ref();
+    let modal = modal_analysis(model, t).map_err(|source| Error::Eigen {
+        scene: scene.name.clone(),
+        source,
+    })?;
+    let count = options
         .count
         .unwrap_or(modal.frequencies_hz.len())
         .min(modal.frequencies_hz.len());
-    let shapes = args.shapes.map(|points| {
+    let mode_shapes = options.shapes.map(|points| {
         modal.shapes[..count]
             .iter()
             .zip(&modal.frequencies_hz)
@@ -82,103 +132,104 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
                     .flatten()
                     .fold(0.0_f64, |m, w| m.max(w.abs()));
                 sections.iter_mut().flatten().for_each(|w| *w /= peak);
-                ModeShapeJson {
+                ModeShape {
                     frequency_hz: f,
                     sections,
                 }
             })
-            .collect::<Vec<_>>()
+            .collect()
     });
-    if args.json {
-        let doc = ModesJson {
-            scene: scene.name.clone(),
-            time_s: t,
-            model: which.clone(),
-            frequencies_hz: modal.frequencies_hz[..count].to_vec(),
-            rigid_modes: modal.rigid_modes,
-            unstable_growth_rates_per_s: modal.unstable_growth_rates.clone(),
-            modes_per_section: scene.params.modes(),
-            mode_shapes: shapes,
-        };
-        println!("{}", serde_json::to_string_pretty(&doc)?);
-    } else {
-        print!("{}", table(&scene, model, &which, &modal, count, t));
-        if let Some(shapes) = shapes {
-            print!("{}", shape_table(&shapes));
-        }
-    }
-    Ok(())
+    Ok(ModesReport {
+        scene: scene.name.clone(),
+        time_s: t,
+        model: chosen.description.clone(),
+        frequencies_hz: modal.frequencies_hz[..count].to_vec(),
+        rigid_modes: modal.rigid_modes,
+        unstable_growth_rates_per_s: modal.unstable_growth_rates.clone(),
+        modes_per_section: scene.params.modes(),
+        dof: model.dof(),
+        contact_stiffness: scene.params.contact.stiffness,
+        references: scene
+            .references
+            .iter()
+            .map(|r| ReferenceColumn {
+                label: r.label.clone(),
+                frequencies_hz: r.frequencies_hz.clone(),
+            })
+            .collect(),
+        mode_shapes,
+        note: chosen.note,
+    })
 }
 
-/// The text table: ours, then each reference column with the difference in percent.
-fn table(
-    scene: &Scene,
-    model: &dyn Model,
-    which: &str,
-    modal: &ModalAnalysis,
-    count: usize,
-    t: f64,
-) -> String {
-    let mut s = String::new();
-    let modes = scene.params.modes();
-    let _ = writeln!(
-        s,
-        "{}: {} section(s), modes per section {:?}, {} coordinates; contacts closed (c = {} N/m), geometry at t = {} s",
-        scene.name,
-        modes.len(),
-        modes,
-        model.dof(),
-        scene.params.contact.stiffness,
-        t
-    );
-    let _ = writeln!(s, "model: {which}");
-    let _ = writeln!(s, "rigid-body modes: {} (not listed)", modal.rigid_modes);
-    if !modal.unstable_growth_rates.is_empty() {
+impl ModesReport {
+    /// The JSON document (`telescopic modes --json`).
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("plain data serializes")
+    }
+
+    /// The text table: ours, then each reference column with the difference in percent, and
+    /// the mode shapes when sampled.
+    pub fn to_table(&self) -> String {
+        let mut s = String::new();
         let _ = writeln!(
             s,
-            "UNSTABLE: {} mode(s) with negative stiffness (buckled under the axial load), growth rates {:?} 1/s",
-            modal.unstable_growth_rates.len(),
-            modal.unstable_growth_rates
+            "{}: {} section(s), modes per section {:?}, {} coordinates; contacts closed (c = {} \
+             N/m), geometry at t = {} s",
+            self.scene,
+            self.modes_per_section.len(),
+            self.modes_per_section,
+            self.dof,
+            self.contact_stiffness,
+            self.time_s
         );
-    }
-    let mut header = format!("{:>5} {:>14}", "mode", "ours [Hz]");
-    for r in &scene.references {
-        let _ = write!(header, " {:>16} {:>8}", format!("{} [Hz]", r.label), "diff");
-    }
-    let _ = writeln!(s, "{header}");
-    for (i, f) in modal.frequencies_hz[..count].iter().enumerate() {
-        let mut line = format!("{:>5} {:>14.6}", format!("f{}", i + 1), f);
-        for r in &scene.references {
-            match r.frequencies_hz.get(i) {
-                // difference as the paper's Table I states it: (reference - ours) / reference
-                Some(&fr) => {
-                    let _ = write!(line, " {:>16} {:>7.2}%", fr, 100.0 * (fr - f) / fr);
+        let _ = writeln!(s, "model: {}", self.model);
+        let _ = writeln!(s, "rigid-body modes: {} (not listed)", self.rigid_modes);
+        if !self.unstable_growth_rates_per_s.is_empty() {
+            let _ = writeln!(
+                s,
+                "UNSTABLE: {} mode(s) with negative stiffness (buckled under the axial load), \
+                 growth rates {:?} 1/s",
+                self.unstable_growth_rates_per_s.len(),
+                self.unstable_growth_rates_per_s
+            );
+        }
+        let mut header = format!("{:>5} {:>14}", "mode", "ours [Hz]");
+        for r in &self.references {
+            let _ = write!(header, " {:>16} {:>8}", format!("{} [Hz]", r.label), "diff");
+        }
+        let _ = writeln!(s, "{header}");
+        for (i, f) in self.frequencies_hz.iter().enumerate() {
+            let mut line = format!("{:>5} {:>14.6}", format!("f{}", i + 1), f);
+            for r in &self.references {
+                match r.frequencies_hz.get(i) {
+                    // difference as the paper's Table I states it: (reference - ours) / reference
+                    Some(&fr) => {
+                        let _ = write!(line, " {:>16} {:>7.2}%", fr, 100.0 * (fr - f) / fr);
+                    }
+                    None => {
+                        let _ = write!(line, " {:>16} {:>8}", "", "");
+                    }
                 }
-                None => {
-                    let _ = write!(line, " {:>16} {:>8}", "", "");
+            }
+            let _ = writeln!(s, "{line}");
+        }
+        if !self.references.is_empty() {
+            let _ = writeln!(
+                s,
+                "diff = (reference - ours) / reference, as in the paper's Table I"
+            );
+        }
+        if let Some(shapes) = &self.mode_shapes {
+            s.push_str("\nmode shapes (w along each section, foot to top, largest |w| = 1):\n");
+            for (i, m) in shapes.iter().enumerate() {
+                let _ = writeln!(s, "f{} = {:.6} Hz", i + 1, m.frequency_hz);
+                for (k, w) in m.sections.iter().enumerate() {
+                    let vals: Vec<String> = w.iter().map(|v| format!("{v:+.3}")).collect();
+                    let _ = writeln!(s, "  section {}: {}", k + 1, vals.join(" "));
                 }
             }
         }
-        let _ = writeln!(s, "{line}");
+        s
     }
-    if !scene.references.is_empty() {
-        let _ = writeln!(
-            s,
-            "diff = (reference - ours) / reference, as in the paper's Table I"
-        );
-    }
-    s
-}
-
-fn shape_table(shapes: &[ModeShapeJson]) -> String {
-    let mut s =
-        String::from("\nmode shapes (w along each section, foot to top, largest |w| = 1):\n");
-    for (i, m) in shapes.iter().enumerate() {
-        let _ = writeln!(s, "f{} = {:.6} Hz", i + 1, m.frequency_hz);
-        for (k, w) in m.sections.iter().enumerate() {
-            let vals: Vec<String> = w.iter().map(|v| format!("{v:+.3}")).collect();
-            let _ = writeln!(s, "  section {}: {}", k + 1, vals.join(" "));
-        }
-    }
-    s
 }

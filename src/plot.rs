@@ -1,10 +1,10 @@
-//! `simulate --plot`: the paper's figures as SVG or PNG with plotters. Case-study-like scenes get
+//! Charts: the paper's figures of a simulation as SVG or PNG with plotters. Case-study-like scenes get
 //! the vehicle (Fig. 8), `tip_rel` (Fig. 9), `top1_rel` (Fig. 10) and the gaps at the lower
 //! and upper contact of the first overlap (Figs. 11, 12) with the band edges `+-l_S/2`;
 //! the adams scenes get `tip_rel` (Figs. 14, 15). A second scene (`--compare`) is overlaid.
 
-use crate::simulate::Trajectory;
-use anyhow::Context;
+use crate::simulation::Trajectory;
+use crate::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -72,15 +72,18 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
 const PLOT_EXTENSIONS: [&str; 2] = ["svg", "png"];
 
 /// Checks before any work that a picture file named by `flag` ends in .svg or .png.
-pub fn check_picture_path(flag: &str, path: &Path) -> anyhow::Result<()> {
+pub fn check_picture_path(flag: &str, path: &Path) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str());
     if !ext.is_some_and(|e| PLOT_EXTENSIONS.contains(&e)) {
-        anyhow::bail!(
-            "{flag} {}: the file name must end in .svg or .png (the format follows it)",
-            path.display()
-        );
+        return Err(Error::option(
+            flag,
+            format!(
+                "{}: the file name must end in .svg or .png (the format follows it)",
+                path.display()
+            ),
+        ));
     }
-    Ok(())
+    crate::output::check_writable(flag, path)
 }
 
 /// Width of a plot (pixels).
@@ -94,12 +97,12 @@ pub trait Figure {
     fn draw<DB: DrawingBackend>(
         &self,
         root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> anyhow::Result<()>;
+    ) -> Result<()>;
 }
 
 /// Saves `figure` as SVG or PNG by the extension of `path` (written completely or not at
 /// all).
-pub fn save<F: Figure>(figure: &F, path: &Path) -> anyhow::Result<()> {
+pub fn save<F: Figure>(figure: &F, path: &Path) -> Result<()> {
     // both backends measure text with the font
     register_font()?;
     let size = figure.size();
@@ -115,8 +118,7 @@ pub fn save<F: Figure>(figure: &F, path: &Path) -> anyhow::Result<()> {
             svg.into_bytes()
         }
     };
-    crate::simulate::write_atomically(path, |w| w.write_all(&bytes))
-        .with_context(|| format!("writing the plot {}", path.display()))
+    crate::output::write_atomically(path, |w| w.write_all(&bytes))
 }
 
 /// The paper's figures for one scene, with overlaid runs.
@@ -133,7 +135,7 @@ impl Figure for PaperFigure<'_> {
     fn draw<DB: DrawingBackend>(
         &self,
         root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> anyhow::Result<()> {
+    ) -> Result<()> {
         root.fill(&WHITE).map_err(plot_error)?;
         let areas = root.split_evenly((self.panels.len(), 1));
         for (panel, area) in self.panels.iter().zip(&areas) {
@@ -145,7 +147,7 @@ impl Figure for PaperFigure<'_> {
 
 /// Draws the panels of `curves[0]`'s scene to an SVG or PNG file at `path` (by extension;
 /// written completely or not at all).
-pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> anyhow::Result<()> {
+pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> Result<()> {
     let figure = PaperFigure {
         panels: panels(scene_name, &curves[0].traj.names),
         curves,
@@ -154,25 +156,27 @@ pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> anyhow::Result<(
 }
 
 /// Text needs a font: DejaVu Sans, compiled in, so plots look the same on any machine.
-fn register_font() -> anyhow::Result<()> {
+fn register_font() -> Result<()> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| anyhow::anyhow!("the built-in DejaVu Sans font could not be loaded"))
+        .map_err(|_| Error::Plot("the built-in DejaVu Sans font could not be loaded".into()))
 }
 
 /// An RGB buffer as PNG bytes.
-fn encode_png(rgb: &[u8], (width, height): (u32, u32)) -> anyhow::Result<Vec<u8>> {
+fn encode_png(rgb: &[u8], (width, height): (u32, u32)) -> Result<Vec<u8>> {
     let mut out = Vec::new();
     let mut encoder = png::Encoder::new(&mut out, width, height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().context("encoding PNG")?;
-    writer.write_image_data(rgb).context("encoding PNG")?;
-    writer.finish().context("encoding PNG")?;
+    let png_error = |e: png::EncodingError| Error::Plot(format!("encoding PNG: {e}"));
+    let mut writer = encoder.write_header().map_err(png_error)?;
+    writer.write_image_data(rgb).map_err(png_error)?;
+    writer.finish().map_err(png_error)?;
     Ok(out)
 }
 
-pub fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow::anyhow!("drawing failed: {e:?}")
+/// A plotters error as the library's [`Error::Plot`].
+pub fn plot_error<E: std::fmt::Debug>(e: E) -> Error {
+    Error::Plot(format!("{e:?}"))
 }
 
 /// A tick label with as many decimals as the axis span needs (exponent form below 1e-3).
@@ -231,7 +235,7 @@ pub const COLORS: [RGBColor; 8] = [
 pub fn titled_page<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     title: &str,
-) -> anyhow::Result<DrawingArea<DB, plotters::coord::Shift>> {
+) -> Result<DrawingArea<DB, plotters::coord::Shift>> {
     root.fill(&WHITE).map_err(plot_error)?;
     root.titled(title, ("sans-serif", 22)).map_err(plot_error)
 }
@@ -263,7 +267,7 @@ pub fn log_panel<DB: DrawingBackend>(
     series: &[LogSeries],
     y_axis: YAxis,
     level: Option<(f64, &str)>,
-) -> anyhow::Result<()> {
+) -> Result<()> {
     let log_y = matches!(y_axis, YAxis::Log);
     let transformed: Vec<Vec<(f64, f64, &str)>> = series
         .iter()
@@ -356,7 +360,7 @@ fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     panel: &Panel,
     curves: &[Curve],
-) -> anyhow::Result<()> {
+) -> Result<()> {
     let series: Vec<(usize, Vec<(f64, f64)>)> = curves
         .iter()
         .enumerate()

@@ -1,49 +1,64 @@
-//! `telescopic shape-errors`: the evaluation error of the shape functions for modes 1..30,
+//! The evaluation error of the shape functions for modes 1..30,
 //! the paper's printed forms in `f64` against the cancellation-free forms, both measured
 //! against the printed forms in 512-bit arithmetic. Shows the failure of the naive form
 //! instead of only avoiding it.
 
-use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, save};
-use crate::simulate::write_atomically;
-use clap::Args;
+use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error};
+use crate::{Error, Result};
 use plotters::prelude::*;
-use std::path::PathBuf;
+use std::io::Write;
 use telescopic_runtime::shape::{MAX_MODES, SectionKind};
 use telescopic_runtime::shape_reference::{Hp, evaluation_errors};
 
-/// Options of `telescopic shape-errors`.
-#[derive(Debug, Args)]
-pub struct ShapeErrorsArgs {
-    /// Section length (m); the errors barely depend on it.
-    #[arg(long, default_value_t = 1.35, value_name = "M")]
+/// Most evaluation points along a section (each costs 512-bit evaluations of 4 derivatives
+/// for 57 modes: 10 000 points take about a minute).
+pub const MAX_POINTS: usize = 10_000;
+
+/// Options of [`shape_errors`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeErrorsOptions {
+    /// Section length (m); the errors barely depend on it (default 1.35).
     pub length: f64,
-    /// Evaluation points along the section (derivatives 0 to 3 at each).
-    #[arg(long, default_value_t = 41, value_name = "N")]
+    /// Evaluation points along the section, 2 to [`MAX_POINTS`] (default 41).
     pub points: usize,
-    /// Chart (SVG or PNG by extension).
-    #[arg(long, value_name = "FILE.svg|FILE.png")]
-    pub out: Option<PathBuf>,
-    /// CSV: kind, mode, worst scaled error of each form; default: standard output.
-    #[arg(long, value_name = "FILE")]
-    pub csv: Option<PathBuf>,
+}
+
+impl Default for ShapeErrorsOptions {
+    fn default() -> Self {
+        ShapeErrorsOptions {
+            length: 1.35,
+            points: 41,
+        }
+    }
 }
 
 /// Worst errors of one mode: `(kind, mode, cancellation-free, printed)`.
-type Row = (SectionKind, usize, f64, f64);
+pub type Row = (SectionKind, usize, f64, f64);
 
-/// Runs `telescopic shape-errors`.
-pub fn run(args: &ShapeErrorsArgs) -> anyhow::Result<()> {
-    if !(args.length > 0.0 && args.length.is_finite()) {
-        anyhow::bail!(
-            "--length must be a positive number of metres (got {})",
-            args.length
-        );
+/// The result of [`shape_errors`]: one row per elastic mode of each section kind.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeErrors {
+    /// `(kind, mode, error of the cancellation-free form, error of the printed form)`.
+    pub rows: Vec<Row>,
+}
+
+/// The evaluation error of the shape functions for modes 1..30 in `f64`: the printed forms
+/// and the cancellation-free ones, both against the printed forms in 512-bit arithmetic.
+///
+/// # Errors
+/// [`Error::Option`] for a length or point count out of range.
+pub fn shape_errors(options: &ShapeErrorsOptions) -> Result<ShapeErrors> {
+    if !(options.length > 0.0 && options.length.is_finite()) {
+        return Err(Error::option(
+            "--length",
+            format!("must be a positive number of metres (got {})", options.length),
+        ));
     }
-    if args.points < 2 {
-        anyhow::bail!("--points must be at least 2 (got {})", args.points);
-    }
-    if let Some(p) = &args.out {
-        crate::plot::check_picture_path("--out", p)?;
+    if !(2..=MAX_POINTS).contains(&options.points) {
+        return Err(Error::option(
+            "--points",
+            format!("must be 2 to {MAX_POINTS} (got {})", options.points),
+        ));
     }
     let mut hp = Hp::new();
     let mut rows: Vec<Row> = Vec::new();
@@ -55,29 +70,31 @@ pub fn run(args: &ShapeErrorsArgs) -> anyhow::Result<()> {
             3
         };
         for i in first_elastic..=MAX_MODES {
-            let (free, printed) = evaluation_errors(&mut hp, kind, i, args.length, args.points);
+            let (free, printed) =
+                evaluation_errors(&mut hp, kind, i, options.length, options.points);
             rows.push((kind, i, free, printed));
         }
     }
-    let table = |w: &mut dyn std::io::Write| -> std::io::Result<()> {
+    Ok(ShapeErrors { rows })
+}
+
+impl ShapeErrors {
+    /// The CSV table: kind, mode, worst scaled error of each form.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_table(&self, w: &mut dyn Write) -> std::io::Result<()> {
         writeln!(w, "kind,mode,cancellation_free_error,printed_error")?;
-        for (kind, i, free, printed) in &rows {
+        for (kind, i, free, printed) in &self.rows {
             writeln!(w, "{},{i},{free:e},{printed:e}", kind_name(*kind))?;
         }
         Ok(())
-    };
-    match &args.csv {
-        Some(path) => {
-            write_atomically(path, |w| table(w))?;
-            eprintln!("wrote {}", path.display());
-        }
-        None => table(&mut std::io::stdout().lock())?,
     }
-    if let Some(path) = &args.out {
-        save(&ShapeErrorChart { rows: &rows }, path)?;
-        eprintln!("wrote {}", path.display());
+
+    /// The chart (for [`crate::plot::save`]).
+    pub fn chart(&self) -> impl Figure + '_ {
+        ShapeErrorChart { rows: &self.rows }
     }
-    Ok(())
 }
 
 fn kind_name(kind: SectionKind) -> &'static str {
@@ -99,7 +116,7 @@ impl Figure for ShapeErrorChart<'_> {
     fn draw<DB: DrawingBackend>(
         &self,
         root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> anyhow::Result<()> {
+    ) -> Result<()> {
         root.fill(&WHITE).map_err(plot_error)?;
         let mut series = Vec::new();
         for kind in [SectionKind::GuidedFree, SectionKind::FreeFree] {

@@ -1,50 +1,68 @@
-//! `telescopic stability`: the stiffest frequency of a scene with closed contacts and the
+//! Where the fixed-step explicit methods fail: the stiffest frequency of a scene with closed contacts and the
 //! largest stable step of each fixed-step explicit method, from the textbook limits and
 //! from the spectral radius of each method's step on the model itself.
 
-use crate::choose::{ModelChoice, build_model};
-use crate::cli::SceneArgs;
-use clap::Args;
-use telescopic_runtime::Method;
+use crate::model_choice::{ModelChoice, build_model};
+use crate::{Error, Result};
+use telescopic_runtime::{Method, Scene};
 use telescopic_runtime::integrate::stability::{
     RK4_IMAGINARY_AXIS, RK4_REAL_AXIS, STEP_CAP_SAFETY, StabilityReport, VERLET_LIMIT,
     closed_contact_stable_step, linearization_times, stability_report,
 };
 
-/// Options of `telescopic stability`.
-#[derive(Debug, Args)]
-pub struct StabilityArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Which model is linearized.
-    #[arg(long, value_enum, default_value_t)]
-    pub model: ModelChoice,
+/// The stability facts of a scene: the closed-contact model at its stiffest time, and the
+/// largest stable steps of the adaptive explicit methods.
+#[derive(Debug, Clone)]
+pub struct Stability {
+    /// The scene's name.
+    pub scene: String,
+    /// Which model was linearized.
+    pub model: String,
+    /// The report at the stiffest of the linearization times.
+    pub worst: StabilityReport,
+    /// How many times were checked (1 for fixed positions).
+    pub times: usize,
+    /// Largest stable step (s) of dopri5 and dop853 with closed contacts.
+    pub adaptive: Vec<(Method, Option<f64>)>,
+    /// Set when the model choice fell back to the assembled model.
+    pub note: Option<String>,
 }
 
-/// Runs `telescopic stability`.
-pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
-    let scene = args.scene.load()?;
-    let (model, word) = build_model(&scene.params, args.model)?;
-    let times = linearization_times(model.as_ref(), &scene.time);
+/// The stability analysis of `scene`: `omega_max` and the model's own step limits of the
+/// fixed-step explicit methods (and of dopri5 and dop853) with closed contacts.
+///
+/// # Errors
+/// [`Error::Model`] or [`Error::Analysis`] when the model or its modal analysis fails.
+pub fn stability_analysis(scene: &Scene, choice: ModelChoice) -> Result<Stability> {
+    let chosen = build_model(&scene.params, choice)?;
+    let model = chosen.model.as_ref();
+    let times = linearization_times(model, &scene.time);
     let mut reports = Vec::new();
     for &t in &times {
-        reports.push(stability_report(model.as_ref(), t).map_err(anyhow::Error::msg)?);
+        reports.push(stability_report(model, t).map_err(Error::Analysis)?);
     }
     let worst = reports
-        .iter()
+        .into_iter()
         .min_by(|a, b| a.rk4_step.total_cmp(&b.rk4_step))
         .expect("at least one time");
-    let adaptive = [Method::Dopri5, Method::Dop853].map(|m| {
-        (
-            m,
-            closed_contact_stable_step(model.as_ref(), m, &scene.time),
-        )
-    });
-    println!(
-        "{}",
-        render(&scene.name, &word, worst, times.len(), &adaptive)
-    );
-    Ok(())
+    let adaptive = [Method::Dopri5, Method::Dop853]
+        .map(|m| (m, closed_contact_stable_step(model, m, &scene.time)))
+        .to_vec();
+    Ok(Stability {
+        scene: scene.name.clone(),
+        model: chosen.description,
+        worst,
+        times: times.len(),
+        adaptive,
+        note: chosen.note,
+    })
+}
+
+impl Stability {
+    /// The report as text (`telescopic stability`).
+    pub fn render(&self) -> String {
+        render(&self.scene, &self.model, &self.worst, self.times, &self.adaptive)
+    }
 }
 
 /// The report as text.

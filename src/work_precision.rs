@@ -7,44 +7,59 @@
 //! span, on statistics that converge even where the motion does not: per-second peak and RMS
 //! of `tip_rel`, and the number of contact switches. Wall time is the median of repeated runs.
 
-use crate::choose::{ModelChoice, build_model};
-use crate::cli::SceneArgs;
-use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, save, titled_page};
-use crate::simulate::{Trajectory, run_scene, write_atomically};
-use anyhow::bail;
-use clap::Args;
+use crate::model_choice::{ModelChoice, build_model};
+use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
+use crate::report::Reporter;
+use crate::simulation::{Trajectory, run_trajectory};
+use crate::{Error, Result};
 use plotters::prelude::*;
 use std::io::Write;
-use std::path::PathBuf;
 use telescopic_runtime::integrate::stability::stability_report;
 use telescopic_runtime::{Method, Model, Scene, Settings, auto_plan};
 
-/// Options of `telescopic work-precision`.
-#[derive(Debug, Args)]
-pub struct WorkPrecisionArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Methods to compare, comma-separated (`exact` is skipped, with a note, on a scene that
-    /// is not linear and time-invariant between contact switches; `auto` is simulate's
-    /// default, e.g. dopri5 while the positions move and exact once they rest).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "exact,auto,dopri5,dop853,esdirk,bdf,galpha,rk4,verlet"
-    )]
+/// The methods compared by default: every method, and `auto` (simulate's default).
+pub const DEFAULT_METHODS: &str = "exact,auto,dopri5,dop853,esdirk,bdf,galpha,rk4,verlet";
+
+/// Most timed repetitions per setting.
+pub const MAX_REPEAT: usize = 100;
+
+/// Options of [`work_precision`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkPrecisionOptions {
+    /// Methods to compare by name (`auto` is simulate's default; `exact` is skipped, with a
+    /// note, on a scene that is not linear and time-invariant between contact switches).
     pub methods: Vec<String>,
-    /// Chart file (SVG or PNG by extension).
-    #[arg(long, value_name = "FILE.svg|FILE.png")]
-    pub out: Option<PathBuf>,
-    /// CSV file with one row per run (the data behind the chart).
-    #[arg(long, value_name = "FILE")]
-    pub csv: Option<PathBuf>,
-    /// Timed repetitions per setting (the median is reported).
-    #[arg(long, default_value_t = 3)]
+    /// Timed repetitions per setting (the median is reported), 1 to [`MAX_REPEAT`].
     pub repeat: usize,
     /// Which model computes the right-hand side.
-    #[arg(long, value_enum, default_value_t)]
     pub model: ModelChoice,
+}
+
+impl Default for WorkPrecisionOptions {
+    fn default() -> Self {
+        WorkPrecisionOptions {
+            methods: DEFAULT_METHODS.split(',').map(String::from).collect(),
+            repeat: 3,
+            model: ModelChoice::Auto,
+        }
+    }
+}
+
+/// The result of [`work_precision`]: the reference's horizon and floor, and one point per
+/// run of the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkPrecision {
+    /// The scene's name.
+    pub scene: String,
+    /// Predictability horizon `T_h` (s): where the two references part by 1e-9 m.
+    pub horizon: f64,
+    /// End of the scene's span (s).
+    pub end: f64,
+    /// The statistics floor: how much the two references differ in per-second peak/RMS of
+    /// `tip_rel` and in the switch count (relative).
+    pub floor: (f64, f64),
+    /// One point per run.
+    pub points: Vec<Point>,
 }
 
 /// Agreement of the two reference runs that defines the predictability horizon (m).
@@ -59,27 +74,32 @@ const EXPLICIT_FRACTIONS: [f64; 5] = [0.9, 0.5, 0.25, 0.125, 0.0625];
 const IMPLICIT_STEPS: [f64; 5] = [1e-3, 3e-4, 1e-4, 3e-5, 1e-5];
 
 /// One run of the sweep.
-struct Point {
-    method: String,
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    /// Method label (`auto` or a method name).
+    pub method: String,
     /// `rtol=...` or `dt=...`.
-    setting: String,
-    steps: u64,
-    rhs_evals: u64,
+    pub setting: String,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Right-hand side evaluations.
+    pub rhs_evals: u64,
     /// Median wall time (s).
-    wall: f64,
+    pub wall: f64,
     /// Largest `|tip_rel - reference|` on `[0, T_h]` (m).
-    tip_error: f64,
+    pub tip_error: f64,
     /// Largest gap error on `[0, T_h]` (m).
-    gap_error: f64,
+    pub gap_error: f64,
     /// Largest relative error of the per-second peak and RMS of `tip_rel`.
-    statistics_error: f64,
-    switches: u64,
+    pub statistics_error: f64,
+    /// Contact switches.
+    pub switches: u64,
     /// Relative error of the switch count.
-    switch_error: f64,
-    /// Time the run stays within [`RUN_AGREEMENT`] of the reference (s).
-    agrees_until: f64,
+    pub switch_error: f64,
+    /// Time the run stays within 1e-6 m of the reference (s).
+    pub agrees_until: f64,
     /// Empty when the run finished, else the error.
-    failure: String,
+    pub failure: String,
 }
 
 /// Peak and RMS of `tip_rel` per whole second.
@@ -155,11 +175,7 @@ fn tolerance(rtol: f64) -> Settings {
 }
 
 /// The settings swept for `method` on `model`.
-fn sweep(
-    method: Method,
-    model: &dyn Model,
-    scene: &Scene,
-) -> anyhow::Result<Vec<(String, Settings)>> {
+fn sweep(method: Method, model: &dyn Model, scene: &Scene) -> Result<Vec<(String, Settings)>> {
     let fixed = |dt: f64| Settings {
         dt: Some(dt),
         ..Settings::default()
@@ -168,7 +184,7 @@ fn sweep(
         // exact up to rounding: nothing to sweep
         Method::Exact => vec![("exact".to_string(), Settings::default())],
         Method::Rk4 | Method::Verlet => {
-            let r = stability_report(model, scene.time.start).map_err(anyhow::Error::msg)?;
+            let r = stability_report(model, scene.time.start).map_err(Error::Analysis)?;
             let limit = if method == Method::Rk4 {
                 r.rk4_step
             } else {
@@ -192,15 +208,24 @@ fn sweep(
     })
 }
 
-/// Runs `telescopic work-precision`.
-pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
-    if args.repeat == 0 {
-        bail!("--repeat must be at least 1");
+/// Speed against accuracy for every method on `scene`: the reference, its horizon and
+/// floor, then each method's sweep. Progress lines go to `reporter`.
+///
+/// # Errors
+/// [`Error::Option`] for an unknown method or a repeat count out of range; a failed
+/// reference run. A failed run of the sweep is a point with its error, not an error.
+pub fn work_precision(
+    scene: &Scene,
+    options: &WorkPrecisionOptions,
+    reporter: &dyn Reporter,
+) -> Result<WorkPrecision> {
+    if !(1..=MAX_REPEAT).contains(&options.repeat) {
+        return Err(Error::option(
+            "--repeat",
+            format!("must be 1 to {MAX_REPEAT} (got {})", options.repeat),
+        ));
     }
-    if let Some(p) = &args.out {
-        crate::plot::check_picture_path("--out", p)?;
-    }
-    let scene = args.scene.load()?;
+    let args = options;
     // (label, method, exact stepping from): `auto` is what `simulate` runs by default
     let methods: Vec<(String, Method, Option<f64>)> = args
         .methods
@@ -212,16 +237,23 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
             }
             name => Method::from_name(name)
                 .map(|method| (method.name(), method, None))
-                .map_err(anyhow::Error::msg),
+                .map_err(|e| Error::option("--methods", e)),
         })
-        .collect::<anyhow::Result<_>>()?;
-    let (model, word) = build_model(&scene.params, args.model)?;
-    eprintln!(
-        "{} on the {word}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
-        scene.name
-    );
-    let reference = run_scene(&scene, model.as_ref(), Method::Dop853, &tolerance(1e-12))?;
-    let second = run_scene(&scene, model.as_ref(), Method::Dopri5, &tolerance(1e-10))?;
+        .collect::<Result<_>>()?;
+    let chosen = build_model(&scene.params, args.model)?;
+    if let Some(note) = &chosen.note {
+        reporter.note(note);
+    }
+    let model = chosen.model;
+    reporter.note(&format!(
+        "{} on the {}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
+        scene.name, chosen.description
+    ));
+    let run = |method, settings: &Settings| {
+        run_trajectory(scene, model.as_ref(), method, settings, reporter)
+    };
+    let reference = run(Method::Dop853, &tolerance(1e-12))?;
+    let second = run(Method::Dopri5, &tolerance(1e-10))?;
     let tip = column(&reference, "tip_rel").expect("tip_rel");
     let end = scene.time.end;
     let horizon = reference
@@ -230,37 +262,38 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         .zip(&second.rows)
         .find(|(a, b)| (a[tip] - b[tip]).abs() > HORIZON_AGREEMENT)
         .map_or(end, |(a, _)| a[0]);
-    eprintln!(
-        "predictability horizon T_h = {horizon:.4} s (the two references agree in tip_rel to {HORIZON_AGREEMENT:e} m up to there; span {end} s)"
-    );
+    reporter.note(&format!(
+        "predictability horizon T_h = {horizon:.4} s (the two references agree in tip_rel to \
+         {HORIZON_AGREEMENT:e} m up to there; span {end} s)"
+    ));
     // the statistics of two careful runs differ after T_h: no method can be judged closer
     let floor = measure(&second, &reference, horizon);
-    eprintln!(
-        "statistics floor: the two references differ by {:.2} % in per-second peak/RMS of tip_rel \
-         and {:.2} % in contact switches",
+    reporter.note(&format!(
+        "statistics floor: the two references differ by {:.2} % in per-second peak/RMS of \
+         tip_rel and {:.2} % in contact switches",
         100.0 * floor[2],
         100.0 * floor[3]
-    );
+    ));
     let mut points = Vec::new();
     let exact_listed = methods.iter().any(|(l, _, _)| l == "exact");
     for (label, method, exact_from) in &methods {
         let (method, exact_from) = (*method, *exact_from);
         if label == "auto" && method == Method::Exact && exact_from.is_none() && exact_listed {
-            eprintln!("auto: the same runs as exact on this scene");
+            reporter.note("auto: the same runs as exact on this scene");
             continue;
         }
         if method == Method::Exact
             && let Some(why) = telescopic_runtime::integrate::exact::lti_obstacle(&scene.params)
         {
-            eprintln!("exact: skipped ({why})");
+            reporter.note(&format!("exact: skipped ({why})"));
             continue;
         }
-        for (setting, mut settings) in sweep(method, model.as_ref(), &scene)? {
+        for (setting, mut settings) in sweep(method, model.as_ref(), scene)? {
             settings.exact_from = exact_from;
             let mut walls = Vec::new();
             let mut last = None;
             for _ in 0..args.repeat {
-                match run_scene(&scene, model.as_ref(), method, &settings) {
+                match run(method, &settings) {
                     Ok(t) => {
                         walls.push(t.stats.wall.as_secs_f64());
                         last = Some(Ok(t));
@@ -311,28 +344,37 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
                     failure: format!("{e:#}").replace([',', '\n'], ";"),
                 },
             };
-            eprintln!("{}", describe(&point));
+            reporter.note(&describe(&point));
             points.push(point);
         }
     }
-    if let Some(path) = &args.csv {
-        write_atomically(path, |w| write_table(w, &points))?;
-        eprintln!("wrote {}", path.display());
+    Ok(WorkPrecision {
+        scene: scene.name.clone(),
+        horizon,
+        end,
+        floor: (floor[2], floor[3]),
+        points,
+    })
+}
+
+impl WorkPrecision {
+    /// The CSV table: one row per run.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_table(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        write_table(w, &self.points)
     }
-    if let Some(path) = &args.out {
-        let chart = WorkPrecisionChart {
-            scene: &scene.name,
-            horizon,
-            end,
-            points: &points,
-        };
-        save(&chart, path)?;
-        eprintln!("wrote {}", path.display());
+
+    /// The six-panel chart (for [`crate::plot::save`]).
+    pub fn chart(&self) -> impl Figure + '_ {
+        WorkPrecisionChart {
+            scene: &self.scene,
+            horizon: self.horizon,
+            end: self.end,
+            points: &self.points,
+        }
     }
-    if args.csv.is_none() {
-        write_table(&mut std::io::stdout().lock(), &points)?;
-    }
-    Ok(())
 }
 
 fn describe(p: &Point) -> String {
@@ -406,7 +448,7 @@ impl Figure for WorkPrecisionChart<'_> {
     fn draw<DB: DrawingBackend>(
         &self,
         root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> anyhow::Result<()> {
+    ) -> Result<()> {
         let title = format!(
             "work-precision, {} (T_h = {:.3} s of {} s)",
             self.scene, self.horizon, self.end

@@ -78,7 +78,7 @@ fn converge_finds_a_model_whose_next_refinement_changes_less_than_tol() {
 fn converge_rejects_a_bad_tolerance() {
     fails_with(
         &["converge", "scenes/adams-linear.toml", "--tol", "2"],
-        &["--tol must be a relative change in (0, 1)"],
+        &["--tol: must be a relative change in (0, 1)"],
     );
 }
 

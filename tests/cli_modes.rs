@@ -116,7 +116,7 @@ fn mode_shapes_are_sampled_and_normalized() {
 fn bad_input_fails_cleanly_and_names_the_field() {
     fails_with(
         &["modes", "scenes/test-rig.toml", "--set", "contact.points=1"],
-        &["contact.points", "at least 2"],
+        &["contact.points", "must be in 2..=32"],
     );
     fails_with(
         &[

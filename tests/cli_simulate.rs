@@ -233,7 +233,7 @@ fn plot_draws_the_papers_figures_with_labelled_axes() {
     }
     fails_with(
         &["simulate", "scenes/adams-linear.toml", "--plot", "run.jpg"],
-        &["--plot run.jpg", ".svg or .png"],
+        &["--plot: run.jpg", ".svg or .png"],
     );
     fails_with(
         &[
@@ -242,7 +242,7 @@ fn plot_draws_the_papers_figures_with_labelled_axes() {
             "--out",
             "chart.pdf",
         ],
-        &["--out chart.pdf", ".svg or .png"],
+        &["--out: chart.pdf", ".svg or .png"],
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }

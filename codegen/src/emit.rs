@@ -656,7 +656,7 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
     });
 
     let file = quote! {
-        use nalgebra::{DMatrix, DVector};
+        use telescopic_runtime::nalgebra::{DMatrix, DVector};
         use telescopic_runtime::{ContactForce, ContactState, Drive, ForceFlow, Layout, Model, ModelParams};
 
         /// The configuration key this module was generated for.

@@ -18,6 +18,7 @@ fn two_generator_processes_at_once() {
     .unwrap();
     let spawn = |out: &str| {
         Command::new(env!("CARGO_BIN_EXE_telescopic-codegen"))
+            .arg("write")
             .arg(&models)
             .arg(dir.join(out))
             .stdout(std::process::Stdio::piped())
@@ -70,6 +71,7 @@ fn without_a_shared_lock_one_of_two_processes_aborts() {
                 "TELESCOPIC_SYMBOLICA_LOCK",
                 dir.join(format!("{name}.lock")),
             )
+            .arg("write")
             .arg(&models)
             .arg(dir.join(name))
             .stdout(std::process::Stdio::null())

@@ -5,7 +5,8 @@
 
 use nalgebra::DMatrix;
 use telescopic_codegen::{DriveKind, ForceFlow, ModelConfig, ModelList, Positions};
-use telescopic_generated::{CONFIGURATIONS, key_for, prepare};
+use telescopic_generated::{CONFIGURATIONS, prepare};
+use telescopic_runtime::configuration_key as key_for;
 use telescopic_runtime::{
     AssembledModel, ContactLaw, ContactState, Drive, Model, ModelParams, Profile, SectionParams,
     ShapedProfile,

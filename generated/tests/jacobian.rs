@@ -74,7 +74,7 @@ fn generated_jacobians_match_central_differences() {
         let model = telescopic_generated::prepare(&p)
             .expect("listed in models.toml")
             .unwrap();
-        let key = telescopic_generated::key_for(&p);
+        let key = telescopic_runtime::configuration_key(&p);
         let n2 = 2 * model.dof();
         let nc = model.layout().contact_count();
         for (trial, t) in [0.5, 5.0, 9.0].into_iter().enumerate() {

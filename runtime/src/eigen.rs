@@ -46,6 +46,12 @@ pub enum EigenError {
     /// The (condensed) mass matrix is not positive definite.
     #[error("the mass matrix is not positive definite; no eigen analysis is possible")]
     MassNotPositiveDefinite,
+    /// An eigenvalue iteration did not converge within its iteration limit.
+    #[error("the eigen solver did not converge ({operation}) within its iteration limit")]
+    NoConvergence {
+        /// Which decomposition.
+        operation: &'static str,
+    },
 }
 
 /// `K_eff = K + c sum_c g_c g_c'` at time `t` (s).
@@ -153,4 +159,86 @@ pub fn sample_shape(model: &dyn Model, shape: &DVector<f64>, points: usize) -> V
                 .collect()
         })
         .collect()
+}
+
+/// The fastest rates of the closed-contact system at one time: its largest natural circular
+/// frequency and its largest contact damping rate, from two symmetric generalized eigen
+/// problems (robust, iteration-limited). Together they bound the spectral radius of the
+/// first-order system's Jacobian to within a factor 2 (`|lambda| <= omega + delta`), which is
+/// what an explicit method's stable step is set by.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FastestRates {
+    /// Time of the contact geometry (s).
+    pub time: f64,
+    /// Largest `omega` of `K_eff v = omega^2 M v` (rad/s; `inf` when it does not fit in
+    /// double precision).
+    pub omega_max: f64,
+    /// Largest `delta` of `D v = delta M v`, `D = d sum_c g_c g_c'` (1/s; `inf` likewise).
+    pub damping_rate: f64,
+}
+
+impl FastestRates {
+    /// The estimate of the Jacobian's spectral radius: `max(omega_max, damping_rate)` (1/s).
+    pub fn spectral_radius(&self) -> f64 {
+        self.omega_max.max(self.damping_rate)
+    }
+}
+
+/// Largest eigenvalue of the symmetric pencil `(a, M)` with `M = L L'`, scaled so that no
+/// intermediate overflows: `inf` when the answer does not fit in double precision, `None`
+/// when the iteration does not converge.
+fn largest_pencil_eigenvalue(a: &DMatrix<f64>, l: &DMatrix<f64>) -> Option<f64> {
+    let scale = a.abs().max();
+    if scale == 0.0 {
+        return Some(0.0);
+    }
+    if !scale.is_finite() {
+        return Some(f64::INFINITY);
+    }
+    let mut s = a / scale;
+    s = l.solve_lower_triangular(&s)?;
+    s = l.solve_lower_triangular(&s.transpose())?;
+    s = 0.5 * (&s + s.transpose());
+    if !s.iter().all(|v| v.is_finite()) {
+        return Some(f64::INFINITY);
+    }
+    let eig = SymmetricEigen::try_new(s, f64::EPSILON, 100 * a.nrows().max(10))?;
+    let largest = eig.eigenvalues.iter().fold(0.0_f64, |m, &v| m.max(v));
+    Some(largest * scale)
+}
+
+/// The [`FastestRates`] of `model` at time `t` (s), contacts closed.
+///
+/// # Errors
+/// [`EigenError::MassNotPositiveDefinite`], or [`EigenError::NoConvergence`].
+pub fn fastest_rates(model: &dyn Model, t: f64) -> Result<FastestRates, EigenError> {
+    let n = model.dof();
+    let nc = model.layout().contact_count();
+    let chol = model
+        .mass_matrix()
+        .clone()
+        .cholesky()
+        .ok_or(EigenError::MassNotPositiveDefinite)?;
+    let l = chol.l();
+    let k = closed_contact_stiffness(model, t);
+    let omega2 = largest_pencil_eigenvalue(&k, &l).ok_or(EigenError::NoConvergence {
+        operation: "largest eigenvalue of (K_eff, M)",
+    })?;
+    let mut damping_rate = 0.0;
+    let d = model.params().contact.damping;
+    if nc > 0 && d > 0.0 {
+        let mut g = DMatrix::zeros(n, nc);
+        let mut gdot = DMatrix::zeros(n, nc);
+        model.contact_vectors(t, &mut g, &mut gdot);
+        let ggt = &g * g.transpose();
+        let rate = largest_pencil_eigenvalue(&ggt, &l).ok_or(EigenError::NoConvergence {
+            operation: "largest eigenvalue of (D, M)",
+        })?;
+        damping_rate = d * rate;
+    }
+    Ok(FastestRates {
+        time: t,
+        omega_max: omega2.max(0.0).sqrt(),
+        damping_rate,
+    })
 }

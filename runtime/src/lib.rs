@@ -22,6 +22,7 @@
 
 pub mod assembled;
 pub mod check;
+pub mod configuration;
 pub mod contact;
 pub mod contact_table;
 pub mod eigen;
@@ -37,10 +38,16 @@ pub mod shape;
 pub mod shape_reference;
 pub mod specialize;
 
+pub use configuration::{configuration_key, models_toml_entry};
+/// The linear-algebra crate of the [`Model`] interface, re-exported so that generated modules
+/// and downstream crates use the same version.
+pub use nalgebra;
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use contact::{ContactForce, ContactLaw, ContactState};
 pub use contact_table::ContactTable;
-pub use eigen::{EigenError, ModalAnalysis, modal_analysis, sample_shape};
+pub use eigen::{
+    EigenError, FastestRates, ModalAnalysis, fastest_rates, modal_analysis, sample_shape,
+};
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};
 pub use model::{Model, mechanical_energy, rest_state};

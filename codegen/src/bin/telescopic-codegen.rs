@@ -1,35 +1,55 @@
-//! `telescopic-codegen MODELS.toml OUT_DIR`: generates every configuration of a models file
-//! into `OUT_DIR/<key>.rs` (what `generated/build.rs` does, as a command). Prints the keys on
-//! stderr; stdout stays empty (Symbolica's banner included).
+//! `telescopic-codegen`: the [`telescopic_codegen::Builder`] as a command, for output that
+//! is committed (what a crate builds from without running Symbolica).
+//!
+//! ```text
+//! telescopic-codegen write  MODELS.toml DIR [--no-renderings]   generate into DIR
+//! telescopic-codegen verify MODELS.toml DIR [--no-renderings]   check DIR against a fresh generation
+//! ```
+//!
+//! Progress goes to stderr; stdout stays empty (Symbolica's banner included).
 
-use std::path::PathBuf;
 use std::process::ExitCode;
-use telescopic_codegen::{ModelList, generate};
+use telescopic_codegen::Builder;
+
+const USAGE: &str = "usage: telescopic-codegen write|verify MODELS.toml DIR [--no-renderings]";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let [models, out] = args.as_slice() else {
-        eprintln!("usage: telescopic-codegen MODELS.toml OUT_DIR");
+    let renderings = !args.iter().any(|a| a == "--no-renderings");
+    let positional: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
+    let unknown: Vec<&String> = args
+        .iter()
+        .filter(|a| a.starts_with("--") && *a != "--no-renderings")
+        .collect();
+    let ([command, models, dir], []) = (positional.as_slice(), unknown.as_slice()) else {
+        eprintln!("{USAGE}");
         return ExitCode::from(2);
     };
-    let run = || -> Result<(), String> {
-        let text =
-            std::fs::read_to_string(models).map_err(|e| format!("cannot read {models}: {e}"))?;
-        let list: ModelList = toml::from_str(&text).map_err(|e| format!("{models}: {e}"))?;
-        let out = PathBuf::from(out);
-        std::fs::create_dir_all(&out)
-            .map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-        for config in &list.model {
-            let start = std::time::Instant::now();
-            let model = generate(config).map_err(|e| format!("{}: {e}", config.key()))?;
-            let path = out.join(format!("{}.rs", model.module));
-            std::fs::write(&path, &model.source)
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-            eprintln!("{} ({:.3} s)", model.module, start.elapsed().as_secs_f64());
+    let builder = Builder::new().models_file(models).renderings(renderings);
+    let start = std::time::Instant::now();
+    let result = match command.as_str() {
+        "write" => builder.write_to(dir).map(|w| {
+            eprintln!(
+                "{} configurations in {:.2} s: {} files written, {} unchanged, {} removed",
+                w.keys.len(),
+                start.elapsed().as_secs_f64(),
+                w.changed.len(),
+                w.unchanged,
+                w.removed.len()
+            );
+            for path in w.changed.iter().chain(&w.removed) {
+                eprintln!("  {}", path.display());
+            }
+        }),
+        "verify" => builder.verify(dir).map(|()| {
+            eprintln!("{dir} is what the generator makes from {models}");
+        }),
+        _ => {
+            eprintln!("{USAGE}");
+            return ExitCode::from(2);
         }
-        Ok(())
     };
-    match run() {
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

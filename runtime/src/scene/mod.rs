@@ -1,6 +1,7 @@
 //! Scenes: TOML files that describe a telescope, its drive and a time span; loading,
 //! `--set` overrides and validation with errors that name the field and the rule.
 
+pub mod limits;
 mod overrides;
 pub mod schema;
 mod validate;

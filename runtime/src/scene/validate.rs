@@ -5,6 +5,9 @@ use super::{FieldError, Scene, SceneError, TimeSpan};
 use crate::contact::ContactLaw;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile};
+use super::limits::{
+    MAX_CONTACT_POINTS, MAX_OUTPUT_VALUES, MAX_SECTIONS, output_columns, sample_count,
+};
 use crate::shape::MAX_MODES;
 
 /// Collects broken rules.
@@ -121,28 +124,38 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     let mut r = Rules::default();
     let s = &file.sections;
     let n = s.count;
-    if n == 0 {
-        r.fail("sections.count", "must be at least 1");
+    // checked before anything is sized by it
+    let n_fits = (1..=MAX_SECTIONS).contains(&n);
+    if !n_fits {
+        r.fail(
+            "sections.count",
+            format!(
+                "must be in 1..={MAX_SECTIONS} (got {n}); the limit keeps the model's dense \
+                 matrices and eigen analysis small (see docs/scenes.md)"
+            ),
+        );
     }
-    let lengths = r.per_section("sections.length", &s.length, n, |r, f, v| r.positive(f, v));
-    let areas = r.per_section("sections.area", &s.area, n, |r, f, v| r.positive(f, v));
-    let inertias = r.per_section("sections.inertia", &s.inertia, n, |r, f, v| {
-        r.positive(f, v)
-    });
-    let densities = r.per_section("sections.density", &s.density, n, |r, f, v| {
-        r.positive(f, v)
-    });
-    let moduli = r.per_section(
-        "sections.youngs_modulus",
-        &s.youngs_modulus,
-        n,
-        |r, f, v| r.positive(f, v),
-    );
-    let modes = r.per_section("sections.modes", &s.modes, n, |r, f, v| {
-        if !(1..=MAX_MODES).contains(&v) {
-            r.fail(f, format!("must be in 1..={MAX_MODES} (got {v})"));
+    let per_section = |r: &mut Rules, field: &str, spec: &PerSection<f64>| {
+        if n_fits {
+            r.per_section(field, spec, n, |r, f, v| r.positive(f, v))
+        } else {
+            None
         }
-    });
+    };
+    let lengths = per_section(&mut r, "sections.length", &s.length);
+    let areas = per_section(&mut r, "sections.area", &s.area);
+    let inertias = per_section(&mut r, "sections.inertia", &s.inertia);
+    let densities = per_section(&mut r, "sections.density", &s.density);
+    let moduli = per_section(&mut r, "sections.youngs_modulus", &s.youngs_modulus);
+    let modes = if n_fits {
+        r.per_section("sections.modes", &s.modes, n, |r, f, v| {
+            if !(1..=MAX_MODES).contains(&v) {
+                r.fail(f, format!("must be in 1..={MAX_MODES} (got {v})"));
+            }
+        })
+    } else {
+        None
+    };
     r.non_negative("masses.vehicle", file.masses.vehicle);
     r.non_negative("masses.load", file.masses.load);
     r.non_negative("gravity.g", file.gravity.g);
@@ -175,10 +188,10 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     // contacts and telescopic positions
     let contact = match (&file.contact, n) {
         (Some(c), _) => {
-            if c.points < 2 {
+            if !(2..=MAX_CONTACT_POINTS).contains(&c.points) {
                 r.fail(
                     "contact.points",
-                    format!("must be at least 2 (got {})", c.points),
+                    format!("must be in 2..={MAX_CONTACT_POINTS} (got {})", c.points),
                 );
             }
             r.positive("contact.stiffness", c.stiffness);
@@ -197,7 +210,7 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         .as_ref()
         .map(|t| t.positions.clone())
         .unwrap_or_default();
-    if n >= 1 && positions.len() != n - 1 {
+    if n_fits && positions.len() != n - 1 {
         r.fail(
             "telescope.positions",
             format!(
@@ -261,6 +274,28 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             None
         }
     };
+
+    // the output's size, before a run allocates it
+    if r.errors.is_empty() {
+        let points = file.contact.as_ref().map_or(0, |c| c.points);
+        let columns = output_columns(n, points, d.motion.is_some());
+        let samples = sample_count(t.start, t.end, t.sample);
+        let values = samples.saturating_mul(columns);
+        if values > MAX_OUTPUT_VALUES {
+            r.fail(
+                "time.sample",
+                format!(
+                    "{} s over a span of {} s gives {} samples of {columns} columns, more than \
+                     the limit of {MAX_OUTPUT_VALUES} output values (800 MB in memory); raise \
+                     time.sample to at least {:.3e} s or shorten the span",
+                    t.sample,
+                    t.end - t.start,
+                    if samples == u64::MAX { "about 1e18 or more".to_string() } else { samples.to_string() },
+                    (t.end - t.start) * columns as f64 / MAX_OUTPUT_VALUES as f64
+                ),
+            );
+        }
+    }
 
     for (i, col) in file.reference.iter().enumerate() {
         for (j, &f) in col.frequencies_hz.iter().enumerate() {

@@ -1,8 +1,14 @@
-//! Command-line interface: the subcommands and the options they share.
+//! The subcommands: each parses its flags into the library's options, calls the library and
+//! prints. Nothing in the library depends on this module.
+
+mod analysis;
+mod modes;
+mod progress;
+mod simulate;
 
 use clap::{Args, Parser, Subcommand};
-use std::path::PathBuf;
-use telescopic_runtime::Scene;
+use std::path::{Path, PathBuf};
+use telescopic::Scene;
 
 /// Telescopic multi-section beams with clearance (Barthelis & Wauer 2005): derived Galerkin
 /// equations, eigenfrequencies and simulation.
@@ -17,30 +23,30 @@ pub struct Cli {
 enum Command {
     /// Natural frequencies and mode shapes, linearized about the straight state with closed
     /// contacts (clearance and contact damping ignored, as for the paper's Table I).
-    Modes(crate::modes::ModesArgs),
+    Modes(modes::ModesArgs),
     /// The derived equations of motion of the scene's generated model: M, K, b, contact
     /// terms, generalized forces and their Jacobian, with parameters by name.
-    Equations(crate::equations::EquationsArgs),
+    Equations(modes::EquationsArgs),
     /// Integrate the scene with the clearance contact law and write its outputs as CSV.
-    Simulate(crate::simulate::SimulateArgs),
+    Simulate(simulate::SimulateArgs),
     /// The stiffest frequency with closed contacts and the largest stable step of the
     /// fixed-step explicit methods (textbook limits and the model's own).
-    Stability(crate::stability::StabilityArgs),
+    Stability(analysis::StabilityArgs),
     /// Speed against accuracy: every method over a sweep of tolerances or steps, errors
     /// inside the predictability horizon and on statistics beyond it; chart and CSV.
-    WorkPrecision(crate::work_precision::WorkPrecisionArgs),
+    WorkPrecision(analysis::WorkPrecisionArgs),
     /// The smallest model a scene needs: modes per section (then contacts per overlap)
     /// raised until tip_rel and the first three frequencies change by less than --tol.
-    Converge(crate::converge::ConvergeArgs),
+    Converge(analysis::ConvergeArgs),
     /// Evaluation error of the shape functions for modes 1..30: the paper's printed forms
     /// against the cancellation-free ones, both measured in 512-bit arithmetic.
-    ShapeErrors(crate::shape_errors::ShapeErrorsArgs),
+    ShapeErrors(analysis::ShapeErrorsArgs),
 }
 
 /// A scene file and its overrides: shared by every command that reads a scene.
 #[derive(Debug, Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML); the schema is in the README.
+    /// Scene file (TOML); the schema is in docs/scenes.md.
     pub scene: PathBuf,
     /// Override one scene value by its dotted TOML key, e.g. `--set contact.clearance=0.01`
     /// or `--set sections.modes=[6,4]`; repeatable. Validated like the file.
@@ -55,17 +61,33 @@ impl SceneArgs {
     }
 }
 
+/// Checks an output file's path before any work (`option` names the flag).
+pub fn check_output(option: &str, path: Option<&Path>) -> anyhow::Result<()> {
+    if let Some(p) = path {
+        telescopic::output::check_writable(option, p)?;
+    }
+    Ok(())
+}
+
+/// Checks a chart's path before any work: .svg or .png in a writable directory.
+pub fn check_chart(option: &str, path: Option<&Path>) -> anyhow::Result<()> {
+    if let Some(p) = path {
+        telescopic::plot::check_picture_path(option, p)?;
+    }
+    Ok(())
+}
+
 impl Cli {
     /// Runs the chosen command.
     pub fn run(self) -> anyhow::Result<()> {
         match self.command {
-            Command::Modes(args) => crate::modes::run(&args),
-            Command::Equations(args) => crate::equations::run(&args),
-            Command::Simulate(args) => crate::simulate::run(&args),
-            Command::Stability(args) => crate::stability::run(&args),
-            Command::WorkPrecision(args) => crate::work_precision::run(&args),
-            Command::Converge(args) => crate::converge::run(&args),
-            Command::ShapeErrors(args) => crate::shape_errors::run(&args),
+            Command::Modes(args) => modes::modes(&args),
+            Command::Equations(args) => modes::equations(&args),
+            Command::Simulate(args) => simulate::simulate(&args),
+            Command::Stability(args) => analysis::stability(&args),
+            Command::WorkPrecision(args) => analysis::work_precision(&args),
+            Command::Converge(args) => analysis::converge(&args),
+            Command::ShapeErrors(args) => analysis::shape_errors(&args),
         }
     }
 }

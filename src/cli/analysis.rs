@@ -1,0 +1,172 @@
+//! The analysis commands: `stability`, `work-precision`, `converge` and `shape-errors`. Each
+//! checks its outputs, calls the library, writes the table and the chart.
+
+use super::progress::Progress;
+use super::{SceneArgs, check_chart, check_output};
+use clap::Args;
+use std::path::PathBuf;
+use telescopic::converge::{ConvergeOptions, converge as run_converge};
+use telescopic::model_choice::ModelChoice;
+use telescopic::output::{check_stdout_open, write_to};
+use telescopic::plot::save;
+use telescopic::shape_errors::{ShapeErrorsOptions, shape_errors as run_shape_errors};
+use telescopic::stability::stability_analysis;
+use telescopic::work_precision::{DEFAULT_METHODS, WorkPrecisionOptions, work_precision as run_wp};
+
+/// Options of `telescopic stability`.
+#[derive(Debug, Args)]
+pub struct StabilityArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Which model is linearized: auto, generated or assembled.
+    #[arg(long, default_value = "auto", value_name = "MODEL")]
+    pub model: ModelChoice,
+}
+
+/// Runs `telescopic stability`.
+pub fn stability(args: &StabilityArgs) -> anyhow::Result<()> {
+    check_stdout_open()?;
+    let scene = args.scene.load()?;
+    let report = stability_analysis(&scene, args.model)?;
+    if let Some(note) = &report.note {
+        eprintln!("{note}");
+    }
+    let text = report.render() + "\n";
+    write_to(None, |w| w.write_all(text.as_bytes()))?;
+    Ok(())
+}
+
+/// Options of `telescopic work-precision`.
+#[derive(Debug, Args)]
+pub struct WorkPrecisionArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Methods to compare, comma-separated (`exact` is skipped, with a note, on a scene that
+    /// is not linear and time-invariant between contact switches; `auto` is simulate's
+    /// default, e.g. dopri5 while the positions move and exact once they rest).
+    #[arg(long, value_delimiter = ',', default_value = DEFAULT_METHODS)]
+    pub methods: Vec<String>,
+    /// Chart file (SVG or PNG by extension).
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
+    pub out: Option<PathBuf>,
+    /// CSV file with one row per run (the data behind the chart); default: standard output.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Timed repetitions per setting (the median is reported), 1 to 100.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// Which model computes the right-hand side: auto, generated or assembled.
+    #[arg(long, default_value = "auto", value_name = "MODEL")]
+    pub model: ModelChoice,
+}
+
+/// Runs `telescopic work-precision`.
+pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
+    check_chart("--out", args.out.as_deref())?;
+    check_output("--csv", args.csv.as_deref())?;
+    if args.csv.is_none() {
+        check_stdout_open()?;
+    }
+    let scene = args.scene.load()?;
+    let options = WorkPrecisionOptions {
+        methods: args.methods.clone(),
+        repeat: args.repeat,
+        model: args.model,
+    };
+    let result = run_wp(&scene, &options, &Progress::new())?;
+    write_to(args.csv.as_deref(), |w| result.write_table(w))?;
+    if let Some(path) = &args.csv {
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.out {
+        save(&result.chart(), path)?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// Options of `telescopic converge`.
+#[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Largest relative change between consecutive models that counts as converged.
+    #[arg(long, value_name = "TOL")]
+    pub tol: f64,
+    /// Most modes per section tried (2 to 30).
+    #[arg(long, default_value_t = 12, value_name = "N")]
+    pub max_modes: usize,
+    /// Most contact points per overlap tried (from 2; 3 to 32).
+    #[arg(long, default_value_t = 5, value_name = "N")]
+    pub max_contacts: usize,
+    /// Chart of model error against cost (SVG or PNG by extension).
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
+    pub out: Option<PathBuf>,
+    /// CSV with one row per model tried.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+}
+
+/// Runs `telescopic converge`.
+pub fn converge(args: &ConvergeArgs) -> anyhow::Result<()> {
+    check_chart("--out", args.out.as_deref())?;
+    check_output("--csv", args.csv.as_deref())?;
+    check_stdout_open()?;
+    let scene = args.scene.load()?;
+    let options = ConvergeOptions {
+        tol: args.tol,
+        max_modes: args.max_modes,
+        max_contacts: args.max_contacts,
+    };
+    let result = run_converge(&scene, &options, &Progress::new())?;
+    let text = result.render();
+    write_to(None, |w| w.write_all(text.as_bytes()))?;
+    if let Some(path) = &args.csv {
+        write_to(Some(path), |w| result.write_table(w))?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.out {
+        save(&result.chart(), path)?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// Options of `telescopic shape-errors`.
+#[derive(Debug, Args)]
+pub struct ShapeErrorsArgs {
+    /// Section length (m); the errors barely depend on it.
+    #[arg(long, default_value_t = 1.35, value_name = "M")]
+    pub length: f64,
+    /// Evaluation points along the section (derivatives 0 to 3 at each).
+    #[arg(long, default_value_t = 41, value_name = "N")]
+    pub points: usize,
+    /// Chart (SVG or PNG by extension).
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
+    pub out: Option<PathBuf>,
+    /// CSV: kind, mode, worst scaled error of each form; default: standard output.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+}
+
+/// Runs `telescopic shape-errors`.
+pub fn shape_errors(args: &ShapeErrorsArgs) -> anyhow::Result<()> {
+    check_chart("--out", args.out.as_deref())?;
+    check_output("--csv", args.csv.as_deref())?;
+    if args.csv.is_none() {
+        check_stdout_open()?;
+    }
+    let result = run_shape_errors(&ShapeErrorsOptions {
+        length: args.length,
+        points: args.points,
+    })?;
+    write_to(args.csv.as_deref(), |w| result.write_table(w))?;
+    if let Some(path) = &args.csv {
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.out {
+        save(&result.chart(), path)?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}

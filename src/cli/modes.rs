@@ -1,0 +1,75 @@
+//! `telescopic modes` and `telescopic equations`: the scene's linear model, as
+//! eigenfrequencies or as the derived equations.
+
+use super::SceneArgs;
+use clap::Args;
+use telescopic::equations::{EquationFormat, equations as rendered_equations};
+use telescopic::model_choice::ModelChoice;
+use telescopic::modes::{ModesOptions, compute_modes};
+use telescopic::output::write_to;
+
+/// Options of `telescopic modes`.
+#[derive(Debug, Args)]
+pub struct ModesArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Time (s) whose telescopic positions are used; default: the scene's start time.
+    #[arg(long, value_name = "SECONDS")]
+    at: Option<f64>,
+    /// How many frequencies to print (default: all).
+    #[arg(long, value_name = "N")]
+    count: Option<usize>,
+    /// Also give mode shapes, sampled at this many points per section (JSON: `mode_shapes`).
+    #[arg(long, value_name = "POINTS")]
+    shapes: Option<usize>,
+    /// Which model computes the matrices: auto, generated or assembled.
+    #[arg(long, default_value = "auto", value_name = "MODEL")]
+    model: ModelChoice,
+}
+
+/// Runs `telescopic modes`.
+pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
+    telescopic::output::check_stdout_open()?;
+    let scene = args.scene.load()?;
+    let report = compute_modes(
+        &scene,
+        &ModesOptions {
+            at: args.at,
+            count: args.count,
+            shapes: args.shapes,
+            model: args.model,
+        },
+    )?;
+    if let Some(note) = &report.note {
+        eprintln!("{note}");
+    }
+    let text = if args.json {
+        report.to_json() + "\n"
+    } else {
+        report.to_table()
+    };
+    write_to(None, |w| w.write_all(text.as_bytes()))?;
+    Ok(())
+}
+
+/// Options of `telescopic equations`.
+#[derive(Debug, Args)]
+pub struct EquationsArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Output format: text, latex (a standalone document), rust (the emitted module) or json.
+    #[arg(long, default_value = "text", value_name = "FORMAT")]
+    format: EquationFormat,
+}
+
+/// Runs `telescopic equations`.
+pub fn equations(args: &EquationsArgs) -> anyhow::Result<()> {
+    telescopic::output::check_stdout_open()?;
+    let scene = args.scene.load()?;
+    let text = rendered_equations(&scene, args.format)?;
+    write_to(None, |w| w.write_all(text.as_bytes()))?;
+    Ok(())
+}

@@ -1,0 +1,63 @@
+//! # telescopic
+//!
+//! Equations of motion, eigenfrequencies and simulation of telescopic multi-section beams
+//! with clearance (mobile cranes, rack feeders), after Barthelis & Wauer (2005). This crate
+//! is the library behind the `telescopic` command: everything the command does is a function
+//! here with typed options and a typed result, and the command only parses and prints.
+//!
+//! The path of a scene: a TOML scene file ([`Scene`], see `docs/scenes.md`) gives the
+//! parameters; they select a model, the generated one of their configuration when
+//! `telescopic-generated` has it ([`model_choice`]); the runtime integrates it with the
+//! clearance contact law ([`simulation`]); the analyses ([`modes`], [`stability`],
+//! [`work_precision`], [`converge`], [`shape_errors`]) and outputs ([`output`], [`plot`])
+//! build on that.
+//!
+//! Simulate a scene file and write its CSV:
+//!
+//! ```
+//! use telescopic::simulation::{SimulationOptions, simulate_scene};
+//! use telescopic::{Scene, Silent};
+//!
+//! let scene = Scene::load("scenes/adams-clearance.toml".as_ref(), &["time.end=0.3".into()])?;
+//! let run = simulate_scene(&scene, &SimulationOptions::default(), &Silent)?;
+//! assert_eq!(run.plan.method.name(), "exact"); // auto: linear and time-invariant between switches
+//! let mut csv = Vec::new();
+//! run.trajectory.write_csv(&mut csv)?;
+//! assert!(csv.starts_with(b"t,vehicle,tip_rel,top1_rel,xi_2_0"));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Compute eigenfrequencies:
+//!
+//! ```
+//! use telescopic::modes::{ModesOptions, compute_modes};
+//!
+//! let scene = telescopic::Scene::load("scenes/test-rig.toml".as_ref(), &[])?;
+//! let report = compute_modes(&scene, &ModesOptions::default())?;
+//! println!("{}", report.to_table());
+//! # Ok::<(), telescopic::Error>(())
+//! ```
+//!
+//! Generating a model for a new configuration is `telescopic_codegen::Builder`'s job, at
+//! build time (see `docs/generator.md`); this crate never runs Symbolica.
+
+#![warn(missing_docs)]
+
+pub mod budget;
+pub mod converge;
+pub mod equations;
+mod error;
+pub mod model_choice;
+pub mod modes;
+pub mod output;
+pub mod plot;
+pub mod report;
+pub mod shape_errors;
+pub mod simulation;
+pub mod stability;
+pub mod work_precision;
+
+pub use error::{Error, Result};
+pub use report::{Reporter, Silent};
+pub use telescopic_runtime as runtime;
+pub use telescopic_runtime::Scene;

@@ -1,0 +1,153 @@
+//! Output files: written completely or not at all, and CSV text.
+//!
+//! Every file goes to a temporary file beside its final path (`.NAME.tmp-PID`) and is
+//! renamed into place when complete, so an error leaves the old file or none. The
+//! temporary files in progress are registered, so a signal handler can remove them
+//! ([`remove_partial_files`]): `tempfile`'s cleanup runs on drop, which an interrupted
+//! process never reaches, hence this small hand-written registry.
+
+use crate::{Error, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Temporary files being written now (removed by [`remove_partial_files`]).
+static IN_PROGRESS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn registry() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    // a panic while holding the lock leaves a list that is still valid
+    IN_PROGRESS.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes every temporary file still being written; for a SIGINT/SIGTERM handler, which
+/// then exits. Returns how many were removed.
+pub fn remove_partial_files() -> usize {
+    let mut files = registry();
+    let removed = files
+        .iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count();
+    files.clear();
+    removed
+}
+
+/// The temporary path beside `path` that [`write_atomically`] writes first.
+pub fn temporary_path(path: &Path) -> PathBuf {
+    let dir = parent_dir(path);
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dir.join(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+/// The directory a file path lives in (`.` for a bare name).
+fn parent_dir(path: &Path) -> &Path {
+    path.parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+}
+
+/// Checks before any work that `path` can be written: it names a file (not a directory) in
+/// an existing, writable directory. `option` names the flag in the error.
+///
+/// # Errors
+/// [`Error::Option`] naming the option, the path and the problem.
+pub fn check_writable(option: &str, path: &Path) -> Result<()> {
+    let bad = |why: String| Err(Error::option(option, format!("{}: {why}", path.display())));
+    if path.file_name().is_none() || path.is_dir() {
+        return bad("is a directory, not a file name".into());
+    }
+    let dir = parent_dir(path);
+    if !dir.is_dir() {
+        return bad(format!("the directory {} does not exist", dir.display()));
+    }
+    // probe with the same kind of temporary file the real write uses
+    let probe = dir.join(format!(".telescopic-probe-{}", std::process::id()));
+    match std::fs::File::create(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => bad(format!("the directory {} is not writable ({e})", dir.display())),
+    }
+}
+
+/// Writes `path` through a temporary file in the same directory, renamed when `fill`
+/// succeeded; removed otherwise, so no partial file is left at `path`.
+///
+/// # Errors
+/// [`Error::Write`] naming the file.
+pub fn write_atomically(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let write_error = |source| Error::Write {
+        path: path.to_owned(),
+        source,
+    };
+    if path.file_name().is_none() {
+        return Err(write_error(std::io::Error::other("not a file path")));
+    }
+    let tmp = temporary_path(path);
+    registry().push(tmp.clone());
+    let result = (|| -> std::io::Result<()> {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::new(file);
+        fill(&mut w)?;
+        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    registry().retain(|p| p != &tmp);
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(write_error(e));
+    }
+    Ok(())
+}
+
+/// Writes to `path` atomically, or to standard output when `path` is `None`.
+///
+/// # Errors
+/// [`Error::Write`] or [`Error::Stdout`] (a closed or broken standard output included).
+pub fn write_to(
+    path: Option<&Path>,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    match path {
+        Some(p) => write_atomically(p, fill),
+        None => {
+            check_stdout_open()?;
+            let stdout = std::io::stdout();
+            let mut w = std::io::BufWriter::new(stdout.lock());
+            fill(&mut w).and_then(|()| w.flush()).map_err(Error::Stdout)
+        }
+    }
+}
+
+/// Fails when standard output is closed: Rust's standard library then discards writes
+/// silently (it treats a closed descriptor 1 as a sink), which would lose the output with
+/// exit code 0.
+///
+/// # Errors
+/// [`Error::Stdout`].
+pub fn check_stdout_open() -> Result<()> {
+    // SAFETY: F_GETFD only queries the descriptor's flags.
+    if unsafe { libc::fcntl(1, libc::F_GETFD) } == -1 {
+        return Err(Error::Stdout(std::io::Error::other(
+            "standard output is closed; give an output file instead",
+        )));
+    }
+    Ok(())
+}
+
+/// A number as CSV text: shortest round-trip digits, positional for moderate magnitudes and
+/// with an exponent for tiny or huge ones.
+pub fn csv_number(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-4..1e7).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
