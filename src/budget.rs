@@ -54,9 +54,9 @@ pub struct WorkEstimate {
 pub fn stiffest_rates(scene: &Scene, model: &dyn Model) -> Result<FastestRates> {
     let mut stiffest: Option<FastestRates> = None;
     for t in linearization_times(model, &scene.time) {
-        let rates = fastest_rates(model, t).map_err(|source| Error::Eigen {
+        let rates = fastest_rates(model, t).map_err(|error| Error::Eigen {
             scene: scene.name.clone(),
-            source,
+            error,
         })?;
         if stiffest.is_none_or(|s| rates.spectral_radius() > s.spectral_radius()) {
             stiffest = Some(rates);

@@ -126,16 +126,16 @@ fn trial(scene: &Scene, modes: usize, contacts: usize, reporter: &dyn Reporter) 
     }
     scene.params.contact_points = contacts;
     let what = format!("{modes} modes per section, {contacts} contacts per overlap");
-    let in_trial = |source: Error| Error::Trial {
+    let in_trial = |error: Error| Error::Trial {
         what: what.clone(),
-        source: Box::new(source),
+        error: Box::new(error),
     };
     let model =
         AssembledModel::new(&scene.params).map_err(|e| in_trial(Error::Model(e.to_string())))?;
-    let modal = modal_analysis(&model, scene.time.start).map_err(|source| {
+    let modal = modal_analysis(&model, scene.time.start).map_err(|error| {
         in_trial(Error::Eigen {
             scene: scene.name.clone(),
-            source,
+            error,
         })
     })?;
     let (method, _) = auto_method(&scene.params);

@@ -56,7 +56,7 @@ impl fmt::Display for EquationFormat {
 /// The equations of `scene`'s generated model in `format`.
 ///
 /// # Errors
-/// [`Error::Model`] when the scene's configuration was not generated (with the entry to add).
+/// [`crate::Error::Model`] when the scene's configuration was not generated (with the entry to add).
 pub fn equations(scene: &Scene, format: EquationFormat) -> Result<&'static str> {
     let key = configuration_key(&scene.params);
     telescopic_generated::rendering(&key, format.name()).ok_or_else(|| {

@@ -1,5 +1,6 @@
 //! The library's error type: every failure names what it concerns (the scene, the option or
-//! field and its rule, the file, the time and method of a failed run).
+//! field and its rule, the file, the time and method of a failed run). Each message is whole
+//! on its own: causes are part of it, not a separate `source` chain to print after it.
 
 use std::path::PathBuf;
 
@@ -33,12 +34,12 @@ pub enum Error {
         reason: String,
     },
     /// Integration stopped early.
-    #[error("scene {scene} could not be simulated: {source}")]
+    #[error("scene {scene} could not be simulated: {error}")]
     Simulation {
         /// The scene.
         scene: String,
         /// What stopped it (time, method, likely cause).
-        source: telescopic_runtime::SimError,
+        error: telescopic_runtime::SimError,
     },
     /// An output came out non-finite.
     #[error("output `{name}` is not finite at t = {t} s (method {method}); no output written")]
@@ -51,31 +52,31 @@ pub enum Error {
         method: String,
     },
     /// The eigen analysis failed.
-    #[error("scene {scene}: {source}")]
+    #[error("scene {scene}: {error}")]
     Eigen {
         /// The scene.
         scene: String,
         /// What failed.
-        source: telescopic_runtime::EigenError,
+        error: telescopic_runtime::EigenError,
     },
     /// An analysis could not reach its goal (the message says why and what to change).
     #[error("{0}")]
     Analysis(String),
     /// One trial of a multi-run analysis failed.
-    #[error("{what}: {source}")]
+    #[error("{what}: {error}")]
     Trial {
         /// Which trial (e.g. `6 modes per section, 2 contacts per overlap`).
         what: String,
         /// Why.
-        source: Box<Error>,
+        error: Box<Error>,
     },
     /// A file could not be written (nothing is left at its path).
-    #[error("writing {path}: {source}")]
+    #[error("writing {path}: {error}")]
     Write {
         /// The file.
         path: PathBuf,
         /// The cause.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// Standard output could not be written.
     #[error("writing to standard output: {0}")]

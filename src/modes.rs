@@ -113,9 +113,9 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
     }
     let chosen = build_model(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
-    let modal = modal_analysis(model, t).map_err(|source| Error::Eigen {
+    let modal = modal_analysis(model, t).map_err(|error| Error::Eigen {
         scene: scene.name.clone(),
-        source,
+        error,
     })?;
     let count = options
         .count

@@ -82,9 +82,9 @@ pub fn write_atomically(
     path: &Path,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
-    let write_error = |source| Error::Write {
+    let write_error = |error| Error::Write {
         path: path.to_owned(),
-        source,
+        error,
     };
     if path.file_name().is_none() {
         return Err(write_error(std::io::Error::other("not a file path")));

@@ -336,9 +336,9 @@ pub fn run_trajectory(
         Some(&mut tick),
     );
     reporter.finish();
-    let stats = result.map_err(|source| Error::Simulation {
+    let stats = result.map_err(|error| Error::Simulation {
         scene: scene.name.clone(),
-        source,
+        error,
     })?;
     if let Some((t, name)) = bad_output {
         return Err(Error::NonFiniteOutput {

@@ -199,7 +199,7 @@ fn case_study_wedges_while_driven_and_flies_free_after() {
                 "{method}: both contacts loaded only {both:.2} of [{lo}, {hi})"
             );
             // (not all: the Kelvin-Voigt law turns adhesive for a moment before separation,
-            // MODEL.md section 6, so a force may briefly have the other sign)
+            // docs/model.md section 6, so a force may briefly have the other sign)
             assert!(
                 wedge >= 0.99 * both,
                 "{method}: both contacts loaded in the same direction too often ({both:.3} vs {wedge:.3})"

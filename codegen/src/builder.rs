@@ -54,12 +54,12 @@ pub enum BuildError {
     #[error("no configurations to generate: call Builder::model or Builder::models_file")]
     Empty,
     /// A models file could not be read.
-    #[error("cannot read the models file {path}: {source}")]
+    #[error("cannot read the models file {path}: {error}")]
     Read {
         /// The file.
         path: PathBuf,
         /// The cause.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// A models file is not valid TOML or does not fit the schema.
     #[error("models file {path}: {message}")]
@@ -80,14 +80,14 @@ pub enum BuildError {
         rule: String,
     },
     /// Deriving or emitting a configuration failed.
-    #[error("configuration {key} ({origin}): {source}")]
+    #[error("configuration {key} ({origin}): {error}")]
     Generate {
         /// The configuration's key.
         key: String,
         /// Where it was given.
         origin: Origin,
         /// What failed.
-        source: CodegenError,
+        error: CodegenError,
     },
     /// [`Builder::compile`] without [`Builder::out_dir`] outside a build script.
     #[error(
@@ -96,12 +96,12 @@ pub enum BuildError {
     )]
     NoOutDir,
     /// A file could not be written, or a directory read.
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {path}: {error}")]
     Write {
         /// The file or directory.
         path: PathBuf,
         /// The cause.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// [`Builder::verify`]: the directory is not what a fresh generation gives.
     #[error(
@@ -237,9 +237,9 @@ impl Builder {
             .map(|(i, c)| (c.clone(), Origin::Call(i + 1)))
             .collect();
         for path in &self.models_files {
-            let text = std::fs::read_to_string(path).map_err(|source| BuildError::Read {
+            let text = std::fs::read_to_string(path).map_err(|error| BuildError::Read {
                 path: path.clone(),
-                source,
+                error,
             })?;
             let list: ModelList = toml::from_str(&text).map_err(|e| BuildError::Parse {
                 path: path.clone(),
@@ -282,10 +282,10 @@ impl Builder {
         let mut files = Vec::new();
         let mut keys = Vec::new();
         for (config, origin) in &configs {
-            let model = generate(config).map_err(|source| BuildError::Generate {
+            let model = generate(config).map_err(|error| BuildError::Generate {
                 key: config.key(),
                 origin: origin.clone(),
-                source,
+                error,
             })?;
             files.push(GeneratedFile {
                 name: format!("{}.rs", model.module),
@@ -374,9 +374,9 @@ impl Builder {
 
     fn write(&self, dir: &Path) -> Result<Written, BuildError> {
         let files = self.generate()?;
-        let write_error = |path: &Path, source| BuildError::Write {
+        let write_error = |path: &Path, error| BuildError::Write {
             path: path.to_owned(),
-            source,
+            error,
         };
         std::fs::create_dir_all(dir).map_err(|e| write_error(dir, e))?;
         let mut written = Written {

@@ -7,7 +7,7 @@ use std::fmt;
 /// Maximum modes per section (the runtime's limit).
 pub const MAX_MODES: usize = 30;
 
-/// Axial prestress from gravity (MODEL.md section 2).
+/// Axial prestress from gravity (docs/model.md section 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, PartialOrd, Ord)]
 #[serde(rename_all = "kebab-case")]
 pub enum ForceFlow {

@@ -138,7 +138,7 @@ impl PartialOrd for Real {
     }
 }
 
-/// Which characteristic equation a section's elastic modes solve (MODEL.md section 4).
+/// Which characteristic equation a section's elastic modes solve (docs/model.md section 4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Kind {
     /// Section 1: `tan b + tanh b = 0`.

@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 /// What every rendering states before the equations: coordinates, normalisation, symbols.
 fn preamble(c: &ModelConfig) -> Vec<String> {
     let mut lines = vec![
-        "Coordinates z (computing coordinates: an exact linear change of MODEL.md's q):".to_string(),
+        "Coordinates z (computing coordinates: an exact linear change of the model's q, docs/model.md):".to_string(),
         "  z_0 = u = w_1(0,t), the vehicle position; basis function: the unit translation of every section".to_string(),
     ];
     for k in 1..=c.sections() {

@@ -138,6 +138,12 @@ pub fn run<R: Send + 'static>(job: impl FnOnce() -> R + Send + 'static) -> Resul
     }
 }
 
+/// `terms` in a canonical order (by content).
+fn sorted(mut terms: Vec<Expr>) -> Vec<Expr> {
+    terms.sort();
+    terms
+}
+
 /// Converts a Symbolica expression into our own tree. Symbols whose names start with `K_`
 /// are numeric constants; everything else is a symbol.
 ///
@@ -184,7 +190,10 @@ pub(crate) fn to_expr(view: AtomView<'_>) -> Result<Expr, String> {
                 other => return Err(format!("non-integer power {}", other.to_text())),
             }
         }
-        AtomView::Mul(m) => Expr::Mul(m.iter().map(to_expr).collect::<Result<_, _>>()?),
-        AtomView::Add(a) => Expr::Add(a.iter().map(to_expr).collect::<Result<_, _>>()?),
+        // Symbolica orders terms and factors by the order its symbols were first created in
+        // the process, so the same configuration would come out differently after other
+        // configurations; sorted by content, the output depends on the configuration alone
+        AtomView::Mul(m) => Expr::Mul(sorted(m.iter().map(to_expr).collect::<Result<_, _>>()?)),
+        AtomView::Add(a) => Expr::Add(sorted(a.iter().map(to_expr).collect::<Result<_, _>>()?)),
     })
 }

@@ -97,3 +97,38 @@ fn without_a_shared_lock_one_of_two_processes_aborts() {
         "expected exactly one of two unlocked processes to abort, got {sa:?} and {sb:?}"
     );
 }
+
+#[test]
+fn a_configuration_comes_out_the_same_whatever_was_generated_before_it() {
+    // Symbolica orders terms by the creation order of its symbols in the process: without
+    // the canonical ordering of the generator, a configuration generated after others (the
+    // generated crate's list) differed in term order from the same configuration generated
+    // alone (a downstream build script), and with it the rounding of every run
+    let dir = std::env::temp_dir().join(format!("telescopic-codegen-history-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let alone = dir.join("alone.toml");
+    std::fs::write(
+        &alone,
+        "[[model]]\nmodes = [5, 5]\ncontacts = 3\nforce_flow = \"none\"\nclearance = true\npositions = \"fixed\"\ndrive = \"force\"\n",
+    )
+    .unwrap();
+    let all = concat!(env!("CARGO_MANIFEST_DIR"), "/../generated/models.toml");
+    let run = |models: &std::path::Path, out: &str| {
+        let status = Command::new(env!("CARGO_BIN_EXE_telescopic-codegen"))
+            .arg("write")
+            .arg(models)
+            .arg(dir.join(out))
+            .arg("--no-renderings")
+            .stderr(std::process::Stdio::null())
+            .status()
+            .unwrap();
+        assert!(status.success());
+    };
+    run(&alone, "alone");
+    run(std::path::Path::new(all), "all");
+    let key = "s2_m5x5_c3_noflow_clearance_fixed_force.rs";
+    let a = std::fs::read_to_string(dir.join("alone").join(key)).unwrap();
+    let b = std::fs::read_to_string(dir.join("all").join(key)).unwrap();
+    assert!(a == b, "{key} depends on what was generated before it");
+    let _ = std::fs::remove_dir_all(&dir);
+}

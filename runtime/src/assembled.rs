@@ -1,4 +1,4 @@
-//! The quadrature-assembled model: MODEL.md section 4 for any number of sections and modes,
+//! The quadrature-assembled model: docs/model.md section 4 for any number of sections and modes,
 //! integrated with Gauss-Legendre ([`crate::quadrature`]). The generic model, and the
 //! reference the generated models are tested against.
 

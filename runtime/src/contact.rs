@@ -1,4 +1,4 @@
-//! The clearance contact law (MODEL.md section 3, the paper's eqs. 11-12): a dead zone of
+//! The clearance contact law (docs/model.md section 3, the paper's eqs. 11-12): a dead zone of
 //! total width `l_S` with a one-sided spring `c` and damper `d` outside it.
 
 /// Where a contact gap `xi` lies relative to the free band `|xi| <= l_S/2`.

@@ -106,7 +106,7 @@ impl Layout {
         })
     }
 
-    /// Output names (MODEL.md section 5): `vehicle`, `tip_rel`, `top1_rel`, then `xi_k_j`
+    /// Output names (docs/model.md section 5): `vehicle`, `tip_rel`, `top1_rel`, then `xi_k_j`
     /// and `f_k_j` for every contact, then `drive_force` when the vehicle motion is
     /// prescribed.
     pub fn output_names(&self, prescribed_motion: bool) -> Vec<String> {

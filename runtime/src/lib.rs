@@ -1,11 +1,11 @@
 //! Runtime of `telescopic`: everything a simulation of a telescopic multi-section beam with
-//! clearance needs at run time (MODEL.md is the specification).
+//! clearance needs at run time (docs/model.md describes the model).
 //!
 //! * [`scene`]: TOML scene files, `--set` overrides and validation;
 //! * [`shape`]: the paper's shape functions and their roots, evaluated without cancellation;
 //! * [`Model`]: the interface of a discretized telescope, in computing coordinates
 //!   (see [`model`] for the exact change of variables);
-//! * [`AssembledModel`]: the Galerkin model of MODEL.md section 4 by Gauss-Legendre
+//! * [`AssembledModel`]: the Galerkin model of docs/model.md section 4 by Gauss-Legendre
 //!   quadrature, for any number of sections and modes: the generic model and the reference;
 //! * [`contact`]: the clearance contact law;
 //! * [`eigen`]: natural frequencies and mode shapes with closed contacts.

@@ -3,7 +3,7 @@
 //!
 //! # Computing coordinates
 //!
-//! MODEL.md section 4 writes `w_k(x,t) = sum_i q_{k,i}(t) phi_{k,i}(x)` with the paper's shape
+//! docs/model.md section 4 writes `w_k(x,t) = sum_i q_{k,i}(t) phi_{k,i}(x)` with the paper's shape
 //! functions (`phi_{1,1} = 2`, `phi_{k,1} = 1`). The vehicle travels metres while contact gaps
 //! live at micrometres, so a model works in an exactly equivalent Ritz basis that carries the
 //! vehicle position as a coordinate of its own and measures everything else relative to it:
@@ -75,7 +75,7 @@ pub trait Model {
     /// Absolute transverse displacement `w_k(x, t)` (m) of section `k` (1-based) at `x` (m).
     fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64;
 
-    /// Output quantities (MODEL.md section 5, names from [`Model::output_names`]) at `t`,
+    /// Output quantities (docs/model.md section 5, names from [`Model::output_names`]) at `t`,
     /// state `y` and its derivative `ydot` (for `drive_force`).
     fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]);
 

@@ -4,7 +4,7 @@ use crate::contact::ContactLaw;
 use crate::profile::Profile;
 use serde::{Deserialize, Serialize};
 
-/// How gravity loads the sections axially (MODEL.md section 2).
+/// How gravity loads the sections axially (docs/model.md section 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum ForceFlow {

@@ -1,7 +1,7 @@
 //! Gauss-Legendre quadrature on a section `[0, l]` (nodes and weights from `gauss-quad`,
 //! which uses Bogaert's method: accurate to round-off for any order).
 //!
-//! **How many points.** Every Galerkin integrand of MODEL.md section 4 is a product of two
+//! **How many points.** Every Galerkin integrand of docs/model.md section 4 is a product of two
 //! shape functions (or derivatives) and at most a linear factor: an entire function whose
 //! terms on the reference interval `t in [-1, 1]` (`x = l (t + 1)/2`) are `e^(+-w t)`,
 //! `cos(w t)`, `sin(w t)` with `w <= (beta_i + beta_j)/2 <= beta_max`, times a polynomial of

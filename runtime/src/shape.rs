@@ -1,4 +1,4 @@
-//! The paper's shape functions (MODEL.md section 4) and the roots of their characteristic
+//! The paper's shape functions (docs/model.md section 4) and the roots of their characteristic
 //! equations, evaluated in cancellation-free forms.
 //!
 //! Normalisation is the paper's printed one:

@@ -1,6 +1,6 @@
 //! The quadrature-assembled Galerkin matrices: converged quadrature, orthogonality of the
 //! modes, closed-form integrals, and the change to computing coordinates against the
-//! paper-basis matrices of MODEL.md section 4.
+//! paper-basis matrices of docs/model.md section 4.
 
 mod common;
 
@@ -135,7 +135,7 @@ fn modes_are_orthogonal_without_point_masses_and_gravity() {
     }
 }
 
-/// The paper-basis block-diagonal `M`, `K` of MODEL.md section 4 (point masses included)
+/// The paper-basis block-diagonal `M`, `K` of docs/model.md section 4 (point masses included)
 /// and the map `q = T z` of the computing coordinates, built independently of the model.
 fn paper_system(p: &ModelParams) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
     let dof: usize = p.sections.iter().map(|s| s.modes).sum();

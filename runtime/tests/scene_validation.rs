@@ -423,3 +423,18 @@ fn sizes_are_bounded_before_anything_is_allocated() {
     assert!(load(&["time.sample=2e-6"]).is_ok());
     assert!(load(&["sections.count=16", "telescope.positions=[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]", "sections.length=1.35"]).is_ok());
 }
+
+#[test]
+fn derived_section_properties_must_exist_in_double_precision() {
+    // each value is finite and positive, their product is not
+    rejects(
+        &["sections.area=[1e305, 0.001]"],
+        "sections.area[0] and sections.density[0]",
+        "the mass per length, must be a finite number > 0",
+    );
+    rejects(
+        &["sections.inertia=1e-200", "sections.youngs_modulus=1e-200"],
+        "sections.youngs_modulus[1] and sections.inertia[1]",
+        "= 0)",
+    );
+}

@@ -142,31 +142,31 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
     let g = p.gravity;
     let t0 = l_2.powi(2);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // mass_matrix[0][0] = rho_a_1*l_1*K_M_1_0_0 + rho_a_2*l_2*K_M_2_0_0 + m_t + m_l
+    // mass_matrix[0][0] = m_l + m_t + l_1*rho_a_1*K_M_1_0_0 + l_2*rho_a_2*K_M_2_0_0
     {
-        m[(0, 0)] = rho_a_1 * l_1 * K_M_1_0_0 + rho_a_2 * l_2 * K_M_2_0_0 + m_t + m_l;
+        m[(0, 0)] = m_l + m_t + l_1 * rho_a_1 * K_M_1_0_0 + l_2 * rho_a_2 * K_M_2_0_0;
     }
-    // mass_matrix[0][1] = rho_a_1*l_1*K_M_1_0_2
+    // mass_matrix[0][1] = l_1*rho_a_1*K_M_1_0_2
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_2;
+        let v = l_1 * rho_a_1 * K_M_1_0_2;
         m[(0, 1)] = v;
         m[(1, 0)] = v;
     }
-    // mass_matrix[0][2] = rho_a_1*l_1*K_M_1_0_3
+    // mass_matrix[0][2] = l_1*rho_a_1*K_M_1_0_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_3;
+        let v = l_1 * rho_a_1 * K_M_1_0_3;
         m[(0, 2)] = v;
         m[(2, 0)] = v;
     }
-    // mass_matrix[0][3] = rho_a_2*l_2*K_M_2_0_1 + m_l*K_TOP_2_1
+    // mass_matrix[0][3] = l_2*rho_a_2*K_M_2_0_1 + m_l*K_TOP_2_1
     {
-        let v = rho_a_2 * l_2 * K_M_2_0_1 + m_l * K_TOP_2_1;
+        let v = l_2 * rho_a_2 * K_M_2_0_1 + m_l * K_TOP_2_1;
         m[(0, 3)] = v;
         m[(3, 0)] = v;
     }
-    // mass_matrix[0][4] = rho_a_2*l_2^2*K_M_2_0_2 + l_2*m_l*K_TOP_2_2
+    // mass_matrix[0][4] = l_2*m_l*K_TOP_2_2 + rho_a_2*K_M_2_0_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_0_2 + l_2 * m_l * K_TOP_2_2;
+        let v = l_2 * m_l * K_TOP_2_2 + rho_a_2 * K_M_2_0_2 * t0;
         m[(0, 4)] = v;
         m[(4, 0)] = v;
     }
@@ -182,27 +182,27 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(0, 6)] = v;
         m[(6, 0)] = v;
     }
-    // mass_matrix[1][1] = rho_a_1*l_1*K_M_1_2_2
+    // mass_matrix[1][1] = l_1*rho_a_1*K_M_1_2_2
     {
-        m[(1, 1)] = rho_a_1 * l_1 * K_M_1_2_2;
+        m[(1, 1)] = l_1 * rho_a_1 * K_M_1_2_2;
     }
-    // mass_matrix[1][2] = rho_a_1*l_1*K_M_1_2_3
+    // mass_matrix[1][2] = l_1*rho_a_1*K_M_1_2_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_3;
+        let v = l_1 * rho_a_1 * K_M_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // mass_matrix[2][2] = rho_a_1*l_1*K_M_1_3_3
+    // mass_matrix[2][2] = l_1*rho_a_1*K_M_1_3_3
     {
-        m[(2, 2)] = rho_a_1 * l_1 * K_M_1_3_3;
+        m[(2, 2)] = l_1 * rho_a_1 * K_M_1_3_3;
     }
-    // mass_matrix[3][3] = rho_a_2*l_2*K_M_2_1_1 + m_l*K_TOP_2_1^2
+    // mass_matrix[3][3] = l_2*rho_a_2*K_M_2_1_1 + m_l*K_TOP_2_1^2
     {
-        m[(3, 3)] = rho_a_2 * l_2 * K_M_2_1_1 + m_l * K_TOP_2_1.powi(2);
+        m[(3, 3)] = l_2 * rho_a_2 * K_M_2_1_1 + m_l * K_TOP_2_1.powi(2);
     }
-    // mass_matrix[3][4] = rho_a_2*l_2^2*K_M_2_1_2 + l_2*m_l*K_TOP_2_1*K_TOP_2_2
+    // mass_matrix[3][4] = l_2*m_l*K_TOP_2_1*K_TOP_2_2 + rho_a_2*K_M_2_1_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_1_2 + l_2 * m_l * K_TOP_2_1 * K_TOP_2_2;
+        let v = l_2 * m_l * K_TOP_2_1 * K_TOP_2_2 + rho_a_2 * K_M_2_1_2 * t0;
         m[(3, 4)] = v;
         m[(4, 3)] = v;
     }
@@ -218,9 +218,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(3, 6)] = v;
         m[(6, 3)] = v;
     }
-    // mass_matrix[4][4] = rho_a_2*l_2^3*K_M_2_2_2 + l_2^2*m_l*K_TOP_2_2^2
+    // mass_matrix[4][4] = m_l*l_2^2*K_TOP_2_2^2 + rho_a_2*K_M_2_2_2*l_2^3
     {
-        m[(4, 4)] = rho_a_2 * l_2.powi(3) * K_M_2_2_2 + t0 * m_l * K_TOP_2_2.powi(2);
+        m[(4, 4)] = m_l * t0 * K_TOP_2_2.powi(2) + rho_a_2 * K_M_2_2_2 * l_2.powi(3);
     }
     // mass_matrix[4][5] = l_2*m_l*K_TOP_2_2*K_TOP_2_3
     {
@@ -234,9 +234,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(4, 6)] = v;
         m[(6, 4)] = v;
     }
-    // mass_matrix[5][5] = rho_a_2*l_2*K_M_2_3_3 + m_l*K_TOP_2_3^2
+    // mass_matrix[5][5] = l_2*rho_a_2*K_M_2_3_3 + m_l*K_TOP_2_3^2
     {
-        m[(5, 5)] = rho_a_2 * l_2 * K_M_2_3_3 + m_l * K_TOP_2_3.powi(2);
+        m[(5, 5)] = l_2 * rho_a_2 * K_M_2_3_3 + m_l * K_TOP_2_3.powi(2);
     }
     // mass_matrix[5][6] = m_l*K_TOP_2_3*K_TOP_2_4
     {
@@ -244,9 +244,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(5, 6)] = v;
         m[(6, 5)] = v;
     }
-    // mass_matrix[6][6] = rho_a_2*l_2*K_M_2_4_4 + m_l*K_TOP_2_4^2
+    // mass_matrix[6][6] = l_2*rho_a_2*K_M_2_4_4 + m_l*K_TOP_2_4^2
     {
-        m[(6, 6)] = rho_a_2 * l_2 * K_M_2_4_4 + m_l * K_TOP_2_4.powi(2);
+        m[(6, 6)] = l_2 * rho_a_2 * K_M_2_4_4 + m_l * K_TOP_2_4.powi(2);
     }
     m
 }
@@ -267,81 +267,81 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
     let t2 = l_2.recip();
     let t3 = l_2.powi(-3);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // stiffness_matrix[1][1] = -rho_a_1*g*K_AX_1_2_2 + rho_a_1*g*K_AXX_1_2_2 + l_1^-3*ei_1*K_EI_1_2_2
+    // stiffness_matrix[1][1] = -g*rho_a_1*K_AX_1_2_2 + ei_1*K_EI_1_2_2*l_1^-3 + g*rho_a_1*K_AXX_1_2_2
     {
-        m[(1, 1)] = -rho_a_1 * g * K_AX_1_2_2 + rho_a_1 * g * K_AXX_1_2_2
-            + t0 * ei_1 * K_EI_1_2_2;
+        m[(1, 1)] = -g * rho_a_1 * K_AX_1_2_2 + ei_1 * K_EI_1_2_2 * t0
+            + g * rho_a_1 * K_AXX_1_2_2;
     }
-    // stiffness_matrix[1][2] = -rho_a_1*g*K_AX_1_2_3 + rho_a_1*g*K_AXX_1_2_3
+    // stiffness_matrix[1][2] = -g*rho_a_1*K_AX_1_2_3 + g*rho_a_1*K_AXX_1_2_3
     {
-        let v = -rho_a_1 * g * K_AX_1_2_3 + rho_a_1 * g * K_AXX_1_2_3;
+        let v = -g * rho_a_1 * K_AX_1_2_3 + g * rho_a_1 * K_AXX_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // stiffness_matrix[2][2] = -rho_a_1*g*K_AX_1_3_3 + rho_a_1*g*K_AXX_1_3_3 + l_1^-3*ei_1*K_EI_1_3_3
+    // stiffness_matrix[2][2] = -g*rho_a_1*K_AX_1_3_3 + ei_1*K_EI_1_3_3*l_1^-3 + g*rho_a_1*K_AXX_1_3_3
     {
-        m[(2, 2)] = -rho_a_1 * g * K_AX_1_3_3 + rho_a_1 * g * K_AXX_1_3_3
-            + t0 * ei_1 * K_EI_1_3_3;
+        m[(2, 2)] = -g * rho_a_1 * K_AX_1_3_3 + ei_1 * K_EI_1_3_3 * t0
+            + g * rho_a_1 * K_AXX_1_3_3;
     }
-    // stiffness_matrix[4][4] = -rho_a_2*l_2^2*g*K_AX_2_2_2 + rho_a_2*l_2^2*g*K_AXX_2_2_2 - l_2*m_l*g*K_AX_2_2_2
+    // stiffness_matrix[4][4] = -g*l_2*m_l*K_AX_2_2_2 - g*rho_a_2*K_AX_2_2_2*l_2^2 + g*rho_a_2*K_AXX_2_2_2*l_2^2
     {
-        m[(4, 4)] = -rho_a_2 * t1 * g * K_AX_2_2_2 + rho_a_2 * t1 * g * K_AXX_2_2_2
-            - l_2 * m_l * g * K_AX_2_2_2;
+        m[(4, 4)] = -g * l_2 * m_l * K_AX_2_2_2 - g * rho_a_2 * K_AX_2_2_2 * t1
+            + g * rho_a_2 * K_AXX_2_2_2 * t1;
     }
-    // stiffness_matrix[4][5] = rho_a_2*l_2*g*K_AXX_2_2_3
+    // stiffness_matrix[4][5] = g*l_2*rho_a_2*K_AXX_2_2_3
     {
-        let v = rho_a_2 * l_2 * g * K_AXX_2_2_3;
+        let v = g * l_2 * rho_a_2 * K_AXX_2_2_3;
         m[(4, 5)] = v;
         m[(5, 4)] = v;
     }
-    // stiffness_matrix[4][6] = -rho_a_2*l_2*g*K_AX_2_2_4 + rho_a_2*l_2*g*K_AXX_2_2_4 - m_l*g*K_AX_2_2_4
+    // stiffness_matrix[4][6] = -g*l_2*rho_a_2*K_AX_2_2_4 - g*m_l*K_AX_2_2_4 + g*l_2*rho_a_2*K_AXX_2_2_4
     {
-        let v = -rho_a_2 * l_2 * g * K_AX_2_2_4 + rho_a_2 * l_2 * g * K_AXX_2_2_4
-            - m_l * g * K_AX_2_2_4;
+        let v = -g * l_2 * rho_a_2 * K_AX_2_2_4 - g * m_l * K_AX_2_2_4
+            + g * l_2 * rho_a_2 * K_AXX_2_2_4;
         m[(4, 6)] = v;
         m[(6, 4)] = v;
     }
-    // stiffness_matrix[5][5] = -rho_a_2*g*K_AX_2_3_3 + rho_a_2*g*K_AXX_2_3_3 - l_2^-1*m_l*g*K_AX_2_3_3 + l_2^-3*ei_2*K_EI_2_3_3
+    // stiffness_matrix[5][5] = -g*m_l*K_AX_2_3_3*l_2^-1 - g*rho_a_2*K_AX_2_3_3 + ei_2*K_EI_2_3_3*l_2^-3 + g*rho_a_2*K_AXX_2_3_3
     {
-        m[(5, 5)] = -rho_a_2 * g * K_AX_2_3_3 + rho_a_2 * g * K_AXX_2_3_3
-            - t2 * m_l * g * K_AX_2_3_3 + t3 * ei_2 * K_EI_2_3_3;
+        m[(5, 5)] = -g * m_l * K_AX_2_3_3 * t2 - g * rho_a_2 * K_AX_2_3_3
+            + ei_2 * K_EI_2_3_3 * t3 + g * rho_a_2 * K_AXX_2_3_3;
     }
-    // stiffness_matrix[5][6] = rho_a_2*g*K_AXX_2_3_4
+    // stiffness_matrix[5][6] = g*rho_a_2*K_AXX_2_3_4
     {
-        let v = rho_a_2 * g * K_AXX_2_3_4;
+        let v = g * rho_a_2 * K_AXX_2_3_4;
         m[(5, 6)] = v;
         m[(6, 5)] = v;
     }
-    // stiffness_matrix[6][6] = -rho_a_2*g*K_AX_2_4_4 + rho_a_2*g*K_AXX_2_4_4 - l_2^-1*m_l*g*K_AX_2_4_4 + l_2^-3*ei_2*K_EI_2_4_4
+    // stiffness_matrix[6][6] = -g*m_l*K_AX_2_4_4*l_2^-1 - g*rho_a_2*K_AX_2_4_4 + ei_2*K_EI_2_4_4*l_2^-3 + g*rho_a_2*K_AXX_2_4_4
     {
-        m[(6, 6)] = -rho_a_2 * g * K_AX_2_4_4 + rho_a_2 * g * K_AXX_2_4_4
-            - t2 * m_l * g * K_AX_2_4_4 + t3 * ei_2 * K_EI_2_4_4;
+        m[(6, 6)] = -g * m_l * K_AX_2_4_4 * t2 - g * rho_a_2 * K_AX_2_4_4
+            + ei_2 * K_EI_2_4_4 * t3 + g * rho_a_2 * K_AXX_2_4_4;
     }
     m
 }
 /// Basis functions of section 1 at `xi = x / l_1` (cancellation-free forms) and their `d/dxi`, without the factor `l_1^p` (see `LENGTH_POWERS_1`).
 #[inline]
 pub fn shapes_1(xi: f64) -> ([f64; 2], [f64; 2]) {
-    let t0 = xi * K_BETA_1_2;
-    let t1 = -1.0 + xi;
-    let t2 = (K_BETA_1_2 * t1).exp();
-    let t3 = (-xi * K_BETA_1_2).exp();
-    let t4 = xi * K_BETA_1_3;
-    let t5 = (K_BETA_1_3 * t1).exp();
-    let t6 = (-xi * K_BETA_1_3).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_1_2 * t0).exp();
+    let t2 = (-xi * K_BETA_1_2).exp();
+    let t3 = xi * K_BETA_1_2;
+    let t4 = (K_BETA_1_3 * t0).exp();
+    let t5 = (-xi * K_BETA_1_3).exp();
+    let t6 = xi * K_BETA_1_3;
     let mut value = [0.0; 2];
     let mut slope = [0.0; 2];
-    // psi_1,1 = K_C_1_2_3 + cos(xi*K_BETA_1_2) + exp(K_BETA_1_2*(-1 + xi))*K_C_1_2_1 + exp(-xi*K_BETA_1_2)*K_C_1_2_2
+    // psi_1,1 = K_C_1_2_3 + K_C_1_2_1*exp(K_BETA_1_2*(-1 + xi)) + K_C_1_2_2*exp(-xi*K_BETA_1_2) + cos(xi*K_BETA_1_2)
     {
-        value[0] = K_C_1_2_3 + t0.cos() + t2 * K_C_1_2_1 + t3 * K_C_1_2_2;
-        slope[0] = -K_BETA_1_2 * t0.sin() + t2 * K_C_1_2_1 * K_BETA_1_2
-            - t3 * K_BETA_1_2 * K_C_1_2_2;
+        value[0] = K_C_1_2_3 + K_C_1_2_1 * t1 + K_C_1_2_2 * t2 + t3.cos();
+        slope[0] = -K_BETA_1_2 * K_C_1_2_2 * t2 - K_BETA_1_2 * t3.sin()
+            + K_BETA_1_2 * K_C_1_2_1 * t1;
     }
-    // psi_1,2 = K_C_1_3_3 + cos(xi*K_BETA_1_3) + exp(K_BETA_1_3*(-1 + xi))*K_C_1_3_1 + exp(-xi*K_BETA_1_3)*K_C_1_3_2
+    // psi_1,2 = K_C_1_3_3 + K_C_1_3_1*exp(K_BETA_1_3*(-1 + xi)) + K_C_1_3_2*exp(-xi*K_BETA_1_3) + cos(xi*K_BETA_1_3)
     {
-        value[1] = K_C_1_3_3 + t4.cos() + t5 * K_C_1_3_1 + t6 * K_C_1_3_2;
-        slope[1] = -K_BETA_1_3 * t4.sin() + t5 * K_C_1_3_1 * K_BETA_1_3
-            - t6 * K_BETA_1_3 * K_C_1_3_2;
+        value[1] = K_C_1_3_3 + K_C_1_3_1 * t4 + K_C_1_3_2 * t5 + t6.cos();
+        slope[1] = -K_BETA_1_3 * K_C_1_3_2 * t5 - K_BETA_1_3 * t6.sin()
+            + K_BETA_1_3 * K_C_1_3_1 * t4;
     }
     (value, slope)
 }
@@ -354,17 +354,17 @@ pub const TOPS_1: [f64; 2] = [K_TOP_1_2, K_TOP_1_3];
 /// Basis functions of section 2 at `xi = x / l_2` (cancellation-free forms) and their `d/dxi`, without the factor `l_2^p` (see `LENGTH_POWERS_2`).
 #[inline]
 pub fn shapes_2(xi: f64) -> ([f64; 4], [f64; 4]) {
-    let t0 = xi * K_BETA_2_3;
-    let t1 = t0.sin();
-    let t2 = t0.cos();
-    let t3 = -1.0 + xi;
-    let t4 = (K_BETA_2_3 * t3).exp();
-    let t5 = (-xi * K_BETA_2_3).exp();
-    let t6 = xi * K_BETA_2_4;
-    let t7 = t6.sin();
-    let t8 = t6.cos();
-    let t9 = (K_BETA_2_4 * t3).exp();
-    let t10 = (-xi * K_BETA_2_4).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_2_3 * t0).exp();
+    let t2 = (-xi * K_BETA_2_3).exp();
+    let t3 = xi * K_BETA_2_3;
+    let t4 = t3.sin();
+    let t5 = t3.cos();
+    let t6 = (K_BETA_2_4 * t0).exp();
+    let t7 = (-xi * K_BETA_2_4).exp();
+    let t8 = xi * K_BETA_2_4;
+    let t9 = t8.sin();
+    let t10 = t8.cos();
     let mut value = [0.0; 4];
     let mut slope = [0.0; 4];
     // psi_2,3 = 1
@@ -377,17 +377,17 @@ pub fn shapes_2(xi: f64) -> ([f64; 4], [f64; 4]) {
         value[1] = xi;
         slope[1] = 1.0;
     }
-    // psi_2,5 = K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3) + exp(K_BETA_2_3*(-1 + xi))*K_C_2_3_0 + exp(-xi*K_BETA_2_3)*K_C_2_3_1
+    // psi_2,5 = K_C_2_3_0*exp(K_BETA_2_3*(-1 + xi)) + K_C_2_3_1*exp(-xi*K_BETA_2_3) + K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3)
     {
-        value[2] = K_C_2_3_3 * t1 + t2 + t4 * K_C_2_3_0 + t5 * K_C_2_3_1;
-        slope[2] = K_BETA_2_3 * K_C_2_3_3 * t2 - K_BETA_2_3 * t1
-            + t4 * K_BETA_2_3 * K_C_2_3_0 - t5 * K_C_2_3_1 * K_BETA_2_3;
+        value[2] = K_C_2_3_0 * t1 + K_C_2_3_1 * t2 + K_C_2_3_3 * t4 + t5;
+        slope[2] = -K_BETA_2_3 * K_C_2_3_1 * t2 - K_BETA_2_3 * t4
+            + K_BETA_2_3 * K_C_2_3_0 * t1 + K_BETA_2_3 * K_C_2_3_3 * t5;
     }
-    // psi_2,6 = K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4) + exp(K_BETA_2_4*(-1 + xi))*K_C_2_4_0 + exp(-xi*K_BETA_2_4)*K_C_2_4_1
+    // psi_2,6 = K_C_2_4_0*exp(K_BETA_2_4*(-1 + xi)) + K_C_2_4_1*exp(-xi*K_BETA_2_4) + K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4)
     {
-        value[3] = K_C_2_4_3 * t7 + t8 + t9 * K_C_2_4_0 + t10 * K_C_2_4_1;
-        slope[3] = K_BETA_2_4 * K_C_2_4_3 * t8 - K_BETA_2_4 * t7
-            + t9 * K_BETA_2_4 * K_C_2_4_0 - t10 * K_C_2_4_1 * K_BETA_2_4;
+        value[3] = K_C_2_4_0 * t6 + K_C_2_4_1 * t7 + K_C_2_4_3 * t9 + t10;
+        slope[3] = -K_BETA_2_4 * K_C_2_4_1 * t7 - K_BETA_2_4 * t9
+            + K_BETA_2_4 * K_C_2_4_0 * t6 + K_BETA_2_4 * K_C_2_4_3 * t10;
     }
     (value, slope)
 }
@@ -675,34 +675,34 @@ impl Model for GeneratedModel {
         {
             q[0] = f_drive;
         }
-        // q[1] = -k_1_2*z_2 - f_0*g_0_1 - k_1_1*z_1 - f_1*g_1_1
+        // q[1] = -f_0*g_0_1 - f_1*g_1_1 - k_1_1*z_1 - k_1_2*z_2
         {
-            q[1] = -self.k[1][2] * z[2] - f[0] * geo.g[0][1] - self.k[1][1] * z[1]
-                - f[1] * geo.g[1][1];
+            q[1] = -f[0] * geo.g[0][1] - f[1] * geo.g[1][1] - self.k[1][1] * z[1]
+                - self.k[1][2] * z[2];
         }
-        // q[2] = -z_2*k_2_2 - f_0*g_0_2 - z_1*k_2_1 - f_1*g_1_2
+        // q[2] = -f_0*g_0_2 - f_1*g_1_2 - k_2_1*z_1 - k_2_2*z_2
         {
-            q[2] = -z[2] * self.k[2][2] - f[0] * geo.g[0][2] - z[1] * self.k[2][1]
-                - f[1] * geo.g[1][2];
+            q[2] = -f[0] * geo.g[0][2] - f[1] * geo.g[1][2] - self.k[2][1] * z[1]
+                - self.k[2][2] * z[2];
         }
         // q[3] = -f_0*g_0_3 - f_1*g_1_3
         {
             q[3] = -f[0] * geo.g[0][3] - f[1] * geo.g[1][3];
         }
-        // q[4] = -f_0*g_0_4 - f_1*g_1_4 - k_4_5*z_5 - k_4_6*z_6 - k_4_4*z_4
+        // q[4] = -f_0*g_0_4 - f_1*g_1_4 - k_4_4*z_4 - k_4_5*z_5 - k_4_6*z_6
         {
-            q[4] = -f[0] * geo.g[0][4] - f[1] * geo.g[1][4] - self.k[4][5] * z[5]
-                - self.k[4][6] * z[6] - self.k[4][4] * z[4];
+            q[4] = -f[0] * geo.g[0][4] - f[1] * geo.g[1][4] - self.k[4][4] * z[4]
+                - self.k[4][5] * z[5] - self.k[4][6] * z[6];
         }
-        // q[5] = -f_0*g_0_5 - f_1*g_1_5 - z_5*k_5_5 - z_6*k_5_6 - z_4*k_5_4
+        // q[5] = -f_0*g_0_5 - f_1*g_1_5 - k_5_4*z_4 - k_5_5*z_5 - k_5_6*z_6
         {
-            q[5] = -f[0] * geo.g[0][5] - f[1] * geo.g[1][5] - z[5] * self.k[5][5]
-                - z[6] * self.k[5][6] - z[4] * self.k[5][4];
+            q[5] = -f[0] * geo.g[0][5] - f[1] * geo.g[1][5] - self.k[5][4] * z[4]
+                - self.k[5][5] * z[5] - self.k[5][6] * z[6];
         }
-        // q[6] = -f_0*g_0_6 - f_1*g_1_6 - z_5*k_6_5 - z_6*k_6_6 - z_4*k_6_4
+        // q[6] = -f_0*g_0_6 - f_1*g_1_6 - k_6_4*z_4 - k_6_5*z_5 - k_6_6*z_6
         {
-            q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - z[5] * self.k[6][5]
-                - z[6] * self.k[6][6] - z[4] * self.k[6][4];
+            q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - self.k[6][4] * z[4]
+                - self.k[6][5] * z[5] - self.k[6][6] * z[6];
         }
         let s_acc = self.drive_input(t);
         for j in 1..DOF {
@@ -775,150 +775,150 @@ impl Model for GeneratedModel {
         let t39 = -geo.g[1][5] * geo.g[1][6] * law[1].d_gap;
         let t40 = geo.g[0][6].powi(2);
         let t41 = geo.g[1][6].powi(2);
-        let t42 = -geo.g[0][1] * geo.g[0][2] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][2] * law[1].d_rate;
-        let t43 = -geo.g[0][1] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][3] * law[1].d_rate;
-        let t44 = -geo.g[0][1] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][4] * law[1].d_rate;
-        let t45 = -geo.g[0][1] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][5] * law[1].d_rate;
-        let t46 = -geo.g[0][1] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][6] * law[1].d_rate;
-        let t47 = -geo.g[0][2] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][3] * law[1].d_rate;
-        let t48 = -geo.g[0][2] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][4] * law[1].d_rate;
-        let t49 = -geo.g[0][2] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][5] * law[1].d_rate;
-        let t50 = -geo.g[0][2] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][6] * law[1].d_rate;
-        let t51 = -geo.g[0][3] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][4] * law[1].d_rate;
-        let t52 = -geo.g[0][3] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][5] * law[1].d_rate;
-        let t53 = -geo.g[0][3] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][6] * law[1].d_rate;
-        let t54 = -geo.g[0][4] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][5] * law[1].d_rate;
-        let t55 = -geo.g[0][4] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][6] * law[1].d_rate;
-        let t56 = -geo.g[0][5] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][5] * geo.g[1][6] * law[1].d_rate;
-        dq[1][1] = -geo.g[0][1] * geo.gd[0][1] * law[0].d_rate - self.k[1][1]
-            - geo.g[1][1] * geo.gd[1][1] * law[1].d_rate - t0 * law[0].d_gap
-            - t1 * law[1].d_gap;
-        dq[1][2] = -self.k[1][2] + t2 - geo.g[0][1] * geo.gd[0][2] * law[0].d_rate + t3
-            - geo.g[1][1] * geo.gd[1][2] * law[1].d_rate;
-        dq[1][3] = t4 - geo.g[0][1] * geo.gd[0][3] * law[0].d_rate + t5
-            - geo.g[1][1] * geo.gd[1][3] * law[1].d_rate;
-        dq[1][4] = t6 - geo.g[0][1] * geo.gd[0][4] * law[0].d_rate + t7
-            - geo.g[1][1] * geo.gd[1][4] * law[1].d_rate;
-        dq[1][5] = t8 - geo.g[0][1] * geo.gd[0][5] * law[0].d_rate + t9
-            - geo.g[1][1] * geo.gd[1][5] * law[1].d_rate;
-        dq[1][6] = t10 - geo.g[0][1] * law[0].d_rate * geo.gd[0][6] + t11
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][6];
-        dq[2][1] = t2 + t3 - geo.g[0][2] * geo.gd[0][1] * law[0].d_rate - self.k[2][1]
-            - geo.g[1][2] * geo.gd[1][1] * law[1].d_rate;
-        dq[2][2] = -self.k[2][2] - geo.g[0][2] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][2] * geo.gd[1][2] * law[1].d_rate - t12 * law[0].d_gap
-            - t13 * law[1].d_gap;
-        dq[2][3] = t14 - geo.g[0][2] * geo.gd[0][3] * law[0].d_rate + t15
-            - geo.g[1][2] * geo.gd[1][3] * law[1].d_rate;
-        dq[2][4] = t16 - geo.g[0][2] * geo.gd[0][4] * law[0].d_rate + t17
-            - geo.g[1][2] * geo.gd[1][4] * law[1].d_rate;
-        dq[2][5] = t18 - geo.g[0][2] * geo.gd[0][5] * law[0].d_rate + t19
-            - geo.g[1][2] * geo.gd[1][5] * law[1].d_rate;
-        dq[2][6] = t20 - geo.g[0][2] * law[0].d_rate * geo.gd[0][6] + t21
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][6];
-        dq[3][1] = t4 + t5 - geo.g[0][3] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][1] * law[1].d_rate;
-        dq[3][2] = t14 + t15 - geo.g[0][3] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][2] * law[1].d_rate;
-        dq[3][3] = -geo.g[0][3] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][3] * law[1].d_rate - t22 * law[0].d_gap
-            - t23 * law[1].d_gap;
-        dq[3][4] = t24 - geo.g[0][3] * geo.gd[0][4] * law[0].d_rate + t25
-            - geo.g[1][3] * geo.gd[1][4] * law[1].d_rate;
-        dq[3][5] = t26 - geo.g[0][3] * geo.gd[0][5] * law[0].d_rate + t27
-            - geo.g[1][3] * geo.gd[1][5] * law[1].d_rate;
-        dq[3][6] = t28 - geo.g[0][3] * law[0].d_rate * geo.gd[0][6] + t29
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][6];
-        dq[4][1] = t6 + t7 - geo.g[0][4] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][1] * law[1].d_rate;
-        dq[4][2] = t16 + t17 - geo.g[0][4] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][2] * law[1].d_rate;
-        dq[4][3] = t24 + t25 - geo.g[0][4] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][3] * law[1].d_rate;
-        dq[4][4] = -geo.g[0][4] * geo.gd[0][4] * law[0].d_rate - self.k[4][4]
-            - geo.g[1][4] * geo.gd[1][4] * law[1].d_rate - t30 * law[0].d_gap
-            - t31 * law[1].d_gap;
-        dq[4][5] = -self.k[4][5] + t32 - geo.g[0][4] * geo.gd[0][5] * law[0].d_rate + t33
-            - geo.g[1][4] * geo.gd[1][5] * law[1].d_rate;
-        dq[4][6] = -self.k[4][6] + t34 - geo.g[0][4] * law[0].d_rate * geo.gd[0][6] + t35
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][6];
-        dq[5][1] = t8 + t9 - geo.g[0][5] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][1] * law[1].d_rate;
-        dq[5][2] = t18 + t19 - geo.g[0][5] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][2] * law[1].d_rate;
-        dq[5][3] = t26 + t27 - geo.g[0][5] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][3] * law[1].d_rate;
-        dq[5][4] = t32 + t33 - geo.g[0][5] * geo.gd[0][4] * law[0].d_rate - self.k[5][4]
-            - geo.g[1][5] * geo.gd[1][4] * law[1].d_rate;
-        dq[5][5] = -self.k[5][5] - geo.g[0][5] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][5] * law[1].d_rate - t36 * law[0].d_gap
-            - t37 * law[1].d_gap;
-        dq[5][6] = -self.k[5][6] + t38 - geo.g[0][5] * law[0].d_rate * geo.gd[0][6] + t39
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][6];
-        dq[6][1] = t10 + t11 - geo.g[0][6] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][1] * law[1].d_rate;
-        dq[6][2] = t20 + t21 - geo.g[0][6] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][2] * law[1].d_rate;
-        dq[6][3] = t28 + t29 - geo.g[0][6] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][3] * law[1].d_rate;
-        dq[6][4] = t34 + t35 - geo.g[0][6] * geo.gd[0][4] * law[0].d_rate - self.k[6][4]
-            - geo.g[1][6] * geo.gd[1][4] * law[1].d_rate;
-        dq[6][5] = t38 + t39 - self.k[6][5] - geo.g[0][6] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][5] * law[1].d_rate;
-        dq[6][6] = -self.k[6][6] - geo.g[0][6] * law[0].d_rate * geo.gd[0][6]
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][6] - t40 * law[0].d_gap
-            - t41 * law[1].d_gap;
-        dq[1][8] = -t0 * law[0].d_rate - t1 * law[1].d_rate;
+        let t42 = -law[0].d_rate * geo.g[0][1] * geo.g[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][2];
+        let t43 = -law[0].d_rate * geo.g[0][1] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][3];
+        let t44 = -law[0].d_rate * geo.g[0][1] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][4];
+        let t45 = -law[0].d_rate * geo.g[0][1] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][5];
+        let t46 = -law[0].d_rate * geo.g[0][1] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][6];
+        let t47 = -law[0].d_rate * geo.g[0][2] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][3];
+        let t48 = -law[0].d_rate * geo.g[0][2] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][4];
+        let t49 = -law[0].d_rate * geo.g[0][2] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][5];
+        let t50 = -law[0].d_rate * geo.g[0][2] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][6];
+        let t51 = -law[0].d_rate * geo.g[0][3] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][4];
+        let t52 = -law[0].d_rate * geo.g[0][3] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][5];
+        let t53 = -law[0].d_rate * geo.g[0][3] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][6];
+        let t54 = -law[0].d_rate * geo.g[0][4] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][5];
+        let t55 = -law[0].d_rate * geo.g[0][4] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][6];
+        let t56 = -law[0].d_rate * geo.g[0][5] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][6];
+        dq[1][1] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][1] - self.k[1][1]
+            - law[0].d_gap * t0 - law[1].d_gap * t1;
+        dq[1][2] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][2] + t2 + t3 - self.k[1][2];
+        dq[1][3] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][3] + t4 + t5;
+        dq[1][4] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][4] + t6 + t7;
+        dq[1][5] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][5] + t8 + t9;
+        dq[1][6] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][6] + t10 + t11;
+        dq[2][1] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][1] + t2 + t3 - self.k[2][1];
+        dq[2][2] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][2] - self.k[2][2]
+            - law[0].d_gap * t12 - law[1].d_gap * t13;
+        dq[2][3] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][3] + t14 + t15;
+        dq[2][4] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][4] + t16 + t17;
+        dq[2][5] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][5] + t18 + t19;
+        dq[2][6] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][6] + t20 + t21;
+        dq[3][1] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][1] + t4 + t5;
+        dq[3][2] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][2] + t14 + t15;
+        dq[3][3] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][3] - law[0].d_gap * t22
+            - law[1].d_gap * t23;
+        dq[3][4] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][4] + t24 + t25;
+        dq[3][5] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][5] + t26 + t27;
+        dq[3][6] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][6] + t28 + t29;
+        dq[4][1] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][1] + t6 + t7;
+        dq[4][2] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][2] + t16 + t17;
+        dq[4][3] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][3] + t24 + t25;
+        dq[4][4] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][4] - self.k[4][4]
+            - law[0].d_gap * t30 - law[1].d_gap * t31;
+        dq[4][5] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][5] + t32 + t33 - self.k[4][5];
+        dq[4][6] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][6] + t34 + t35 - self.k[4][6];
+        dq[5][1] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][1] + t8 + t9;
+        dq[5][2] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][2] + t18 + t19;
+        dq[5][3] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][3] + t26 + t27;
+        dq[5][4] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][4] + t32 + t33 - self.k[5][4];
+        dq[5][5] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][5] - self.k[5][5]
+            - law[0].d_gap * t36 - law[1].d_gap * t37;
+        dq[5][6] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][6] + t38 + t39 - self.k[5][6];
+        dq[6][1] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][1] + t10 + t11;
+        dq[6][2] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][2] + t20 + t21;
+        dq[6][3] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][3] + t28 + t29;
+        dq[6][4] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][4] + t34 + t35 - self.k[6][4];
+        dq[6][5] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][5] + t38 + t39 - self.k[6][5];
+        dq[6][6] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][6] - self.k[6][6]
+            - law[0].d_gap * t40 - law[1].d_gap * t41;
+        dq[1][8] = -law[0].d_rate * t0 - law[1].d_rate * t1;
         dq[1][9] = t42;
         dq[1][10] = t43;
         dq[1][11] = t44;
         dq[1][12] = t45;
         dq[1][13] = t46;
         dq[2][8] = t42;
-        dq[2][9] = -t12 * law[0].d_rate - t13 * law[1].d_rate;
+        dq[2][9] = -law[0].d_rate * t12 - law[1].d_rate * t13;
         dq[2][10] = t47;
         dq[2][11] = t48;
         dq[2][12] = t49;
         dq[2][13] = t50;
         dq[3][8] = t43;
         dq[3][9] = t47;
-        dq[3][10] = -t22 * law[0].d_rate - t23 * law[1].d_rate;
+        dq[3][10] = -law[0].d_rate * t22 - law[1].d_rate * t23;
         dq[3][11] = t51;
         dq[3][12] = t52;
         dq[3][13] = t53;
         dq[4][8] = t44;
         dq[4][9] = t48;
         dq[4][10] = t51;
-        dq[4][11] = -t30 * law[0].d_rate - t31 * law[1].d_rate;
+        dq[4][11] = -law[0].d_rate * t30 - law[1].d_rate * t31;
         dq[4][12] = t54;
         dq[4][13] = t55;
         dq[5][8] = t45;
         dq[5][9] = t49;
         dq[5][10] = t52;
         dq[5][11] = t54;
-        dq[5][12] = -t36 * law[0].d_rate - t37 * law[1].d_rate;
+        dq[5][12] = -law[0].d_rate * t36 - law[1].d_rate * t37;
         dq[5][13] = t56;
         dq[6][8] = t46;
         dq[6][9] = t50;
         dq[6][10] = t53;
         dq[6][11] = t55;
         dq[6][12] = t56;
-        dq[6][13] = -t40 * law[0].d_rate - t41 * law[1].d_rate;
+        dq[6][13] = -law[0].d_rate * t40 - law[1].d_rate * t41;
         jac.fill(0.0);
         for j in 0..DOF {
             jac[(j, DOF + j)] = 1.0;

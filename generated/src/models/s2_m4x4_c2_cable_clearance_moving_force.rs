@@ -174,37 +174,37 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
     let g = p.gravity;
     let t0 = l_2.powi(2);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // mass_matrix[0][0] = rho_a_1*l_1*K_M_1_0_0 + rho_a_2*l_2*K_M_2_0_0 + m_t + m_l
+    // mass_matrix[0][0] = m_l + m_t + l_1*rho_a_1*K_M_1_0_0 + l_2*rho_a_2*K_M_2_0_0
     {
-        m[(0, 0)] = rho_a_1 * l_1 * K_M_1_0_0 + rho_a_2 * l_2 * K_M_2_0_0 + m_t + m_l;
+        m[(0, 0)] = m_l + m_t + l_1 * rho_a_1 * K_M_1_0_0 + l_2 * rho_a_2 * K_M_2_0_0;
     }
-    // mass_matrix[0][1] = rho_a_1*l_1*K_M_1_0_2
+    // mass_matrix[0][1] = l_1*rho_a_1*K_M_1_0_2
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_2;
+        let v = l_1 * rho_a_1 * K_M_1_0_2;
         m[(0, 1)] = v;
         m[(1, 0)] = v;
     }
-    // mass_matrix[0][2] = rho_a_1*l_1*K_M_1_0_3
+    // mass_matrix[0][2] = l_1*rho_a_1*K_M_1_0_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_3;
+        let v = l_1 * rho_a_1 * K_M_1_0_3;
         m[(0, 2)] = v;
         m[(2, 0)] = v;
     }
-    // mass_matrix[0][3] = rho_a_1*l_1*K_M_1_0_4
+    // mass_matrix[0][3] = l_1*rho_a_1*K_M_1_0_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_4;
+        let v = l_1 * rho_a_1 * K_M_1_0_4;
         m[(0, 3)] = v;
         m[(3, 0)] = v;
     }
-    // mass_matrix[0][4] = rho_a_2*l_2*K_M_2_0_1 + m_l*K_TOP_2_1
+    // mass_matrix[0][4] = l_2*rho_a_2*K_M_2_0_1 + m_l*K_TOP_2_1
     {
-        let v = rho_a_2 * l_2 * K_M_2_0_1 + m_l * K_TOP_2_1;
+        let v = l_2 * rho_a_2 * K_M_2_0_1 + m_l * K_TOP_2_1;
         m[(0, 4)] = v;
         m[(4, 0)] = v;
     }
-    // mass_matrix[0][5] = rho_a_2*l_2^2*K_M_2_0_2 + l_2*m_l*K_TOP_2_2
+    // mass_matrix[0][5] = l_2*m_l*K_TOP_2_2 + rho_a_2*K_M_2_0_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_0_2 + l_2 * m_l * K_TOP_2_2;
+        let v = l_2 * m_l * K_TOP_2_2 + rho_a_2 * K_M_2_0_2 * t0;
         m[(0, 5)] = v;
         m[(5, 0)] = v;
     }
@@ -220,43 +220,43 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(0, 7)] = v;
         m[(7, 0)] = v;
     }
-    // mass_matrix[1][1] = rho_a_1*l_1*K_M_1_2_2
+    // mass_matrix[1][1] = l_1*rho_a_1*K_M_1_2_2
     {
-        m[(1, 1)] = rho_a_1 * l_1 * K_M_1_2_2;
+        m[(1, 1)] = l_1 * rho_a_1 * K_M_1_2_2;
     }
-    // mass_matrix[1][2] = rho_a_1*l_1*K_M_1_2_3
+    // mass_matrix[1][2] = l_1*rho_a_1*K_M_1_2_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_3;
+        let v = l_1 * rho_a_1 * K_M_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // mass_matrix[1][3] = rho_a_1*l_1*K_M_1_2_4
+    // mass_matrix[1][3] = l_1*rho_a_1*K_M_1_2_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_4;
+        let v = l_1 * rho_a_1 * K_M_1_2_4;
         m[(1, 3)] = v;
         m[(3, 1)] = v;
     }
-    // mass_matrix[2][2] = rho_a_1*l_1*K_M_1_3_3
+    // mass_matrix[2][2] = l_1*rho_a_1*K_M_1_3_3
     {
-        m[(2, 2)] = rho_a_1 * l_1 * K_M_1_3_3;
+        m[(2, 2)] = l_1 * rho_a_1 * K_M_1_3_3;
     }
-    // mass_matrix[2][3] = rho_a_1*l_1*K_M_1_3_4
+    // mass_matrix[2][3] = l_1*rho_a_1*K_M_1_3_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_3_4;
+        let v = l_1 * rho_a_1 * K_M_1_3_4;
         m[(2, 3)] = v;
         m[(3, 2)] = v;
     }
-    // mass_matrix[3][3] = rho_a_1*l_1*K_M_1_4_4
+    // mass_matrix[3][3] = l_1*rho_a_1*K_M_1_4_4
     {
-        m[(3, 3)] = rho_a_1 * l_1 * K_M_1_4_4;
+        m[(3, 3)] = l_1 * rho_a_1 * K_M_1_4_4;
     }
-    // mass_matrix[4][4] = rho_a_2*l_2*K_M_2_1_1 + m_l*K_TOP_2_1^2
+    // mass_matrix[4][4] = l_2*rho_a_2*K_M_2_1_1 + m_l*K_TOP_2_1^2
     {
-        m[(4, 4)] = rho_a_2 * l_2 * K_M_2_1_1 + m_l * K_TOP_2_1.powi(2);
+        m[(4, 4)] = l_2 * rho_a_2 * K_M_2_1_1 + m_l * K_TOP_2_1.powi(2);
     }
-    // mass_matrix[4][5] = rho_a_2*l_2^2*K_M_2_1_2 + l_2*m_l*K_TOP_2_1*K_TOP_2_2
+    // mass_matrix[4][5] = l_2*m_l*K_TOP_2_1*K_TOP_2_2 + rho_a_2*K_M_2_1_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_1_2 + l_2 * m_l * K_TOP_2_1 * K_TOP_2_2;
+        let v = l_2 * m_l * K_TOP_2_1 * K_TOP_2_2 + rho_a_2 * K_M_2_1_2 * t0;
         m[(4, 5)] = v;
         m[(5, 4)] = v;
     }
@@ -272,9 +272,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(4, 7)] = v;
         m[(7, 4)] = v;
     }
-    // mass_matrix[5][5] = rho_a_2*l_2^3*K_M_2_2_2 + l_2^2*m_l*K_TOP_2_2^2
+    // mass_matrix[5][5] = m_l*l_2^2*K_TOP_2_2^2 + rho_a_2*K_M_2_2_2*l_2^3
     {
-        m[(5, 5)] = rho_a_2 * l_2.powi(3) * K_M_2_2_2 + t0 * m_l * K_TOP_2_2.powi(2);
+        m[(5, 5)] = m_l * t0 * K_TOP_2_2.powi(2) + rho_a_2 * K_M_2_2_2 * l_2.powi(3);
     }
     // mass_matrix[5][6] = l_2*m_l*K_TOP_2_2*K_TOP_2_3
     {
@@ -288,9 +288,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(5, 7)] = v;
         m[(7, 5)] = v;
     }
-    // mass_matrix[6][6] = rho_a_2*l_2*K_M_2_3_3 + m_l*K_TOP_2_3^2
+    // mass_matrix[6][6] = l_2*rho_a_2*K_M_2_3_3 + m_l*K_TOP_2_3^2
     {
-        m[(6, 6)] = rho_a_2 * l_2 * K_M_2_3_3 + m_l * K_TOP_2_3.powi(2);
+        m[(6, 6)] = l_2 * rho_a_2 * K_M_2_3_3 + m_l * K_TOP_2_3.powi(2);
     }
     // mass_matrix[6][7] = m_l*K_TOP_2_3*K_TOP_2_4
     {
@@ -298,9 +298,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(6, 7)] = v;
         m[(7, 6)] = v;
     }
-    // mass_matrix[7][7] = rho_a_2*l_2*K_M_2_4_4 + m_l*K_TOP_2_4^2
+    // mass_matrix[7][7] = l_2*rho_a_2*K_M_2_4_4 + m_l*K_TOP_2_4^2
     {
-        m[(7, 7)] = rho_a_2 * l_2 * K_M_2_4_4 + m_l * K_TOP_2_4.powi(2);
+        m[(7, 7)] = l_2 * rho_a_2 * K_M_2_4_4 + m_l * K_TOP_2_4.powi(2);
     }
     m
 }
@@ -322,113 +322,113 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
     let t3 = l_2.recip();
     let t4 = l_2.powi(-3);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // stiffness_matrix[1][1] = -rho_a_1*g*K_AX_1_2_2 + rho_a_1*g*K_AXX_1_2_2 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_2 - l_1^-1*m_l*g*K_AX_1_2_2 + l_1^-3*ei_1*K_EI_1_2_2
+    // stiffness_matrix[1][1] = -g*l_2*rho_a_2*K_AX_1_2_2*l_1^-1 - g*m_l*K_AX_1_2_2*l_1^-1 - g*rho_a_1*K_AX_1_2_2 + ei_1*K_EI_1_2_2*l_1^-3 + g*rho_a_1*K_AXX_1_2_2
     {
-        m[(1, 1)] = -rho_a_1 * g * K_AX_1_2_2 + rho_a_1 * g * K_AXX_1_2_2
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_2 - t0 * m_l * g * K_AX_1_2_2
-            + t1 * ei_1 * K_EI_1_2_2;
+        m[(1, 1)] = -g * l_2 * rho_a_2 * K_AX_1_2_2 * t0 - g * m_l * K_AX_1_2_2 * t0
+            - g * rho_a_1 * K_AX_1_2_2 + ei_1 * K_EI_1_2_2 * t1
+            + g * rho_a_1 * K_AXX_1_2_2;
     }
-    // stiffness_matrix[1][2] = -rho_a_1*g*K_AX_1_2_3 + rho_a_1*g*K_AXX_1_2_3 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_3 - l_1^-1*m_l*g*K_AX_1_2_3
+    // stiffness_matrix[1][2] = -g*l_2*rho_a_2*K_AX_1_2_3*l_1^-1 - g*m_l*K_AX_1_2_3*l_1^-1 - g*rho_a_1*K_AX_1_2_3 + g*rho_a_1*K_AXX_1_2_3
     {
-        let v = -rho_a_1 * g * K_AX_1_2_3 + rho_a_1 * g * K_AXX_1_2_3
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_3 - t0 * m_l * g * K_AX_1_2_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_3 * t0 - g * m_l * K_AX_1_2_3 * t0
+            - g * rho_a_1 * K_AX_1_2_3 + g * rho_a_1 * K_AXX_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // stiffness_matrix[1][3] = -rho_a_1*g*K_AX_1_2_4 + rho_a_1*g*K_AXX_1_2_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_4 - l_1^-1*m_l*g*K_AX_1_2_4
+    // stiffness_matrix[1][3] = -g*l_2*rho_a_2*K_AX_1_2_4*l_1^-1 - g*m_l*K_AX_1_2_4*l_1^-1 - g*rho_a_1*K_AX_1_2_4 + g*rho_a_1*K_AXX_1_2_4
     {
-        let v = -rho_a_1 * g * K_AX_1_2_4 + rho_a_1 * g * K_AXX_1_2_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_4 - t0 * m_l * g * K_AX_1_2_4;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_4 * t0 - g * m_l * K_AX_1_2_4 * t0
+            - g * rho_a_1 * K_AX_1_2_4 + g * rho_a_1 * K_AXX_1_2_4;
         m[(1, 3)] = v;
         m[(3, 1)] = v;
     }
-    // stiffness_matrix[2][2] = -rho_a_1*g*K_AX_1_3_3 + rho_a_1*g*K_AXX_1_3_3 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_3 - l_1^-1*m_l*g*K_AX_1_3_3 + l_1^-3*ei_1*K_EI_1_3_3
+    // stiffness_matrix[2][2] = -g*l_2*rho_a_2*K_AX_1_3_3*l_1^-1 - g*m_l*K_AX_1_3_3*l_1^-1 - g*rho_a_1*K_AX_1_3_3 + ei_1*K_EI_1_3_3*l_1^-3 + g*rho_a_1*K_AXX_1_3_3
     {
-        m[(2, 2)] = -rho_a_1 * g * K_AX_1_3_3 + rho_a_1 * g * K_AXX_1_3_3
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_3 - t0 * m_l * g * K_AX_1_3_3
-            + t1 * ei_1 * K_EI_1_3_3;
+        m[(2, 2)] = -g * l_2 * rho_a_2 * K_AX_1_3_3 * t0 - g * m_l * K_AX_1_3_3 * t0
+            - g * rho_a_1 * K_AX_1_3_3 + ei_1 * K_EI_1_3_3 * t1
+            + g * rho_a_1 * K_AXX_1_3_3;
     }
-    // stiffness_matrix[2][3] = -rho_a_1*g*K_AX_1_3_4 + rho_a_1*g*K_AXX_1_3_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_4 - l_1^-1*m_l*g*K_AX_1_3_4
+    // stiffness_matrix[2][3] = -g*l_2*rho_a_2*K_AX_1_3_4*l_1^-1 - g*m_l*K_AX_1_3_4*l_1^-1 - g*rho_a_1*K_AX_1_3_4 + g*rho_a_1*K_AXX_1_3_4
     {
-        let v = -rho_a_1 * g * K_AX_1_3_4 + rho_a_1 * g * K_AXX_1_3_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_4 - t0 * m_l * g * K_AX_1_3_4;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_3_4 * t0 - g * m_l * K_AX_1_3_4 * t0
+            - g * rho_a_1 * K_AX_1_3_4 + g * rho_a_1 * K_AXX_1_3_4;
         m[(2, 3)] = v;
         m[(3, 2)] = v;
     }
-    // stiffness_matrix[3][3] = -rho_a_1*g*K_AX_1_4_4 + rho_a_1*g*K_AXX_1_4_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_4_4 - l_1^-1*m_l*g*K_AX_1_4_4 + l_1^-3*ei_1*K_EI_1_4_4
+    // stiffness_matrix[3][3] = -g*l_2*rho_a_2*K_AX_1_4_4*l_1^-1 - g*m_l*K_AX_1_4_4*l_1^-1 - g*rho_a_1*K_AX_1_4_4 + ei_1*K_EI_1_4_4*l_1^-3 + g*rho_a_1*K_AXX_1_4_4
     {
-        m[(3, 3)] = -rho_a_1 * g * K_AX_1_4_4 + rho_a_1 * g * K_AXX_1_4_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_4_4 - t0 * m_l * g * K_AX_1_4_4
-            + t1 * ei_1 * K_EI_1_4_4;
+        m[(3, 3)] = -g * l_2 * rho_a_2 * K_AX_1_4_4 * t0 - g * m_l * K_AX_1_4_4 * t0
+            - g * rho_a_1 * K_AX_1_4_4 + ei_1 * K_EI_1_4_4 * t1
+            + g * rho_a_1 * K_AXX_1_4_4;
     }
-    // stiffness_matrix[5][5] = -rho_a_2*l_2^2*g*K_AX_2_2_2 + rho_a_2*l_2^2*g*K_AXX_2_2_2 - l_2*m_l*g*K_AX_2_2_2
+    // stiffness_matrix[5][5] = -g*l_2*m_l*K_AX_2_2_2 - g*rho_a_2*K_AX_2_2_2*l_2^2 + g*rho_a_2*K_AXX_2_2_2*l_2^2
     {
-        m[(5, 5)] = -rho_a_2 * t2 * g * K_AX_2_2_2 + rho_a_2 * t2 * g * K_AXX_2_2_2
-            - l_2 * m_l * g * K_AX_2_2_2;
+        m[(5, 5)] = -g * l_2 * m_l * K_AX_2_2_2 - g * rho_a_2 * K_AX_2_2_2 * t2
+            + g * rho_a_2 * K_AXX_2_2_2 * t2;
     }
-    // stiffness_matrix[5][6] = rho_a_2*l_2*g*K_AXX_2_2_3
+    // stiffness_matrix[5][6] = g*l_2*rho_a_2*K_AXX_2_2_3
     {
-        let v = rho_a_2 * l_2 * g * K_AXX_2_2_3;
+        let v = g * l_2 * rho_a_2 * K_AXX_2_2_3;
         m[(5, 6)] = v;
         m[(6, 5)] = v;
     }
-    // stiffness_matrix[5][7] = -rho_a_2*l_2*g*K_AX_2_2_4 + rho_a_2*l_2*g*K_AXX_2_2_4 - m_l*g*K_AX_2_2_4
+    // stiffness_matrix[5][7] = -g*l_2*rho_a_2*K_AX_2_2_4 - g*m_l*K_AX_2_2_4 + g*l_2*rho_a_2*K_AXX_2_2_4
     {
-        let v = -rho_a_2 * l_2 * g * K_AX_2_2_4 + rho_a_2 * l_2 * g * K_AXX_2_2_4
-            - m_l * g * K_AX_2_2_4;
+        let v = -g * l_2 * rho_a_2 * K_AX_2_2_4 - g * m_l * K_AX_2_2_4
+            + g * l_2 * rho_a_2 * K_AXX_2_2_4;
         m[(5, 7)] = v;
         m[(7, 5)] = v;
     }
-    // stiffness_matrix[6][6] = -rho_a_2*g*K_AX_2_3_3 + rho_a_2*g*K_AXX_2_3_3 - l_2^-1*m_l*g*K_AX_2_3_3 + l_2^-3*ei_2*K_EI_2_3_3
+    // stiffness_matrix[6][6] = -g*m_l*K_AX_2_3_3*l_2^-1 - g*rho_a_2*K_AX_2_3_3 + ei_2*K_EI_2_3_3*l_2^-3 + g*rho_a_2*K_AXX_2_3_3
     {
-        m[(6, 6)] = -rho_a_2 * g * K_AX_2_3_3 + rho_a_2 * g * K_AXX_2_3_3
-            - t3 * m_l * g * K_AX_2_3_3 + t4 * ei_2 * K_EI_2_3_3;
+        m[(6, 6)] = -g * m_l * K_AX_2_3_3 * t3 - g * rho_a_2 * K_AX_2_3_3
+            + ei_2 * K_EI_2_3_3 * t4 + g * rho_a_2 * K_AXX_2_3_3;
     }
-    // stiffness_matrix[6][7] = rho_a_2*g*K_AXX_2_3_4
+    // stiffness_matrix[6][7] = g*rho_a_2*K_AXX_2_3_4
     {
-        let v = rho_a_2 * g * K_AXX_2_3_4;
+        let v = g * rho_a_2 * K_AXX_2_3_4;
         m[(6, 7)] = v;
         m[(7, 6)] = v;
     }
-    // stiffness_matrix[7][7] = -rho_a_2*g*K_AX_2_4_4 + rho_a_2*g*K_AXX_2_4_4 - l_2^-1*m_l*g*K_AX_2_4_4 + l_2^-3*ei_2*K_EI_2_4_4
+    // stiffness_matrix[7][7] = -g*m_l*K_AX_2_4_4*l_2^-1 - g*rho_a_2*K_AX_2_4_4 + ei_2*K_EI_2_4_4*l_2^-3 + g*rho_a_2*K_AXX_2_4_4
     {
-        m[(7, 7)] = -rho_a_2 * g * K_AX_2_4_4 + rho_a_2 * g * K_AXX_2_4_4
-            - t3 * m_l * g * K_AX_2_4_4 + t4 * ei_2 * K_EI_2_4_4;
+        m[(7, 7)] = -g * m_l * K_AX_2_4_4 * t3 - g * rho_a_2 * K_AX_2_4_4
+            + ei_2 * K_EI_2_4_4 * t4 + g * rho_a_2 * K_AXX_2_4_4;
     }
     m
 }
 /// Basis functions of section 1 at `xi = x / l_1` (cancellation-free forms) and their `d/dxi`, without the factor `l_1^p` (see `LENGTH_POWERS_1`).
 #[inline]
 pub fn shapes_1(xi: f64) -> ([f64; 3], [f64; 3]) {
-    let t0 = xi * K_BETA_1_2;
-    let t1 = -1.0 + xi;
-    let t2 = (K_BETA_1_2 * t1).exp();
-    let t3 = (-xi * K_BETA_1_2).exp();
-    let t4 = xi * K_BETA_1_3;
-    let t5 = (K_BETA_1_3 * t1).exp();
-    let t6 = (-xi * K_BETA_1_3).exp();
-    let t7 = xi * K_BETA_1_4;
-    let t8 = (K_BETA_1_4 * t1).exp();
-    let t9 = (-xi * K_BETA_1_4).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_1_2 * t0).exp();
+    let t2 = (-xi * K_BETA_1_2).exp();
+    let t3 = xi * K_BETA_1_2;
+    let t4 = (K_BETA_1_3 * t0).exp();
+    let t5 = (-xi * K_BETA_1_3).exp();
+    let t6 = xi * K_BETA_1_3;
+    let t7 = (K_BETA_1_4 * t0).exp();
+    let t8 = (-xi * K_BETA_1_4).exp();
+    let t9 = xi * K_BETA_1_4;
     let mut value = [0.0; 3];
     let mut slope = [0.0; 3];
-    // psi_1,1 = K_C_1_2_3 + cos(xi*K_BETA_1_2) + exp(K_BETA_1_2*(-1 + xi))*K_C_1_2_1 + exp(-xi*K_BETA_1_2)*K_C_1_2_2
+    // psi_1,1 = K_C_1_2_3 + K_C_1_2_1*exp(K_BETA_1_2*(-1 + xi)) + K_C_1_2_2*exp(-xi*K_BETA_1_2) + cos(xi*K_BETA_1_2)
     {
-        value[0] = K_C_1_2_3 + t0.cos() + t2 * K_C_1_2_1 + t3 * K_C_1_2_2;
-        slope[0] = -K_BETA_1_2 * t0.sin() + t2 * K_C_1_2_1 * K_BETA_1_2
-            - t3 * K_BETA_1_2 * K_C_1_2_2;
+        value[0] = K_C_1_2_3 + K_C_1_2_1 * t1 + K_C_1_2_2 * t2 + t3.cos();
+        slope[0] = -K_BETA_1_2 * K_C_1_2_2 * t2 - K_BETA_1_2 * t3.sin()
+            + K_BETA_1_2 * K_C_1_2_1 * t1;
     }
-    // psi_1,2 = K_C_1_3_3 + cos(xi*K_BETA_1_3) + exp(K_BETA_1_3*(-1 + xi))*K_C_1_3_1 + exp(-xi*K_BETA_1_3)*K_C_1_3_2
+    // psi_1,2 = K_C_1_3_3 + K_C_1_3_1*exp(K_BETA_1_3*(-1 + xi)) + K_C_1_3_2*exp(-xi*K_BETA_1_3) + cos(xi*K_BETA_1_3)
     {
-        value[1] = K_C_1_3_3 + t4.cos() + t5 * K_C_1_3_1 + t6 * K_C_1_3_2;
-        slope[1] = -K_BETA_1_3 * t4.sin() + t5 * K_C_1_3_1 * K_BETA_1_3
-            - t6 * K_BETA_1_3 * K_C_1_3_2;
+        value[1] = K_C_1_3_3 + K_C_1_3_1 * t4 + K_C_1_3_2 * t5 + t6.cos();
+        slope[1] = -K_BETA_1_3 * K_C_1_3_2 * t5 - K_BETA_1_3 * t6.sin()
+            + K_BETA_1_3 * K_C_1_3_1 * t4;
     }
-    // psi_1,3 = K_C_1_4_3 + cos(xi*K_BETA_1_4) + exp(K_BETA_1_4*(-1 + xi))*K_C_1_4_1 + exp(-xi*K_BETA_1_4)*K_C_1_4_2
+    // psi_1,3 = K_C_1_4_3 + K_C_1_4_1*exp(K_BETA_1_4*(-1 + xi)) + K_C_1_4_2*exp(-xi*K_BETA_1_4) + cos(xi*K_BETA_1_4)
     {
-        value[2] = K_C_1_4_3 + t7.cos() + t8 * K_C_1_4_1 + t9 * K_C_1_4_2;
-        slope[2] = -K_BETA_1_4 * t7.sin() + t8 * K_C_1_4_1 * K_BETA_1_4
-            - t9 * K_BETA_1_4 * K_C_1_4_2;
+        value[2] = K_C_1_4_3 + K_C_1_4_1 * t7 + K_C_1_4_2 * t8 + t9.cos();
+        slope[2] = -K_BETA_1_4 * K_C_1_4_2 * t8 - K_BETA_1_4 * t9.sin()
+            + K_BETA_1_4 * K_C_1_4_1 * t7;
     }
     (value, slope)
 }
@@ -441,17 +441,17 @@ pub const TOPS_1: [f64; 3] = [K_TOP_1_2, K_TOP_1_3, K_TOP_1_4];
 /// Basis functions of section 2 at `xi = x / l_2` (cancellation-free forms) and their `d/dxi`, without the factor `l_2^p` (see `LENGTH_POWERS_2`).
 #[inline]
 pub fn shapes_2(xi: f64) -> ([f64; 4], [f64; 4]) {
-    let t0 = xi * K_BETA_2_3;
-    let t1 = t0.sin();
-    let t2 = t0.cos();
-    let t3 = -1.0 + xi;
-    let t4 = (K_BETA_2_3 * t3).exp();
-    let t5 = (-xi * K_BETA_2_3).exp();
-    let t6 = xi * K_BETA_2_4;
-    let t7 = t6.sin();
-    let t8 = t6.cos();
-    let t9 = (K_BETA_2_4 * t3).exp();
-    let t10 = (-xi * K_BETA_2_4).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_2_3 * t0).exp();
+    let t2 = (-xi * K_BETA_2_3).exp();
+    let t3 = xi * K_BETA_2_3;
+    let t4 = t3.sin();
+    let t5 = t3.cos();
+    let t6 = (K_BETA_2_4 * t0).exp();
+    let t7 = (-xi * K_BETA_2_4).exp();
+    let t8 = xi * K_BETA_2_4;
+    let t9 = t8.sin();
+    let t10 = t8.cos();
     let mut value = [0.0; 4];
     let mut slope = [0.0; 4];
     // psi_2,4 = 1
@@ -464,17 +464,17 @@ pub fn shapes_2(xi: f64) -> ([f64; 4], [f64; 4]) {
         value[1] = xi;
         slope[1] = 1.0;
     }
-    // psi_2,6 = K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3) + exp(K_BETA_2_3*(-1 + xi))*K_C_2_3_0 + exp(-xi*K_BETA_2_3)*K_C_2_3_1
+    // psi_2,6 = K_C_2_3_0*exp(K_BETA_2_3*(-1 + xi)) + K_C_2_3_1*exp(-xi*K_BETA_2_3) + K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3)
     {
-        value[2] = K_C_2_3_3 * t1 + t2 + t4 * K_C_2_3_0 + t5 * K_C_2_3_1;
-        slope[2] = K_BETA_2_3 * K_C_2_3_3 * t2 - K_BETA_2_3 * t1
-            + t4 * K_BETA_2_3 * K_C_2_3_0 - t5 * K_C_2_3_1 * K_BETA_2_3;
+        value[2] = K_C_2_3_0 * t1 + K_C_2_3_1 * t2 + K_C_2_3_3 * t4 + t5;
+        slope[2] = -K_BETA_2_3 * K_C_2_3_1 * t2 - K_BETA_2_3 * t4
+            + K_BETA_2_3 * K_C_2_3_0 * t1 + K_BETA_2_3 * K_C_2_3_3 * t5;
     }
-    // psi_2,7 = K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4) + exp(K_BETA_2_4*(-1 + xi))*K_C_2_4_0 + exp(-xi*K_BETA_2_4)*K_C_2_4_1
+    // psi_2,7 = K_C_2_4_0*exp(K_BETA_2_4*(-1 + xi)) + K_C_2_4_1*exp(-xi*K_BETA_2_4) + K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4)
     {
-        value[3] = K_C_2_4_3 * t7 + t8 + t9 * K_C_2_4_0 + t10 * K_C_2_4_1;
-        slope[3] = K_BETA_2_4 * K_C_2_4_3 * t8 - K_BETA_2_4 * t7
-            + t9 * K_BETA_2_4 * K_C_2_4_0 - t10 * K_C_2_4_1 * K_BETA_2_4;
+        value[3] = K_C_2_4_0 * t6 + K_C_2_4_1 * t7 + K_C_2_4_3 * t9 + t10;
+        slope[3] = -K_BETA_2_4 * K_C_2_4_1 * t7 - K_BETA_2_4 * t9
+            + K_BETA_2_4 * K_C_2_4_0 * t6 + K_BETA_2_4 * K_C_2_4_3 * t10;
     }
     (value, slope)
 }
@@ -766,39 +766,39 @@ impl Model for GeneratedModel {
         {
             q[0] = f_drive;
         }
-        // q[1] = -k_1_2*z_2 - f_0*g_0_1 - k_1_1*z_1 - f_1*g_1_1 - z_3*k_1_3
+        // q[1] = -f_0*g_0_1 - f_1*g_1_1 - k_1_1*z_1 - k_1_2*z_2 - k_1_3*z_3
         {
-            q[1] = -self.k[1][2] * z[2] - f[0] * geo.g[0][1] - self.k[1][1] * z[1]
-                - f[1] * geo.g[1][1] - z[3] * self.k[1][3];
+            q[1] = -f[0] * geo.g[0][1] - f[1] * geo.g[1][1] - self.k[1][1] * z[1]
+                - self.k[1][2] * z[2] - self.k[1][3] * z[3];
         }
-        // q[2] = -z_2*k_2_2 - f_0*g_0_2 - z_1*k_2_1 - f_1*g_1_2 - z_3*k_2_3
+        // q[2] = -f_0*g_0_2 - f_1*g_1_2 - k_2_1*z_1 - k_2_2*z_2 - k_2_3*z_3
         {
-            q[2] = -z[2] * self.k[2][2] - f[0] * geo.g[0][2] - z[1] * self.k[2][1]
-                - f[1] * geo.g[1][2] - z[3] * self.k[2][3];
+            q[2] = -f[0] * geo.g[0][2] - f[1] * geo.g[1][2] - self.k[2][1] * z[1]
+                - self.k[2][2] * z[2] - self.k[2][3] * z[3];
         }
-        // q[3] = -z_2*k_3_2 - f_0*g_0_3 - z_1*k_3_1 - f_1*g_1_3 - z_3*k_3_3
+        // q[3] = -f_0*g_0_3 - f_1*g_1_3 - k_3_1*z_1 - k_3_2*z_2 - k_3_3*z_3
         {
-            q[3] = -z[2] * self.k[3][2] - f[0] * geo.g[0][3] - z[1] * self.k[3][1]
-                - f[1] * geo.g[1][3] - z[3] * self.k[3][3];
+            q[3] = -f[0] * geo.g[0][3] - f[1] * geo.g[1][3] - self.k[3][1] * z[1]
+                - self.k[3][2] * z[2] - self.k[3][3] * z[3];
         }
         // q[4] = -f_0*g_0_4 - f_1*g_1_4
         {
             q[4] = -f[0] * geo.g[0][4] - f[1] * geo.g[1][4];
         }
-        // q[5] = -f_0*g_0_5 - f_1*g_1_5 - z_5*k_5_5 - z_6*k_5_6 - k_5_7*z_7
+        // q[5] = -f_0*g_0_5 - f_1*g_1_5 - k_5_5*z_5 - k_5_6*z_6 - k_5_7*z_7
         {
-            q[5] = -f[0] * geo.g[0][5] - f[1] * geo.g[1][5] - z[5] * self.k[5][5]
-                - z[6] * self.k[5][6] - self.k[5][7] * z[7];
+            q[5] = -f[0] * geo.g[0][5] - f[1] * geo.g[1][5] - self.k[5][5] * z[5]
+                - self.k[5][6] * z[6] - self.k[5][7] * z[7];
         }
-        // q[6] = -f_0*g_0_6 - f_1*g_1_6 - z_5*k_6_5 - z_6*k_6_6 - z_7*k_6_7
+        // q[6] = -f_0*g_0_6 - f_1*g_1_6 - k_6_5*z_5 - k_6_6*z_6 - k_6_7*z_7
         {
-            q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - z[5] * self.k[6][5]
-                - z[6] * self.k[6][6] - z[7] * self.k[6][7];
+            q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - self.k[6][5] * z[5]
+                - self.k[6][6] * z[6] - self.k[6][7] * z[7];
         }
-        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - z_5*k_7_5 - z_6*k_7_6 - z_7*k_7_7
+        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - k_7_5*z_5 - k_7_6*z_6 - k_7_7*z_7
         {
-            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - z[5] * self.k[7][5]
-                - z[6] * self.k[7][6] - z[7] * self.k[7][7];
+            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - self.k[7][5] * z[5]
+                - self.k[7][6] * z[6] - self.k[7][7] * z[7];
         }
         let mut acc = [0.0; DOF];
         for i in 0..DOF {
@@ -836,8 +836,8 @@ impl Model for GeneratedModel {
         let t9 = -geo.g[1][1] * geo.g[1][5] * law[1].d_gap;
         let t10 = -geo.g[0][1] * geo.g[0][6] * law[0].d_gap;
         let t11 = -geo.g[1][1] * geo.g[1][6] * law[1].d_gap;
-        let t12 = -geo.g[0][1] * law[0].d_gap * geo.g[0][7];
-        let t13 = -geo.g[1][1] * law[1].d_gap * geo.g[1][7];
+        let t12 = -geo.g[0][1] * geo.g[0][7] * law[0].d_gap;
+        let t13 = -geo.g[1][1] * geo.g[1][7] * law[1].d_gap;
         let t14 = geo.g[0][2].powi(2);
         let t15 = geo.g[1][2].powi(2);
         let t16 = -geo.g[0][2] * geo.g[0][3] * law[0].d_gap;
@@ -848,8 +848,8 @@ impl Model for GeneratedModel {
         let t21 = -geo.g[1][2] * geo.g[1][5] * law[1].d_gap;
         let t22 = -geo.g[0][2] * geo.g[0][6] * law[0].d_gap;
         let t23 = -geo.g[1][2] * geo.g[1][6] * law[1].d_gap;
-        let t24 = -geo.g[0][2] * law[0].d_gap * geo.g[0][7];
-        let t25 = -geo.g[1][2] * law[1].d_gap * geo.g[1][7];
+        let t24 = -geo.g[0][2] * geo.g[0][7] * law[0].d_gap;
+        let t25 = -geo.g[1][2] * geo.g[1][7] * law[1].d_gap;
         let t26 = geo.g[0][3].powi(2);
         let t27 = geo.g[1][3].powi(2);
         let t28 = -geo.g[0][3] * geo.g[0][4] * law[0].d_gap;
@@ -858,176 +858,176 @@ impl Model for GeneratedModel {
         let t31 = -geo.g[1][3] * geo.g[1][5] * law[1].d_gap;
         let t32 = -geo.g[0][3] * geo.g[0][6] * law[0].d_gap;
         let t33 = -geo.g[1][3] * geo.g[1][6] * law[1].d_gap;
-        let t34 = -geo.g[0][3] * law[0].d_gap * geo.g[0][7];
-        let t35 = -geo.g[1][3] * law[1].d_gap * geo.g[1][7];
+        let t34 = -geo.g[0][3] * geo.g[0][7] * law[0].d_gap;
+        let t35 = -geo.g[1][3] * geo.g[1][7] * law[1].d_gap;
         let t36 = geo.g[0][4].powi(2);
         let t37 = geo.g[1][4].powi(2);
         let t38 = -geo.g[0][4] * geo.g[0][5] * law[0].d_gap;
         let t39 = -geo.g[1][4] * geo.g[1][5] * law[1].d_gap;
         let t40 = -geo.g[0][4] * geo.g[0][6] * law[0].d_gap;
         let t41 = -geo.g[1][4] * geo.g[1][6] * law[1].d_gap;
-        let t42 = -geo.g[0][4] * law[0].d_gap * geo.g[0][7];
-        let t43 = -geo.g[1][4] * law[1].d_gap * geo.g[1][7];
+        let t42 = -geo.g[0][4] * geo.g[0][7] * law[0].d_gap;
+        let t43 = -geo.g[1][4] * geo.g[1][7] * law[1].d_gap;
         let t44 = geo.g[0][5].powi(2);
         let t45 = geo.g[1][5].powi(2);
         let t46 = -geo.g[0][5] * geo.g[0][6] * law[0].d_gap;
         let t47 = -geo.g[1][5] * geo.g[1][6] * law[1].d_gap;
-        let t48 = -geo.g[0][5] * law[0].d_gap * geo.g[0][7];
-        let t49 = -geo.g[1][5] * law[1].d_gap * geo.g[1][7];
+        let t48 = -geo.g[0][5] * geo.g[0][7] * law[0].d_gap;
+        let t49 = -geo.g[1][5] * geo.g[1][7] * law[1].d_gap;
         let t50 = geo.g[0][6].powi(2);
         let t51 = geo.g[1][6].powi(2);
-        let t52 = -geo.g[0][6] * law[0].d_gap * geo.g[0][7];
-        let t53 = -geo.g[1][6] * law[1].d_gap * geo.g[1][7];
+        let t52 = -geo.g[0][6] * geo.g[0][7] * law[0].d_gap;
+        let t53 = -geo.g[1][6] * geo.g[1][7] * law[1].d_gap;
         let t54 = geo.g[0][7].powi(2);
         let t55 = geo.g[1][7].powi(2);
-        let t56 = -geo.g[0][1] * geo.g[0][2] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][2] * law[1].d_rate;
-        let t57 = -geo.g[0][1] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][3] * law[1].d_rate;
-        let t58 = -geo.g[0][1] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][4] * law[1].d_rate;
-        let t59 = -geo.g[0][1] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][5] * law[1].d_rate;
-        let t60 = -geo.g[0][1] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][6] * law[1].d_rate;
-        let t61 = -geo.g[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][7];
-        let t62 = -geo.g[0][2] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][3] * law[1].d_rate;
-        let t63 = -geo.g[0][2] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][4] * law[1].d_rate;
-        let t64 = -geo.g[0][2] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][5] * law[1].d_rate;
-        let t65 = -geo.g[0][2] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][6] * law[1].d_rate;
-        let t66 = -geo.g[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][7];
-        let t67 = -geo.g[0][3] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][4] * law[1].d_rate;
-        let t68 = -geo.g[0][3] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][5] * law[1].d_rate;
-        let t69 = -geo.g[0][3] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][6] * law[1].d_rate;
-        let t70 = -geo.g[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][7];
-        let t71 = -geo.g[0][4] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][5] * law[1].d_rate;
-        let t72 = -geo.g[0][4] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][6] * law[1].d_rate;
-        let t73 = -geo.g[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][7];
-        let t74 = -geo.g[0][5] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][5] * geo.g[1][6] * law[1].d_rate;
-        let t75 = -geo.g[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][7];
-        let t76 = -geo.g[0][6] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][7];
-        dq[1][1] = -geo.g[0][1] * geo.gd[0][1] * law[0].d_rate - self.k[1][1]
-            - geo.g[1][1] * geo.gd[1][1] * law[1].d_rate - t0 * law[0].d_gap
-            - t1 * law[1].d_gap;
-        dq[1][2] = -self.k[1][2] + t2 - geo.g[0][1] * geo.gd[0][2] * law[0].d_rate + t3
-            - geo.g[1][1] * geo.gd[1][2] * law[1].d_rate;
-        dq[1][3] = t4 - geo.g[0][1] * geo.gd[0][3] * law[0].d_rate + t5
-            - geo.g[1][1] * geo.gd[1][3] * law[1].d_rate - self.k[1][3];
-        dq[1][4] = t6 - geo.g[0][1] * geo.gd[0][4] * law[0].d_rate + t7
-            - geo.g[1][1] * geo.gd[1][4] * law[1].d_rate;
-        dq[1][5] = t8 - geo.g[0][1] * geo.gd[0][5] * law[0].d_rate + t9
-            - geo.g[1][1] * geo.gd[1][5] * law[1].d_rate;
-        dq[1][6] = t10 - geo.g[0][1] * law[0].d_rate * geo.gd[0][6] + t11
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][6];
-        dq[1][7] = t12 - geo.g[0][1] * law[0].d_rate * geo.gd[0][7] + t13
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][7];
-        dq[2][1] = t2 + t3 - geo.g[0][2] * geo.gd[0][1] * law[0].d_rate - self.k[2][1]
-            - geo.g[1][2] * geo.gd[1][1] * law[1].d_rate;
-        dq[2][2] = -self.k[2][2] - geo.g[0][2] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][2] * geo.gd[1][2] * law[1].d_rate - t14 * law[0].d_gap
-            - t15 * law[1].d_gap;
-        dq[2][3] = t16 - geo.g[0][2] * geo.gd[0][3] * law[0].d_rate + t17
-            - geo.g[1][2] * geo.gd[1][3] * law[1].d_rate - self.k[2][3];
-        dq[2][4] = t18 - geo.g[0][2] * geo.gd[0][4] * law[0].d_rate + t19
-            - geo.g[1][2] * geo.gd[1][4] * law[1].d_rate;
-        dq[2][5] = t20 - geo.g[0][2] * geo.gd[0][5] * law[0].d_rate + t21
-            - geo.g[1][2] * geo.gd[1][5] * law[1].d_rate;
-        dq[2][6] = t22 - geo.g[0][2] * law[0].d_rate * geo.gd[0][6] + t23
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][6];
-        dq[2][7] = t24 - geo.g[0][2] * law[0].d_rate * geo.gd[0][7] + t25
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][7];
-        dq[3][1] = t4 + t5 - geo.g[0][3] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][1] * law[1].d_rate - self.k[3][1];
-        dq[3][2] = t16 + t17 - geo.g[0][3] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][2] * law[1].d_rate - self.k[3][2];
-        dq[3][3] = -geo.g[0][3] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][3] * law[1].d_rate - self.k[3][3]
-            - t26 * law[0].d_gap - t27 * law[1].d_gap;
-        dq[3][4] = t28 - geo.g[0][3] * geo.gd[0][4] * law[0].d_rate + t29
-            - geo.g[1][3] * geo.gd[1][4] * law[1].d_rate;
-        dq[3][5] = t30 - geo.g[0][3] * geo.gd[0][5] * law[0].d_rate + t31
-            - geo.g[1][3] * geo.gd[1][5] * law[1].d_rate;
-        dq[3][6] = t32 - geo.g[0][3] * law[0].d_rate * geo.gd[0][6] + t33
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][6];
-        dq[3][7] = t34 - geo.g[0][3] * law[0].d_rate * geo.gd[0][7] + t35
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][7];
-        dq[4][1] = t6 + t7 - geo.g[0][4] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][1] * law[1].d_rate;
-        dq[4][2] = t18 + t19 - geo.g[0][4] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][2] * law[1].d_rate;
-        dq[4][3] = t28 + t29 - geo.g[0][4] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][3] * law[1].d_rate;
-        dq[4][4] = -geo.g[0][4] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][4] * law[1].d_rate - t36 * law[0].d_gap
-            - t37 * law[1].d_gap;
-        dq[4][5] = t38 - geo.g[0][4] * geo.gd[0][5] * law[0].d_rate + t39
-            - geo.g[1][4] * geo.gd[1][5] * law[1].d_rate;
-        dq[4][6] = t40 - geo.g[0][4] * law[0].d_rate * geo.gd[0][6] + t41
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][6];
-        dq[4][7] = t42 - geo.g[0][4] * law[0].d_rate * geo.gd[0][7] + t43
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][7];
-        dq[5][1] = t8 + t9 - geo.g[0][5] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][1] * law[1].d_rate;
-        dq[5][2] = t20 + t21 - geo.g[0][5] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][2] * law[1].d_rate;
-        dq[5][3] = t30 + t31 - geo.g[0][5] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][3] * law[1].d_rate;
-        dq[5][4] = t38 + t39 - geo.g[0][5] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][4] * law[1].d_rate;
-        dq[5][5] = -self.k[5][5] - geo.g[0][5] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][5] * law[1].d_rate - t44 * law[0].d_gap
-            - t45 * law[1].d_gap;
-        dq[5][6] = -self.k[5][6] + t46 - geo.g[0][5] * law[0].d_rate * geo.gd[0][6] + t47
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][6];
-        dq[5][7] = t48 - geo.g[0][5] * law[0].d_rate * geo.gd[0][7] + t49
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][7] - self.k[5][7];
-        dq[6][1] = t10 + t11 - geo.g[0][6] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][1] * law[1].d_rate;
-        dq[6][2] = t22 + t23 - geo.g[0][6] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][2] * law[1].d_rate;
-        dq[6][3] = t32 + t33 - geo.g[0][6] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][3] * law[1].d_rate;
-        dq[6][4] = t40 + t41 - geo.g[0][6] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][4] * law[1].d_rate;
-        dq[6][5] = t46 + t47 - self.k[6][5] - geo.g[0][6] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][5] * law[1].d_rate;
-        dq[6][6] = -self.k[6][6] - geo.g[0][6] * law[0].d_rate * geo.gd[0][6]
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][6] - t50 * law[0].d_gap
-            - t51 * law[1].d_gap;
-        dq[6][7] = t52 - geo.g[0][6] * law[0].d_rate * geo.gd[0][7] + t53
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][7] - self.k[6][7];
-        dq[7][1] = t12 + t13 - geo.gd[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][7];
-        dq[7][2] = t24 + t25 - geo.gd[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][7];
-        dq[7][3] = t34 + t35 - geo.gd[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][7];
-        dq[7][4] = t42 + t43 - geo.gd[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][7];
-        dq[7][5] = t48 + t49 - geo.gd[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][7] - self.k[7][5];
-        dq[7][6] = t52 + t53 - law[0].d_rate * geo.gd[0][6] * geo.g[0][7]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][7] - self.k[7][6];
-        dq[7][7] = -law[0].d_gap * t54 - law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
-            - law[1].d_gap * t55 - law[1].d_rate * geo.g[1][7] * geo.gd[1][7]
-            - self.k[7][7];
-        dq[1][9] = -t0 * law[0].d_rate - t1 * law[1].d_rate;
+        let t56 = -law[0].d_rate * geo.g[0][1] * geo.g[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][2];
+        let t57 = -law[0].d_rate * geo.g[0][1] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][3];
+        let t58 = -law[0].d_rate * geo.g[0][1] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][4];
+        let t59 = -law[0].d_rate * geo.g[0][1] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][5];
+        let t60 = -law[0].d_rate * geo.g[0][1] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][6];
+        let t61 = -law[0].d_rate * geo.g[0][1] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][7];
+        let t62 = -law[0].d_rate * geo.g[0][2] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][3];
+        let t63 = -law[0].d_rate * geo.g[0][2] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][4];
+        let t64 = -law[0].d_rate * geo.g[0][2] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][5];
+        let t65 = -law[0].d_rate * geo.g[0][2] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][6];
+        let t66 = -law[0].d_rate * geo.g[0][2] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][7];
+        let t67 = -law[0].d_rate * geo.g[0][3] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][4];
+        let t68 = -law[0].d_rate * geo.g[0][3] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][5];
+        let t69 = -law[0].d_rate * geo.g[0][3] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][6];
+        let t70 = -law[0].d_rate * geo.g[0][3] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][7];
+        let t71 = -law[0].d_rate * geo.g[0][4] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][5];
+        let t72 = -law[0].d_rate * geo.g[0][4] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][6];
+        let t73 = -law[0].d_rate * geo.g[0][4] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][7];
+        let t74 = -law[0].d_rate * geo.g[0][5] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][6];
+        let t75 = -law[0].d_rate * geo.g[0][5] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][7];
+        let t76 = -law[0].d_rate * geo.g[0][6] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][7];
+        dq[1][1] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][1] - self.k[1][1]
+            - law[0].d_gap * t0 - law[1].d_gap * t1;
+        dq[1][2] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][2] + t2 + t3 - self.k[1][2];
+        dq[1][3] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][3] + t4 + t5 - self.k[1][3];
+        dq[1][4] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][4] + t6 + t7;
+        dq[1][5] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][5] + t8 + t9;
+        dq[1][6] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][6] + t10 + t11;
+        dq[1][7] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][7] + t12 + t13;
+        dq[2][1] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][1] + t2 + t3 - self.k[2][1];
+        dq[2][2] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][2] - self.k[2][2]
+            - law[0].d_gap * t14 - law[1].d_gap * t15;
+        dq[2][3] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][3] + t16 + t17 - self.k[2][3];
+        dq[2][4] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][4] + t18 + t19;
+        dq[2][5] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][5] + t20 + t21;
+        dq[2][6] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][6] + t22 + t23;
+        dq[2][7] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][7] + t24 + t25;
+        dq[3][1] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][1] + t4 + t5 - self.k[3][1];
+        dq[3][2] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][2] + t16 + t17 - self.k[3][2];
+        dq[3][3] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][3] - self.k[3][3]
+            - law[0].d_gap * t26 - law[1].d_gap * t27;
+        dq[3][4] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][4] + t28 + t29;
+        dq[3][5] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][5] + t30 + t31;
+        dq[3][6] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][6] + t32 + t33;
+        dq[3][7] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][7] + t34 + t35;
+        dq[4][1] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][1] + t6 + t7;
+        dq[4][2] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][2] + t18 + t19;
+        dq[4][3] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][3] + t28 + t29;
+        dq[4][4] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][4] - law[0].d_gap * t36
+            - law[1].d_gap * t37;
+        dq[4][5] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][5] + t38 + t39;
+        dq[4][6] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][6] + t40 + t41;
+        dq[4][7] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][7] + t42 + t43;
+        dq[5][1] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][1] + t8 + t9;
+        dq[5][2] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][2] + t20 + t21;
+        dq[5][3] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][3] + t30 + t31;
+        dq[5][4] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][4] + t38 + t39;
+        dq[5][5] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][5] - self.k[5][5]
+            - law[0].d_gap * t44 - law[1].d_gap * t45;
+        dq[5][6] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][6] + t46 + t47 - self.k[5][6];
+        dq[5][7] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][7] + t48 + t49 - self.k[5][7];
+        dq[6][1] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][1] + t10 + t11;
+        dq[6][2] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][2] + t22 + t23;
+        dq[6][3] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][3] + t32 + t33;
+        dq[6][4] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][4] + t40 + t41;
+        dq[6][5] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][5] + t46 + t47 - self.k[6][5];
+        dq[6][6] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][6] - self.k[6][6]
+            - law[0].d_gap * t50 - law[1].d_gap * t51;
+        dq[6][7] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][7] + t52 + t53 - self.k[6][7];
+        dq[7][1] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][1] + t12 + t13;
+        dq[7][2] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][2] + t24 + t25;
+        dq[7][3] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][3] + t34 + t35;
+        dq[7][4] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][4] + t42 + t43;
+        dq[7][5] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][5] + t48 + t49 - self.k[7][5];
+        dq[7][6] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][6] + t52 + t53 - self.k[7][6];
+        dq[7][7] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][7] - self.k[7][7]
+            - law[0].d_gap * t54 - law[1].d_gap * t55;
+        dq[1][9] = -law[0].d_rate * t0 - law[1].d_rate * t1;
         dq[1][10] = t56;
         dq[1][11] = t57;
         dq[1][12] = t58;
@@ -1035,7 +1035,7 @@ impl Model for GeneratedModel {
         dq[1][14] = t60;
         dq[1][15] = t61;
         dq[2][9] = t56;
-        dq[2][10] = -t14 * law[0].d_rate - t15 * law[1].d_rate;
+        dq[2][10] = -law[0].d_rate * t14 - law[1].d_rate * t15;
         dq[2][11] = t62;
         dq[2][12] = t63;
         dq[2][13] = t64;
@@ -1043,7 +1043,7 @@ impl Model for GeneratedModel {
         dq[2][15] = t66;
         dq[3][9] = t57;
         dq[3][10] = t62;
-        dq[3][11] = -t26 * law[0].d_rate - t27 * law[1].d_rate;
+        dq[3][11] = -law[0].d_rate * t26 - law[1].d_rate * t27;
         dq[3][12] = t67;
         dq[3][13] = t68;
         dq[3][14] = t69;
@@ -1051,7 +1051,7 @@ impl Model for GeneratedModel {
         dq[4][9] = t58;
         dq[4][10] = t63;
         dq[4][11] = t67;
-        dq[4][12] = -t36 * law[0].d_rate - t37 * law[1].d_rate;
+        dq[4][12] = -law[0].d_rate * t36 - law[1].d_rate * t37;
         dq[4][13] = t71;
         dq[4][14] = t72;
         dq[4][15] = t73;
@@ -1059,7 +1059,7 @@ impl Model for GeneratedModel {
         dq[5][10] = t64;
         dq[5][11] = t68;
         dq[5][12] = t71;
-        dq[5][13] = -t44 * law[0].d_rate - t45 * law[1].d_rate;
+        dq[5][13] = -law[0].d_rate * t44 - law[1].d_rate * t45;
         dq[5][14] = t74;
         dq[5][15] = t75;
         dq[6][9] = t60;
@@ -1067,7 +1067,7 @@ impl Model for GeneratedModel {
         dq[6][11] = t69;
         dq[6][12] = t72;
         dq[6][13] = t74;
-        dq[6][14] = -t50 * law[0].d_rate - t51 * law[1].d_rate;
+        dq[6][14] = -law[0].d_rate * t50 - law[1].d_rate * t51;
         dq[6][15] = t76;
         dq[7][9] = t61;
         dq[7][10] = t66;

@@ -166,43 +166,43 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
     let g = p.gravity;
     let t0 = l_2.powi(2);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // mass_matrix[0][0] = rho_a_1*l_1*K_M_1_0_0 + rho_a_2*l_2*K_M_2_0_0 + m_t + m_l
+    // mass_matrix[0][0] = m_l + m_t + l_1*rho_a_1*K_M_1_0_0 + l_2*rho_a_2*K_M_2_0_0
     {
-        m[(0, 0)] = rho_a_1 * l_1 * K_M_1_0_0 + rho_a_2 * l_2 * K_M_2_0_0 + m_t + m_l;
+        m[(0, 0)] = m_l + m_t + l_1 * rho_a_1 * K_M_1_0_0 + l_2 * rho_a_2 * K_M_2_0_0;
     }
-    // mass_matrix[0][1] = rho_a_1*l_1*K_M_1_0_2
+    // mass_matrix[0][1] = l_1*rho_a_1*K_M_1_0_2
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_2;
+        let v = l_1 * rho_a_1 * K_M_1_0_2;
         m[(0, 1)] = v;
         m[(1, 0)] = v;
     }
-    // mass_matrix[0][2] = rho_a_1*l_1*K_M_1_0_3
+    // mass_matrix[0][2] = l_1*rho_a_1*K_M_1_0_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_3;
+        let v = l_1 * rho_a_1 * K_M_1_0_3;
         m[(0, 2)] = v;
         m[(2, 0)] = v;
     }
-    // mass_matrix[0][3] = rho_a_1*l_1*K_M_1_0_4
+    // mass_matrix[0][3] = l_1*rho_a_1*K_M_1_0_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_4;
+        let v = l_1 * rho_a_1 * K_M_1_0_4;
         m[(0, 3)] = v;
         m[(3, 0)] = v;
     }
-    // mass_matrix[0][4] = rho_a_1*l_1*K_M_1_0_5
+    // mass_matrix[0][4] = l_1*rho_a_1*K_M_1_0_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_5;
+        let v = l_1 * rho_a_1 * K_M_1_0_5;
         m[(0, 4)] = v;
         m[(4, 0)] = v;
     }
-    // mass_matrix[0][5] = rho_a_2*l_2*K_M_2_0_1 + m_l*K_TOP_2_1
+    // mass_matrix[0][5] = l_2*rho_a_2*K_M_2_0_1 + m_l*K_TOP_2_1
     {
-        let v = rho_a_2 * l_2 * K_M_2_0_1 + m_l * K_TOP_2_1;
+        let v = l_2 * rho_a_2 * K_M_2_0_1 + m_l * K_TOP_2_1;
         m[(0, 5)] = v;
         m[(5, 0)] = v;
     }
-    // mass_matrix[0][6] = rho_a_2*l_2^2*K_M_2_0_2 + l_2*m_l*K_TOP_2_2
+    // mass_matrix[0][6] = l_2*m_l*K_TOP_2_2 + rho_a_2*K_M_2_0_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_0_2 + l_2 * m_l * K_TOP_2_2;
+        let v = l_2 * m_l * K_TOP_2_2 + rho_a_2 * K_M_2_0_2 * t0;
         m[(0, 6)] = v;
         m[(6, 0)] = v;
     }
@@ -224,65 +224,65 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(0, 9)] = v;
         m[(9, 0)] = v;
     }
-    // mass_matrix[1][1] = rho_a_1*l_1*K_M_1_2_2
+    // mass_matrix[1][1] = l_1*rho_a_1*K_M_1_2_2
     {
-        m[(1, 1)] = rho_a_1 * l_1 * K_M_1_2_2;
+        m[(1, 1)] = l_1 * rho_a_1 * K_M_1_2_2;
     }
-    // mass_matrix[1][2] = rho_a_1*l_1*K_M_1_2_3
+    // mass_matrix[1][2] = l_1*rho_a_1*K_M_1_2_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_3;
+        let v = l_1 * rho_a_1 * K_M_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // mass_matrix[1][3] = rho_a_1*l_1*K_M_1_2_4
+    // mass_matrix[1][3] = l_1*rho_a_1*K_M_1_2_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_4;
+        let v = l_1 * rho_a_1 * K_M_1_2_4;
         m[(1, 3)] = v;
         m[(3, 1)] = v;
     }
-    // mass_matrix[1][4] = rho_a_1*l_1*K_M_1_2_5
+    // mass_matrix[1][4] = l_1*rho_a_1*K_M_1_2_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_5;
+        let v = l_1 * rho_a_1 * K_M_1_2_5;
         m[(1, 4)] = v;
         m[(4, 1)] = v;
     }
-    // mass_matrix[2][2] = rho_a_1*l_1*K_M_1_3_3
+    // mass_matrix[2][2] = l_1*rho_a_1*K_M_1_3_3
     {
-        m[(2, 2)] = rho_a_1 * l_1 * K_M_1_3_3;
+        m[(2, 2)] = l_1 * rho_a_1 * K_M_1_3_3;
     }
-    // mass_matrix[2][3] = rho_a_1*l_1*K_M_1_3_4
+    // mass_matrix[2][3] = l_1*rho_a_1*K_M_1_3_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_3_4;
+        let v = l_1 * rho_a_1 * K_M_1_3_4;
         m[(2, 3)] = v;
         m[(3, 2)] = v;
     }
-    // mass_matrix[2][4] = rho_a_1*l_1*K_M_1_3_5
+    // mass_matrix[2][4] = l_1*rho_a_1*K_M_1_3_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_3_5;
+        let v = l_1 * rho_a_1 * K_M_1_3_5;
         m[(2, 4)] = v;
         m[(4, 2)] = v;
     }
-    // mass_matrix[3][3] = rho_a_1*l_1*K_M_1_4_4
+    // mass_matrix[3][3] = l_1*rho_a_1*K_M_1_4_4
     {
-        m[(3, 3)] = rho_a_1 * l_1 * K_M_1_4_4;
+        m[(3, 3)] = l_1 * rho_a_1 * K_M_1_4_4;
     }
-    // mass_matrix[3][4] = rho_a_1*l_1*K_M_1_4_5
+    // mass_matrix[3][4] = l_1*rho_a_1*K_M_1_4_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_4_5;
+        let v = l_1 * rho_a_1 * K_M_1_4_5;
         m[(3, 4)] = v;
         m[(4, 3)] = v;
     }
-    // mass_matrix[4][4] = rho_a_1*l_1*K_M_1_5_5
+    // mass_matrix[4][4] = l_1*rho_a_1*K_M_1_5_5
     {
-        m[(4, 4)] = rho_a_1 * l_1 * K_M_1_5_5;
+        m[(4, 4)] = l_1 * rho_a_1 * K_M_1_5_5;
     }
-    // mass_matrix[5][5] = rho_a_2*l_2*K_M_2_1_1 + m_l*K_TOP_2_1^2
+    // mass_matrix[5][5] = l_2*rho_a_2*K_M_2_1_1 + m_l*K_TOP_2_1^2
     {
-        m[(5, 5)] = rho_a_2 * l_2 * K_M_2_1_1 + m_l * K_TOP_2_1.powi(2);
+        m[(5, 5)] = l_2 * rho_a_2 * K_M_2_1_1 + m_l * K_TOP_2_1.powi(2);
     }
-    // mass_matrix[5][6] = rho_a_2*l_2^2*K_M_2_1_2 + l_2*m_l*K_TOP_2_1*K_TOP_2_2
+    // mass_matrix[5][6] = l_2*m_l*K_TOP_2_1*K_TOP_2_2 + rho_a_2*K_M_2_1_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_1_2 + l_2 * m_l * K_TOP_2_1 * K_TOP_2_2;
+        let v = l_2 * m_l * K_TOP_2_1 * K_TOP_2_2 + rho_a_2 * K_M_2_1_2 * t0;
         m[(5, 6)] = v;
         m[(6, 5)] = v;
     }
@@ -304,9 +304,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(5, 9)] = v;
         m[(9, 5)] = v;
     }
-    // mass_matrix[6][6] = rho_a_2*l_2^3*K_M_2_2_2 + l_2^2*m_l*K_TOP_2_2^2
+    // mass_matrix[6][6] = m_l*l_2^2*K_TOP_2_2^2 + rho_a_2*K_M_2_2_2*l_2^3
     {
-        m[(6, 6)] = rho_a_2 * l_2.powi(3) * K_M_2_2_2 + t0 * m_l * K_TOP_2_2.powi(2);
+        m[(6, 6)] = m_l * t0 * K_TOP_2_2.powi(2) + rho_a_2 * K_M_2_2_2 * l_2.powi(3);
     }
     // mass_matrix[6][7] = l_2*m_l*K_TOP_2_2*K_TOP_2_3
     {
@@ -326,9 +326,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(6, 9)] = v;
         m[(9, 6)] = v;
     }
-    // mass_matrix[7][7] = rho_a_2*l_2*K_M_2_3_3 + m_l*K_TOP_2_3^2
+    // mass_matrix[7][7] = l_2*rho_a_2*K_M_2_3_3 + m_l*K_TOP_2_3^2
     {
-        m[(7, 7)] = rho_a_2 * l_2 * K_M_2_3_3 + m_l * K_TOP_2_3.powi(2);
+        m[(7, 7)] = l_2 * rho_a_2 * K_M_2_3_3 + m_l * K_TOP_2_3.powi(2);
     }
     // mass_matrix[7][8] = m_l*K_TOP_2_3*K_TOP_2_4
     {
@@ -342,9 +342,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(7, 9)] = v;
         m[(9, 7)] = v;
     }
-    // mass_matrix[8][8] = rho_a_2*l_2*K_M_2_4_4 + m_l*K_TOP_2_4^2
+    // mass_matrix[8][8] = l_2*rho_a_2*K_M_2_4_4 + m_l*K_TOP_2_4^2
     {
-        m[(8, 8)] = rho_a_2 * l_2 * K_M_2_4_4 + m_l * K_TOP_2_4.powi(2);
+        m[(8, 8)] = l_2 * rho_a_2 * K_M_2_4_4 + m_l * K_TOP_2_4.powi(2);
     }
     // mass_matrix[8][9] = m_l*K_TOP_2_4*K_TOP_2_5
     {
@@ -352,9 +352,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(8, 9)] = v;
         m[(9, 8)] = v;
     }
-    // mass_matrix[9][9] = rho_a_2*l_2*K_M_2_5_5 + m_l*K_TOP_2_5^2
+    // mass_matrix[9][9] = l_2*rho_a_2*K_M_2_5_5 + m_l*K_TOP_2_5^2
     {
-        m[(9, 9)] = rho_a_2 * l_2 * K_M_2_5_5 + m_l * K_TOP_2_5.powi(2);
+        m[(9, 9)] = l_2 * rho_a_2 * K_M_2_5_5 + m_l * K_TOP_2_5.powi(2);
     }
     m
 }
@@ -373,77 +373,77 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
     let t0 = l_1.powi(-3);
     let t1 = l_2.powi(-3);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // stiffness_matrix[1][1] = l_1^-3*ei_1*K_EI_1_2_2
+    // stiffness_matrix[1][1] = ei_1*K_EI_1_2_2*l_1^-3
     {
-        m[(1, 1)] = t0 * ei_1 * K_EI_1_2_2;
+        m[(1, 1)] = ei_1 * K_EI_1_2_2 * t0;
     }
-    // stiffness_matrix[2][2] = l_1^-3*ei_1*K_EI_1_3_3
+    // stiffness_matrix[2][2] = ei_1*K_EI_1_3_3*l_1^-3
     {
-        m[(2, 2)] = t0 * ei_1 * K_EI_1_3_3;
+        m[(2, 2)] = ei_1 * K_EI_1_3_3 * t0;
     }
-    // stiffness_matrix[3][3] = l_1^-3*ei_1*K_EI_1_4_4
+    // stiffness_matrix[3][3] = ei_1*K_EI_1_4_4*l_1^-3
     {
-        m[(3, 3)] = t0 * ei_1 * K_EI_1_4_4;
+        m[(3, 3)] = ei_1 * K_EI_1_4_4 * t0;
     }
-    // stiffness_matrix[4][4] = l_1^-3*ei_1*K_EI_1_5_5
+    // stiffness_matrix[4][4] = ei_1*K_EI_1_5_5*l_1^-3
     {
-        m[(4, 4)] = t0 * ei_1 * K_EI_1_5_5;
+        m[(4, 4)] = ei_1 * K_EI_1_5_5 * t0;
     }
-    // stiffness_matrix[7][7] = l_2^-3*ei_2*K_EI_2_3_3
+    // stiffness_matrix[7][7] = ei_2*K_EI_2_3_3*l_2^-3
     {
-        m[(7, 7)] = t1 * ei_2 * K_EI_2_3_3;
+        m[(7, 7)] = ei_2 * K_EI_2_3_3 * t1;
     }
-    // stiffness_matrix[8][8] = l_2^-3*ei_2*K_EI_2_4_4
+    // stiffness_matrix[8][8] = ei_2*K_EI_2_4_4*l_2^-3
     {
-        m[(8, 8)] = t1 * ei_2 * K_EI_2_4_4;
+        m[(8, 8)] = ei_2 * K_EI_2_4_4 * t1;
     }
-    // stiffness_matrix[9][9] = l_2^-3*ei_2*K_EI_2_5_5
+    // stiffness_matrix[9][9] = ei_2*K_EI_2_5_5*l_2^-3
     {
-        m[(9, 9)] = t1 * ei_2 * K_EI_2_5_5;
+        m[(9, 9)] = ei_2 * K_EI_2_5_5 * t1;
     }
     m
 }
 /// Basis functions of section 1 at `xi = x / l_1` (cancellation-free forms) and their `d/dxi`, without the factor `l_1^p` (see `LENGTH_POWERS_1`).
 #[inline]
 pub fn shapes_1(xi: f64) -> ([f64; 4], [f64; 4]) {
-    let t0 = xi * K_BETA_1_2;
-    let t1 = -1.0 + xi;
-    let t2 = (K_BETA_1_2 * t1).exp();
-    let t3 = (-xi * K_BETA_1_2).exp();
-    let t4 = xi * K_BETA_1_3;
-    let t5 = (K_BETA_1_3 * t1).exp();
-    let t6 = (-xi * K_BETA_1_3).exp();
-    let t7 = xi * K_BETA_1_4;
-    let t8 = (K_BETA_1_4 * t1).exp();
-    let t9 = (-xi * K_BETA_1_4).exp();
-    let t10 = xi * K_BETA_1_5;
-    let t11 = (K_BETA_1_5 * t1).exp();
-    let t12 = (-xi * K_BETA_1_5).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_1_2 * t0).exp();
+    let t2 = (-xi * K_BETA_1_2).exp();
+    let t3 = xi * K_BETA_1_2;
+    let t4 = (K_BETA_1_3 * t0).exp();
+    let t5 = (-xi * K_BETA_1_3).exp();
+    let t6 = xi * K_BETA_1_3;
+    let t7 = (K_BETA_1_4 * t0).exp();
+    let t8 = (-xi * K_BETA_1_4).exp();
+    let t9 = xi * K_BETA_1_4;
+    let t10 = (K_BETA_1_5 * t0).exp();
+    let t11 = (-xi * K_BETA_1_5).exp();
+    let t12 = xi * K_BETA_1_5;
     let mut value = [0.0; 4];
     let mut slope = [0.0; 4];
-    // psi_1,1 = K_C_1_2_3 + cos(xi*K_BETA_1_2) + exp(K_BETA_1_2*(-1 + xi))*K_C_1_2_1 + exp(-xi*K_BETA_1_2)*K_C_1_2_2
+    // psi_1,1 = K_C_1_2_3 + K_C_1_2_1*exp(K_BETA_1_2*(-1 + xi)) + K_C_1_2_2*exp(-xi*K_BETA_1_2) + cos(xi*K_BETA_1_2)
     {
-        value[0] = K_C_1_2_3 + t0.cos() + t2 * K_C_1_2_1 + t3 * K_C_1_2_2;
-        slope[0] = -K_BETA_1_2 * t0.sin() + t2 * K_C_1_2_1 * K_BETA_1_2
-            - t3 * K_BETA_1_2 * K_C_1_2_2;
+        value[0] = K_C_1_2_3 + K_C_1_2_1 * t1 + K_C_1_2_2 * t2 + t3.cos();
+        slope[0] = -K_BETA_1_2 * K_C_1_2_2 * t2 - K_BETA_1_2 * t3.sin()
+            + K_BETA_1_2 * K_C_1_2_1 * t1;
     }
-    // psi_1,2 = K_C_1_3_3 + cos(xi*K_BETA_1_3) + exp(K_BETA_1_3*(-1 + xi))*K_C_1_3_1 + exp(-xi*K_BETA_1_3)*K_C_1_3_2
+    // psi_1,2 = K_C_1_3_3 + K_C_1_3_1*exp(K_BETA_1_3*(-1 + xi)) + K_C_1_3_2*exp(-xi*K_BETA_1_3) + cos(xi*K_BETA_1_3)
     {
-        value[1] = K_C_1_3_3 + t4.cos() + t5 * K_C_1_3_1 + t6 * K_C_1_3_2;
-        slope[1] = -K_BETA_1_3 * t4.sin() + t5 * K_C_1_3_1 * K_BETA_1_3
-            - t6 * K_BETA_1_3 * K_C_1_3_2;
+        value[1] = K_C_1_3_3 + K_C_1_3_1 * t4 + K_C_1_3_2 * t5 + t6.cos();
+        slope[1] = -K_BETA_1_3 * K_C_1_3_2 * t5 - K_BETA_1_3 * t6.sin()
+            + K_BETA_1_3 * K_C_1_3_1 * t4;
     }
-    // psi_1,3 = K_C_1_4_3 + cos(xi*K_BETA_1_4) + exp(K_BETA_1_4*(-1 + xi))*K_C_1_4_1 + exp(-xi*K_BETA_1_4)*K_C_1_4_2
+    // psi_1,3 = K_C_1_4_3 + K_C_1_4_1*exp(K_BETA_1_4*(-1 + xi)) + K_C_1_4_2*exp(-xi*K_BETA_1_4) + cos(xi*K_BETA_1_4)
     {
-        value[2] = K_C_1_4_3 + t7.cos() + t8 * K_C_1_4_1 + t9 * K_C_1_4_2;
-        slope[2] = -K_BETA_1_4 * t7.sin() + t8 * K_C_1_4_1 * K_BETA_1_4
-            - t9 * K_BETA_1_4 * K_C_1_4_2;
+        value[2] = K_C_1_4_3 + K_C_1_4_1 * t7 + K_C_1_4_2 * t8 + t9.cos();
+        slope[2] = -K_BETA_1_4 * K_C_1_4_2 * t8 - K_BETA_1_4 * t9.sin()
+            + K_BETA_1_4 * K_C_1_4_1 * t7;
     }
-    // psi_1,4 = K_C_1_5_3 + cos(xi*K_BETA_1_5) + exp(K_BETA_1_5*(-1 + xi))*K_C_1_5_1 + exp(-xi*K_BETA_1_5)*K_C_1_5_2
+    // psi_1,4 = K_C_1_5_3 + K_C_1_5_1*exp(K_BETA_1_5*(-1 + xi)) + K_C_1_5_2*exp(-xi*K_BETA_1_5) + cos(xi*K_BETA_1_5)
     {
-        value[3] = K_C_1_5_3 + t10.cos() + t11 * K_C_1_5_1 + t12 * K_C_1_5_2;
-        slope[3] = -K_BETA_1_5 * t10.sin() + t11 * K_C_1_5_1 * K_BETA_1_5
-            - t12 * K_BETA_1_5 * K_C_1_5_2;
+        value[3] = K_C_1_5_3 + K_C_1_5_1 * t10 + K_C_1_5_2 * t11 + t12.cos();
+        slope[3] = -K_BETA_1_5 * K_C_1_5_2 * t11 - K_BETA_1_5 * t12.sin()
+            + K_BETA_1_5 * K_C_1_5_1 * t10;
     }
     (value, slope)
 }
@@ -456,22 +456,22 @@ pub const TOPS_1: [f64; 4] = [K_TOP_1_2, K_TOP_1_3, K_TOP_1_4, K_TOP_1_5];
 /// Basis functions of section 2 at `xi = x / l_2` (cancellation-free forms) and their `d/dxi`, without the factor `l_2^p` (see `LENGTH_POWERS_2`).
 #[inline]
 pub fn shapes_2(xi: f64) -> ([f64; 5], [f64; 5]) {
-    let t0 = xi * K_BETA_2_3;
-    let t1 = t0.sin();
-    let t2 = t0.cos();
-    let t3 = -1.0 + xi;
-    let t4 = (K_BETA_2_3 * t3).exp();
-    let t5 = (-xi * K_BETA_2_3).exp();
-    let t6 = xi * K_BETA_2_4;
-    let t7 = t6.sin();
-    let t8 = t6.cos();
-    let t9 = (K_BETA_2_4 * t3).exp();
-    let t10 = (-xi * K_BETA_2_4).exp();
-    let t11 = xi * K_BETA_2_5;
-    let t12 = t11.sin();
-    let t13 = t11.cos();
-    let t14 = (K_BETA_2_5 * t3).exp();
-    let t15 = (-xi * K_BETA_2_5).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_2_3 * t0).exp();
+    let t2 = (-xi * K_BETA_2_3).exp();
+    let t3 = xi * K_BETA_2_3;
+    let t4 = t3.sin();
+    let t5 = t3.cos();
+    let t6 = (K_BETA_2_4 * t0).exp();
+    let t7 = (-xi * K_BETA_2_4).exp();
+    let t8 = xi * K_BETA_2_4;
+    let t9 = t8.sin();
+    let t10 = t8.cos();
+    let t11 = (K_BETA_2_5 * t0).exp();
+    let t12 = (-xi * K_BETA_2_5).exp();
+    let t13 = xi * K_BETA_2_5;
+    let t14 = t13.sin();
+    let t15 = t13.cos();
     let mut value = [0.0; 5];
     let mut slope = [0.0; 5];
     // psi_2,5 = 1
@@ -484,23 +484,23 @@ pub fn shapes_2(xi: f64) -> ([f64; 5], [f64; 5]) {
         value[1] = xi;
         slope[1] = 1.0;
     }
-    // psi_2,7 = K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3) + exp(K_BETA_2_3*(-1 + xi))*K_C_2_3_0 + exp(-xi*K_BETA_2_3)*K_C_2_3_1
+    // psi_2,7 = K_C_2_3_0*exp(K_BETA_2_3*(-1 + xi)) + K_C_2_3_1*exp(-xi*K_BETA_2_3) + K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3)
     {
-        value[2] = K_C_2_3_3 * t1 + t2 + t4 * K_C_2_3_0 + t5 * K_C_2_3_1;
-        slope[2] = K_BETA_2_3 * K_C_2_3_3 * t2 - K_BETA_2_3 * t1
-            + t4 * K_BETA_2_3 * K_C_2_3_0 - t5 * K_C_2_3_1 * K_BETA_2_3;
+        value[2] = K_C_2_3_0 * t1 + K_C_2_3_1 * t2 + K_C_2_3_3 * t4 + t5;
+        slope[2] = -K_BETA_2_3 * K_C_2_3_1 * t2 - K_BETA_2_3 * t4
+            + K_BETA_2_3 * K_C_2_3_0 * t1 + K_BETA_2_3 * K_C_2_3_3 * t5;
     }
-    // psi_2,8 = K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4) + exp(K_BETA_2_4*(-1 + xi))*K_C_2_4_0 + exp(-xi*K_BETA_2_4)*K_C_2_4_1
+    // psi_2,8 = K_C_2_4_0*exp(K_BETA_2_4*(-1 + xi)) + K_C_2_4_1*exp(-xi*K_BETA_2_4) + K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4)
     {
-        value[3] = K_C_2_4_3 * t7 + t8 + t9 * K_C_2_4_0 + t10 * K_C_2_4_1;
-        slope[3] = K_BETA_2_4 * K_C_2_4_3 * t8 - K_BETA_2_4 * t7
-            + t9 * K_BETA_2_4 * K_C_2_4_0 - t10 * K_C_2_4_1 * K_BETA_2_4;
+        value[3] = K_C_2_4_0 * t6 + K_C_2_4_1 * t7 + K_C_2_4_3 * t9 + t10;
+        slope[3] = -K_BETA_2_4 * K_C_2_4_1 * t7 - K_BETA_2_4 * t9
+            + K_BETA_2_4 * K_C_2_4_0 * t6 + K_BETA_2_4 * K_C_2_4_3 * t10;
     }
-    // psi_2,9 = K_C_2_5_3*sin(xi*K_BETA_2_5) + cos(xi*K_BETA_2_5) + exp(K_BETA_2_5*(-1 + xi))*K_C_2_5_0 + exp(-xi*K_BETA_2_5)*K_C_2_5_1
+    // psi_2,9 = K_C_2_5_0*exp(K_BETA_2_5*(-1 + xi)) + K_C_2_5_1*exp(-xi*K_BETA_2_5) + K_C_2_5_3*sin(xi*K_BETA_2_5) + cos(xi*K_BETA_2_5)
     {
-        value[4] = K_C_2_5_3 * t12 + t13 + t14 * K_C_2_5_0 + t15 * K_C_2_5_1;
-        slope[4] = K_BETA_2_5 * K_C_2_5_3 * t13 - K_BETA_2_5 * t12
-            + t14 * K_BETA_2_5 * K_C_2_5_0 - t15 * K_C_2_5_1 * K_BETA_2_5;
+        value[4] = K_C_2_5_0 * t11 + K_C_2_5_1 * t12 + K_C_2_5_3 * t14 + t15;
+        slope[4] = -K_BETA_2_5 * K_C_2_5_1 * t12 - K_BETA_2_5 * t14
+            + K_BETA_2_5 * K_C_2_5_0 * t11 + K_BETA_2_5 * K_C_2_5_3 * t15;
     }
     (value, slope)
 }
@@ -799,25 +799,25 @@ impl Model for GeneratedModel {
         {
             q[0] = f_drive;
         }
-        // q[1] = -f_0*g_0_1 - k_1_1*z_1 - f_1*g_1_1 - f_2*g_2_1
+        // q[1] = -f_0*g_0_1 - f_1*g_1_1 - f_2*g_2_1 - k_1_1*z_1
         {
-            q[1] = -f[0] * geo.g[0][1] - self.k[1][1] * z[1] - f[1] * geo.g[1][1]
-                - f[2] * geo.g[2][1];
+            q[1] = -f[0] * geo.g[0][1] - f[1] * geo.g[1][1] - f[2] * geo.g[2][1]
+                - self.k[1][1] * z[1];
         }
-        // q[2] = -z_2*k_2_2 - f_0*g_0_2 - f_1*g_1_2 - f_2*g_2_2
+        // q[2] = -f_0*g_0_2 - f_1*g_1_2 - f_2*g_2_2 - k_2_2*z_2
         {
-            q[2] = -z[2] * self.k[2][2] - f[0] * geo.g[0][2] - f[1] * geo.g[1][2]
-                - f[2] * geo.g[2][2];
+            q[2] = -f[0] * geo.g[0][2] - f[1] * geo.g[1][2] - f[2] * geo.g[2][2]
+                - self.k[2][2] * z[2];
         }
-        // q[3] = -f_0*g_0_3 - f_1*g_1_3 - z_3*k_3_3 - f_2*g_2_3
+        // q[3] = -f_0*g_0_3 - f_1*g_1_3 - f_2*g_2_3 - k_3_3*z_3
         {
-            q[3] = -f[0] * geo.g[0][3] - f[1] * geo.g[1][3] - z[3] * self.k[3][3]
-                - f[2] * geo.g[2][3];
+            q[3] = -f[0] * geo.g[0][3] - f[1] * geo.g[1][3] - f[2] * geo.g[2][3]
+                - self.k[3][3] * z[3];
         }
-        // q[4] = -f_0*g_0_4 - f_1*g_1_4 - k_4_4*z_4 - f_2*g_2_4
+        // q[4] = -f_0*g_0_4 - f_1*g_1_4 - f_2*g_2_4 - k_4_4*z_4
         {
-            q[4] = -f[0] * geo.g[0][4] - f[1] * geo.g[1][4] - self.k[4][4] * z[4]
-                - f[2] * geo.g[2][4];
+            q[4] = -f[0] * geo.g[0][4] - f[1] * geo.g[1][4] - f[2] * geo.g[2][4]
+                - self.k[4][4] * z[4];
         }
         // q[5] = -f_0*g_0_5 - f_1*g_1_5 - f_2*g_2_5
         {
@@ -827,20 +827,20 @@ impl Model for GeneratedModel {
         {
             q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - f[2] * geo.g[2][6];
         }
-        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - z_7*k_7_7 - f_2*g_2_7
+        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - f_2*g_2_7 - k_7_7*z_7
         {
-            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - z[7] * self.k[7][7]
-                - f[2] * geo.g[2][7];
+            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - f[2] * geo.g[2][7]
+                - self.k[7][7] * z[7];
         }
-        // q[8] = -f_0*g_0_8 - f_1*g_1_8 - f_2*g_2_8 - z_8*k_8_8
+        // q[8] = -f_0*g_0_8 - f_1*g_1_8 - f_2*g_2_8 - k_8_8*z_8
         {
             q[8] = -f[0] * geo.g[0][8] - f[1] * geo.g[1][8] - f[2] * geo.g[2][8]
-                - z[8] * self.k[8][8];
+                - self.k[8][8] * z[8];
         }
-        // q[9] = -f_0*g_0_9 - f_1*g_1_9 - f_2*g_2_9 - z_9*k_9_9
+        // q[9] = -f_0*g_0_9 - f_1*g_1_9 - f_2*g_2_9 - k_9_9*z_9
         {
             q[9] = -f[0] * geo.g[0][9] - f[1] * geo.g[1][9] - f[2] * geo.g[2][9]
-                - z[9] * self.k[9][9];
+                - self.k[9][9] * z[9];
         }
         let mut acc = [0.0; DOF];
         for i in 0..DOF {
@@ -884,14 +884,14 @@ impl Model for GeneratedModel {
         let t15 = -geo.g[0][1] * geo.g[0][6] * law[0].d_gap;
         let t16 = -geo.g[1][1] * geo.g[1][6] * law[1].d_gap;
         let t17 = -geo.g[2][1] * geo.g[2][6] * law[2].d_gap;
-        let t18 = -geo.g[0][1] * law[0].d_gap * geo.g[0][7];
-        let t19 = -geo.g[1][1] * law[1].d_gap * geo.g[1][7];
+        let t18 = -geo.g[0][1] * geo.g[0][7] * law[0].d_gap;
+        let t19 = -geo.g[1][1] * geo.g[1][7] * law[1].d_gap;
         let t20 = -geo.g[2][1] * geo.g[2][7] * law[2].d_gap;
-        let t21 = -geo.g[0][1] * law[0].d_gap * geo.g[0][8];
-        let t22 = -geo.g[1][1] * law[1].d_gap * geo.g[1][8];
+        let t21 = -geo.g[0][1] * geo.g[0][8] * law[0].d_gap;
+        let t22 = -geo.g[1][1] * geo.g[1][8] * law[1].d_gap;
         let t23 = -geo.g[2][1] * geo.g[2][8] * law[2].d_gap;
-        let t24 = -geo.g[0][1] * law[0].d_gap * geo.g[0][9];
-        let t25 = -geo.g[1][1] * law[1].d_gap * geo.g[1][9];
+        let t24 = -geo.g[0][1] * geo.g[0][9] * law[0].d_gap;
+        let t25 = -geo.g[1][1] * geo.g[1][9] * law[1].d_gap;
         let t26 = -geo.g[2][1] * geo.g[2][9] * law[2].d_gap;
         let t27 = geo.g[0][2].powi(2);
         let t28 = geo.g[1][2].powi(2);
@@ -908,14 +908,14 @@ impl Model for GeneratedModel {
         let t39 = -geo.g[0][2] * geo.g[0][6] * law[0].d_gap;
         let t40 = -geo.g[1][2] * geo.g[1][6] * law[1].d_gap;
         let t41 = -geo.g[2][2] * geo.g[2][6] * law[2].d_gap;
-        let t42 = -geo.g[0][2] * law[0].d_gap * geo.g[0][7];
-        let t43 = -geo.g[1][2] * law[1].d_gap * geo.g[1][7];
+        let t42 = -geo.g[0][2] * geo.g[0][7] * law[0].d_gap;
+        let t43 = -geo.g[1][2] * geo.g[1][7] * law[1].d_gap;
         let t44 = -geo.g[2][2] * geo.g[2][7] * law[2].d_gap;
-        let t45 = -geo.g[0][2] * law[0].d_gap * geo.g[0][8];
-        let t46 = -geo.g[1][2] * law[1].d_gap * geo.g[1][8];
+        let t45 = -geo.g[0][2] * geo.g[0][8] * law[0].d_gap;
+        let t46 = -geo.g[1][2] * geo.g[1][8] * law[1].d_gap;
         let t47 = -geo.g[2][2] * geo.g[2][8] * law[2].d_gap;
-        let t48 = -geo.g[0][2] * law[0].d_gap * geo.g[0][9];
-        let t49 = -geo.g[1][2] * law[1].d_gap * geo.g[1][9];
+        let t48 = -geo.g[0][2] * geo.g[0][9] * law[0].d_gap;
+        let t49 = -geo.g[1][2] * geo.g[1][9] * law[1].d_gap;
         let t50 = -geo.g[2][2] * geo.g[2][9] * law[2].d_gap;
         let t51 = geo.g[0][3].powi(2);
         let t52 = geo.g[1][3].powi(2);
@@ -929,14 +929,14 @@ impl Model for GeneratedModel {
         let t60 = -geo.g[0][3] * geo.g[0][6] * law[0].d_gap;
         let t61 = -geo.g[1][3] * geo.g[1][6] * law[1].d_gap;
         let t62 = -geo.g[2][3] * geo.g[2][6] * law[2].d_gap;
-        let t63 = -geo.g[0][3] * law[0].d_gap * geo.g[0][7];
-        let t64 = -geo.g[1][3] * law[1].d_gap * geo.g[1][7];
+        let t63 = -geo.g[0][3] * geo.g[0][7] * law[0].d_gap;
+        let t64 = -geo.g[1][3] * geo.g[1][7] * law[1].d_gap;
         let t65 = -geo.g[2][3] * geo.g[2][7] * law[2].d_gap;
-        let t66 = -geo.g[0][3] * law[0].d_gap * geo.g[0][8];
-        let t67 = -geo.g[1][3] * law[1].d_gap * geo.g[1][8];
+        let t66 = -geo.g[0][3] * geo.g[0][8] * law[0].d_gap;
+        let t67 = -geo.g[1][3] * geo.g[1][8] * law[1].d_gap;
         let t68 = -geo.g[2][3] * geo.g[2][8] * law[2].d_gap;
-        let t69 = -geo.g[0][3] * law[0].d_gap * geo.g[0][9];
-        let t70 = -geo.g[1][3] * law[1].d_gap * geo.g[1][9];
+        let t69 = -geo.g[0][3] * geo.g[0][9] * law[0].d_gap;
+        let t70 = -geo.g[1][3] * geo.g[1][9] * law[1].d_gap;
         let t71 = -geo.g[2][3] * geo.g[2][9] * law[2].d_gap;
         let t72 = geo.g[0][4].powi(2);
         let t73 = geo.g[1][4].powi(2);
@@ -947,14 +947,14 @@ impl Model for GeneratedModel {
         let t78 = -geo.g[0][4] * geo.g[0][6] * law[0].d_gap;
         let t79 = -geo.g[1][4] * geo.g[1][6] * law[1].d_gap;
         let t80 = -geo.g[2][4] * geo.g[2][6] * law[2].d_gap;
-        let t81 = -geo.g[0][4] * law[0].d_gap * geo.g[0][7];
-        let t82 = -geo.g[1][4] * law[1].d_gap * geo.g[1][7];
+        let t81 = -geo.g[0][4] * geo.g[0][7] * law[0].d_gap;
+        let t82 = -geo.g[1][4] * geo.g[1][7] * law[1].d_gap;
         let t83 = -geo.g[2][4] * geo.g[2][7] * law[2].d_gap;
-        let t84 = -geo.g[0][4] * law[0].d_gap * geo.g[0][8];
-        let t85 = -geo.g[1][4] * law[1].d_gap * geo.g[1][8];
+        let t84 = -geo.g[0][4] * geo.g[0][8] * law[0].d_gap;
+        let t85 = -geo.g[1][4] * geo.g[1][8] * law[1].d_gap;
         let t86 = -geo.g[2][4] * geo.g[2][8] * law[2].d_gap;
-        let t87 = -geo.g[0][4] * law[0].d_gap * geo.g[0][9];
-        let t88 = -geo.g[1][4] * law[1].d_gap * geo.g[1][9];
+        let t87 = -geo.g[0][4] * geo.g[0][9] * law[0].d_gap;
+        let t88 = -geo.g[1][4] * geo.g[1][9] * law[1].d_gap;
         let t89 = -geo.g[2][4] * geo.g[2][9] * law[2].d_gap;
         let t90 = geo.g[0][5].powi(2);
         let t91 = geo.g[1][5].powi(2);
@@ -962,406 +962,406 @@ impl Model for GeneratedModel {
         let t93 = -geo.g[0][5] * geo.g[0][6] * law[0].d_gap;
         let t94 = -geo.g[1][5] * geo.g[1][6] * law[1].d_gap;
         let t95 = -geo.g[2][5] * geo.g[2][6] * law[2].d_gap;
-        let t96 = -geo.g[0][5] * law[0].d_gap * geo.g[0][7];
-        let t97 = -geo.g[1][5] * law[1].d_gap * geo.g[1][7];
+        let t96 = -geo.g[0][5] * geo.g[0][7] * law[0].d_gap;
+        let t97 = -geo.g[1][5] * geo.g[1][7] * law[1].d_gap;
         let t98 = -geo.g[2][5] * geo.g[2][7] * law[2].d_gap;
-        let t99 = -geo.g[0][5] * law[0].d_gap * geo.g[0][8];
-        let t100 = -geo.g[1][5] * law[1].d_gap * geo.g[1][8];
+        let t99 = -geo.g[0][5] * geo.g[0][8] * law[0].d_gap;
+        let t100 = -geo.g[1][5] * geo.g[1][8] * law[1].d_gap;
         let t101 = -geo.g[2][5] * geo.g[2][8] * law[2].d_gap;
-        let t102 = -geo.g[0][5] * law[0].d_gap * geo.g[0][9];
-        let t103 = -geo.g[1][5] * law[1].d_gap * geo.g[1][9];
+        let t102 = -geo.g[0][5] * geo.g[0][9] * law[0].d_gap;
+        let t103 = -geo.g[1][5] * geo.g[1][9] * law[1].d_gap;
         let t104 = -geo.g[2][5] * geo.g[2][9] * law[2].d_gap;
         let t105 = geo.g[0][6].powi(2);
         let t106 = geo.g[1][6].powi(2);
         let t107 = geo.g[2][6].powi(2);
-        let t108 = -geo.g[0][6] * law[0].d_gap * geo.g[0][7];
-        let t109 = -geo.g[1][6] * law[1].d_gap * geo.g[1][7];
+        let t108 = -geo.g[0][6] * geo.g[0][7] * law[0].d_gap;
+        let t109 = -geo.g[1][6] * geo.g[1][7] * law[1].d_gap;
         let t110 = -geo.g[2][6] * geo.g[2][7] * law[2].d_gap;
-        let t111 = -geo.g[0][6] * law[0].d_gap * geo.g[0][8];
-        let t112 = -geo.g[1][6] * law[1].d_gap * geo.g[1][8];
+        let t111 = -geo.g[0][6] * geo.g[0][8] * law[0].d_gap;
+        let t112 = -geo.g[1][6] * geo.g[1][8] * law[1].d_gap;
         let t113 = -geo.g[2][6] * geo.g[2][8] * law[2].d_gap;
-        let t114 = -geo.g[0][6] * law[0].d_gap * geo.g[0][9];
-        let t115 = -geo.g[1][6] * law[1].d_gap * geo.g[1][9];
+        let t114 = -geo.g[0][6] * geo.g[0][9] * law[0].d_gap;
+        let t115 = -geo.g[1][6] * geo.g[1][9] * law[1].d_gap;
         let t116 = -geo.g[2][6] * geo.g[2][9] * law[2].d_gap;
         let t117 = geo.g[0][7].powi(2);
         let t118 = geo.g[1][7].powi(2);
         let t119 = geo.g[2][7].powi(2);
-        let t120 = -law[0].d_gap * geo.g[0][7] * geo.g[0][8];
-        let t121 = -law[1].d_gap * geo.g[1][7] * geo.g[1][8];
+        let t120 = -geo.g[0][7] * geo.g[0][8] * law[0].d_gap;
+        let t121 = -geo.g[1][7] * geo.g[1][8] * law[1].d_gap;
         let t122 = -geo.g[2][7] * geo.g[2][8] * law[2].d_gap;
-        let t123 = -law[0].d_gap * geo.g[0][7] * geo.g[0][9];
-        let t124 = -law[1].d_gap * geo.g[1][7] * geo.g[1][9];
+        let t123 = -geo.g[0][7] * geo.g[0][9] * law[0].d_gap;
+        let t124 = -geo.g[1][7] * geo.g[1][9] * law[1].d_gap;
         let t125 = -geo.g[2][7] * geo.g[2][9] * law[2].d_gap;
         let t126 = geo.g[0][8].powi(2);
         let t127 = geo.g[1][8].powi(2);
         let t128 = geo.g[2][8].powi(2);
-        let t129 = -law[0].d_gap * geo.g[0][8] * geo.g[0][9];
-        let t130 = -law[1].d_gap * geo.g[1][8] * geo.g[1][9];
+        let t129 = -geo.g[0][8] * geo.g[0][9] * law[0].d_gap;
+        let t130 = -geo.g[1][8] * geo.g[1][9] * law[1].d_gap;
         let t131 = -geo.g[2][8] * geo.g[2][9] * law[2].d_gap;
         let t132 = geo.g[0][9].powi(2);
         let t133 = geo.g[1][9].powi(2);
         let t134 = geo.g[2][9].powi(2);
-        let t135 = -geo.g[0][1] * geo.g[0][2] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][2] * law[1].d_rate
-            - geo.g[2][1] * geo.g[2][2] * law[2].d_rate;
-        let t136 = -geo.g[0][1] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][3] * law[1].d_rate
-            - geo.g[2][1] * geo.g[2][3] * law[2].d_rate;
-        let t137 = -geo.g[0][1] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][4] * law[1].d_rate
-            - geo.g[2][1] * geo.g[2][4] * law[2].d_rate;
-        let t138 = -geo.g[0][1] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][5] * law[1].d_rate
-            - geo.g[2][1] * geo.g[2][5] * law[2].d_rate;
-        let t139 = -geo.g[0][1] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][6] * law[1].d_rate
-            - geo.g[2][1] * geo.g[2][6] * law[2].d_rate;
-        let t140 = -geo.g[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][1] * geo.g[2][7] * law[2].d_rate;
-        let t141 = -geo.g[0][1] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][8]
-            - geo.g[2][1] * geo.g[2][8] * law[2].d_rate;
-        let t142 = -geo.g[0][1] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][9]
-            - geo.g[2][1] * geo.g[2][9] * law[2].d_rate;
-        let t143 = -geo.g[0][2] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][3] * law[1].d_rate
-            - geo.g[2][2] * geo.g[2][3] * law[2].d_rate;
-        let t144 = -geo.g[0][2] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][4] * law[1].d_rate
-            - geo.g[2][2] * geo.g[2][4] * law[2].d_rate;
-        let t145 = -geo.g[0][2] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][5] * law[1].d_rate
-            - geo.g[2][2] * geo.g[2][5] * law[2].d_rate;
-        let t146 = -geo.g[0][2] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][6] * law[1].d_rate
-            - geo.g[2][2] * geo.g[2][6] * law[2].d_rate;
-        let t147 = -geo.g[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][2] * geo.g[2][7] * law[2].d_rate;
-        let t148 = -geo.g[0][2] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][8]
-            - geo.g[2][2] * geo.g[2][8] * law[2].d_rate;
-        let t149 = -geo.g[0][2] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][9]
-            - geo.g[2][2] * geo.g[2][9] * law[2].d_rate;
-        let t150 = -geo.g[0][3] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][4] * law[1].d_rate
-            - geo.g[2][3] * geo.g[2][4] * law[2].d_rate;
-        let t151 = -geo.g[0][3] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][5] * law[1].d_rate
-            - geo.g[2][3] * geo.g[2][5] * law[2].d_rate;
-        let t152 = -geo.g[0][3] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][6] * law[1].d_rate
-            - geo.g[2][3] * geo.g[2][6] * law[2].d_rate;
-        let t153 = -geo.g[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][3] * geo.g[2][7] * law[2].d_rate;
-        let t154 = -geo.g[0][3] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][8]
-            - geo.g[2][3] * geo.g[2][8] * law[2].d_rate;
-        let t155 = -geo.g[0][3] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][9]
-            - geo.g[2][3] * geo.g[2][9] * law[2].d_rate;
-        let t156 = -geo.g[0][4] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][5] * law[1].d_rate
-            - geo.g[2][4] * geo.g[2][5] * law[2].d_rate;
-        let t157 = -geo.g[0][4] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][6] * law[1].d_rate
-            - geo.g[2][4] * geo.g[2][6] * law[2].d_rate;
-        let t158 = -geo.g[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][4] * geo.g[2][7] * law[2].d_rate;
-        let t159 = -geo.g[0][4] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][8]
-            - geo.g[2][4] * geo.g[2][8] * law[2].d_rate;
-        let t160 = -geo.g[0][4] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][9]
-            - geo.g[2][4] * geo.g[2][9] * law[2].d_rate;
-        let t161 = -geo.g[0][5] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][5] * geo.g[1][6] * law[1].d_rate
-            - geo.g[2][5] * geo.g[2][6] * law[2].d_rate;
-        let t162 = -geo.g[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][5] * geo.g[2][7] * law[2].d_rate;
-        let t163 = -geo.g[0][5] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][8]
-            - geo.g[2][5] * geo.g[2][8] * law[2].d_rate;
-        let t164 = -geo.g[0][5] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][9]
-            - geo.g[2][5] * geo.g[2][9] * law[2].d_rate;
-        let t165 = -geo.g[0][6] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][6] * geo.g[2][7] * law[2].d_rate;
-        let t166 = -geo.g[0][6] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][8]
-            - geo.g[2][6] * geo.g[2][8] * law[2].d_rate;
-        let t167 = -geo.g[0][6] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][9]
-            - geo.g[2][6] * geo.g[2][9] * law[2].d_rate;
+        let t135 = -law[0].d_rate * geo.g[0][1] * geo.g[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][2]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][2];
+        let t136 = -law[0].d_rate * geo.g[0][1] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][3]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][3];
+        let t137 = -law[0].d_rate * geo.g[0][1] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][4]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][4];
+        let t138 = -law[0].d_rate * geo.g[0][1] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][5]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][5];
+        let t139 = -law[0].d_rate * geo.g[0][1] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][6];
+        let t140 = -law[0].d_rate * geo.g[0][1] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][7];
+        let t141 = -law[0].d_rate * geo.g[0][1] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][8];
+        let t142 = -law[0].d_rate * geo.g[0][1] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][1] * geo.g[2][9];
+        let t143 = -law[0].d_rate * geo.g[0][2] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][3]
+            - law[2].d_rate * geo.g[2][2] * geo.g[2][3];
+        let t144 = -law[0].d_rate * geo.g[0][2] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][4]
+            - law[2].d_rate * geo.g[2][2] * geo.g[2][4];
+        let t145 = -law[0].d_rate * geo.g[0][2] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][5]
+            - law[2].d_rate * geo.g[2][2] * geo.g[2][5];
+        let t146 = -law[0].d_rate * geo.g[0][2] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][2] * geo.g[2][6];
+        let t147 = -law[0].d_rate * geo.g[0][2] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][2] * geo.g[2][7];
+        let t148 = -law[0].d_rate * geo.g[0][2] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][2] * geo.g[2][8];
+        let t149 = -law[0].d_rate * geo.g[0][2] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][2] * geo.g[2][9];
+        let t150 = -law[0].d_rate * geo.g[0][3] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][4]
+            - law[2].d_rate * geo.g[2][3] * geo.g[2][4];
+        let t151 = -law[0].d_rate * geo.g[0][3] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][5]
+            - law[2].d_rate * geo.g[2][3] * geo.g[2][5];
+        let t152 = -law[0].d_rate * geo.g[0][3] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][3] * geo.g[2][6];
+        let t153 = -law[0].d_rate * geo.g[0][3] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][3] * geo.g[2][7];
+        let t154 = -law[0].d_rate * geo.g[0][3] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][3] * geo.g[2][8];
+        let t155 = -law[0].d_rate * geo.g[0][3] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][3] * geo.g[2][9];
+        let t156 = -law[0].d_rate * geo.g[0][4] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][5]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][5];
+        let t157 = -law[0].d_rate * geo.g[0][4] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][6];
+        let t158 = -law[0].d_rate * geo.g[0][4] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][7];
+        let t159 = -law[0].d_rate * geo.g[0][4] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][8];
+        let t160 = -law[0].d_rate * geo.g[0][4] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][9];
+        let t161 = -law[0].d_rate * geo.g[0][5] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][5] * geo.g[2][6];
+        let t162 = -law[0].d_rate * geo.g[0][5] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][5] * geo.g[2][7];
+        let t163 = -law[0].d_rate * geo.g[0][5] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][5] * geo.g[2][8];
+        let t164 = -law[0].d_rate * geo.g[0][5] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][5] * geo.g[2][9];
+        let t165 = -law[0].d_rate * geo.g[0][6] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][6] * geo.g[2][7];
+        let t166 = -law[0].d_rate * geo.g[0][6] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][6] * geo.g[2][8];
+        let t167 = -law[0].d_rate * geo.g[0][6] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][6] * geo.g[2][9];
         let t168 = -law[0].d_rate * geo.g[0][7] * geo.g[0][8]
             - law[1].d_rate * geo.g[1][7] * geo.g[1][8]
-            - geo.g[2][7] * geo.g[2][8] * law[2].d_rate;
+            - law[2].d_rate * geo.g[2][7] * geo.g[2][8];
         let t169 = -law[0].d_rate * geo.g[0][7] * geo.g[0][9]
             - law[1].d_rate * geo.g[1][7] * geo.g[1][9]
-            - geo.g[2][7] * geo.g[2][9] * law[2].d_rate;
+            - law[2].d_rate * geo.g[2][7] * geo.g[2][9];
         let t170 = -law[0].d_rate * geo.g[0][8] * geo.g[0][9]
             - law[1].d_rate * geo.g[1][8] * geo.g[1][9]
-            - geo.g[2][8] * geo.g[2][9] * law[2].d_rate;
-        dq[1][1] = -geo.g[0][1] * geo.gd[0][1] * law[0].d_rate - self.k[1][1]
-            - geo.g[1][1] * geo.gd[1][1] * law[1].d_rate
-            - geo.g[2][1] * geo.gd[2][1] * law[2].d_rate - t0 * law[0].d_gap
-            - t1 * law[1].d_gap - t2 * law[2].d_gap;
-        dq[1][2] = t3 - geo.g[0][1] * geo.gd[0][2] * law[0].d_rate + t4
-            - geo.g[1][1] * geo.gd[1][2] * law[1].d_rate + t5
-            - geo.g[2][1] * geo.gd[2][2] * law[2].d_rate;
-        dq[1][3] = t6 - geo.g[0][1] * geo.gd[0][3] * law[0].d_rate + t7
-            - geo.g[1][1] * geo.gd[1][3] * law[1].d_rate + t8
-            - geo.g[2][1] * geo.gd[2][3] * law[2].d_rate;
-        dq[1][4] = t9 - geo.g[0][1] * geo.gd[0][4] * law[0].d_rate + t10
-            - geo.g[1][1] * geo.gd[1][4] * law[1].d_rate + t11
-            - geo.g[2][1] * geo.gd[2][4] * law[2].d_rate;
-        dq[1][5] = t12 - geo.g[0][1] * geo.gd[0][5] * law[0].d_rate + t13
-            - geo.g[1][1] * geo.gd[1][5] * law[1].d_rate + t14
-            - geo.g[2][1] * geo.gd[2][5] * law[2].d_rate;
-        dq[1][6] = t15 - geo.g[0][1] * law[0].d_rate * geo.gd[0][6] + t16
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][6] + t17
-            - geo.g[2][1] * geo.gd[2][6] * law[2].d_rate;
-        dq[1][7] = t18 - geo.g[0][1] * law[0].d_rate * geo.gd[0][7] + t19
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][7] + t20
-            - geo.g[2][1] * geo.gd[2][7] * law[2].d_rate;
-        dq[1][8] = t21 - geo.g[0][1] * law[0].d_rate * geo.gd[0][8] + t22
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][8] + t23
-            - geo.g[2][1] * geo.gd[2][8] * law[2].d_rate;
-        dq[1][9] = t24 - geo.g[0][1] * law[0].d_rate * geo.gd[0][9] + t25
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][9] + t26
-            - geo.g[2][1] * law[2].d_rate * geo.gd[2][9];
-        dq[2][1] = t3 + t4 - geo.g[0][2] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][2] * geo.gd[1][1] * law[1].d_rate + t5
-            - geo.g[2][2] * geo.gd[2][1] * law[2].d_rate;
-        dq[2][2] = -self.k[2][2] - geo.g[0][2] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][2] * geo.gd[1][2] * law[1].d_rate
-            - geo.g[2][2] * geo.gd[2][2] * law[2].d_rate - t27 * law[0].d_gap
-            - t28 * law[1].d_gap - t29 * law[2].d_gap;
-        dq[2][3] = t30 - geo.g[0][2] * geo.gd[0][3] * law[0].d_rate + t31
-            - geo.g[1][2] * geo.gd[1][3] * law[1].d_rate + t32
-            - geo.g[2][2] * geo.gd[2][3] * law[2].d_rate;
-        dq[2][4] = t33 - geo.g[0][2] * geo.gd[0][4] * law[0].d_rate + t34
-            - geo.g[1][2] * geo.gd[1][4] * law[1].d_rate + t35
-            - geo.g[2][2] * geo.gd[2][4] * law[2].d_rate;
-        dq[2][5] = t36 - geo.g[0][2] * geo.gd[0][5] * law[0].d_rate + t37
-            - geo.g[1][2] * geo.gd[1][5] * law[1].d_rate + t38
-            - geo.g[2][2] * geo.gd[2][5] * law[2].d_rate;
-        dq[2][6] = t39 - geo.g[0][2] * law[0].d_rate * geo.gd[0][6] + t40
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][6] + t41
-            - geo.g[2][2] * geo.gd[2][6] * law[2].d_rate;
-        dq[2][7] = t42 - geo.g[0][2] * law[0].d_rate * geo.gd[0][7] + t43
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][7] + t44
-            - geo.g[2][2] * geo.gd[2][7] * law[2].d_rate;
-        dq[2][8] = t45 - geo.g[0][2] * law[0].d_rate * geo.gd[0][8] + t46
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][8] + t47
-            - geo.g[2][2] * geo.gd[2][8] * law[2].d_rate;
-        dq[2][9] = t48 - geo.g[0][2] * law[0].d_rate * geo.gd[0][9] + t49
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][9] + t50
-            - geo.g[2][2] * law[2].d_rate * geo.gd[2][9];
-        dq[3][1] = t6 + t7 - geo.g[0][3] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][1] * law[1].d_rate + t8
-            - geo.g[2][3] * geo.gd[2][1] * law[2].d_rate;
-        dq[3][2] = t30 + t31 - geo.g[0][3] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][2] * law[1].d_rate + t32
-            - geo.g[2][3] * geo.gd[2][2] * law[2].d_rate;
-        dq[3][3] = -geo.g[0][3] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][3] * law[1].d_rate - self.k[3][3]
-            - geo.g[2][3] * geo.gd[2][3] * law[2].d_rate - t51 * law[0].d_gap
-            - t52 * law[1].d_gap - t53 * law[2].d_gap;
-        dq[3][4] = t54 - geo.g[0][3] * geo.gd[0][4] * law[0].d_rate + t55
-            - geo.g[1][3] * geo.gd[1][4] * law[1].d_rate + t56
-            - geo.g[2][3] * geo.gd[2][4] * law[2].d_rate;
-        dq[3][5] = t57 - geo.g[0][3] * geo.gd[0][5] * law[0].d_rate + t58
-            - geo.g[1][3] * geo.gd[1][5] * law[1].d_rate + t59
-            - geo.g[2][3] * geo.gd[2][5] * law[2].d_rate;
-        dq[3][6] = t60 - geo.g[0][3] * law[0].d_rate * geo.gd[0][6] + t61
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][6] + t62
-            - geo.g[2][3] * geo.gd[2][6] * law[2].d_rate;
-        dq[3][7] = t63 - geo.g[0][3] * law[0].d_rate * geo.gd[0][7] + t64
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][7] + t65
-            - geo.g[2][3] * geo.gd[2][7] * law[2].d_rate;
-        dq[3][8] = t66 - geo.g[0][3] * law[0].d_rate * geo.gd[0][8] + t67
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][8] + t68
-            - geo.g[2][3] * geo.gd[2][8] * law[2].d_rate;
-        dq[3][9] = t69 - geo.g[0][3] * law[0].d_rate * geo.gd[0][9] + t70
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][9] + t71
-            - geo.g[2][3] * law[2].d_rate * geo.gd[2][9];
-        dq[4][1] = t9 + t10 - geo.g[0][4] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][1] * law[1].d_rate + t11
-            - geo.g[2][4] * geo.gd[2][1] * law[2].d_rate;
-        dq[4][2] = t33 + t34 - geo.g[0][4] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][2] * law[1].d_rate + t35
-            - geo.g[2][4] * geo.gd[2][2] * law[2].d_rate;
-        dq[4][3] = t54 + t55 - geo.g[0][4] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][3] * law[1].d_rate + t56
-            - geo.g[2][4] * geo.gd[2][3] * law[2].d_rate;
-        dq[4][4] = -geo.g[0][4] * geo.gd[0][4] * law[0].d_rate - self.k[4][4]
-            - geo.g[1][4] * geo.gd[1][4] * law[1].d_rate
-            - geo.g[2][4] * geo.gd[2][4] * law[2].d_rate - t72 * law[0].d_gap
-            - t73 * law[1].d_gap - t74 * law[2].d_gap;
-        dq[4][5] = t75 - geo.g[0][4] * geo.gd[0][5] * law[0].d_rate + t76
-            - geo.g[1][4] * geo.gd[1][5] * law[1].d_rate + t77
-            - geo.g[2][4] * geo.gd[2][5] * law[2].d_rate;
-        dq[4][6] = t78 - geo.g[0][4] * law[0].d_rate * geo.gd[0][6] + t79
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][6] + t80
-            - geo.g[2][4] * geo.gd[2][6] * law[2].d_rate;
-        dq[4][7] = t81 - geo.g[0][4] * law[0].d_rate * geo.gd[0][7] + t82
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][7] + t83
-            - geo.g[2][4] * geo.gd[2][7] * law[2].d_rate;
-        dq[4][8] = t84 - geo.g[0][4] * law[0].d_rate * geo.gd[0][8] + t85
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][8] + t86
-            - geo.g[2][4] * geo.gd[2][8] * law[2].d_rate;
-        dq[4][9] = t87 - geo.g[0][4] * law[0].d_rate * geo.gd[0][9] + t88
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][9] + t89
-            - geo.g[2][4] * law[2].d_rate * geo.gd[2][9];
-        dq[5][1] = t12 + t13 - geo.g[0][5] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][1] * law[1].d_rate + t14
-            - geo.g[2][5] * geo.gd[2][1] * law[2].d_rate;
-        dq[5][2] = t36 + t37 - geo.g[0][5] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][2] * law[1].d_rate + t38
-            - geo.g[2][5] * geo.gd[2][2] * law[2].d_rate;
-        dq[5][3] = t57 + t58 - geo.g[0][5] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][3] * law[1].d_rate + t59
-            - geo.g[2][5] * geo.gd[2][3] * law[2].d_rate;
-        dq[5][4] = t75 + t76 - geo.g[0][5] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][4] * law[1].d_rate + t77
-            - geo.g[2][5] * geo.gd[2][4] * law[2].d_rate;
-        dq[5][5] = -geo.g[0][5] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][5] * law[1].d_rate
-            - geo.g[2][5] * geo.gd[2][5] * law[2].d_rate - t90 * law[0].d_gap
-            - t91 * law[1].d_gap - t92 * law[2].d_gap;
-        dq[5][6] = t93 - geo.g[0][5] * law[0].d_rate * geo.gd[0][6] + t94
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][6] + t95
-            - geo.g[2][5] * geo.gd[2][6] * law[2].d_rate;
-        dq[5][7] = t96 - geo.g[0][5] * law[0].d_rate * geo.gd[0][7] + t97
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][7] + t98
-            - geo.g[2][5] * geo.gd[2][7] * law[2].d_rate;
-        dq[5][8] = t99 - geo.g[0][5] * law[0].d_rate * geo.gd[0][8] + t100
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][8] + t101
-            - geo.g[2][5] * geo.gd[2][8] * law[2].d_rate;
-        dq[5][9] = t102 - geo.g[0][5] * law[0].d_rate * geo.gd[0][9] + t103
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][9] + t104
-            - geo.g[2][5] * law[2].d_rate * geo.gd[2][9];
-        dq[6][1] = t15 + t16 - geo.g[0][6] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][1] * law[1].d_rate + t17
-            - geo.g[2][6] * geo.gd[2][1] * law[2].d_rate;
-        dq[6][2] = t39 + t40 - geo.g[0][6] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][2] * law[1].d_rate + t41
-            - geo.g[2][6] * geo.gd[2][2] * law[2].d_rate;
-        dq[6][3] = t60 + t61 - geo.g[0][6] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][3] * law[1].d_rate + t62
-            - geo.g[2][6] * geo.gd[2][3] * law[2].d_rate;
-        dq[6][4] = t78 + t79 - geo.g[0][6] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][4] * law[1].d_rate + t80
-            - geo.g[2][6] * geo.gd[2][4] * law[2].d_rate;
-        dq[6][5] = t93 + t94 - geo.g[0][6] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][5] * law[1].d_rate + t95
-            - geo.g[2][6] * geo.gd[2][5] * law[2].d_rate;
-        dq[6][6] = -geo.g[0][6] * law[0].d_rate * geo.gd[0][6]
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][6]
-            - geo.g[2][6] * geo.gd[2][6] * law[2].d_rate - t105 * law[0].d_gap
-            - t106 * law[1].d_gap - t107 * law[2].d_gap;
-        dq[6][7] = t108 - geo.g[0][6] * law[0].d_rate * geo.gd[0][7] + t109
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][7] + t110
-            - geo.g[2][6] * geo.gd[2][7] * law[2].d_rate;
-        dq[6][8] = t111 - geo.g[0][6] * law[0].d_rate * geo.gd[0][8] + t112
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][8] + t113
-            - geo.g[2][6] * geo.gd[2][8] * law[2].d_rate;
-        dq[6][9] = t114 - geo.g[0][6] * law[0].d_rate * geo.gd[0][9] + t115
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][9] + t116
-            - geo.g[2][6] * law[2].d_rate * geo.gd[2][9];
-        dq[7][1] = t18 + t19 - geo.gd[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][7] + t20
-            - geo.g[2][7] * geo.gd[2][1] * law[2].d_rate;
-        dq[7][2] = t42 + t43 - geo.gd[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][7] + t44
-            - geo.g[2][7] * geo.gd[2][2] * law[2].d_rate;
-        dq[7][3] = t63 + t64 - geo.gd[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][7] + t65
-            - geo.g[2][7] * geo.gd[2][3] * law[2].d_rate;
-        dq[7][4] = t81 + t82 - geo.gd[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][7] + t83
-            - geo.g[2][7] * geo.gd[2][4] * law[2].d_rate;
-        dq[7][5] = t96 + t97 - geo.gd[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][7] + t98
-            - geo.g[2][7] * geo.gd[2][5] * law[2].d_rate;
-        dq[7][6] = t108 + t109 - law[0].d_rate * geo.gd[0][6] * geo.g[0][7]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][7] + t110
-            - geo.g[2][7] * geo.gd[2][6] * law[2].d_rate;
-        dq[7][7] = -law[0].d_gap * t117 - law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
-            - law[1].d_gap * t118 - law[1].d_rate * geo.g[1][7] * geo.gd[1][7]
-            - self.k[7][7] - geo.g[2][7] * geo.gd[2][7] * law[2].d_rate
-            - t119 * law[2].d_gap;
-        dq[7][8] = t120 - law[0].d_rate * geo.g[0][7] * geo.gd[0][8] + t121
-            - law[1].d_rate * geo.g[1][7] * geo.gd[1][8] + t122
-            - geo.g[2][7] * geo.gd[2][8] * law[2].d_rate;
-        dq[7][9] = t123 - law[0].d_rate * geo.g[0][7] * geo.gd[0][9] + t124
-            - law[1].d_rate * geo.g[1][7] * geo.gd[1][9] + t125
-            - geo.g[2][7] * law[2].d_rate * geo.gd[2][9];
-        dq[8][1] = t21 + t22 - geo.gd[0][1] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][8] + t23
-            - geo.g[2][8] * geo.gd[2][1] * law[2].d_rate;
-        dq[8][2] = t45 + t46 - geo.gd[0][2] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][8] + t47
-            - geo.g[2][8] * geo.gd[2][2] * law[2].d_rate;
-        dq[8][3] = t66 + t67 - geo.gd[0][3] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][8] + t68
-            - geo.g[2][8] * geo.gd[2][3] * law[2].d_rate;
-        dq[8][4] = t84 + t85 - geo.gd[0][4] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][8] + t86
-            - geo.g[2][8] * geo.gd[2][4] * law[2].d_rate;
-        dq[8][5] = t99 + t100 - geo.gd[0][5] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][8] + t101
-            - geo.g[2][8] * geo.gd[2][5] * law[2].d_rate;
-        dq[8][6] = t111 + t112 - law[0].d_rate * geo.gd[0][6] * geo.g[0][8]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][8] + t113
-            - geo.g[2][8] * geo.gd[2][6] * law[2].d_rate;
-        dq[8][7] = t120 - law[0].d_rate * geo.gd[0][7] * geo.g[0][8] + t121
-            - law[1].d_rate * geo.gd[1][7] * geo.g[1][8] + t122
-            - geo.g[2][8] * geo.gd[2][7] * law[2].d_rate;
-        dq[8][8] = -law[0].d_gap * t126 - law[0].d_rate * geo.g[0][8] * geo.gd[0][8]
-            - law[1].d_gap * t127 - law[1].d_rate * geo.g[1][8] * geo.gd[1][8]
-            - self.k[8][8] - geo.g[2][8] * geo.gd[2][8] * law[2].d_rate
-            - t128 * law[2].d_gap;
-        dq[8][9] = t129 - law[0].d_rate * geo.g[0][8] * geo.gd[0][9] + t130
-            - law[1].d_rate * geo.g[1][8] * geo.gd[1][9] + t131
-            - geo.g[2][8] * law[2].d_rate * geo.gd[2][9];
-        dq[9][1] = t24 + t25 - geo.gd[0][1] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][9] + t26
-            - geo.g[2][9] * geo.gd[2][1] * law[2].d_rate;
-        dq[9][2] = t48 + t49 - geo.gd[0][2] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][9] + t50
-            - geo.g[2][9] * geo.gd[2][2] * law[2].d_rate;
-        dq[9][3] = t69 + t70 - geo.gd[0][3] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][9] + t71
-            - geo.g[2][9] * geo.gd[2][3] * law[2].d_rate;
-        dq[9][4] = t87 + t88 - geo.gd[0][4] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][9] + t89
-            - geo.g[2][9] * geo.gd[2][4] * law[2].d_rate;
-        dq[9][5] = t102 + t103 - geo.gd[0][5] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][9] + t104
-            - geo.g[2][9] * geo.gd[2][5] * law[2].d_rate;
-        dq[9][6] = t114 + t115 - law[0].d_rate * geo.gd[0][6] * geo.g[0][9]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][9] + t116
-            - geo.g[2][9] * geo.gd[2][6] * law[2].d_rate;
-        dq[9][7] = t123 - law[0].d_rate * geo.gd[0][7] * geo.g[0][9] + t124
-            - law[1].d_rate * geo.gd[1][7] * geo.g[1][9] + t125
-            - geo.g[2][9] * geo.gd[2][7] * law[2].d_rate;
-        dq[9][8] = t129 - law[0].d_rate * geo.g[0][9] * geo.gd[0][8] + t130
-            - law[1].d_rate * geo.g[1][9] * geo.gd[1][8] + t131
-            - geo.g[2][9] * geo.gd[2][8] * law[2].d_rate;
-        dq[9][9] = -law[0].d_gap * t132 - law[0].d_rate * geo.g[0][9] * geo.gd[0][9]
-            - law[1].d_gap * t133 - law[1].d_rate * geo.g[1][9] * geo.gd[1][9]
-            - self.k[9][9] - geo.g[2][9] * law[2].d_rate * geo.gd[2][9]
-            - t134 * law[2].d_gap;
-        dq[1][11] = -t0 * law[0].d_rate - t1 * law[1].d_rate - t2 * law[2].d_rate;
+            - law[2].d_rate * geo.g[2][8] * geo.g[2][9];
+        dq[1][1] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][1] - self.k[1][1]
+            - law[0].d_gap * t0 - law[1].d_gap * t1 - law[2].d_gap * t2;
+        dq[1][2] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][2] + t3 + t4 + t5;
+        dq[1][3] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][3] + t6 + t7 + t8;
+        dq[1][4] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][4] + t9 + t10 + t11;
+        dq[1][5] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][5] + t12 + t13 + t14;
+        dq[1][6] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][6] + t15 + t16 + t17;
+        dq[1][7] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][7] + t18 + t19 + t20;
+        dq[1][8] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][8] + t21 + t22 + t23;
+        dq[1][9] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][1] * geo.gd[2][9] + t24 + t25 + t26;
+        dq[2][1] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][1] + t3 + t4 + t5;
+        dq[2][2] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][2] - self.k[2][2]
+            - law[0].d_gap * t27 - law[1].d_gap * t28 - law[2].d_gap * t29;
+        dq[2][3] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][3] + t30 + t31 + t32;
+        dq[2][4] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][4] + t33 + t34 + t35;
+        dq[2][5] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][5] + t36 + t37 + t38;
+        dq[2][6] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][6] + t39 + t40 + t41;
+        dq[2][7] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][7] + t42 + t43 + t44;
+        dq[2][8] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][8] + t45 + t46 + t47;
+        dq[2][9] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][2] * geo.gd[2][9] + t48 + t49 + t50;
+        dq[3][1] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][1] + t6 + t7 + t8;
+        dq[3][2] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][2] + t30 + t31 + t32;
+        dq[3][3] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][3] - self.k[3][3]
+            - law[0].d_gap * t51 - law[1].d_gap * t52 - law[2].d_gap * t53;
+        dq[3][4] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][4] + t54 + t55 + t56;
+        dq[3][5] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][5] + t57 + t58 + t59;
+        dq[3][6] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][6] + t60 + t61 + t62;
+        dq[3][7] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][7] + t63 + t64 + t65;
+        dq[3][8] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][8] + t66 + t67 + t68;
+        dq[3][9] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][3] * geo.gd[2][9] + t69 + t70 + t71;
+        dq[4][1] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][1] + t9 + t10 + t11;
+        dq[4][2] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][2] + t33 + t34 + t35;
+        dq[4][3] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][3] + t54 + t55 + t56;
+        dq[4][4] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][4] - self.k[4][4]
+            - law[0].d_gap * t72 - law[1].d_gap * t73 - law[2].d_gap * t74;
+        dq[4][5] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][5] + t75 + t76 + t77;
+        dq[4][6] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][6] + t78 + t79 + t80;
+        dq[4][7] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][7] + t81 + t82 + t83;
+        dq[4][8] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][8] + t84 + t85 + t86;
+        dq[4][9] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][9] + t87 + t88 + t89;
+        dq[5][1] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][1] + t12 + t13 + t14;
+        dq[5][2] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][2] + t36 + t37 + t38;
+        dq[5][3] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][3] + t57 + t58 + t59;
+        dq[5][4] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][4] + t75 + t76 + t77;
+        dq[5][5] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][5] - law[0].d_gap * t90
+            - law[1].d_gap * t91 - law[2].d_gap * t92;
+        dq[5][6] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][6] + t93 + t94 + t95;
+        dq[5][7] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][7] + t96 + t97 + t98;
+        dq[5][8] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][8] + t99 + t100 + t101;
+        dq[5][9] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][9] + t102 + t103 + t104;
+        dq[6][1] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][1] + t15 + t16 + t17;
+        dq[6][2] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][2] + t39 + t40 + t41;
+        dq[6][3] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][3] + t60 + t61 + t62;
+        dq[6][4] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][4] + t78 + t79 + t80;
+        dq[6][5] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][5] + t93 + t94 + t95;
+        dq[6][6] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][6] - law[0].d_gap * t105
+            - law[1].d_gap * t106 - law[2].d_gap * t107;
+        dq[6][7] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][7] + t108 + t109 + t110;
+        dq[6][8] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][8] + t111 + t112 + t113;
+        dq[6][9] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][9] + t114 + t115 + t116;
+        dq[7][1] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][1] + t18 + t19 + t20;
+        dq[7][2] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][2] + t42 + t43 + t44;
+        dq[7][3] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][3] + t63 + t64 + t65;
+        dq[7][4] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][4] + t81 + t82 + t83;
+        dq[7][5] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][5] + t96 + t97 + t98;
+        dq[7][6] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][6] + t108 + t109 + t110;
+        dq[7][7] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][7] - self.k[7][7]
+            - law[0].d_gap * t117 - law[1].d_gap * t118 - law[2].d_gap * t119;
+        dq[7][8] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][8] + t120 + t121 + t122;
+        dq[7][9] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][9] + t123 + t124 + t125;
+        dq[8][1] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][1] + t21 + t22 + t23;
+        dq[8][2] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][2] + t45 + t46 + t47;
+        dq[8][3] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][3] + t66 + t67 + t68;
+        dq[8][4] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][4] + t84 + t85 + t86;
+        dq[8][5] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][5] + t99 + t100 + t101;
+        dq[8][6] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][6] + t111 + t112 + t113;
+        dq[8][7] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][7] + t120 + t121 + t122;
+        dq[8][8] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][8] - self.k[8][8]
+            - law[0].d_gap * t126 - law[1].d_gap * t127 - law[2].d_gap * t128;
+        dq[8][9] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][9] + t129 + t130 + t131;
+        dq[9][1] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][1]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][1] + t24 + t25 + t26;
+        dq[9][2] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][2]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][2] + t48 + t49 + t50;
+        dq[9][3] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][3]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][3] + t69 + t70 + t71;
+        dq[9][4] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][4] + t87 + t88 + t89;
+        dq[9][5] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][5] + t102 + t103 + t104;
+        dq[9][6] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][6] + t114 + t115 + t116;
+        dq[9][7] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][7] + t123 + t124 + t125;
+        dq[9][8] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][8] + t129 + t130 + t131;
+        dq[9][9] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][9] - self.k[9][9]
+            - law[0].d_gap * t132 - law[1].d_gap * t133 - law[2].d_gap * t134;
+        dq[1][11] = -law[0].d_rate * t0 - law[1].d_rate * t1 - law[2].d_rate * t2;
         dq[1][12] = t135;
         dq[1][13] = t136;
         dq[1][14] = t137;
@@ -1371,7 +1371,7 @@ impl Model for GeneratedModel {
         dq[1][18] = t141;
         dq[1][19] = t142;
         dq[2][11] = t135;
-        dq[2][12] = -t27 * law[0].d_rate - t28 * law[1].d_rate - t29 * law[2].d_rate;
+        dq[2][12] = -law[0].d_rate * t27 - law[1].d_rate * t28 - law[2].d_rate * t29;
         dq[2][13] = t143;
         dq[2][14] = t144;
         dq[2][15] = t145;
@@ -1381,7 +1381,7 @@ impl Model for GeneratedModel {
         dq[2][19] = t149;
         dq[3][11] = t136;
         dq[3][12] = t143;
-        dq[3][13] = -t51 * law[0].d_rate - t52 * law[1].d_rate - t53 * law[2].d_rate;
+        dq[3][13] = -law[0].d_rate * t51 - law[1].d_rate * t52 - law[2].d_rate * t53;
         dq[3][14] = t150;
         dq[3][15] = t151;
         dq[3][16] = t152;
@@ -1391,7 +1391,7 @@ impl Model for GeneratedModel {
         dq[4][11] = t137;
         dq[4][12] = t144;
         dq[4][13] = t150;
-        dq[4][14] = -t72 * law[0].d_rate - t73 * law[1].d_rate - t74 * law[2].d_rate;
+        dq[4][14] = -law[0].d_rate * t72 - law[1].d_rate * t73 - law[2].d_rate * t74;
         dq[4][15] = t156;
         dq[4][16] = t157;
         dq[4][17] = t158;
@@ -1401,7 +1401,7 @@ impl Model for GeneratedModel {
         dq[5][12] = t145;
         dq[5][13] = t151;
         dq[5][14] = t156;
-        dq[5][15] = -t90 * law[0].d_rate - t91 * law[1].d_rate - t92 * law[2].d_rate;
+        dq[5][15] = -law[0].d_rate * t90 - law[1].d_rate * t91 - law[2].d_rate * t92;
         dq[5][16] = t161;
         dq[5][17] = t162;
         dq[5][18] = t163;
@@ -1411,7 +1411,7 @@ impl Model for GeneratedModel {
         dq[6][13] = t152;
         dq[6][14] = t157;
         dq[6][15] = t161;
-        dq[6][16] = -t105 * law[0].d_rate - t106 * law[1].d_rate - t107 * law[2].d_rate;
+        dq[6][16] = -law[0].d_rate * t105 - law[1].d_rate * t106 - law[2].d_rate * t107;
         dq[6][17] = t165;
         dq[6][18] = t166;
         dq[6][19] = t167;
@@ -1421,7 +1421,7 @@ impl Model for GeneratedModel {
         dq[7][14] = t158;
         dq[7][15] = t162;
         dq[7][16] = t165;
-        dq[7][17] = -law[0].d_rate * t117 - law[1].d_rate * t118 - t119 * law[2].d_rate;
+        dq[7][17] = -law[0].d_rate * t117 - law[1].d_rate * t118 - law[2].d_rate * t119;
         dq[7][18] = t168;
         dq[7][19] = t169;
         dq[8][11] = t141;
@@ -1431,7 +1431,7 @@ impl Model for GeneratedModel {
         dq[8][15] = t163;
         dq[8][16] = t166;
         dq[8][17] = t168;
-        dq[8][18] = -law[0].d_rate * t126 - law[1].d_rate * t127 - t128 * law[2].d_rate;
+        dq[8][18] = -law[0].d_rate * t126 - law[1].d_rate * t127 - law[2].d_rate * t128;
         dq[8][19] = t170;
         dq[9][11] = t142;
         dq[9][12] = t149;
@@ -1441,7 +1441,7 @@ impl Model for GeneratedModel {
         dq[9][16] = t167;
         dq[9][17] = t169;
         dq[9][18] = t170;
-        dq[9][19] = -law[0].d_rate * t132 - law[1].d_rate * t133 - t134 * law[2].d_rate;
+        dq[9][19] = -law[0].d_rate * t132 - law[1].d_rate * t133 - law[2].d_rate * t134;
         jac.fill(0.0);
         for j in 0..DOF {
             jac[(j, DOF + j)] = 1.0;

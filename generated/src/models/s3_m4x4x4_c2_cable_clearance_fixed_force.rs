@@ -242,50 +242,50 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
     let t0 = l_2.powi(2);
     let t1 = l_3.powi(2);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // mass_matrix[0][0] = rho_a_1*l_1*K_M_1_0_0 + rho_a_2*l_2*K_M_2_0_0 + m_t + m_l + rho_a_3*l_3*K_M_3_0_0
+    // mass_matrix[0][0] = m_l + m_t + l_1*rho_a_1*K_M_1_0_0 + l_2*rho_a_2*K_M_2_0_0 + l_3*rho_a_3*K_M_3_0_0
     {
-        m[(0, 0)] = rho_a_1 * l_1 * K_M_1_0_0 + rho_a_2 * l_2 * K_M_2_0_0 + m_t + m_l
-            + rho_a_3 * l_3 * K_M_3_0_0;
+        m[(0, 0)] = m_l + m_t + l_1 * rho_a_1 * K_M_1_0_0 + l_2 * rho_a_2 * K_M_2_0_0
+            + l_3 * rho_a_3 * K_M_3_0_0;
     }
-    // mass_matrix[0][1] = rho_a_1*l_1*K_M_1_0_2
+    // mass_matrix[0][1] = l_1*rho_a_1*K_M_1_0_2
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_2;
+        let v = l_1 * rho_a_1 * K_M_1_0_2;
         m[(0, 1)] = v;
         m[(1, 0)] = v;
     }
-    // mass_matrix[0][2] = rho_a_1*l_1*K_M_1_0_3
+    // mass_matrix[0][2] = l_1*rho_a_1*K_M_1_0_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_3;
+        let v = l_1 * rho_a_1 * K_M_1_0_3;
         m[(0, 2)] = v;
         m[(2, 0)] = v;
     }
-    // mass_matrix[0][3] = rho_a_1*l_1*K_M_1_0_4
+    // mass_matrix[0][3] = l_1*rho_a_1*K_M_1_0_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_4;
+        let v = l_1 * rho_a_1 * K_M_1_0_4;
         m[(0, 3)] = v;
         m[(3, 0)] = v;
     }
-    // mass_matrix[0][4] = rho_a_2*l_2*K_M_2_0_1
+    // mass_matrix[0][4] = l_2*rho_a_2*K_M_2_0_1
     {
-        let v = rho_a_2 * l_2 * K_M_2_0_1;
+        let v = l_2 * rho_a_2 * K_M_2_0_1;
         m[(0, 4)] = v;
         m[(4, 0)] = v;
     }
-    // mass_matrix[0][5] = rho_a_2*l_2^2*K_M_2_0_2
+    // mass_matrix[0][5] = rho_a_2*K_M_2_0_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_0_2;
+        let v = rho_a_2 * K_M_2_0_2 * t0;
         m[(0, 5)] = v;
         m[(5, 0)] = v;
     }
-    // mass_matrix[0][8] = m_l*K_TOP_3_1 + rho_a_3*l_3*K_M_3_0_1
+    // mass_matrix[0][8] = l_3*rho_a_3*K_M_3_0_1 + m_l*K_TOP_3_1
     {
-        let v = m_l * K_TOP_3_1 + rho_a_3 * l_3 * K_M_3_0_1;
+        let v = l_3 * rho_a_3 * K_M_3_0_1 + m_l * K_TOP_3_1;
         m[(0, 8)] = v;
         m[(8, 0)] = v;
     }
-    // mass_matrix[0][9] = m_l*l_3*K_TOP_3_2 + rho_a_3*l_3^2*K_M_3_0_2
+    // mass_matrix[0][9] = l_3*m_l*K_TOP_3_2 + rho_a_3*K_M_3_0_2*l_3^2
     {
-        let v = m_l * l_3 * K_TOP_3_2 + rho_a_3 * t1 * K_M_3_0_2;
+        let v = l_3 * m_l * K_TOP_3_2 + rho_a_3 * K_M_3_0_2 * t1;
         m[(0, 9)] = v;
         m[(9, 0)] = v;
     }
@@ -301,65 +301,65 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(0, 11)] = v;
         m[(11, 0)] = v;
     }
-    // mass_matrix[1][1] = rho_a_1*l_1*K_M_1_2_2
+    // mass_matrix[1][1] = l_1*rho_a_1*K_M_1_2_2
     {
-        m[(1, 1)] = rho_a_1 * l_1 * K_M_1_2_2;
+        m[(1, 1)] = l_1 * rho_a_1 * K_M_1_2_2;
     }
-    // mass_matrix[1][2] = rho_a_1*l_1*K_M_1_2_3
+    // mass_matrix[1][2] = l_1*rho_a_1*K_M_1_2_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_3;
+        let v = l_1 * rho_a_1 * K_M_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // mass_matrix[1][3] = rho_a_1*l_1*K_M_1_2_4
+    // mass_matrix[1][3] = l_1*rho_a_1*K_M_1_2_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_4;
+        let v = l_1 * rho_a_1 * K_M_1_2_4;
         m[(1, 3)] = v;
         m[(3, 1)] = v;
     }
-    // mass_matrix[2][2] = rho_a_1*l_1*K_M_1_3_3
+    // mass_matrix[2][2] = l_1*rho_a_1*K_M_1_3_3
     {
-        m[(2, 2)] = rho_a_1 * l_1 * K_M_1_3_3;
+        m[(2, 2)] = l_1 * rho_a_1 * K_M_1_3_3;
     }
-    // mass_matrix[2][3] = rho_a_1*l_1*K_M_1_3_4
+    // mass_matrix[2][3] = l_1*rho_a_1*K_M_1_3_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_3_4;
+        let v = l_1 * rho_a_1 * K_M_1_3_4;
         m[(2, 3)] = v;
         m[(3, 2)] = v;
     }
-    // mass_matrix[3][3] = rho_a_1*l_1*K_M_1_4_4
+    // mass_matrix[3][3] = l_1*rho_a_1*K_M_1_4_4
     {
-        m[(3, 3)] = rho_a_1 * l_1 * K_M_1_4_4;
+        m[(3, 3)] = l_1 * rho_a_1 * K_M_1_4_4;
     }
-    // mass_matrix[4][4] = rho_a_2*l_2*K_M_2_1_1
+    // mass_matrix[4][4] = l_2*rho_a_2*K_M_2_1_1
     {
-        m[(4, 4)] = rho_a_2 * l_2 * K_M_2_1_1;
+        m[(4, 4)] = l_2 * rho_a_2 * K_M_2_1_1;
     }
-    // mass_matrix[4][5] = rho_a_2*l_2^2*K_M_2_1_2
+    // mass_matrix[4][5] = rho_a_2*K_M_2_1_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_1_2;
+        let v = rho_a_2 * K_M_2_1_2 * t0;
         m[(4, 5)] = v;
         m[(5, 4)] = v;
     }
-    // mass_matrix[5][5] = rho_a_2*l_2^3*K_M_2_2_2
+    // mass_matrix[5][5] = rho_a_2*K_M_2_2_2*l_2^3
     {
-        m[(5, 5)] = rho_a_2 * l_2.powi(3) * K_M_2_2_2;
+        m[(5, 5)] = rho_a_2 * K_M_2_2_2 * l_2.powi(3);
     }
-    // mass_matrix[6][6] = rho_a_2*l_2*K_M_2_3_3
+    // mass_matrix[6][6] = l_2*rho_a_2*K_M_2_3_3
     {
-        m[(6, 6)] = rho_a_2 * l_2 * K_M_2_3_3;
+        m[(6, 6)] = l_2 * rho_a_2 * K_M_2_3_3;
     }
-    // mass_matrix[7][7] = rho_a_2*l_2*K_M_2_4_4
+    // mass_matrix[7][7] = l_2*rho_a_2*K_M_2_4_4
     {
-        m[(7, 7)] = rho_a_2 * l_2 * K_M_2_4_4;
+        m[(7, 7)] = l_2 * rho_a_2 * K_M_2_4_4;
     }
-    // mass_matrix[8][8] = m_l*K_TOP_3_1^2 + rho_a_3*l_3*K_M_3_1_1
+    // mass_matrix[8][8] = l_3*rho_a_3*K_M_3_1_1 + m_l*K_TOP_3_1^2
     {
-        m[(8, 8)] = m_l * K_TOP_3_1.powi(2) + rho_a_3 * l_3 * K_M_3_1_1;
+        m[(8, 8)] = l_3 * rho_a_3 * K_M_3_1_1 + m_l * K_TOP_3_1.powi(2);
     }
-    // mass_matrix[8][9] = m_l*l_3*K_TOP_3_1*K_TOP_3_2 + rho_a_3*l_3^2*K_M_3_1_2
+    // mass_matrix[8][9] = l_3*m_l*K_TOP_3_1*K_TOP_3_2 + rho_a_3*K_M_3_1_2*l_3^2
     {
-        let v = m_l * l_3 * K_TOP_3_1 * K_TOP_3_2 + rho_a_3 * t1 * K_M_3_1_2;
+        let v = l_3 * m_l * K_TOP_3_1 * K_TOP_3_2 + rho_a_3 * K_M_3_1_2 * t1;
         m[(8, 9)] = v;
         m[(9, 8)] = v;
     }
@@ -375,25 +375,25 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(8, 11)] = v;
         m[(11, 8)] = v;
     }
-    // mass_matrix[9][9] = m_l*l_3^2*K_TOP_3_2^2 + rho_a_3*l_3^3*K_M_3_2_2
+    // mass_matrix[9][9] = m_l*l_3^2*K_TOP_3_2^2 + rho_a_3*K_M_3_2_2*l_3^3
     {
-        m[(9, 9)] = m_l * t1 * K_TOP_3_2.powi(2) + rho_a_3 * l_3.powi(3) * K_M_3_2_2;
+        m[(9, 9)] = m_l * t1 * K_TOP_3_2.powi(2) + rho_a_3 * K_M_3_2_2 * l_3.powi(3);
     }
-    // mass_matrix[9][10] = m_l*l_3*K_TOP_3_2*K_TOP_3_3
+    // mass_matrix[9][10] = l_3*m_l*K_TOP_3_2*K_TOP_3_3
     {
-        let v = m_l * l_3 * K_TOP_3_2 * K_TOP_3_3;
+        let v = l_3 * m_l * K_TOP_3_2 * K_TOP_3_3;
         m[(9, 10)] = v;
         m[(10, 9)] = v;
     }
-    // mass_matrix[9][11] = m_l*l_3*K_TOP_3_2*K_TOP_3_4
+    // mass_matrix[9][11] = l_3*m_l*K_TOP_3_2*K_TOP_3_4
     {
-        let v = m_l * l_3 * K_TOP_3_2 * K_TOP_3_4;
+        let v = l_3 * m_l * K_TOP_3_2 * K_TOP_3_4;
         m[(9, 11)] = v;
         m[(11, 9)] = v;
     }
-    // mass_matrix[10][10] = m_l*K_TOP_3_3^2 + rho_a_3*l_3*K_M_3_3_3
+    // mass_matrix[10][10] = l_3*rho_a_3*K_M_3_3_3 + m_l*K_TOP_3_3^2
     {
-        m[(10, 10)] = m_l * K_TOP_3_3.powi(2) + rho_a_3 * l_3 * K_M_3_3_3;
+        m[(10, 10)] = l_3 * rho_a_3 * K_M_3_3_3 + m_l * K_TOP_3_3.powi(2);
     }
     // mass_matrix[10][11] = m_l*K_TOP_3_3*K_TOP_3_4
     {
@@ -401,9 +401,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(10, 11)] = v;
         m[(11, 10)] = v;
     }
-    // mass_matrix[11][11] = m_l*K_TOP_3_4^2 + rho_a_3*l_3*K_M_3_4_4
+    // mass_matrix[11][11] = l_3*rho_a_3*K_M_3_4_4 + m_l*K_TOP_3_4^2
     {
-        m[(11, 11)] = m_l * K_TOP_3_4.powi(2) + rho_a_3 * l_3 * K_M_3_4_4;
+        m[(11, 11)] = l_3 * rho_a_3 * K_M_3_4_4 + m_l * K_TOP_3_4.powi(2);
     }
     m
 }
@@ -431,106 +431,109 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
     let t6 = l_3.recip();
     let t7 = l_3.powi(-3);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // stiffness_matrix[1][1] = -rho_a_1*g*K_AX_1_2_2 + rho_a_1*g*K_AXX_1_2_2 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_2 - l_1^-1*m_l*g*K_AX_1_2_2 - l_1^-1*g*K_AX_1_2_2*rho_a_3*l_3 + l_1^-3*ei_1*K_EI_1_2_2
+    // stiffness_matrix[1][1] = -g*l_2*rho_a_2*K_AX_1_2_2*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_2*l_1^-1 - g*m_l*K_AX_1_2_2*l_1^-1 - g*rho_a_1*K_AX_1_2_2 + ei_1*K_EI_1_2_2*l_1^-3 + g*rho_a_1*K_AXX_1_2_2
     {
-        m[(1, 1)] = -rho_a_1 * g * K_AX_1_2_2 + rho_a_1 * g * K_AXX_1_2_2
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_2 - t0 * m_l * g * K_AX_1_2_2
-            - t0 * g * K_AX_1_2_2 * rho_a_3 * l_3 + t1 * ei_1 * K_EI_1_2_2;
+        m[(1, 1)] = -g * l_2 * rho_a_2 * K_AX_1_2_2 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_2 * t0 - g * m_l * K_AX_1_2_2 * t0
+            - g * rho_a_1 * K_AX_1_2_2 + ei_1 * K_EI_1_2_2 * t1
+            + g * rho_a_1 * K_AXX_1_2_2;
     }
-    // stiffness_matrix[1][2] = -rho_a_1*g*K_AX_1_2_3 + rho_a_1*g*K_AXX_1_2_3 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_3 - l_1^-1*m_l*g*K_AX_1_2_3 - l_1^-1*g*K_AX_1_2_3*rho_a_3*l_3
+    // stiffness_matrix[1][2] = -g*l_2*rho_a_2*K_AX_1_2_3*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_3*l_1^-1 - g*m_l*K_AX_1_2_3*l_1^-1 - g*rho_a_1*K_AX_1_2_3 + g*rho_a_1*K_AXX_1_2_3
     {
-        let v = -rho_a_1 * g * K_AX_1_2_3 + rho_a_1 * g * K_AXX_1_2_3
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_3 - t0 * m_l * g * K_AX_1_2_3
-            - t0 * g * K_AX_1_2_3 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_3 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_3 * t0 - g * m_l * K_AX_1_2_3 * t0
+            - g * rho_a_1 * K_AX_1_2_3 + g * rho_a_1 * K_AXX_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // stiffness_matrix[1][3] = -rho_a_1*g*K_AX_1_2_4 + rho_a_1*g*K_AXX_1_2_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_4 - l_1^-1*m_l*g*K_AX_1_2_4 - l_1^-1*g*K_AX_1_2_4*rho_a_3*l_3
+    // stiffness_matrix[1][3] = -g*l_2*rho_a_2*K_AX_1_2_4*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_4*l_1^-1 - g*m_l*K_AX_1_2_4*l_1^-1 - g*rho_a_1*K_AX_1_2_4 + g*rho_a_1*K_AXX_1_2_4
     {
-        let v = -rho_a_1 * g * K_AX_1_2_4 + rho_a_1 * g * K_AXX_1_2_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_4 - t0 * m_l * g * K_AX_1_2_4
-            - t0 * g * K_AX_1_2_4 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_4 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_4 * t0 - g * m_l * K_AX_1_2_4 * t0
+            - g * rho_a_1 * K_AX_1_2_4 + g * rho_a_1 * K_AXX_1_2_4;
         m[(1, 3)] = v;
         m[(3, 1)] = v;
     }
-    // stiffness_matrix[2][2] = -rho_a_1*g*K_AX_1_3_3 + rho_a_1*g*K_AXX_1_3_3 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_3 - l_1^-1*m_l*g*K_AX_1_3_3 - l_1^-1*g*K_AX_1_3_3*rho_a_3*l_3 + l_1^-3*ei_1*K_EI_1_3_3
+    // stiffness_matrix[2][2] = -g*l_2*rho_a_2*K_AX_1_3_3*l_1^-1 - g*l_3*rho_a_3*K_AX_1_3_3*l_1^-1 - g*m_l*K_AX_1_3_3*l_1^-1 - g*rho_a_1*K_AX_1_3_3 + ei_1*K_EI_1_3_3*l_1^-3 + g*rho_a_1*K_AXX_1_3_3
     {
-        m[(2, 2)] = -rho_a_1 * g * K_AX_1_3_3 + rho_a_1 * g * K_AXX_1_3_3
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_3 - t0 * m_l * g * K_AX_1_3_3
-            - t0 * g * K_AX_1_3_3 * rho_a_3 * l_3 + t1 * ei_1 * K_EI_1_3_3;
+        m[(2, 2)] = -g * l_2 * rho_a_2 * K_AX_1_3_3 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_3_3 * t0 - g * m_l * K_AX_1_3_3 * t0
+            - g * rho_a_1 * K_AX_1_3_3 + ei_1 * K_EI_1_3_3 * t1
+            + g * rho_a_1 * K_AXX_1_3_3;
     }
-    // stiffness_matrix[2][3] = -rho_a_1*g*K_AX_1_3_4 + rho_a_1*g*K_AXX_1_3_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_4 - l_1^-1*m_l*g*K_AX_1_3_4 - l_1^-1*g*K_AX_1_3_4*rho_a_3*l_3
+    // stiffness_matrix[2][3] = -g*l_2*rho_a_2*K_AX_1_3_4*l_1^-1 - g*l_3*rho_a_3*K_AX_1_3_4*l_1^-1 - g*m_l*K_AX_1_3_4*l_1^-1 - g*rho_a_1*K_AX_1_3_4 + g*rho_a_1*K_AXX_1_3_4
     {
-        let v = -rho_a_1 * g * K_AX_1_3_4 + rho_a_1 * g * K_AXX_1_3_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_4 - t0 * m_l * g * K_AX_1_3_4
-            - t0 * g * K_AX_1_3_4 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_3_4 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_3_4 * t0 - g * m_l * K_AX_1_3_4 * t0
+            - g * rho_a_1 * K_AX_1_3_4 + g * rho_a_1 * K_AXX_1_3_4;
         m[(2, 3)] = v;
         m[(3, 2)] = v;
     }
-    // stiffness_matrix[3][3] = -rho_a_1*g*K_AX_1_4_4 + rho_a_1*g*K_AXX_1_4_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_4_4 - l_1^-1*m_l*g*K_AX_1_4_4 - l_1^-1*g*K_AX_1_4_4*rho_a_3*l_3 + l_1^-3*ei_1*K_EI_1_4_4
+    // stiffness_matrix[3][3] = -g*l_2*rho_a_2*K_AX_1_4_4*l_1^-1 - g*l_3*rho_a_3*K_AX_1_4_4*l_1^-1 - g*m_l*K_AX_1_4_4*l_1^-1 - g*rho_a_1*K_AX_1_4_4 + ei_1*K_EI_1_4_4*l_1^-3 + g*rho_a_1*K_AXX_1_4_4
     {
-        m[(3, 3)] = -rho_a_1 * g * K_AX_1_4_4 + rho_a_1 * g * K_AXX_1_4_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_4_4 - t0 * m_l * g * K_AX_1_4_4
-            - t0 * g * K_AX_1_4_4 * rho_a_3 * l_3 + t1 * ei_1 * K_EI_1_4_4;
+        m[(3, 3)] = -g * l_2 * rho_a_2 * K_AX_1_4_4 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_4_4 * t0 - g * m_l * K_AX_1_4_4 * t0
+            - g * rho_a_1 * K_AX_1_4_4 + ei_1 * K_EI_1_4_4 * t1
+            + g * rho_a_1 * K_AXX_1_4_4;
     }
-    // stiffness_matrix[5][5] = -rho_a_2*l_2^2*g*K_AX_2_2_2 + rho_a_2*l_2^2*g*K_AXX_2_2_2 - l_2*m_l*g*K_AX_2_2_2 - l_2*g*K_AX_2_2_2*rho_a_3*l_3
+    // stiffness_matrix[5][5] = -g*l_2*l_3*rho_a_3*K_AX_2_2_2 - g*l_2*m_l*K_AX_2_2_2 - g*rho_a_2*K_AX_2_2_2*l_2^2 + g*rho_a_2*K_AXX_2_2_2*l_2^2
     {
-        m[(5, 5)] = -rho_a_2 * t2 * g * K_AX_2_2_2 + rho_a_2 * t2 * g * K_AXX_2_2_2
-            - l_2 * m_l * g * K_AX_2_2_2 - l_2 * g * K_AX_2_2_2 * rho_a_3 * l_3;
+        m[(5, 5)] = -g * l_2 * l_3 * rho_a_3 * K_AX_2_2_2 - g * l_2 * m_l * K_AX_2_2_2
+            - g * rho_a_2 * K_AX_2_2_2 * t2 + g * rho_a_2 * K_AXX_2_2_2 * t2;
     }
-    // stiffness_matrix[5][6] = rho_a_2*l_2*g*K_AXX_2_2_3
+    // stiffness_matrix[5][6] = g*l_2*rho_a_2*K_AXX_2_2_3
     {
-        let v = rho_a_2 * l_2 * g * K_AXX_2_2_3;
+        let v = g * l_2 * rho_a_2 * K_AXX_2_2_3;
         m[(5, 6)] = v;
         m[(6, 5)] = v;
     }
-    // stiffness_matrix[5][7] = -rho_a_2*l_2*g*K_AX_2_2_4 + rho_a_2*l_2*g*K_AXX_2_2_4 - m_l*g*K_AX_2_2_4 - g*K_AX_2_2_4*rho_a_3*l_3
+    // stiffness_matrix[5][7] = -g*l_2*rho_a_2*K_AX_2_2_4 - g*l_3*rho_a_3*K_AX_2_2_4 - g*m_l*K_AX_2_2_4 + g*l_2*rho_a_2*K_AXX_2_2_4
     {
-        let v = -rho_a_2 * l_2 * g * K_AX_2_2_4 + rho_a_2 * l_2 * g * K_AXX_2_2_4
-            - m_l * g * K_AX_2_2_4 - g * K_AX_2_2_4 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_2_2_4 - g * l_3 * rho_a_3 * K_AX_2_2_4
+            - g * m_l * K_AX_2_2_4 + g * l_2 * rho_a_2 * K_AXX_2_2_4;
         m[(5, 7)] = v;
         m[(7, 5)] = v;
     }
-    // stiffness_matrix[6][6] = -rho_a_2*g*K_AX_2_3_3 + rho_a_2*g*K_AXX_2_3_3 - l_2^-1*m_l*g*K_AX_2_3_3 - l_2^-1*g*K_AX_2_3_3*rho_a_3*l_3 + l_2^-3*ei_2*K_EI_2_3_3
+    // stiffness_matrix[6][6] = -g*l_3*rho_a_3*K_AX_2_3_3*l_2^-1 - g*m_l*K_AX_2_3_3*l_2^-1 - g*rho_a_2*K_AX_2_3_3 + ei_2*K_EI_2_3_3*l_2^-3 + g*rho_a_2*K_AXX_2_3_3
     {
-        m[(6, 6)] = -rho_a_2 * g * K_AX_2_3_3 + rho_a_2 * g * K_AXX_2_3_3
-            - t3 * m_l * g * K_AX_2_3_3 - t3 * g * K_AX_2_3_3 * rho_a_3 * l_3
-            + t4 * ei_2 * K_EI_2_3_3;
+        m[(6, 6)] = -g * l_3 * rho_a_3 * K_AX_2_3_3 * t3 - g * m_l * K_AX_2_3_3 * t3
+            - g * rho_a_2 * K_AX_2_3_3 + ei_2 * K_EI_2_3_3 * t4
+            + g * rho_a_2 * K_AXX_2_3_3;
     }
-    // stiffness_matrix[6][7] = rho_a_2*g*K_AXX_2_3_4
+    // stiffness_matrix[6][7] = g*rho_a_2*K_AXX_2_3_4
     {
-        let v = rho_a_2 * g * K_AXX_2_3_4;
+        let v = g * rho_a_2 * K_AXX_2_3_4;
         m[(6, 7)] = v;
         m[(7, 6)] = v;
     }
-    // stiffness_matrix[7][7] = -rho_a_2*g*K_AX_2_4_4 + rho_a_2*g*K_AXX_2_4_4 - l_2^-1*m_l*g*K_AX_2_4_4 - l_2^-1*g*K_AX_2_4_4*rho_a_3*l_3 + l_2^-3*ei_2*K_EI_2_4_4
+    // stiffness_matrix[7][7] = -g*l_3*rho_a_3*K_AX_2_4_4*l_2^-1 - g*m_l*K_AX_2_4_4*l_2^-1 - g*rho_a_2*K_AX_2_4_4 + ei_2*K_EI_2_4_4*l_2^-3 + g*rho_a_2*K_AXX_2_4_4
     {
-        m[(7, 7)] = -rho_a_2 * g * K_AX_2_4_4 + rho_a_2 * g * K_AXX_2_4_4
-            - t3 * m_l * g * K_AX_2_4_4 - t3 * g * K_AX_2_4_4 * rho_a_3 * l_3
-            + t4 * ei_2 * K_EI_2_4_4;
+        m[(7, 7)] = -g * l_3 * rho_a_3 * K_AX_2_4_4 * t3 - g * m_l * K_AX_2_4_4 * t3
+            - g * rho_a_2 * K_AX_2_4_4 + ei_2 * K_EI_2_4_4 * t4
+            + g * rho_a_2 * K_AXX_2_4_4;
     }
-    // stiffness_matrix[9][9] = -m_l*g*l_3*K_AX_3_2_2 - g*rho_a_3*l_3^2*K_AX_3_2_2 + g*rho_a_3*l_3^2*K_AXX_3_2_2
+    // stiffness_matrix[9][9] = -g*l_3*m_l*K_AX_3_2_2 - g*rho_a_3*K_AX_3_2_2*l_3^2 + g*rho_a_3*K_AXX_3_2_2*l_3^2
     {
-        m[(9, 9)] = -m_l * g * l_3 * K_AX_3_2_2 - g * rho_a_3 * t5 * K_AX_3_2_2
-            + g * rho_a_3 * t5 * K_AXX_3_2_2;
+        m[(9, 9)] = -g * l_3 * m_l * K_AX_3_2_2 - g * rho_a_3 * K_AX_3_2_2 * t5
+            + g * rho_a_3 * K_AXX_3_2_2 * t5;
     }
-    // stiffness_matrix[9][10] = g*rho_a_3*l_3*K_AXX_3_2_3
+    // stiffness_matrix[9][10] = g*l_3*rho_a_3*K_AXX_3_2_3
     {
-        let v = g * rho_a_3 * l_3 * K_AXX_3_2_3;
+        let v = g * l_3 * rho_a_3 * K_AXX_3_2_3;
         m[(9, 10)] = v;
         m[(10, 9)] = v;
     }
-    // stiffness_matrix[9][11] = -m_l*g*K_AX_3_2_4 - g*rho_a_3*l_3*K_AX_3_2_4 + g*rho_a_3*l_3*K_AXX_3_2_4
+    // stiffness_matrix[9][11] = -g*l_3*rho_a_3*K_AX_3_2_4 - g*m_l*K_AX_3_2_4 + g*l_3*rho_a_3*K_AXX_3_2_4
     {
-        let v = -m_l * g * K_AX_3_2_4 - g * rho_a_3 * l_3 * K_AX_3_2_4
-            + g * rho_a_3 * l_3 * K_AXX_3_2_4;
+        let v = -g * l_3 * rho_a_3 * K_AX_3_2_4 - g * m_l * K_AX_3_2_4
+            + g * l_3 * rho_a_3 * K_AXX_3_2_4;
         m[(9, 11)] = v;
         m[(11, 9)] = v;
     }
-    // stiffness_matrix[10][10] = -m_l*g*l_3^-1*K_AX_3_3_3 - g*rho_a_3*K_AX_3_3_3 + g*rho_a_3*K_AXX_3_3_3 + l_3^-3*ei_3*K_EI_3_3_3
+    // stiffness_matrix[10][10] = -g*m_l*K_AX_3_3_3*l_3^-1 - g*rho_a_3*K_AX_3_3_3 + ei_3*K_EI_3_3_3*l_3^-3 + g*rho_a_3*K_AXX_3_3_3
     {
-        m[(10, 10)] = -m_l * g * t6 * K_AX_3_3_3 - g * rho_a_3 * K_AX_3_3_3
-            + g * rho_a_3 * K_AXX_3_3_3 + t7 * ei_3 * K_EI_3_3_3;
+        m[(10, 10)] = -g * m_l * K_AX_3_3_3 * t6 - g * rho_a_3 * K_AX_3_3_3
+            + ei_3 * K_EI_3_3_3 * t7 + g * rho_a_3 * K_AXX_3_3_3;
     }
     // stiffness_matrix[10][11] = g*rho_a_3*K_AXX_3_3_4
     {
@@ -538,45 +541,45 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(10, 11)] = v;
         m[(11, 10)] = v;
     }
-    // stiffness_matrix[11][11] = -m_l*g*l_3^-1*K_AX_3_4_4 - g*rho_a_3*K_AX_3_4_4 + g*rho_a_3*K_AXX_3_4_4 + l_3^-3*ei_3*K_EI_3_4_4
+    // stiffness_matrix[11][11] = -g*m_l*K_AX_3_4_4*l_3^-1 - g*rho_a_3*K_AX_3_4_4 + ei_3*K_EI_3_4_4*l_3^-3 + g*rho_a_3*K_AXX_3_4_4
     {
-        m[(11, 11)] = -m_l * g * t6 * K_AX_3_4_4 - g * rho_a_3 * K_AX_3_4_4
-            + g * rho_a_3 * K_AXX_3_4_4 + t7 * ei_3 * K_EI_3_4_4;
+        m[(11, 11)] = -g * m_l * K_AX_3_4_4 * t6 - g * rho_a_3 * K_AX_3_4_4
+            + ei_3 * K_EI_3_4_4 * t7 + g * rho_a_3 * K_AXX_3_4_4;
     }
     m
 }
 /// Basis functions of section 1 at `xi = x / l_1` (cancellation-free forms) and their `d/dxi`, without the factor `l_1^p` (see `LENGTH_POWERS_1`).
 #[inline]
 pub fn shapes_1(xi: f64) -> ([f64; 3], [f64; 3]) {
-    let t0 = xi * K_BETA_1_2;
-    let t1 = -1.0 + xi;
-    let t2 = (K_BETA_1_2 * t1).exp();
-    let t3 = (-xi * K_BETA_1_2).exp();
-    let t4 = xi * K_BETA_1_3;
-    let t5 = (K_BETA_1_3 * t1).exp();
-    let t6 = (-xi * K_BETA_1_3).exp();
-    let t7 = xi * K_BETA_1_4;
-    let t8 = (K_BETA_1_4 * t1).exp();
-    let t9 = (-xi * K_BETA_1_4).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_1_2 * t0).exp();
+    let t2 = (-xi * K_BETA_1_2).exp();
+    let t3 = xi * K_BETA_1_2;
+    let t4 = (K_BETA_1_3 * t0).exp();
+    let t5 = (-xi * K_BETA_1_3).exp();
+    let t6 = xi * K_BETA_1_3;
+    let t7 = (K_BETA_1_4 * t0).exp();
+    let t8 = (-xi * K_BETA_1_4).exp();
+    let t9 = xi * K_BETA_1_4;
     let mut value = [0.0; 3];
     let mut slope = [0.0; 3];
-    // psi_1,1 = K_C_1_2_3 + cos(xi*K_BETA_1_2) + exp(K_BETA_1_2*(-1 + xi))*K_C_1_2_1 + exp(-xi*K_BETA_1_2)*K_C_1_2_2
+    // psi_1,1 = K_C_1_2_3 + K_C_1_2_1*exp(K_BETA_1_2*(-1 + xi)) + K_C_1_2_2*exp(-xi*K_BETA_1_2) + cos(xi*K_BETA_1_2)
     {
-        value[0] = K_C_1_2_3 + t0.cos() + t2 * K_C_1_2_1 + t3 * K_C_1_2_2;
-        slope[0] = -K_BETA_1_2 * t0.sin() + t2 * K_C_1_2_1 * K_BETA_1_2
-            - t3 * K_BETA_1_2 * K_C_1_2_2;
+        value[0] = K_C_1_2_3 + K_C_1_2_1 * t1 + K_C_1_2_2 * t2 + t3.cos();
+        slope[0] = -K_BETA_1_2 * K_C_1_2_2 * t2 - K_BETA_1_2 * t3.sin()
+            + K_BETA_1_2 * K_C_1_2_1 * t1;
     }
-    // psi_1,2 = K_C_1_3_3 + cos(xi*K_BETA_1_3) + exp(K_BETA_1_3*(-1 + xi))*K_C_1_3_1 + exp(-xi*K_BETA_1_3)*K_C_1_3_2
+    // psi_1,2 = K_C_1_3_3 + K_C_1_3_1*exp(K_BETA_1_3*(-1 + xi)) + K_C_1_3_2*exp(-xi*K_BETA_1_3) + cos(xi*K_BETA_1_3)
     {
-        value[1] = K_C_1_3_3 + t4.cos() + t5 * K_C_1_3_1 + t6 * K_C_1_3_2;
-        slope[1] = -K_BETA_1_3 * t4.sin() + t5 * K_C_1_3_1 * K_BETA_1_3
-            - t6 * K_BETA_1_3 * K_C_1_3_2;
+        value[1] = K_C_1_3_3 + K_C_1_3_1 * t4 + K_C_1_3_2 * t5 + t6.cos();
+        slope[1] = -K_BETA_1_3 * K_C_1_3_2 * t5 - K_BETA_1_3 * t6.sin()
+            + K_BETA_1_3 * K_C_1_3_1 * t4;
     }
-    // psi_1,3 = K_C_1_4_3 + cos(xi*K_BETA_1_4) + exp(K_BETA_1_4*(-1 + xi))*K_C_1_4_1 + exp(-xi*K_BETA_1_4)*K_C_1_4_2
+    // psi_1,3 = K_C_1_4_3 + K_C_1_4_1*exp(K_BETA_1_4*(-1 + xi)) + K_C_1_4_2*exp(-xi*K_BETA_1_4) + cos(xi*K_BETA_1_4)
     {
-        value[2] = K_C_1_4_3 + t7.cos() + t8 * K_C_1_4_1 + t9 * K_C_1_4_2;
-        slope[2] = -K_BETA_1_4 * t7.sin() + t8 * K_C_1_4_1 * K_BETA_1_4
-            - t9 * K_BETA_1_4 * K_C_1_4_2;
+        value[2] = K_C_1_4_3 + K_C_1_4_1 * t7 + K_C_1_4_2 * t8 + t9.cos();
+        slope[2] = -K_BETA_1_4 * K_C_1_4_2 * t8 - K_BETA_1_4 * t9.sin()
+            + K_BETA_1_4 * K_C_1_4_1 * t7;
     }
     (value, slope)
 }
@@ -589,17 +592,17 @@ pub const TOPS_1: [f64; 3] = [K_TOP_1_2, K_TOP_1_3, K_TOP_1_4];
 /// Basis functions of section 2 at `xi = x / l_2` (cancellation-free forms) and their `d/dxi`, without the factor `l_2^p` (see `LENGTH_POWERS_2`).
 #[inline]
 pub fn shapes_2(xi: f64) -> ([f64; 4], [f64; 4]) {
-    let t0 = xi * K_BETA_2_3;
-    let t1 = t0.sin();
-    let t2 = t0.cos();
-    let t3 = -1.0 + xi;
-    let t4 = (K_BETA_2_3 * t3).exp();
-    let t5 = (-xi * K_BETA_2_3).exp();
-    let t6 = xi * K_BETA_2_4;
-    let t7 = t6.sin();
-    let t8 = t6.cos();
-    let t9 = (K_BETA_2_4 * t3).exp();
-    let t10 = (-xi * K_BETA_2_4).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_2_3 * t0).exp();
+    let t2 = (-xi * K_BETA_2_3).exp();
+    let t3 = xi * K_BETA_2_3;
+    let t4 = t3.sin();
+    let t5 = t3.cos();
+    let t6 = (K_BETA_2_4 * t0).exp();
+    let t7 = (-xi * K_BETA_2_4).exp();
+    let t8 = xi * K_BETA_2_4;
+    let t9 = t8.sin();
+    let t10 = t8.cos();
     let mut value = [0.0; 4];
     let mut slope = [0.0; 4];
     // psi_2,4 = 1
@@ -612,17 +615,17 @@ pub fn shapes_2(xi: f64) -> ([f64; 4], [f64; 4]) {
         value[1] = xi;
         slope[1] = 1.0;
     }
-    // psi_2,6 = K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3) + exp(K_BETA_2_3*(-1 + xi))*K_C_2_3_0 + exp(-xi*K_BETA_2_3)*K_C_2_3_1
+    // psi_2,6 = K_C_2_3_0*exp(K_BETA_2_3*(-1 + xi)) + K_C_2_3_1*exp(-xi*K_BETA_2_3) + K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3)
     {
-        value[2] = K_C_2_3_3 * t1 + t2 + t4 * K_C_2_3_0 + t5 * K_C_2_3_1;
-        slope[2] = K_BETA_2_3 * K_C_2_3_3 * t2 - K_BETA_2_3 * t1
-            + t4 * K_BETA_2_3 * K_C_2_3_0 - t5 * K_C_2_3_1 * K_BETA_2_3;
+        value[2] = K_C_2_3_0 * t1 + K_C_2_3_1 * t2 + K_C_2_3_3 * t4 + t5;
+        slope[2] = -K_BETA_2_3 * K_C_2_3_1 * t2 - K_BETA_2_3 * t4
+            + K_BETA_2_3 * K_C_2_3_0 * t1 + K_BETA_2_3 * K_C_2_3_3 * t5;
     }
-    // psi_2,7 = K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4) + exp(K_BETA_2_4*(-1 + xi))*K_C_2_4_0 + exp(-xi*K_BETA_2_4)*K_C_2_4_1
+    // psi_2,7 = K_C_2_4_0*exp(K_BETA_2_4*(-1 + xi)) + K_C_2_4_1*exp(-xi*K_BETA_2_4) + K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4)
     {
-        value[3] = K_C_2_4_3 * t7 + t8 + t9 * K_C_2_4_0 + t10 * K_C_2_4_1;
-        slope[3] = K_BETA_2_4 * K_C_2_4_3 * t8 - K_BETA_2_4 * t7
-            + t9 * K_BETA_2_4 * K_C_2_4_0 - t10 * K_C_2_4_1 * K_BETA_2_4;
+        value[3] = K_C_2_4_0 * t6 + K_C_2_4_1 * t7 + K_C_2_4_3 * t9 + t10;
+        slope[3] = -K_BETA_2_4 * K_C_2_4_1 * t7 - K_BETA_2_4 * t9
+            + K_BETA_2_4 * K_C_2_4_0 * t6 + K_BETA_2_4 * K_C_2_4_3 * t10;
     }
     (value, slope)
 }
@@ -635,17 +638,17 @@ pub const TOPS_2: [f64; 4] = [K_TOP_2_1, K_TOP_2_2, K_TOP_2_3, K_TOP_2_4];
 /// Basis functions of section 3 at `xi = x / l_3` (cancellation-free forms) and their `d/dxi`, without the factor `l_3^p` (see `LENGTH_POWERS_3`).
 #[inline]
 pub fn shapes_3(xi: f64) -> ([f64; 4], [f64; 4]) {
-    let t0 = xi * K_BETA_3_3;
-    let t1 = t0.sin();
-    let t2 = t0.cos();
-    let t3 = -1.0 + xi;
-    let t4 = (K_BETA_3_3 * t3).exp();
-    let t5 = (-xi * K_BETA_3_3).exp();
-    let t6 = xi * K_BETA_3_4;
-    let t7 = t6.sin();
-    let t8 = t6.cos();
-    let t9 = (K_BETA_3_4 * t3).exp();
-    let t10 = (-xi * K_BETA_3_4).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_3_3 * t0).exp();
+    let t2 = (-xi * K_BETA_3_3).exp();
+    let t3 = xi * K_BETA_3_3;
+    let t4 = t3.sin();
+    let t5 = t3.cos();
+    let t6 = (K_BETA_3_4 * t0).exp();
+    let t7 = (-xi * K_BETA_3_4).exp();
+    let t8 = xi * K_BETA_3_4;
+    let t9 = t8.sin();
+    let t10 = t8.cos();
     let mut value = [0.0; 4];
     let mut slope = [0.0; 4];
     // psi_3,8 = 1
@@ -658,17 +661,17 @@ pub fn shapes_3(xi: f64) -> ([f64; 4], [f64; 4]) {
         value[1] = xi;
         slope[1] = 1.0;
     }
-    // psi_3,10 = K_C_3_3_3*sin(xi*K_BETA_3_3) + cos(xi*K_BETA_3_3) + exp(K_BETA_3_3*(-1 + xi))*K_C_3_3_0 + exp(-xi*K_BETA_3_3)*K_C_3_3_1
+    // psi_3,10 = K_C_3_3_0*exp(K_BETA_3_3*(-1 + xi)) + K_C_3_3_1*exp(-xi*K_BETA_3_3) + K_C_3_3_3*sin(xi*K_BETA_3_3) + cos(xi*K_BETA_3_3)
     {
-        value[2] = K_C_3_3_3 * t1 + t2 + t4 * K_C_3_3_0 + t5 * K_C_3_3_1;
-        slope[2] = K_BETA_3_3 * K_C_3_3_3 * t2 - K_BETA_3_3 * t1
-            + t4 * K_BETA_3_3 * K_C_3_3_0 - t5 * K_C_3_3_1 * K_BETA_3_3;
+        value[2] = K_C_3_3_0 * t1 + K_C_3_3_1 * t2 + K_C_3_3_3 * t4 + t5;
+        slope[2] = -K_BETA_3_3 * K_C_3_3_1 * t2 - K_BETA_3_3 * t4
+            + K_BETA_3_3 * K_C_3_3_0 * t1 + K_BETA_3_3 * K_C_3_3_3 * t5;
     }
-    // psi_3,11 = K_C_3_4_3*sin(xi*K_BETA_3_4) + cos(xi*K_BETA_3_4) + exp(K_BETA_3_4*(-1 + xi))*K_C_3_4_0 + exp(-xi*K_BETA_3_4)*K_C_3_4_1
+    // psi_3,11 = K_C_3_4_0*exp(K_BETA_3_4*(-1 + xi)) + K_C_3_4_1*exp(-xi*K_BETA_3_4) + K_C_3_4_3*sin(xi*K_BETA_3_4) + cos(xi*K_BETA_3_4)
     {
-        value[3] = K_C_3_4_3 * t7 + t8 + t9 * K_C_3_4_0 + t10 * K_C_3_4_1;
-        slope[3] = K_BETA_3_4 * K_C_3_4_3 * t8 - K_BETA_3_4 * t7
-            + t9 * K_BETA_3_4 * K_C_3_4_0 - t10 * K_C_3_4_1 * K_BETA_3_4;
+        value[3] = K_C_3_4_0 * t6 + K_C_3_4_1 * t7 + K_C_3_4_3 * t9 + t10;
+        slope[3] = -K_BETA_3_4 * K_C_3_4_1 * t7 - K_BETA_3_4 * t9
+            + K_BETA_3_4 * K_C_3_4_0 * t6 + K_BETA_3_4 * K_C_3_4_3 * t10;
     }
     (value, slope)
 }
@@ -995,62 +998,62 @@ impl Model for GeneratedModel {
         {
             q[0] = f_drive;
         }
-        // q[1] = -k_1_2*z_2 - f_0*g_0_1 - k_1_1*z_1 - f_1*g_1_1 - z_3*k_1_3
+        // q[1] = -f_0*g_0_1 - f_1*g_1_1 - k_1_1*z_1 - k_1_2*z_2 - k_1_3*z_3
         {
-            q[1] = -self.k[1][2] * z[2] - f[0] * geo.g[0][1] - self.k[1][1] * z[1]
-                - f[1] * geo.g[1][1] - z[3] * self.k[1][3];
+            q[1] = -f[0] * geo.g[0][1] - f[1] * geo.g[1][1] - self.k[1][1] * z[1]
+                - self.k[1][2] * z[2] - self.k[1][3] * z[3];
         }
-        // q[2] = -z_2*k_2_2 - f_0*g_0_2 - z_1*k_2_1 - f_1*g_1_2 - z_3*k_2_3
+        // q[2] = -f_0*g_0_2 - f_1*g_1_2 - k_2_1*z_1 - k_2_2*z_2 - k_2_3*z_3
         {
-            q[2] = -z[2] * self.k[2][2] - f[0] * geo.g[0][2] - z[1] * self.k[2][1]
-                - f[1] * geo.g[1][2] - z[3] * self.k[2][3];
+            q[2] = -f[0] * geo.g[0][2] - f[1] * geo.g[1][2] - self.k[2][1] * z[1]
+                - self.k[2][2] * z[2] - self.k[2][3] * z[3];
         }
-        // q[3] = -z_2*k_3_2 - f_0*g_0_3 - z_1*k_3_1 - f_1*g_1_3 - z_3*k_3_3
+        // q[3] = -f_0*g_0_3 - f_1*g_1_3 - k_3_1*z_1 - k_3_2*z_2 - k_3_3*z_3
         {
-            q[3] = -z[2] * self.k[3][2] - f[0] * geo.g[0][3] - z[1] * self.k[3][1]
-                - f[1] * geo.g[1][3] - z[3] * self.k[3][3];
+            q[3] = -f[0] * geo.g[0][3] - f[1] * geo.g[1][3] - self.k[3][1] * z[1]
+                - self.k[3][2] * z[2] - self.k[3][3] * z[3];
         }
         // q[4] = -f_0*g_0_4 - f_1*g_1_4 - f_2*g_2_4 - f_3*g_3_4
         {
             q[4] = -f[0] * geo.g[0][4] - f[1] * geo.g[1][4] - f[2] * geo.g[2][4]
                 - f[3] * geo.g[3][4];
         }
-        // q[5] = -f_0*g_0_5 - f_1*g_1_5 - z_5*k_5_5 - z_6*k_5_6 - k_5_7*z_7 - f_2*g_2_5 - f_3*g_3_5
+        // q[5] = -f_0*g_0_5 - f_1*g_1_5 - f_2*g_2_5 - f_3*g_3_5 - k_5_5*z_5 - k_5_6*z_6 - k_5_7*z_7
         {
-            q[5] = -f[0] * geo.g[0][5] - f[1] * geo.g[1][5] - z[5] * self.k[5][5]
-                - z[6] * self.k[5][6] - self.k[5][7] * z[7] - f[2] * geo.g[2][5]
-                - f[3] * geo.g[3][5];
+            q[5] = -f[0] * geo.g[0][5] - f[1] * geo.g[1][5] - f[2] * geo.g[2][5]
+                - f[3] * geo.g[3][5] - self.k[5][5] * z[5] - self.k[5][6] * z[6]
+                - self.k[5][7] * z[7];
         }
-        // q[6] = -f_0*g_0_6 - f_1*g_1_6 - z_5*k_6_5 - z_6*k_6_6 - z_7*k_6_7 - f_2*g_2_6 - f_3*g_3_6
+        // q[6] = -f_0*g_0_6 - f_1*g_1_6 - f_2*g_2_6 - f_3*g_3_6 - k_6_5*z_5 - k_6_6*z_6 - k_6_7*z_7
         {
-            q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - z[5] * self.k[6][5]
-                - z[6] * self.k[6][6] - z[7] * self.k[6][7] - f[2] * geo.g[2][6]
-                - f[3] * geo.g[3][6];
+            q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - f[2] * geo.g[2][6]
+                - f[3] * geo.g[3][6] - self.k[6][5] * z[5] - self.k[6][6] * z[6]
+                - self.k[6][7] * z[7];
         }
-        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - z_5*k_7_5 - z_6*k_7_6 - z_7*k_7_7 - f_2*g_2_7 - f_3*g_3_7
+        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - f_2*g_2_7 - f_3*g_3_7 - k_7_5*z_5 - k_7_6*z_6 - k_7_7*z_7
         {
-            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - z[5] * self.k[7][5]
-                - z[6] * self.k[7][6] - z[7] * self.k[7][7] - f[2] * geo.g[2][7]
-                - f[3] * geo.g[3][7];
+            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - f[2] * geo.g[2][7]
+                - f[3] * geo.g[3][7] - self.k[7][5] * z[5] - self.k[7][6] * z[6]
+                - self.k[7][7] * z[7];
         }
         // q[8] = -f_2*g_2_8 - f_3*g_3_8
         {
             q[8] = -f[2] * geo.g[2][8] - f[3] * geo.g[3][8];
         }
-        // q[9] = -f_2*g_2_9 - z_9*k_9_9 - f_3*g_3_9 - k_9_10*z_10 - k_9_11*z_11
+        // q[9] = -f_2*g_2_9 - f_3*g_3_9 - k_9_10*z_10 - k_9_11*z_11 - k_9_9*z_9
         {
-            q[9] = -f[2] * geo.g[2][9] - z[9] * self.k[9][9] - f[3] * geo.g[3][9]
-                - self.k[9][10] * z[10] - self.k[9][11] * z[11];
+            q[9] = -f[2] * geo.g[2][9] - f[3] * geo.g[3][9] - self.k[9][10] * z[10]
+                - self.k[9][11] * z[11] - self.k[9][9] * z[9];
         }
-        // q[10] = -f_2*g_2_10 - z_9*k_10_9 - f_3*g_3_10 - z_10*k_10_10 - z_11*k_10_11
+        // q[10] = -f_2*g_2_10 - f_3*g_3_10 - k_10_10*z_10 - k_10_11*z_11 - k_10_9*z_9
         {
-            q[10] = -f[2] * geo.g[2][10] - z[9] * self.k[10][9] - f[3] * geo.g[3][10]
-                - z[10] * self.k[10][10] - z[11] * self.k[10][11];
+            q[10] = -f[2] * geo.g[2][10] - f[3] * geo.g[3][10] - self.k[10][10] * z[10]
+                - self.k[10][11] * z[11] - self.k[10][9] * z[9];
         }
-        // q[11] = -f_2*g_2_11 - z_9*k_11_9 - f_3*g_3_11 - z_10*k_11_10 - z_11*k_11_11
+        // q[11] = -f_2*g_2_11 - f_3*g_3_11 - k_11_10*z_10 - k_11_11*z_11 - k_11_9*z_9
         {
-            q[11] = -f[2] * geo.g[2][11] - z[9] * self.k[11][9] - f[3] * geo.g[3][11]
-                - z[10] * self.k[11][10] - z[11] * self.k[11][11];
+            q[11] = -f[2] * geo.g[2][11] - f[3] * geo.g[3][11] - self.k[11][10] * z[10]
+                - self.k[11][11] * z[11] - self.k[11][9] * z[9];
         }
         let mut acc = [0.0; DOF];
         for i in 0..DOF {
@@ -1088,8 +1091,8 @@ impl Model for GeneratedModel {
         let t9 = -geo.g[1][1] * geo.g[1][5] * law[1].d_gap;
         let t10 = -geo.g[0][1] * geo.g[0][6] * law[0].d_gap;
         let t11 = -geo.g[1][1] * geo.g[1][6] * law[1].d_gap;
-        let t12 = -geo.g[0][1] * law[0].d_gap * geo.g[0][7];
-        let t13 = -geo.g[1][1] * law[1].d_gap * geo.g[1][7];
+        let t12 = -geo.g[0][1] * geo.g[0][7] * law[0].d_gap;
+        let t13 = -geo.g[1][1] * geo.g[1][7] * law[1].d_gap;
         let t14 = geo.g[0][2].powi(2);
         let t15 = geo.g[1][2].powi(2);
         let t16 = -geo.g[0][2] * geo.g[0][3] * law[0].d_gap;
@@ -1100,8 +1103,8 @@ impl Model for GeneratedModel {
         let t21 = -geo.g[1][2] * geo.g[1][5] * law[1].d_gap;
         let t22 = -geo.g[0][2] * geo.g[0][6] * law[0].d_gap;
         let t23 = -geo.g[1][2] * geo.g[1][6] * law[1].d_gap;
-        let t24 = -geo.g[0][2] * law[0].d_gap * geo.g[0][7];
-        let t25 = -geo.g[1][2] * law[1].d_gap * geo.g[1][7];
+        let t24 = -geo.g[0][2] * geo.g[0][7] * law[0].d_gap;
+        let t25 = -geo.g[1][2] * geo.g[1][7] * law[1].d_gap;
         let t26 = geo.g[0][3].powi(2);
         let t27 = geo.g[1][3].powi(2);
         let t28 = -geo.g[0][3] * geo.g[0][4] * law[0].d_gap;
@@ -1110,8 +1113,8 @@ impl Model for GeneratedModel {
         let t31 = -geo.g[1][3] * geo.g[1][5] * law[1].d_gap;
         let t32 = -geo.g[0][3] * geo.g[0][6] * law[0].d_gap;
         let t33 = -geo.g[1][3] * geo.g[1][6] * law[1].d_gap;
-        let t34 = -geo.g[0][3] * law[0].d_gap * geo.g[0][7];
-        let t35 = -geo.g[1][3] * law[1].d_gap * geo.g[1][7];
+        let t34 = -geo.g[0][3] * geo.g[0][7] * law[0].d_gap;
+        let t35 = -geo.g[1][3] * geo.g[1][7] * law[1].d_gap;
         let t36 = geo.g[0][4].powi(2);
         let t37 = geo.g[1][4].powi(2);
         let t38 = geo.g[2][4].powi(2);
@@ -1124,18 +1127,18 @@ impl Model for GeneratedModel {
         let t45 = -geo.g[1][4] * geo.g[1][6] * law[1].d_gap;
         let t46 = -geo.g[2][4] * geo.g[2][6] * law[2].d_gap;
         let t47 = -geo.g[3][4] * geo.g[3][6] * law[3].d_gap;
-        let t48 = -geo.g[0][4] * law[0].d_gap * geo.g[0][7];
-        let t49 = -geo.g[1][4] * law[1].d_gap * geo.g[1][7];
+        let t48 = -geo.g[0][4] * geo.g[0][7] * law[0].d_gap;
+        let t49 = -geo.g[1][4] * geo.g[1][7] * law[1].d_gap;
         let t50 = -geo.g[2][4] * geo.g[2][7] * law[2].d_gap;
         let t51 = -geo.g[3][4] * geo.g[3][7] * law[3].d_gap;
         let t52 = -geo.g[2][4] * geo.g[2][8] * law[2].d_gap;
         let t53 = -geo.g[3][4] * geo.g[3][8] * law[3].d_gap;
         let t54 = -geo.g[2][4] * geo.g[2][9] * law[2].d_gap;
         let t55 = -geo.g[3][4] * geo.g[3][9] * law[3].d_gap;
-        let t56 = -geo.g[2][4] * law[2].d_gap * geo.g[2][10];
-        let t57 = -geo.g[3][4] * geo.g[3][10] * law[3].d_gap;
-        let t58 = -geo.g[2][4] * law[2].d_gap * geo.g[2][11];
-        let t59 = -geo.g[3][4] * geo.g[3][11] * law[3].d_gap;
+        let t56 = -geo.g[2][10] * geo.g[2][4] * law[2].d_gap;
+        let t57 = -geo.g[3][10] * geo.g[3][4] * law[3].d_gap;
+        let t58 = -geo.g[2][11] * geo.g[2][4] * law[2].d_gap;
+        let t59 = -geo.g[3][11] * geo.g[3][4] * law[3].d_gap;
         let t60 = geo.g[0][5].powi(2);
         let t61 = geo.g[1][5].powi(2);
         let t62 = geo.g[2][5].powi(2);
@@ -1144,34 +1147,34 @@ impl Model for GeneratedModel {
         let t65 = -geo.g[1][5] * geo.g[1][6] * law[1].d_gap;
         let t66 = -geo.g[2][5] * geo.g[2][6] * law[2].d_gap;
         let t67 = -geo.g[3][5] * geo.g[3][6] * law[3].d_gap;
-        let t68 = -geo.g[0][5] * law[0].d_gap * geo.g[0][7];
-        let t69 = -geo.g[1][5] * law[1].d_gap * geo.g[1][7];
+        let t68 = -geo.g[0][5] * geo.g[0][7] * law[0].d_gap;
+        let t69 = -geo.g[1][5] * geo.g[1][7] * law[1].d_gap;
         let t70 = -geo.g[2][5] * geo.g[2][7] * law[2].d_gap;
         let t71 = -geo.g[3][5] * geo.g[3][7] * law[3].d_gap;
         let t72 = -geo.g[2][5] * geo.g[2][8] * law[2].d_gap;
         let t73 = -geo.g[3][5] * geo.g[3][8] * law[3].d_gap;
         let t74 = -geo.g[2][5] * geo.g[2][9] * law[2].d_gap;
         let t75 = -geo.g[3][5] * geo.g[3][9] * law[3].d_gap;
-        let t76 = -geo.g[2][5] * law[2].d_gap * geo.g[2][10];
-        let t77 = -geo.g[3][5] * geo.g[3][10] * law[3].d_gap;
-        let t78 = -geo.g[2][5] * law[2].d_gap * geo.g[2][11];
-        let t79 = -geo.g[3][5] * geo.g[3][11] * law[3].d_gap;
+        let t76 = -geo.g[2][10] * geo.g[2][5] * law[2].d_gap;
+        let t77 = -geo.g[3][10] * geo.g[3][5] * law[3].d_gap;
+        let t78 = -geo.g[2][11] * geo.g[2][5] * law[2].d_gap;
+        let t79 = -geo.g[3][11] * geo.g[3][5] * law[3].d_gap;
         let t80 = geo.g[0][6].powi(2);
         let t81 = geo.g[1][6].powi(2);
         let t82 = geo.g[2][6].powi(2);
         let t83 = geo.g[3][6].powi(2);
-        let t84 = -geo.g[0][6] * law[0].d_gap * geo.g[0][7];
-        let t85 = -geo.g[1][6] * law[1].d_gap * geo.g[1][7];
+        let t84 = -geo.g[0][6] * geo.g[0][7] * law[0].d_gap;
+        let t85 = -geo.g[1][6] * geo.g[1][7] * law[1].d_gap;
         let t86 = -geo.g[2][6] * geo.g[2][7] * law[2].d_gap;
         let t87 = -geo.g[3][6] * geo.g[3][7] * law[3].d_gap;
         let t88 = -geo.g[2][6] * geo.g[2][8] * law[2].d_gap;
         let t89 = -geo.g[3][6] * geo.g[3][8] * law[3].d_gap;
         let t90 = -geo.g[2][6] * geo.g[2][9] * law[2].d_gap;
         let t91 = -geo.g[3][6] * geo.g[3][9] * law[3].d_gap;
-        let t92 = -geo.g[2][6] * law[2].d_gap * geo.g[2][10];
-        let t93 = -geo.g[3][6] * geo.g[3][10] * law[3].d_gap;
-        let t94 = -geo.g[2][6] * law[2].d_gap * geo.g[2][11];
-        let t95 = -geo.g[3][6] * geo.g[3][11] * law[3].d_gap;
+        let t92 = -geo.g[2][10] * geo.g[2][6] * law[2].d_gap;
+        let t93 = -geo.g[3][10] * geo.g[3][6] * law[3].d_gap;
+        let t94 = -geo.g[2][11] * geo.g[2][6] * law[2].d_gap;
+        let t95 = -geo.g[3][11] * geo.g[3][6] * law[3].d_gap;
         let t96 = geo.g[0][7].powi(2);
         let t97 = geo.g[1][7].powi(2);
         let t98 = geo.g[2][7].powi(2);
@@ -1180,366 +1183,377 @@ impl Model for GeneratedModel {
         let t101 = -geo.g[3][7] * geo.g[3][8] * law[3].d_gap;
         let t102 = -geo.g[2][7] * geo.g[2][9] * law[2].d_gap;
         let t103 = -geo.g[3][7] * geo.g[3][9] * law[3].d_gap;
-        let t104 = -geo.g[2][7] * law[2].d_gap * geo.g[2][10];
-        let t105 = -geo.g[3][7] * geo.g[3][10] * law[3].d_gap;
-        let t106 = -geo.g[2][7] * law[2].d_gap * geo.g[2][11];
-        let t107 = -geo.g[3][7] * geo.g[3][11] * law[3].d_gap;
+        let t104 = -geo.g[2][10] * geo.g[2][7] * law[2].d_gap;
+        let t105 = -geo.g[3][10] * geo.g[3][7] * law[3].d_gap;
+        let t106 = -geo.g[2][11] * geo.g[2][7] * law[2].d_gap;
+        let t107 = -geo.g[3][11] * geo.g[3][7] * law[3].d_gap;
         let t108 = geo.g[2][8].powi(2);
         let t109 = geo.g[3][8].powi(2);
         let t110 = -geo.g[2][8] * geo.g[2][9] * law[2].d_gap;
         let t111 = -geo.g[3][8] * geo.g[3][9] * law[3].d_gap;
-        let t112 = -geo.g[2][8] * law[2].d_gap * geo.g[2][10];
-        let t113 = -geo.g[3][8] * geo.g[3][10] * law[3].d_gap;
-        let t114 = -geo.g[2][8] * law[2].d_gap * geo.g[2][11];
-        let t115 = -geo.g[3][8] * geo.g[3][11] * law[3].d_gap;
+        let t112 = -geo.g[2][10] * geo.g[2][8] * law[2].d_gap;
+        let t113 = -geo.g[3][10] * geo.g[3][8] * law[3].d_gap;
+        let t114 = -geo.g[2][11] * geo.g[2][8] * law[2].d_gap;
+        let t115 = -geo.g[3][11] * geo.g[3][8] * law[3].d_gap;
         let t116 = geo.g[2][9].powi(2);
         let t117 = geo.g[3][9].powi(2);
-        let t118 = -geo.g[2][9] * law[2].d_gap * geo.g[2][10];
-        let t119 = -geo.g[3][9] * geo.g[3][10] * law[3].d_gap;
-        let t120 = -geo.g[2][9] * law[2].d_gap * geo.g[2][11];
-        let t121 = -geo.g[3][9] * geo.g[3][11] * law[3].d_gap;
+        let t118 = -geo.g[2][10] * geo.g[2][9] * law[2].d_gap;
+        let t119 = -geo.g[3][10] * geo.g[3][9] * law[3].d_gap;
+        let t120 = -geo.g[2][11] * geo.g[2][9] * law[2].d_gap;
+        let t121 = -geo.g[3][11] * geo.g[3][9] * law[3].d_gap;
         let t122 = geo.g[2][10].powi(2);
         let t123 = geo.g[3][10].powi(2);
-        let t124 = -law[2].d_gap * geo.g[2][10] * geo.g[2][11];
+        let t124 = -geo.g[2][10] * geo.g[2][11] * law[2].d_gap;
         let t125 = -geo.g[3][10] * geo.g[3][11] * law[3].d_gap;
         let t126 = geo.g[2][11].powi(2);
         let t127 = geo.g[3][11].powi(2);
-        let t128 = -geo.g[0][1] * geo.g[0][2] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][2] * law[1].d_rate;
-        let t129 = -geo.g[0][1] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][3] * law[1].d_rate;
-        let t130 = -geo.g[0][1] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][4] * law[1].d_rate;
-        let t131 = -geo.g[0][1] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][5] * law[1].d_rate;
-        let t132 = -geo.g[0][1] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][6] * law[1].d_rate;
-        let t133 = -geo.g[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][7];
-        let t134 = -geo.g[0][2] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][3] * law[1].d_rate;
-        let t135 = -geo.g[0][2] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][4] * law[1].d_rate;
-        let t136 = -geo.g[0][2] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][5] * law[1].d_rate;
-        let t137 = -geo.g[0][2] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][6] * law[1].d_rate;
-        let t138 = -geo.g[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][7];
-        let t139 = -geo.g[0][3] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][4] * law[1].d_rate;
-        let t140 = -geo.g[0][3] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][5] * law[1].d_rate;
-        let t141 = -geo.g[0][3] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][6] * law[1].d_rate;
-        let t142 = -geo.g[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][7];
-        let t143 = -geo.g[0][4] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][5] * law[1].d_rate
-            - geo.g[2][4] * geo.g[2][5] * law[2].d_rate
-            - geo.g[3][4] * geo.g[3][5] * law[3].d_rate;
-        let t144 = -geo.g[0][4] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][6] * law[1].d_rate
-            - geo.g[2][4] * geo.g[2][6] * law[2].d_rate
-            - geo.g[3][4] * geo.g[3][6] * law[3].d_rate;
-        let t145 = -geo.g[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][4] * geo.g[2][7] * law[2].d_rate
-            - geo.g[3][4] * geo.g[3][7] * law[3].d_rate;
-        let t146 = -geo.g[2][4] * geo.g[2][8] * law[2].d_rate
-            - geo.g[3][4] * geo.g[3][8] * law[3].d_rate;
-        let t147 = -geo.g[2][4] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][4] * geo.g[3][9] * law[3].d_rate;
-        let t148 = -geo.g[2][4] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][4] * geo.g[3][10] * law[3].d_rate;
-        let t149 = -geo.g[2][4] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][4] * geo.g[3][11] * law[3].d_rate;
-        let t150 = -geo.g[0][5] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][5] * geo.g[1][6] * law[1].d_rate
-            - geo.g[2][5] * geo.g[2][6] * law[2].d_rate
-            - geo.g[3][5] * geo.g[3][6] * law[3].d_rate;
-        let t151 = -geo.g[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][5] * geo.g[2][7] * law[2].d_rate
-            - geo.g[3][5] * geo.g[3][7] * law[3].d_rate;
-        let t152 = -geo.g[2][5] * geo.g[2][8] * law[2].d_rate
-            - geo.g[3][5] * geo.g[3][8] * law[3].d_rate;
-        let t153 = -geo.g[2][5] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][5] * geo.g[3][9] * law[3].d_rate;
-        let t154 = -geo.g[2][5] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][5] * geo.g[3][10] * law[3].d_rate;
-        let t155 = -geo.g[2][5] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][5] * geo.g[3][11] * law[3].d_rate;
-        let t156 = -geo.g[0][6] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][6] * geo.g[2][7] * law[2].d_rate
-            - geo.g[3][6] * geo.g[3][7] * law[3].d_rate;
-        let t157 = -geo.g[2][6] * geo.g[2][8] * law[2].d_rate
-            - geo.g[3][6] * geo.g[3][8] * law[3].d_rate;
-        let t158 = -geo.g[2][6] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][6] * geo.g[3][9] * law[3].d_rate;
-        let t159 = -geo.g[2][6] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][6] * geo.g[3][10] * law[3].d_rate;
-        let t160 = -geo.g[2][6] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][6] * geo.g[3][11] * law[3].d_rate;
-        let t161 = -geo.g[2][7] * geo.g[2][8] * law[2].d_rate
-            - geo.g[3][7] * geo.g[3][8] * law[3].d_rate;
-        let t162 = -geo.g[2][7] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][7] * geo.g[3][9] * law[3].d_rate;
-        let t163 = -geo.g[2][7] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][7] * geo.g[3][10] * law[3].d_rate;
-        let t164 = -geo.g[2][7] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][7] * geo.g[3][11] * law[3].d_rate;
-        let t165 = -geo.g[2][8] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][8] * geo.g[3][9] * law[3].d_rate;
-        let t166 = -geo.g[2][8] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][8] * geo.g[3][10] * law[3].d_rate;
-        let t167 = -geo.g[2][8] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][8] * geo.g[3][11] * law[3].d_rate;
-        let t168 = -geo.g[2][9] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][9] * geo.g[3][10] * law[3].d_rate;
-        let t169 = -geo.g[2][9] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][9] * geo.g[3][11] * law[3].d_rate;
+        let t128 = -law[0].d_rate * geo.g[0][1] * geo.g[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][2];
+        let t129 = -law[0].d_rate * geo.g[0][1] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][3];
+        let t130 = -law[0].d_rate * geo.g[0][1] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][4];
+        let t131 = -law[0].d_rate * geo.g[0][1] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][5];
+        let t132 = -law[0].d_rate * geo.g[0][1] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][6];
+        let t133 = -law[0].d_rate * geo.g[0][1] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][7];
+        let t134 = -law[0].d_rate * geo.g[0][2] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][3];
+        let t135 = -law[0].d_rate * geo.g[0][2] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][4];
+        let t136 = -law[0].d_rate * geo.g[0][2] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][5];
+        let t137 = -law[0].d_rate * geo.g[0][2] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][6];
+        let t138 = -law[0].d_rate * geo.g[0][2] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][7];
+        let t139 = -law[0].d_rate * geo.g[0][3] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][4];
+        let t140 = -law[0].d_rate * geo.g[0][3] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][5];
+        let t141 = -law[0].d_rate * geo.g[0][3] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][6];
+        let t142 = -law[0].d_rate * geo.g[0][3] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][7];
+        let t143 = -law[0].d_rate * geo.g[0][4] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][5]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][5]
+            - law[3].d_rate * geo.g[3][4] * geo.g[3][5];
+        let t144 = -law[0].d_rate * geo.g[0][4] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][4] * geo.g[3][6];
+        let t145 = -law[0].d_rate * geo.g[0][4] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][4] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][4] * geo.g[3][7];
+        let t146 = -law[2].d_rate * geo.g[2][4] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][4] * geo.g[3][8];
+        let t147 = -law[2].d_rate * geo.g[2][4] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][4] * geo.g[3][9];
+        let t148 = -law[2].d_rate * geo.g[2][10] * geo.g[2][4]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][4];
+        let t149 = -law[2].d_rate * geo.g[2][11] * geo.g[2][4]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][4];
+        let t150 = -law[0].d_rate * geo.g[0][5] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][5] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][5] * geo.g[3][6];
+        let t151 = -law[0].d_rate * geo.g[0][5] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][5] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][5] * geo.g[3][7];
+        let t152 = -law[2].d_rate * geo.g[2][5] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][5] * geo.g[3][8];
+        let t153 = -law[2].d_rate * geo.g[2][5] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][5] * geo.g[3][9];
+        let t154 = -law[2].d_rate * geo.g[2][10] * geo.g[2][5]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][5];
+        let t155 = -law[2].d_rate * geo.g[2][11] * geo.g[2][5]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][5];
+        let t156 = -law[0].d_rate * geo.g[0][6] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][6] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][6] * geo.g[3][7];
+        let t157 = -law[2].d_rate * geo.g[2][6] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][6] * geo.g[3][8];
+        let t158 = -law[2].d_rate * geo.g[2][6] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][6] * geo.g[3][9];
+        let t159 = -law[2].d_rate * geo.g[2][10] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][6];
+        let t160 = -law[2].d_rate * geo.g[2][11] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][6];
+        let t161 = -law[2].d_rate * geo.g[2][7] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][7] * geo.g[3][8];
+        let t162 = -law[2].d_rate * geo.g[2][7] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][7] * geo.g[3][9];
+        let t163 = -law[2].d_rate * geo.g[2][10] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][7];
+        let t164 = -law[2].d_rate * geo.g[2][11] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][7];
+        let t165 = -law[2].d_rate * geo.g[2][8] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][8] * geo.g[3][9];
+        let t166 = -law[2].d_rate * geo.g[2][10] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][8];
+        let t167 = -law[2].d_rate * geo.g[2][11] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][8];
+        let t168 = -law[2].d_rate * geo.g[2][10] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][9];
+        let t169 = -law[2].d_rate * geo.g[2][11] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][9];
         let t170 = -law[2].d_rate * geo.g[2][10] * geo.g[2][11]
-            - geo.g[3][10] * geo.g[3][11] * law[3].d_rate;
-        dq[1][1] = -geo.g[0][1] * geo.gd[0][1] * law[0].d_rate - self.k[1][1]
-            - geo.g[1][1] * geo.gd[1][1] * law[1].d_rate - t0 * law[0].d_gap
-            - t1 * law[1].d_gap;
-        dq[1][2] = -self.k[1][2] + t2 - geo.g[0][1] * geo.gd[0][2] * law[0].d_rate + t3
-            - geo.g[1][1] * geo.gd[1][2] * law[1].d_rate;
-        dq[1][3] = t4 - geo.g[0][1] * geo.gd[0][3] * law[0].d_rate + t5
-            - geo.g[1][1] * geo.gd[1][3] * law[1].d_rate - self.k[1][3];
-        dq[1][4] = t6 - geo.g[0][1] * geo.gd[0][4] * law[0].d_rate + t7
-            - geo.g[1][1] * geo.gd[1][4] * law[1].d_rate;
-        dq[1][5] = t8 - geo.g[0][1] * geo.gd[0][5] * law[0].d_rate + t9
-            - geo.g[1][1] * geo.gd[1][5] * law[1].d_rate;
-        dq[1][6] = t10 - geo.g[0][1] * law[0].d_rate * geo.gd[0][6] + t11
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][6];
-        dq[1][7] = t12 - geo.g[0][1] * law[0].d_rate * geo.gd[0][7] + t13
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][7];
-        dq[2][1] = t2 + t3 - geo.g[0][2] * geo.gd[0][1] * law[0].d_rate - self.k[2][1]
-            - geo.g[1][2] * geo.gd[1][1] * law[1].d_rate;
-        dq[2][2] = -self.k[2][2] - geo.g[0][2] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][2] * geo.gd[1][2] * law[1].d_rate - t14 * law[0].d_gap
-            - t15 * law[1].d_gap;
-        dq[2][3] = t16 - geo.g[0][2] * geo.gd[0][3] * law[0].d_rate + t17
-            - geo.g[1][2] * geo.gd[1][3] * law[1].d_rate - self.k[2][3];
-        dq[2][4] = t18 - geo.g[0][2] * geo.gd[0][4] * law[0].d_rate + t19
-            - geo.g[1][2] * geo.gd[1][4] * law[1].d_rate;
-        dq[2][5] = t20 - geo.g[0][2] * geo.gd[0][5] * law[0].d_rate + t21
-            - geo.g[1][2] * geo.gd[1][5] * law[1].d_rate;
-        dq[2][6] = t22 - geo.g[0][2] * law[0].d_rate * geo.gd[0][6] + t23
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][6];
-        dq[2][7] = t24 - geo.g[0][2] * law[0].d_rate * geo.gd[0][7] + t25
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][7];
-        dq[3][1] = t4 + t5 - geo.g[0][3] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][1] * law[1].d_rate - self.k[3][1];
-        dq[3][2] = t16 + t17 - geo.g[0][3] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][2] * law[1].d_rate - self.k[3][2];
-        dq[3][3] = -geo.g[0][3] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][3] * law[1].d_rate - self.k[3][3]
-            - t26 * law[0].d_gap - t27 * law[1].d_gap;
-        dq[3][4] = t28 - geo.g[0][3] * geo.gd[0][4] * law[0].d_rate + t29
-            - geo.g[1][3] * geo.gd[1][4] * law[1].d_rate;
-        dq[3][5] = t30 - geo.g[0][3] * geo.gd[0][5] * law[0].d_rate + t31
-            - geo.g[1][3] * geo.gd[1][5] * law[1].d_rate;
-        dq[3][6] = t32 - geo.g[0][3] * law[0].d_rate * geo.gd[0][6] + t33
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][6];
-        dq[3][7] = t34 - geo.g[0][3] * law[0].d_rate * geo.gd[0][7] + t35
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][7];
-        dq[4][1] = t6 + t7 - geo.g[0][4] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][1] * law[1].d_rate;
-        dq[4][2] = t18 + t19 - geo.g[0][4] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][2] * law[1].d_rate;
-        dq[4][3] = t28 + t29 - geo.g[0][4] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][3] * law[1].d_rate;
-        dq[4][4] = -geo.g[0][4] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][4] * law[1].d_rate
-            - geo.g[2][4] * geo.gd[2][4] * law[2].d_rate
-            - geo.g[3][4] * geo.gd[3][4] * law[3].d_rate - t36 * law[0].d_gap
-            - t37 * law[1].d_gap - t38 * law[2].d_gap - t39 * law[3].d_gap;
-        dq[4][5] = t40 - geo.g[0][4] * geo.gd[0][5] * law[0].d_rate + t41
-            - geo.g[1][4] * geo.gd[1][5] * law[1].d_rate + t42
-            - geo.g[2][4] * geo.gd[2][5] * law[2].d_rate + t43
-            - geo.g[3][4] * geo.gd[3][5] * law[3].d_rate;
-        dq[4][6] = t44 - geo.g[0][4] * law[0].d_rate * geo.gd[0][6] + t45
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][6] + t46
-            - geo.g[2][4] * geo.gd[2][6] * law[2].d_rate + t47
-            - geo.g[3][4] * geo.gd[3][6] * law[3].d_rate;
-        dq[4][7] = t48 - geo.g[0][4] * law[0].d_rate * geo.gd[0][7] + t49
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][7] + t50
-            - geo.g[2][4] * geo.gd[2][7] * law[2].d_rate + t51
-            - geo.g[3][4] * geo.gd[3][7] * law[3].d_rate;
-        dq[4][8] = t52 - geo.g[2][4] * geo.gd[2][8] * law[2].d_rate + t53
-            - geo.g[3][4] * geo.gd[3][8] * law[3].d_rate;
-        dq[4][9] = t54 - geo.g[2][4] * law[2].d_rate * geo.gd[2][9] + t55
-            - geo.g[3][4] * geo.gd[3][9] * law[3].d_rate;
-        dq[4][10] = t56 - geo.g[2][4] * law[2].d_rate * geo.gd[2][10] + t57
-            - geo.g[3][4] * geo.gd[3][10] * law[3].d_rate;
-        dq[4][11] = t58 - geo.g[2][4] * law[2].d_rate * geo.gd[2][11] + t59
-            - geo.g[3][4] * law[3].d_rate * geo.gd[3][11];
-        dq[5][1] = t8 + t9 - geo.g[0][5] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][1] * law[1].d_rate;
-        dq[5][2] = t20 + t21 - geo.g[0][5] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][2] * law[1].d_rate;
-        dq[5][3] = t30 + t31 - geo.g[0][5] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][3] * law[1].d_rate;
-        dq[5][4] = t40 + t41 - geo.g[0][5] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][4] * law[1].d_rate + t42
-            - geo.g[2][5] * geo.gd[2][4] * law[2].d_rate + t43
-            - geo.g[3][5] * geo.gd[3][4] * law[3].d_rate;
-        dq[5][5] = -self.k[5][5] - geo.g[0][5] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][5] * law[1].d_rate
-            - geo.g[2][5] * geo.gd[2][5] * law[2].d_rate
-            - geo.g[3][5] * geo.gd[3][5] * law[3].d_rate - t60 * law[0].d_gap
-            - t61 * law[1].d_gap - t62 * law[2].d_gap - t63 * law[3].d_gap;
-        dq[5][6] = -self.k[5][6] + t64 - geo.g[0][5] * law[0].d_rate * geo.gd[0][6] + t65
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][6] + t66
-            - geo.g[2][5] * geo.gd[2][6] * law[2].d_rate + t67
-            - geo.g[3][5] * geo.gd[3][6] * law[3].d_rate;
-        dq[5][7] = t68 - geo.g[0][5] * law[0].d_rate * geo.gd[0][7] + t69
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][7] - self.k[5][7] + t70
-            - geo.g[2][5] * geo.gd[2][7] * law[2].d_rate + t71
-            - geo.g[3][5] * geo.gd[3][7] * law[3].d_rate;
-        dq[5][8] = t72 - geo.g[2][5] * geo.gd[2][8] * law[2].d_rate + t73
-            - geo.g[3][5] * geo.gd[3][8] * law[3].d_rate;
-        dq[5][9] = t74 - geo.g[2][5] * law[2].d_rate * geo.gd[2][9] + t75
-            - geo.g[3][5] * geo.gd[3][9] * law[3].d_rate;
-        dq[5][10] = t76 - geo.g[2][5] * law[2].d_rate * geo.gd[2][10] + t77
-            - geo.g[3][5] * geo.gd[3][10] * law[3].d_rate;
-        dq[5][11] = t78 - geo.g[2][5] * law[2].d_rate * geo.gd[2][11] + t79
-            - geo.g[3][5] * law[3].d_rate * geo.gd[3][11];
-        dq[6][1] = t10 + t11 - geo.g[0][6] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][1] * law[1].d_rate;
-        dq[6][2] = t22 + t23 - geo.g[0][6] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][2] * law[1].d_rate;
-        dq[6][3] = t32 + t33 - geo.g[0][6] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][3] * law[1].d_rate;
-        dq[6][4] = t44 + t45 - geo.g[0][6] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][4] * law[1].d_rate + t46
-            - geo.g[2][6] * geo.gd[2][4] * law[2].d_rate + t47
-            - geo.g[3][6] * geo.gd[3][4] * law[3].d_rate;
-        dq[6][5] = t64 + t65 - self.k[6][5] - geo.g[0][6] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][5] * law[1].d_rate + t66
-            - geo.g[2][6] * geo.gd[2][5] * law[2].d_rate + t67
-            - geo.g[3][6] * geo.gd[3][5] * law[3].d_rate;
-        dq[6][6] = -self.k[6][6] - geo.g[0][6] * law[0].d_rate * geo.gd[0][6]
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][6]
-            - geo.g[2][6] * geo.gd[2][6] * law[2].d_rate
-            - geo.g[3][6] * geo.gd[3][6] * law[3].d_rate - t80 * law[0].d_gap
-            - t81 * law[1].d_gap - t82 * law[2].d_gap - t83 * law[3].d_gap;
-        dq[6][7] = t84 - geo.g[0][6] * law[0].d_rate * geo.gd[0][7] + t85
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][7] - self.k[6][7] + t86
-            - geo.g[2][6] * geo.gd[2][7] * law[2].d_rate + t87
-            - geo.g[3][6] * geo.gd[3][7] * law[3].d_rate;
-        dq[6][8] = t88 - geo.g[2][6] * geo.gd[2][8] * law[2].d_rate + t89
-            - geo.g[3][6] * geo.gd[3][8] * law[3].d_rate;
-        dq[6][9] = t90 - geo.g[2][6] * law[2].d_rate * geo.gd[2][9] + t91
-            - geo.g[3][6] * geo.gd[3][9] * law[3].d_rate;
-        dq[6][10] = t92 - geo.g[2][6] * law[2].d_rate * geo.gd[2][10] + t93
-            - geo.g[3][6] * geo.gd[3][10] * law[3].d_rate;
-        dq[6][11] = t94 - geo.g[2][6] * law[2].d_rate * geo.gd[2][11] + t95
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][11];
-        dq[7][1] = t12 + t13 - geo.gd[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][7];
-        dq[7][2] = t24 + t25 - geo.gd[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][7];
-        dq[7][3] = t34 + t35 - geo.gd[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][7];
-        dq[7][4] = t48 + t49 - geo.gd[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][7] + t50
-            - geo.g[2][7] * geo.gd[2][4] * law[2].d_rate + t51
-            - geo.g[3][7] * geo.gd[3][4] * law[3].d_rate;
-        dq[7][5] = t68 + t69 - geo.gd[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][7] - self.k[7][5] + t70
-            - geo.g[2][7] * geo.gd[2][5] * law[2].d_rate + t71
-            - geo.g[3][7] * geo.gd[3][5] * law[3].d_rate;
-        dq[7][6] = t84 + t85 - law[0].d_rate * geo.gd[0][6] * geo.g[0][7]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][7] - self.k[7][6] + t86
-            - geo.g[2][7] * geo.gd[2][6] * law[2].d_rate + t87
-            - geo.g[3][7] * geo.gd[3][6] * law[3].d_rate;
-        dq[7][7] = -law[0].d_gap * t96 - law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
-            - law[1].d_gap * t97 - law[1].d_rate * geo.g[1][7] * geo.gd[1][7]
-            - self.k[7][7] - geo.g[2][7] * geo.gd[2][7] * law[2].d_rate
-            - geo.g[3][7] * geo.gd[3][7] * law[3].d_rate - t98 * law[2].d_gap
-            - t99 * law[3].d_gap;
-        dq[7][8] = t100 - geo.g[2][7] * geo.gd[2][8] * law[2].d_rate + t101
-            - geo.g[3][7] * geo.gd[3][8] * law[3].d_rate;
-        dq[7][9] = t102 - geo.g[2][7] * law[2].d_rate * geo.gd[2][9] + t103
-            - geo.g[3][7] * geo.gd[3][9] * law[3].d_rate;
-        dq[7][10] = t104 - geo.g[2][7] * law[2].d_rate * geo.gd[2][10] + t105
-            - geo.g[3][7] * geo.gd[3][10] * law[3].d_rate;
-        dq[7][11] = t106 - geo.g[2][7] * law[2].d_rate * geo.gd[2][11] + t107
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][11];
-        dq[8][4] = t52 - geo.g[2][8] * geo.gd[2][4] * law[2].d_rate + t53
-            - geo.g[3][8] * geo.gd[3][4] * law[3].d_rate;
-        dq[8][5] = t72 - geo.g[2][8] * geo.gd[2][5] * law[2].d_rate + t73
-            - geo.g[3][8] * geo.gd[3][5] * law[3].d_rate;
-        dq[8][6] = t88 - geo.g[2][8] * geo.gd[2][6] * law[2].d_rate + t89
-            - geo.g[3][8] * geo.gd[3][6] * law[3].d_rate;
-        dq[8][7] = t100 - geo.g[2][8] * geo.gd[2][7] * law[2].d_rate + t101
-            - geo.g[3][8] * geo.gd[3][7] * law[3].d_rate;
-        dq[8][8] = -geo.g[2][8] * geo.gd[2][8] * law[2].d_rate
-            - geo.g[3][8] * geo.gd[3][8] * law[3].d_rate - t108 * law[2].d_gap
-            - t109 * law[3].d_gap;
-        dq[8][9] = t110 - geo.g[2][8] * law[2].d_rate * geo.gd[2][9] + t111
-            - geo.g[3][8] * geo.gd[3][9] * law[3].d_rate;
-        dq[8][10] = t112 - geo.g[2][8] * law[2].d_rate * geo.gd[2][10] + t113
-            - geo.g[3][8] * geo.gd[3][10] * law[3].d_rate;
-        dq[8][11] = t114 - geo.g[2][8] * law[2].d_rate * geo.gd[2][11] + t115
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][11];
-        dq[9][4] = t54 - geo.g[2][9] * geo.gd[2][4] * law[2].d_rate + t55
-            - geo.g[3][9] * geo.gd[3][4] * law[3].d_rate;
-        dq[9][5] = t74 - geo.g[2][9] * geo.gd[2][5] * law[2].d_rate + t75
-            - geo.g[3][9] * geo.gd[3][5] * law[3].d_rate;
-        dq[9][6] = t90 - geo.g[2][9] * geo.gd[2][6] * law[2].d_rate + t91
-            - geo.g[3][9] * geo.gd[3][6] * law[3].d_rate;
-        dq[9][7] = t102 - geo.g[2][9] * geo.gd[2][7] * law[2].d_rate + t103
-            - geo.g[3][9] * geo.gd[3][7] * law[3].d_rate;
-        dq[9][8] = t110 - geo.g[2][9] * geo.gd[2][8] * law[2].d_rate + t111
-            - geo.g[3][9] * geo.gd[3][8] * law[3].d_rate;
-        dq[9][9] = -self.k[9][9] - geo.g[2][9] * law[2].d_rate * geo.gd[2][9]
-            - geo.g[3][9] * geo.gd[3][9] * law[3].d_rate - t116 * law[2].d_gap
-            - t117 * law[3].d_gap;
-        dq[9][10] = t118 - geo.g[2][9] * law[2].d_rate * geo.gd[2][10] - self.k[9][10]
-            + t119 - geo.g[3][9] * geo.gd[3][10] * law[3].d_rate;
-        dq[9][11] = t120 - geo.g[2][9] * law[2].d_rate * geo.gd[2][11] - self.k[9][11]
-            + t121 - geo.g[3][9] * law[3].d_rate * geo.gd[3][11];
-        dq[10][4] = t56 - geo.gd[2][4] * law[2].d_rate * geo.g[2][10] + t57
-            - geo.g[3][10] * geo.gd[3][4] * law[3].d_rate;
-        dq[10][5] = t76 - geo.gd[2][5] * law[2].d_rate * geo.g[2][10] + t77
-            - geo.g[3][10] * geo.gd[3][5] * law[3].d_rate;
-        dq[10][6] = t92 - geo.gd[2][6] * law[2].d_rate * geo.g[2][10] + t93
-            - geo.g[3][10] * geo.gd[3][6] * law[3].d_rate;
-        dq[10][7] = t104 - geo.gd[2][7] * law[2].d_rate * geo.g[2][10] + t105
-            - geo.g[3][10] * geo.gd[3][7] * law[3].d_rate;
-        dq[10][8] = t112 - geo.gd[2][8] * law[2].d_rate * geo.g[2][10] + t113
-            - geo.g[3][10] * geo.gd[3][8] * law[3].d_rate;
-        dq[10][9] = t118 - law[2].d_rate * geo.gd[2][9] * geo.g[2][10] + t119
-            - self.k[10][9] - geo.g[3][10] * geo.gd[3][9] * law[3].d_rate;
-        dq[10][10] = -law[2].d_gap * t122 - law[2].d_rate * geo.g[2][10] * geo.gd[2][10]
-            - self.k[10][10] - geo.g[3][10] * geo.gd[3][10] * law[3].d_rate
-            - t123 * law[3].d_gap;
-        dq[10][11] = t124 - law[2].d_rate * geo.g[2][10] * geo.gd[2][11] - self.k[10][11]
-            + t125 - geo.g[3][10] * law[3].d_rate * geo.gd[3][11];
-        dq[11][4] = t58 - geo.gd[2][4] * law[2].d_rate * geo.g[2][11] + t59
-            - geo.g[3][11] * geo.gd[3][4] * law[3].d_rate;
-        dq[11][5] = t78 - geo.gd[2][5] * law[2].d_rate * geo.g[2][11] + t79
-            - geo.g[3][11] * geo.gd[3][5] * law[3].d_rate;
-        dq[11][6] = t94 - geo.gd[2][6] * law[2].d_rate * geo.g[2][11] + t95
-            - geo.g[3][11] * geo.gd[3][6] * law[3].d_rate;
-        dq[11][7] = t106 - geo.gd[2][7] * law[2].d_rate * geo.g[2][11] + t107
-            - geo.g[3][11] * geo.gd[3][7] * law[3].d_rate;
-        dq[11][8] = t114 - geo.gd[2][8] * law[2].d_rate * geo.g[2][11] + t115
-            - geo.g[3][11] * geo.gd[3][8] * law[3].d_rate;
-        dq[11][9] = t120 - law[2].d_rate * geo.gd[2][9] * geo.g[2][11] + t121
-            - self.k[11][9] - geo.g[3][11] * geo.gd[3][9] * law[3].d_rate;
-        dq[11][10] = t124 - law[2].d_rate * geo.g[2][11] * geo.gd[2][10] + t125
-            - self.k[11][10] - geo.g[3][11] * geo.gd[3][10] * law[3].d_rate;
-        dq[11][11] = -law[2].d_gap * t126 - law[2].d_rate * geo.g[2][11] * geo.gd[2][11]
-            - self.k[11][11] - geo.g[3][11] * law[3].d_rate * geo.gd[3][11]
-            - t127 * law[3].d_gap;
-        dq[1][13] = -t0 * law[0].d_rate - t1 * law[1].d_rate;
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][11];
+        dq[1][1] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][1] - self.k[1][1]
+            - law[0].d_gap * t0 - law[1].d_gap * t1;
+        dq[1][2] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][2] + t2 + t3 - self.k[1][2];
+        dq[1][3] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][3] + t4 + t5 - self.k[1][3];
+        dq[1][4] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][4] + t6 + t7;
+        dq[1][5] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][5] + t8 + t9;
+        dq[1][6] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][6] + t10 + t11;
+        dq[1][7] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][7] + t12 + t13;
+        dq[2][1] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][1] + t2 + t3 - self.k[2][1];
+        dq[2][2] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][2] - self.k[2][2]
+            - law[0].d_gap * t14 - law[1].d_gap * t15;
+        dq[2][3] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][3] + t16 + t17 - self.k[2][3];
+        dq[2][4] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][4] + t18 + t19;
+        dq[2][5] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][5] + t20 + t21;
+        dq[2][6] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][6] + t22 + t23;
+        dq[2][7] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][7] + t24 + t25;
+        dq[3][1] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][1] + t4 + t5 - self.k[3][1];
+        dq[3][2] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][2] + t16 + t17 - self.k[3][2];
+        dq[3][3] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][3] - self.k[3][3]
+            - law[0].d_gap * t26 - law[1].d_gap * t27;
+        dq[3][4] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][4] + t28 + t29;
+        dq[3][5] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][5] + t30 + t31;
+        dq[3][6] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][6] + t32 + t33;
+        dq[3][7] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][7] + t34 + t35;
+        dq[4][1] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][1] + t6 + t7;
+        dq[4][2] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][2] + t18 + t19;
+        dq[4][3] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][3] + t28 + t29;
+        dq[4][4] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][4] - law[0].d_gap * t36
+            - law[1].d_gap * t37 - law[2].d_gap * t38 - law[3].d_gap * t39;
+        dq[4][5] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][5] + t40 + t41 + t42 + t43;
+        dq[4][6] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][6] + t44 + t45 + t46 + t47;
+        dq[4][7] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][4] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][7] + t48 + t49 + t50 + t51;
+        dq[4][8] = -law[2].d_rate * geo.g[2][4] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][8] + t52 + t53;
+        dq[4][9] = -law[2].d_rate * geo.g[2][4] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][9] + t54 + t55;
+        dq[4][10] = -law[2].d_rate * geo.g[2][4] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][10] + t56 + t57;
+        dq[4][11] = -law[2].d_rate * geo.g[2][4] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][4] * geo.gd[3][11] + t58 + t59;
+        dq[5][1] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][1] + t8 + t9;
+        dq[5][2] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][2] + t20 + t21;
+        dq[5][3] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][3] + t30 + t31;
+        dq[5][4] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][4] + t40 + t41 + t42 + t43;
+        dq[5][5] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][5] - self.k[5][5]
+            - law[0].d_gap * t60 - law[1].d_gap * t61 - law[2].d_gap * t62
+            - law[3].d_gap * t63;
+        dq[5][6] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][6] + t64 + t65 + t66 + t67
+            - self.k[5][6];
+        dq[5][7] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][5] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][7] + t68 + t69 + t70 + t71
+            - self.k[5][7];
+        dq[5][8] = -law[2].d_rate * geo.g[2][5] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][8] + t72 + t73;
+        dq[5][9] = -law[2].d_rate * geo.g[2][5] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][9] + t74 + t75;
+        dq[5][10] = -law[2].d_rate * geo.g[2][5] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][10] + t76 + t77;
+        dq[5][11] = -law[2].d_rate * geo.g[2][5] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][5] * geo.gd[3][11] + t78 + t79;
+        dq[6][1] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][1] + t10 + t11;
+        dq[6][2] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][2] + t22 + t23;
+        dq[6][3] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][3] + t32 + t33;
+        dq[6][4] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][4] + t44 + t45 + t46 + t47;
+        dq[6][5] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][5] + t64 + t65 + t66 + t67
+            - self.k[6][5];
+        dq[6][6] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][6] - self.k[6][6]
+            - law[0].d_gap * t80 - law[1].d_gap * t81 - law[2].d_gap * t82
+            - law[3].d_gap * t83;
+        dq[6][7] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][7] + t84 + t85 + t86 + t87
+            - self.k[6][7];
+        dq[6][8] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][8] + t88 + t89;
+        dq[6][9] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][9] + t90 + t91;
+        dq[6][10] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][10] + t92 + t93;
+        dq[6][11] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][11] + t94 + t95;
+        dq[7][1] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][1] + t12 + t13;
+        dq[7][2] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][2] + t24 + t25;
+        dq[7][3] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][3] + t34 + t35;
+        dq[7][4] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][4]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][4] + t48 + t49 + t50 + t51;
+        dq[7][5] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][5]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][5] + t68 + t69 + t70 + t71
+            - self.k[7][5];
+        dq[7][6] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][6] + t84 + t85 + t86 + t87
+            - self.k[7][6];
+        dq[7][7] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][7] - self.k[7][7]
+            - law[0].d_gap * t96 - law[1].d_gap * t97 - law[2].d_gap * t98
+            - law[3].d_gap * t99;
+        dq[7][8] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][8] + t100 + t101;
+        dq[7][9] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][9] + t102 + t103;
+        dq[7][10] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][10] + t104 + t105;
+        dq[7][11] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][11] + t106 + t107;
+        dq[8][4] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][4] + t52 + t53;
+        dq[8][5] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][5] + t72 + t73;
+        dq[8][6] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][6] + t88 + t89;
+        dq[8][7] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][7] + t100 + t101;
+        dq[8][8] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][8] - law[2].d_gap * t108
+            - law[3].d_gap * t109;
+        dq[8][9] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][9] + t110 + t111;
+        dq[8][10] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][10] + t112 + t113;
+        dq[8][11] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][11] + t114 + t115;
+        dq[9][4] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][4] + t54 + t55;
+        dq[9][5] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][5] + t74 + t75;
+        dq[9][6] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][6] + t90 + t91;
+        dq[9][7] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][7] + t102 + t103;
+        dq[9][8] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][8] + t110 + t111;
+        dq[9][9] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][9] - self.k[9][9]
+            - law[2].d_gap * t116 - law[3].d_gap * t117;
+        dq[9][10] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][10] + t118 + t119 - self.k[9][10];
+        dq[9][11] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][11] + t120 + t121 - self.k[9][11];
+        dq[10][4] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][4] + t56 + t57;
+        dq[10][5] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][5] + t76 + t77;
+        dq[10][6] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][6] + t92 + t93;
+        dq[10][7] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][7] + t104 + t105;
+        dq[10][8] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][8] + t112 + t113;
+        dq[10][9] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][9] + t118 + t119 - self.k[10][9];
+        dq[10][10] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][10] - self.k[10][10]
+            - law[2].d_gap * t122 - law[3].d_gap * t123;
+        dq[10][11] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][11] + t124 + t125
+            - self.k[10][11];
+        dq[11][4] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][4]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][4] + t58 + t59;
+        dq[11][5] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][5]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][5] + t78 + t79;
+        dq[11][6] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][6] + t94 + t95;
+        dq[11][7] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][7] + t106 + t107;
+        dq[11][8] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][8] + t114 + t115;
+        dq[11][9] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][9] + t120 + t121 - self.k[11][9];
+        dq[11][10] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][10] + t124 + t125
+            - self.k[11][10];
+        dq[11][11] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][11] - self.k[11][11]
+            - law[2].d_gap * t126 - law[3].d_gap * t127;
+        dq[1][13] = -law[0].d_rate * t0 - law[1].d_rate * t1;
         dq[1][14] = t128;
         dq[1][15] = t129;
         dq[1][16] = t130;
@@ -1547,7 +1561,7 @@ impl Model for GeneratedModel {
         dq[1][18] = t132;
         dq[1][19] = t133;
         dq[2][13] = t128;
-        dq[2][14] = -t14 * law[0].d_rate - t15 * law[1].d_rate;
+        dq[2][14] = -law[0].d_rate * t14 - law[1].d_rate * t15;
         dq[2][15] = t134;
         dq[2][16] = t135;
         dq[2][17] = t136;
@@ -1555,7 +1569,7 @@ impl Model for GeneratedModel {
         dq[2][19] = t138;
         dq[3][13] = t129;
         dq[3][14] = t134;
-        dq[3][15] = -t26 * law[0].d_rate - t27 * law[1].d_rate;
+        dq[3][15] = -law[0].d_rate * t26 - law[1].d_rate * t27;
         dq[3][16] = t139;
         dq[3][17] = t140;
         dq[3][18] = t141;
@@ -1563,8 +1577,8 @@ impl Model for GeneratedModel {
         dq[4][13] = t130;
         dq[4][14] = t135;
         dq[4][15] = t139;
-        dq[4][16] = -t36 * law[0].d_rate - t37 * law[1].d_rate - t38 * law[2].d_rate
-            - t39 * law[3].d_rate;
+        dq[4][16] = -law[0].d_rate * t36 - law[1].d_rate * t37 - law[2].d_rate * t38
+            - law[3].d_rate * t39;
         dq[4][17] = t143;
         dq[4][18] = t144;
         dq[4][19] = t145;
@@ -1576,8 +1590,8 @@ impl Model for GeneratedModel {
         dq[5][14] = t136;
         dq[5][15] = t140;
         dq[5][16] = t143;
-        dq[5][17] = -t60 * law[0].d_rate - t61 * law[1].d_rate - t62 * law[2].d_rate
-            - t63 * law[3].d_rate;
+        dq[5][17] = -law[0].d_rate * t60 - law[1].d_rate * t61 - law[2].d_rate * t62
+            - law[3].d_rate * t63;
         dq[5][18] = t150;
         dq[5][19] = t151;
         dq[5][20] = t152;
@@ -1589,8 +1603,8 @@ impl Model for GeneratedModel {
         dq[6][15] = t141;
         dq[6][16] = t144;
         dq[6][17] = t150;
-        dq[6][18] = -t80 * law[0].d_rate - t81 * law[1].d_rate - t82 * law[2].d_rate
-            - t83 * law[3].d_rate;
+        dq[6][18] = -law[0].d_rate * t80 - law[1].d_rate * t81 - law[2].d_rate * t82
+            - law[3].d_rate * t83;
         dq[6][19] = t156;
         dq[6][20] = t157;
         dq[6][21] = t158;
@@ -1602,8 +1616,8 @@ impl Model for GeneratedModel {
         dq[7][16] = t145;
         dq[7][17] = t151;
         dq[7][18] = t156;
-        dq[7][19] = -law[0].d_rate * t96 - law[1].d_rate * t97 - t98 * law[2].d_rate
-            - t99 * law[3].d_rate;
+        dq[7][19] = -law[0].d_rate * t96 - law[1].d_rate * t97 - law[2].d_rate * t98
+            - law[3].d_rate * t99;
         dq[7][20] = t161;
         dq[7][21] = t162;
         dq[7][22] = t163;
@@ -1612,7 +1626,7 @@ impl Model for GeneratedModel {
         dq[8][17] = t152;
         dq[8][18] = t157;
         dq[8][19] = t161;
-        dq[8][20] = -t108 * law[2].d_rate - t109 * law[3].d_rate;
+        dq[8][20] = -law[2].d_rate * t108 - law[3].d_rate * t109;
         dq[8][21] = t165;
         dq[8][22] = t166;
         dq[8][23] = t167;
@@ -1621,7 +1635,7 @@ impl Model for GeneratedModel {
         dq[9][18] = t158;
         dq[9][19] = t162;
         dq[9][20] = t165;
-        dq[9][21] = -t116 * law[2].d_rate - t117 * law[3].d_rate;
+        dq[9][21] = -law[2].d_rate * t116 - law[3].d_rate * t117;
         dq[9][22] = t168;
         dq[9][23] = t169;
         dq[10][16] = t148;
@@ -1630,7 +1644,7 @@ impl Model for GeneratedModel {
         dq[10][19] = t163;
         dq[10][20] = t166;
         dq[10][21] = t168;
-        dq[10][22] = -law[2].d_rate * t122 - t123 * law[3].d_rate;
+        dq[10][22] = -law[2].d_rate * t122 - law[3].d_rate * t123;
         dq[10][23] = t170;
         dq[11][16] = t149;
         dq[11][17] = t155;
@@ -1639,7 +1653,7 @@ impl Model for GeneratedModel {
         dq[11][20] = t167;
         dq[11][21] = t169;
         dq[11][22] = t170;
-        dq[11][23] = -law[2].d_rate * t126 - t127 * law[3].d_rate;
+        dq[11][23] = -law[2].d_rate * t126 - law[3].d_rate * t127;
         jac.fill(0.0);
         for j in 0..DOF {
             jac[(j, DOF + j)] = 1.0;

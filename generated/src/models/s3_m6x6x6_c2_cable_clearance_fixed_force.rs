@@ -436,62 +436,62 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
     let t0 = l_2.powi(2);
     let t1 = l_3.powi(2);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // mass_matrix[0][0] = rho_a_1*l_1*K_M_1_0_0 + rho_a_2*l_2*K_M_2_0_0 + m_t + m_l + rho_a_3*l_3*K_M_3_0_0
+    // mass_matrix[0][0] = m_l + m_t + l_1*rho_a_1*K_M_1_0_0 + l_2*rho_a_2*K_M_2_0_0 + l_3*rho_a_3*K_M_3_0_0
     {
-        m[(0, 0)] = rho_a_1 * l_1 * K_M_1_0_0 + rho_a_2 * l_2 * K_M_2_0_0 + m_t + m_l
-            + rho_a_3 * l_3 * K_M_3_0_0;
+        m[(0, 0)] = m_l + m_t + l_1 * rho_a_1 * K_M_1_0_0 + l_2 * rho_a_2 * K_M_2_0_0
+            + l_3 * rho_a_3 * K_M_3_0_0;
     }
-    // mass_matrix[0][1] = rho_a_1*l_1*K_M_1_0_2
+    // mass_matrix[0][1] = l_1*rho_a_1*K_M_1_0_2
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_2;
+        let v = l_1 * rho_a_1 * K_M_1_0_2;
         m[(0, 1)] = v;
         m[(1, 0)] = v;
     }
-    // mass_matrix[0][2] = rho_a_1*l_1*K_M_1_0_3
+    // mass_matrix[0][2] = l_1*rho_a_1*K_M_1_0_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_3;
+        let v = l_1 * rho_a_1 * K_M_1_0_3;
         m[(0, 2)] = v;
         m[(2, 0)] = v;
     }
-    // mass_matrix[0][3] = rho_a_1*l_1*K_M_1_0_4
+    // mass_matrix[0][3] = l_1*rho_a_1*K_M_1_0_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_4;
+        let v = l_1 * rho_a_1 * K_M_1_0_4;
         m[(0, 3)] = v;
         m[(3, 0)] = v;
     }
-    // mass_matrix[0][4] = rho_a_1*l_1*K_M_1_0_5
+    // mass_matrix[0][4] = l_1*rho_a_1*K_M_1_0_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_5;
+        let v = l_1 * rho_a_1 * K_M_1_0_5;
         m[(0, 4)] = v;
         m[(4, 0)] = v;
     }
-    // mass_matrix[0][5] = rho_a_1*l_1*K_M_1_0_6
+    // mass_matrix[0][5] = l_1*rho_a_1*K_M_1_0_6
     {
-        let v = rho_a_1 * l_1 * K_M_1_0_6;
+        let v = l_1 * rho_a_1 * K_M_1_0_6;
         m[(0, 5)] = v;
         m[(5, 0)] = v;
     }
-    // mass_matrix[0][6] = rho_a_2*l_2*K_M_2_0_1
+    // mass_matrix[0][6] = l_2*rho_a_2*K_M_2_0_1
     {
-        let v = rho_a_2 * l_2 * K_M_2_0_1;
+        let v = l_2 * rho_a_2 * K_M_2_0_1;
         m[(0, 6)] = v;
         m[(6, 0)] = v;
     }
-    // mass_matrix[0][7] = rho_a_2*l_2^2*K_M_2_0_2
+    // mass_matrix[0][7] = rho_a_2*K_M_2_0_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_0_2;
+        let v = rho_a_2 * K_M_2_0_2 * t0;
         m[(0, 7)] = v;
         m[(7, 0)] = v;
     }
-    // mass_matrix[0][12] = m_l*K_TOP_3_1 + rho_a_3*l_3*K_M_3_0_1
+    // mass_matrix[0][12] = l_3*rho_a_3*K_M_3_0_1 + m_l*K_TOP_3_1
     {
-        let v = m_l * K_TOP_3_1 + rho_a_3 * l_3 * K_M_3_0_1;
+        let v = l_3 * rho_a_3 * K_M_3_0_1 + m_l * K_TOP_3_1;
         m[(0, 12)] = v;
         m[(12, 0)] = v;
     }
-    // mass_matrix[0][13] = m_l*l_3*K_TOP_3_2 + rho_a_3*l_3^2*K_M_3_0_2
+    // mass_matrix[0][13] = l_3*m_l*K_TOP_3_2 + rho_a_3*K_M_3_0_2*l_3^2
     {
-        let v = m_l * l_3 * K_TOP_3_2 + rho_a_3 * t1 * K_M_3_0_2;
+        let v = l_3 * m_l * K_TOP_3_2 + rho_a_3 * K_M_3_0_2 * t1;
         m[(0, 13)] = v;
         m[(13, 0)] = v;
     }
@@ -519,123 +519,123 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(0, 17)] = v;
         m[(17, 0)] = v;
     }
-    // mass_matrix[1][1] = rho_a_1*l_1*K_M_1_2_2
+    // mass_matrix[1][1] = l_1*rho_a_1*K_M_1_2_2
     {
-        m[(1, 1)] = rho_a_1 * l_1 * K_M_1_2_2;
+        m[(1, 1)] = l_1 * rho_a_1 * K_M_1_2_2;
     }
-    // mass_matrix[1][2] = rho_a_1*l_1*K_M_1_2_3
+    // mass_matrix[1][2] = l_1*rho_a_1*K_M_1_2_3
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_3;
+        let v = l_1 * rho_a_1 * K_M_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // mass_matrix[1][3] = rho_a_1*l_1*K_M_1_2_4
+    // mass_matrix[1][3] = l_1*rho_a_1*K_M_1_2_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_4;
+        let v = l_1 * rho_a_1 * K_M_1_2_4;
         m[(1, 3)] = v;
         m[(3, 1)] = v;
     }
-    // mass_matrix[1][4] = rho_a_1*l_1*K_M_1_2_5
+    // mass_matrix[1][4] = l_1*rho_a_1*K_M_1_2_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_5;
+        let v = l_1 * rho_a_1 * K_M_1_2_5;
         m[(1, 4)] = v;
         m[(4, 1)] = v;
     }
-    // mass_matrix[1][5] = rho_a_1*l_1*K_M_1_2_6
+    // mass_matrix[1][5] = l_1*rho_a_1*K_M_1_2_6
     {
-        let v = rho_a_1 * l_1 * K_M_1_2_6;
+        let v = l_1 * rho_a_1 * K_M_1_2_6;
         m[(1, 5)] = v;
         m[(5, 1)] = v;
     }
-    // mass_matrix[2][2] = rho_a_1*l_1*K_M_1_3_3
+    // mass_matrix[2][2] = l_1*rho_a_1*K_M_1_3_3
     {
-        m[(2, 2)] = rho_a_1 * l_1 * K_M_1_3_3;
+        m[(2, 2)] = l_1 * rho_a_1 * K_M_1_3_3;
     }
-    // mass_matrix[2][3] = rho_a_1*l_1*K_M_1_3_4
+    // mass_matrix[2][3] = l_1*rho_a_1*K_M_1_3_4
     {
-        let v = rho_a_1 * l_1 * K_M_1_3_4;
+        let v = l_1 * rho_a_1 * K_M_1_3_4;
         m[(2, 3)] = v;
         m[(3, 2)] = v;
     }
-    // mass_matrix[2][4] = rho_a_1*l_1*K_M_1_3_5
+    // mass_matrix[2][4] = l_1*rho_a_1*K_M_1_3_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_3_5;
+        let v = l_1 * rho_a_1 * K_M_1_3_5;
         m[(2, 4)] = v;
         m[(4, 2)] = v;
     }
-    // mass_matrix[2][5] = rho_a_1*l_1*K_M_1_3_6
+    // mass_matrix[2][5] = l_1*rho_a_1*K_M_1_3_6
     {
-        let v = rho_a_1 * l_1 * K_M_1_3_6;
+        let v = l_1 * rho_a_1 * K_M_1_3_6;
         m[(2, 5)] = v;
         m[(5, 2)] = v;
     }
-    // mass_matrix[3][3] = rho_a_1*l_1*K_M_1_4_4
+    // mass_matrix[3][3] = l_1*rho_a_1*K_M_1_4_4
     {
-        m[(3, 3)] = rho_a_1 * l_1 * K_M_1_4_4;
+        m[(3, 3)] = l_1 * rho_a_1 * K_M_1_4_4;
     }
-    // mass_matrix[3][4] = rho_a_1*l_1*K_M_1_4_5
+    // mass_matrix[3][4] = l_1*rho_a_1*K_M_1_4_5
     {
-        let v = rho_a_1 * l_1 * K_M_1_4_5;
+        let v = l_1 * rho_a_1 * K_M_1_4_5;
         m[(3, 4)] = v;
         m[(4, 3)] = v;
     }
-    // mass_matrix[3][5] = rho_a_1*l_1*K_M_1_4_6
+    // mass_matrix[3][5] = l_1*rho_a_1*K_M_1_4_6
     {
-        let v = rho_a_1 * l_1 * K_M_1_4_6;
+        let v = l_1 * rho_a_1 * K_M_1_4_6;
         m[(3, 5)] = v;
         m[(5, 3)] = v;
     }
-    // mass_matrix[4][4] = rho_a_1*l_1*K_M_1_5_5
+    // mass_matrix[4][4] = l_1*rho_a_1*K_M_1_5_5
     {
-        m[(4, 4)] = rho_a_1 * l_1 * K_M_1_5_5;
+        m[(4, 4)] = l_1 * rho_a_1 * K_M_1_5_5;
     }
-    // mass_matrix[4][5] = rho_a_1*l_1*K_M_1_5_6
+    // mass_matrix[4][5] = l_1*rho_a_1*K_M_1_5_6
     {
-        let v = rho_a_1 * l_1 * K_M_1_5_6;
+        let v = l_1 * rho_a_1 * K_M_1_5_6;
         m[(4, 5)] = v;
         m[(5, 4)] = v;
     }
-    // mass_matrix[5][5] = rho_a_1*l_1*K_M_1_6_6
+    // mass_matrix[5][5] = l_1*rho_a_1*K_M_1_6_6
     {
-        m[(5, 5)] = rho_a_1 * l_1 * K_M_1_6_6;
+        m[(5, 5)] = l_1 * rho_a_1 * K_M_1_6_6;
     }
-    // mass_matrix[6][6] = rho_a_2*l_2*K_M_2_1_1
+    // mass_matrix[6][6] = l_2*rho_a_2*K_M_2_1_1
     {
-        m[(6, 6)] = rho_a_2 * l_2 * K_M_2_1_1;
+        m[(6, 6)] = l_2 * rho_a_2 * K_M_2_1_1;
     }
-    // mass_matrix[6][7] = rho_a_2*l_2^2*K_M_2_1_2
+    // mass_matrix[6][7] = rho_a_2*K_M_2_1_2*l_2^2
     {
-        let v = rho_a_2 * t0 * K_M_2_1_2;
+        let v = rho_a_2 * K_M_2_1_2 * t0;
         m[(6, 7)] = v;
         m[(7, 6)] = v;
     }
-    // mass_matrix[7][7] = rho_a_2*l_2^3*K_M_2_2_2
+    // mass_matrix[7][7] = rho_a_2*K_M_2_2_2*l_2^3
     {
-        m[(7, 7)] = rho_a_2 * l_2.powi(3) * K_M_2_2_2;
+        m[(7, 7)] = rho_a_2 * K_M_2_2_2 * l_2.powi(3);
     }
-    // mass_matrix[8][8] = rho_a_2*l_2*K_M_2_3_3
+    // mass_matrix[8][8] = l_2*rho_a_2*K_M_2_3_3
     {
-        m[(8, 8)] = rho_a_2 * l_2 * K_M_2_3_3;
+        m[(8, 8)] = l_2 * rho_a_2 * K_M_2_3_3;
     }
-    // mass_matrix[9][9] = rho_a_2*l_2*K_M_2_4_4
+    // mass_matrix[9][9] = l_2*rho_a_2*K_M_2_4_4
     {
-        m[(9, 9)] = rho_a_2 * l_2 * K_M_2_4_4;
+        m[(9, 9)] = l_2 * rho_a_2 * K_M_2_4_4;
     }
-    // mass_matrix[10][10] = rho_a_2*l_2*K_M_2_5_5
+    // mass_matrix[10][10] = l_2*rho_a_2*K_M_2_5_5
     {
-        m[(10, 10)] = rho_a_2 * l_2 * K_M_2_5_5;
+        m[(10, 10)] = l_2 * rho_a_2 * K_M_2_5_5;
     }
-    // mass_matrix[11][11] = rho_a_2*l_2*K_M_2_6_6
+    // mass_matrix[11][11] = l_2*rho_a_2*K_M_2_6_6
     {
-        m[(11, 11)] = rho_a_2 * l_2 * K_M_2_6_6;
+        m[(11, 11)] = l_2 * rho_a_2 * K_M_2_6_6;
     }
-    // mass_matrix[12][12] = m_l*K_TOP_3_1^2 + rho_a_3*l_3*K_M_3_1_1
+    // mass_matrix[12][12] = l_3*rho_a_3*K_M_3_1_1 + m_l*K_TOP_3_1^2
     {
-        m[(12, 12)] = m_l * K_TOP_3_1.powi(2) + rho_a_3 * l_3 * K_M_3_1_1;
+        m[(12, 12)] = l_3 * rho_a_3 * K_M_3_1_1 + m_l * K_TOP_3_1.powi(2);
     }
-    // mass_matrix[12][13] = m_l*l_3*K_TOP_3_1*K_TOP_3_2 + rho_a_3*l_3^2*K_M_3_1_2
+    // mass_matrix[12][13] = l_3*m_l*K_TOP_3_1*K_TOP_3_2 + rho_a_3*K_M_3_1_2*l_3^2
     {
-        let v = m_l * l_3 * K_TOP_3_1 * K_TOP_3_2 + rho_a_3 * t1 * K_M_3_1_2;
+        let v = l_3 * m_l * K_TOP_3_1 * K_TOP_3_2 + rho_a_3 * K_M_3_1_2 * t1;
         m[(12, 13)] = v;
         m[(13, 12)] = v;
     }
@@ -663,37 +663,37 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(12, 17)] = v;
         m[(17, 12)] = v;
     }
-    // mass_matrix[13][13] = m_l*l_3^2*K_TOP_3_2^2 + rho_a_3*l_3^3*K_M_3_2_2
+    // mass_matrix[13][13] = m_l*l_3^2*K_TOP_3_2^2 + rho_a_3*K_M_3_2_2*l_3^3
     {
-        m[(13, 13)] = m_l * t1 * K_TOP_3_2.powi(2) + rho_a_3 * l_3.powi(3) * K_M_3_2_2;
+        m[(13, 13)] = m_l * t1 * K_TOP_3_2.powi(2) + rho_a_3 * K_M_3_2_2 * l_3.powi(3);
     }
-    // mass_matrix[13][14] = m_l*l_3*K_TOP_3_2*K_TOP_3_3
+    // mass_matrix[13][14] = l_3*m_l*K_TOP_3_2*K_TOP_3_3
     {
-        let v = m_l * l_3 * K_TOP_3_2 * K_TOP_3_3;
+        let v = l_3 * m_l * K_TOP_3_2 * K_TOP_3_3;
         m[(13, 14)] = v;
         m[(14, 13)] = v;
     }
-    // mass_matrix[13][15] = m_l*l_3*K_TOP_3_2*K_TOP_3_4
+    // mass_matrix[13][15] = l_3*m_l*K_TOP_3_2*K_TOP_3_4
     {
-        let v = m_l * l_3 * K_TOP_3_2 * K_TOP_3_4;
+        let v = l_3 * m_l * K_TOP_3_2 * K_TOP_3_4;
         m[(13, 15)] = v;
         m[(15, 13)] = v;
     }
-    // mass_matrix[13][16] = m_l*l_3*K_TOP_3_2*K_TOP_3_5
+    // mass_matrix[13][16] = l_3*m_l*K_TOP_3_2*K_TOP_3_5
     {
-        let v = m_l * l_3 * K_TOP_3_2 * K_TOP_3_5;
+        let v = l_3 * m_l * K_TOP_3_2 * K_TOP_3_5;
         m[(13, 16)] = v;
         m[(16, 13)] = v;
     }
-    // mass_matrix[13][17] = m_l*l_3*K_TOP_3_2*K_TOP_3_6
+    // mass_matrix[13][17] = l_3*m_l*K_TOP_3_2*K_TOP_3_6
     {
-        let v = m_l * l_3 * K_TOP_3_2 * K_TOP_3_6;
+        let v = l_3 * m_l * K_TOP_3_2 * K_TOP_3_6;
         m[(13, 17)] = v;
         m[(17, 13)] = v;
     }
-    // mass_matrix[14][14] = m_l*K_TOP_3_3^2 + rho_a_3*l_3*K_M_3_3_3
+    // mass_matrix[14][14] = l_3*rho_a_3*K_M_3_3_3 + m_l*K_TOP_3_3^2
     {
-        m[(14, 14)] = m_l * K_TOP_3_3.powi(2) + rho_a_3 * l_3 * K_M_3_3_3;
+        m[(14, 14)] = l_3 * rho_a_3 * K_M_3_3_3 + m_l * K_TOP_3_3.powi(2);
     }
     // mass_matrix[14][15] = m_l*K_TOP_3_3*K_TOP_3_4
     {
@@ -713,9 +713,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(14, 17)] = v;
         m[(17, 14)] = v;
     }
-    // mass_matrix[15][15] = m_l*K_TOP_3_4^2 + rho_a_3*l_3*K_M_3_4_4
+    // mass_matrix[15][15] = l_3*rho_a_3*K_M_3_4_4 + m_l*K_TOP_3_4^2
     {
-        m[(15, 15)] = m_l * K_TOP_3_4.powi(2) + rho_a_3 * l_3 * K_M_3_4_4;
+        m[(15, 15)] = l_3 * rho_a_3 * K_M_3_4_4 + m_l * K_TOP_3_4.powi(2);
     }
     // mass_matrix[15][16] = m_l*K_TOP_3_4*K_TOP_3_5
     {
@@ -729,9 +729,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(15, 17)] = v;
         m[(17, 15)] = v;
     }
-    // mass_matrix[16][16] = m_l*K_TOP_3_5^2 + rho_a_3*l_3*K_M_3_5_5
+    // mass_matrix[16][16] = l_3*rho_a_3*K_M_3_5_5 + m_l*K_TOP_3_5^2
     {
-        m[(16, 16)] = m_l * K_TOP_3_5.powi(2) + rho_a_3 * l_3 * K_M_3_5_5;
+        m[(16, 16)] = l_3 * rho_a_3 * K_M_3_5_5 + m_l * K_TOP_3_5.powi(2);
     }
     // mass_matrix[16][17] = m_l*K_TOP_3_5*K_TOP_3_6
     {
@@ -739,9 +739,9 @@ pub fn mass_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(16, 17)] = v;
         m[(17, 16)] = v;
     }
-    // mass_matrix[17][17] = m_l*K_TOP_3_6^2 + rho_a_3*l_3*K_M_3_6_6
+    // mass_matrix[17][17] = l_3*rho_a_3*K_M_3_6_6 + m_l*K_TOP_3_6^2
     {
-        m[(17, 17)] = m_l * K_TOP_3_6.powi(2) + rho_a_3 * l_3 * K_M_3_6_6;
+        m[(17, 17)] = l_3 * rho_a_3 * K_M_3_6_6 + m_l * K_TOP_3_6.powi(2);
     }
     m
 }
@@ -769,244 +769,249 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
     let t6 = l_3.recip();
     let t7 = l_3.powi(-3);
     let mut m = DMatrix::zeros(DOF, DOF);
-    // stiffness_matrix[1][1] = -rho_a_1*g*K_AX_1_2_2 + rho_a_1*g*K_AXX_1_2_2 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_2 - l_1^-1*m_l*g*K_AX_1_2_2 - l_1^-1*g*K_AX_1_2_2*rho_a_3*l_3 + l_1^-3*ei_1*K_EI_1_2_2
+    // stiffness_matrix[1][1] = -g*l_2*rho_a_2*K_AX_1_2_2*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_2*l_1^-1 - g*m_l*K_AX_1_2_2*l_1^-1 - g*rho_a_1*K_AX_1_2_2 + ei_1*K_EI_1_2_2*l_1^-3 + g*rho_a_1*K_AXX_1_2_2
     {
-        m[(1, 1)] = -rho_a_1 * g * K_AX_1_2_2 + rho_a_1 * g * K_AXX_1_2_2
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_2 - t0 * m_l * g * K_AX_1_2_2
-            - t0 * g * K_AX_1_2_2 * rho_a_3 * l_3 + t1 * ei_1 * K_EI_1_2_2;
+        m[(1, 1)] = -g * l_2 * rho_a_2 * K_AX_1_2_2 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_2 * t0 - g * m_l * K_AX_1_2_2 * t0
+            - g * rho_a_1 * K_AX_1_2_2 + ei_1 * K_EI_1_2_2 * t1
+            + g * rho_a_1 * K_AXX_1_2_2;
     }
-    // stiffness_matrix[1][2] = -rho_a_1*g*K_AX_1_2_3 + rho_a_1*g*K_AXX_1_2_3 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_3 - l_1^-1*m_l*g*K_AX_1_2_3 - l_1^-1*g*K_AX_1_2_3*rho_a_3*l_3
+    // stiffness_matrix[1][2] = -g*l_2*rho_a_2*K_AX_1_2_3*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_3*l_1^-1 - g*m_l*K_AX_1_2_3*l_1^-1 - g*rho_a_1*K_AX_1_2_3 + g*rho_a_1*K_AXX_1_2_3
     {
-        let v = -rho_a_1 * g * K_AX_1_2_3 + rho_a_1 * g * K_AXX_1_2_3
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_3 - t0 * m_l * g * K_AX_1_2_3
-            - t0 * g * K_AX_1_2_3 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_3 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_3 * t0 - g * m_l * K_AX_1_2_3 * t0
+            - g * rho_a_1 * K_AX_1_2_3 + g * rho_a_1 * K_AXX_1_2_3;
         m[(1, 2)] = v;
         m[(2, 1)] = v;
     }
-    // stiffness_matrix[1][3] = -rho_a_1*g*K_AX_1_2_4 + rho_a_1*g*K_AXX_1_2_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_4 - l_1^-1*m_l*g*K_AX_1_2_4 - l_1^-1*g*K_AX_1_2_4*rho_a_3*l_3
+    // stiffness_matrix[1][3] = -g*l_2*rho_a_2*K_AX_1_2_4*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_4*l_1^-1 - g*m_l*K_AX_1_2_4*l_1^-1 - g*rho_a_1*K_AX_1_2_4 + g*rho_a_1*K_AXX_1_2_4
     {
-        let v = -rho_a_1 * g * K_AX_1_2_4 + rho_a_1 * g * K_AXX_1_2_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_4 - t0 * m_l * g * K_AX_1_2_4
-            - t0 * g * K_AX_1_2_4 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_4 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_4 * t0 - g * m_l * K_AX_1_2_4 * t0
+            - g * rho_a_1 * K_AX_1_2_4 + g * rho_a_1 * K_AXX_1_2_4;
         m[(1, 3)] = v;
         m[(3, 1)] = v;
     }
-    // stiffness_matrix[1][4] = -rho_a_1*g*K_AX_1_2_5 + rho_a_1*g*K_AXX_1_2_5 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_5 - l_1^-1*m_l*g*K_AX_1_2_5 - l_1^-1*g*K_AX_1_2_5*rho_a_3*l_3
+    // stiffness_matrix[1][4] = -g*l_2*rho_a_2*K_AX_1_2_5*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_5*l_1^-1 - g*m_l*K_AX_1_2_5*l_1^-1 - g*rho_a_1*K_AX_1_2_5 + g*rho_a_1*K_AXX_1_2_5
     {
-        let v = -rho_a_1 * g * K_AX_1_2_5 + rho_a_1 * g * K_AXX_1_2_5
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_5 - t0 * m_l * g * K_AX_1_2_5
-            - t0 * g * K_AX_1_2_5 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_5 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_5 * t0 - g * m_l * K_AX_1_2_5 * t0
+            - g * rho_a_1 * K_AX_1_2_5 + g * rho_a_1 * K_AXX_1_2_5;
         m[(1, 4)] = v;
         m[(4, 1)] = v;
     }
-    // stiffness_matrix[1][5] = -rho_a_1*g*K_AX_1_2_6 + rho_a_1*g*K_AXX_1_2_6 - l_1^-1*rho_a_2*l_2*g*K_AX_1_2_6 - l_1^-1*m_l*g*K_AX_1_2_6 - l_1^-1*g*rho_a_3*l_3*K_AX_1_2_6
+    // stiffness_matrix[1][5] = -g*l_2*rho_a_2*K_AX_1_2_6*l_1^-1 - g*l_3*rho_a_3*K_AX_1_2_6*l_1^-1 - g*m_l*K_AX_1_2_6*l_1^-1 - g*rho_a_1*K_AX_1_2_6 + g*rho_a_1*K_AXX_1_2_6
     {
-        let v = -rho_a_1 * g * K_AX_1_2_6 + rho_a_1 * g * K_AXX_1_2_6
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_2_6 - t0 * m_l * g * K_AX_1_2_6
-            - t0 * g * rho_a_3 * l_3 * K_AX_1_2_6;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_2_6 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_2_6 * t0 - g * m_l * K_AX_1_2_6 * t0
+            - g * rho_a_1 * K_AX_1_2_6 + g * rho_a_1 * K_AXX_1_2_6;
         m[(1, 5)] = v;
         m[(5, 1)] = v;
     }
-    // stiffness_matrix[2][2] = -rho_a_1*g*K_AX_1_3_3 + rho_a_1*g*K_AXX_1_3_3 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_3 - l_1^-1*m_l*g*K_AX_1_3_3 - l_1^-1*g*K_AX_1_3_3*rho_a_3*l_3 + l_1^-3*ei_1*K_EI_1_3_3
+    // stiffness_matrix[2][2] = -g*l_2*rho_a_2*K_AX_1_3_3*l_1^-1 - g*l_3*rho_a_3*K_AX_1_3_3*l_1^-1 - g*m_l*K_AX_1_3_3*l_1^-1 - g*rho_a_1*K_AX_1_3_3 + ei_1*K_EI_1_3_3*l_1^-3 + g*rho_a_1*K_AXX_1_3_3
     {
-        m[(2, 2)] = -rho_a_1 * g * K_AX_1_3_3 + rho_a_1 * g * K_AXX_1_3_3
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_3 - t0 * m_l * g * K_AX_1_3_3
-            - t0 * g * K_AX_1_3_3 * rho_a_3 * l_3 + t1 * ei_1 * K_EI_1_3_3;
+        m[(2, 2)] = -g * l_2 * rho_a_2 * K_AX_1_3_3 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_3_3 * t0 - g * m_l * K_AX_1_3_3 * t0
+            - g * rho_a_1 * K_AX_1_3_3 + ei_1 * K_EI_1_3_3 * t1
+            + g * rho_a_1 * K_AXX_1_3_3;
     }
-    // stiffness_matrix[2][3] = -rho_a_1*g*K_AX_1_3_4 + rho_a_1*g*K_AXX_1_3_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_4 - l_1^-1*m_l*g*K_AX_1_3_4 - l_1^-1*g*K_AX_1_3_4*rho_a_3*l_3
+    // stiffness_matrix[2][3] = -g*l_2*rho_a_2*K_AX_1_3_4*l_1^-1 - g*l_3*rho_a_3*K_AX_1_3_4*l_1^-1 - g*m_l*K_AX_1_3_4*l_1^-1 - g*rho_a_1*K_AX_1_3_4 + g*rho_a_1*K_AXX_1_3_4
     {
-        let v = -rho_a_1 * g * K_AX_1_3_4 + rho_a_1 * g * K_AXX_1_3_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_4 - t0 * m_l * g * K_AX_1_3_4
-            - t0 * g * K_AX_1_3_4 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_3_4 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_3_4 * t0 - g * m_l * K_AX_1_3_4 * t0
+            - g * rho_a_1 * K_AX_1_3_4 + g * rho_a_1 * K_AXX_1_3_4;
         m[(2, 3)] = v;
         m[(3, 2)] = v;
     }
-    // stiffness_matrix[2][4] = -rho_a_1*g*K_AX_1_3_5 + rho_a_1*g*K_AXX_1_3_5 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_5 - l_1^-1*m_l*g*K_AX_1_3_5 - l_1^-1*g*K_AX_1_3_5*rho_a_3*l_3
+    // stiffness_matrix[2][4] = -g*l_2*rho_a_2*K_AX_1_3_5*l_1^-1 - g*l_3*rho_a_3*K_AX_1_3_5*l_1^-1 - g*m_l*K_AX_1_3_5*l_1^-1 - g*rho_a_1*K_AX_1_3_5 + g*rho_a_1*K_AXX_1_3_5
     {
-        let v = -rho_a_1 * g * K_AX_1_3_5 + rho_a_1 * g * K_AXX_1_3_5
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_5 - t0 * m_l * g * K_AX_1_3_5
-            - t0 * g * K_AX_1_3_5 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_3_5 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_3_5 * t0 - g * m_l * K_AX_1_3_5 * t0
+            - g * rho_a_1 * K_AX_1_3_5 + g * rho_a_1 * K_AXX_1_3_5;
         m[(2, 4)] = v;
         m[(4, 2)] = v;
     }
-    // stiffness_matrix[2][5] = -rho_a_1*g*K_AX_1_3_6 + rho_a_1*g*K_AXX_1_3_6 - l_1^-1*rho_a_2*l_2*g*K_AX_1_3_6 - l_1^-1*m_l*g*K_AX_1_3_6 - l_1^-1*g*rho_a_3*l_3*K_AX_1_3_6
+    // stiffness_matrix[2][5] = -g*l_2*rho_a_2*K_AX_1_3_6*l_1^-1 - g*l_3*rho_a_3*K_AX_1_3_6*l_1^-1 - g*m_l*K_AX_1_3_6*l_1^-1 - g*rho_a_1*K_AX_1_3_6 + g*rho_a_1*K_AXX_1_3_6
     {
-        let v = -rho_a_1 * g * K_AX_1_3_6 + rho_a_1 * g * K_AXX_1_3_6
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_3_6 - t0 * m_l * g * K_AX_1_3_6
-            - t0 * g * rho_a_3 * l_3 * K_AX_1_3_6;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_3_6 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_3_6 * t0 - g * m_l * K_AX_1_3_6 * t0
+            - g * rho_a_1 * K_AX_1_3_6 + g * rho_a_1 * K_AXX_1_3_6;
         m[(2, 5)] = v;
         m[(5, 2)] = v;
     }
-    // stiffness_matrix[3][3] = -rho_a_1*g*K_AX_1_4_4 + rho_a_1*g*K_AXX_1_4_4 - l_1^-1*rho_a_2*l_2*g*K_AX_1_4_4 - l_1^-1*m_l*g*K_AX_1_4_4 - l_1^-1*g*K_AX_1_4_4*rho_a_3*l_3 + l_1^-3*ei_1*K_EI_1_4_4
+    // stiffness_matrix[3][3] = -g*l_2*rho_a_2*K_AX_1_4_4*l_1^-1 - g*l_3*rho_a_3*K_AX_1_4_4*l_1^-1 - g*m_l*K_AX_1_4_4*l_1^-1 - g*rho_a_1*K_AX_1_4_4 + ei_1*K_EI_1_4_4*l_1^-3 + g*rho_a_1*K_AXX_1_4_4
     {
-        m[(3, 3)] = -rho_a_1 * g * K_AX_1_4_4 + rho_a_1 * g * K_AXX_1_4_4
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_4_4 - t0 * m_l * g * K_AX_1_4_4
-            - t0 * g * K_AX_1_4_4 * rho_a_3 * l_3 + t1 * ei_1 * K_EI_1_4_4;
+        m[(3, 3)] = -g * l_2 * rho_a_2 * K_AX_1_4_4 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_4_4 * t0 - g * m_l * K_AX_1_4_4 * t0
+            - g * rho_a_1 * K_AX_1_4_4 + ei_1 * K_EI_1_4_4 * t1
+            + g * rho_a_1 * K_AXX_1_4_4;
     }
-    // stiffness_matrix[3][4] = -rho_a_1*g*K_AX_1_4_5 + rho_a_1*g*K_AXX_1_4_5 - l_1^-1*rho_a_2*l_2*g*K_AX_1_4_5 - l_1^-1*m_l*g*K_AX_1_4_5 - l_1^-1*g*K_AX_1_4_5*rho_a_3*l_3
+    // stiffness_matrix[3][4] = -g*l_2*rho_a_2*K_AX_1_4_5*l_1^-1 - g*l_3*rho_a_3*K_AX_1_4_5*l_1^-1 - g*m_l*K_AX_1_4_5*l_1^-1 - g*rho_a_1*K_AX_1_4_5 + g*rho_a_1*K_AXX_1_4_5
     {
-        let v = -rho_a_1 * g * K_AX_1_4_5 + rho_a_1 * g * K_AXX_1_4_5
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_4_5 - t0 * m_l * g * K_AX_1_4_5
-            - t0 * g * K_AX_1_4_5 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_4_5 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_4_5 * t0 - g * m_l * K_AX_1_4_5 * t0
+            - g * rho_a_1 * K_AX_1_4_5 + g * rho_a_1 * K_AXX_1_4_5;
         m[(3, 4)] = v;
         m[(4, 3)] = v;
     }
-    // stiffness_matrix[3][5] = -rho_a_1*g*K_AX_1_4_6 + rho_a_1*g*K_AXX_1_4_6 - l_1^-1*rho_a_2*l_2*g*K_AX_1_4_6 - l_1^-1*m_l*g*K_AX_1_4_6 - l_1^-1*g*rho_a_3*l_3*K_AX_1_4_6
+    // stiffness_matrix[3][5] = -g*l_2*rho_a_2*K_AX_1_4_6*l_1^-1 - g*l_3*rho_a_3*K_AX_1_4_6*l_1^-1 - g*m_l*K_AX_1_4_6*l_1^-1 - g*rho_a_1*K_AX_1_4_6 + g*rho_a_1*K_AXX_1_4_6
     {
-        let v = -rho_a_1 * g * K_AX_1_4_6 + rho_a_1 * g * K_AXX_1_4_6
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_4_6 - t0 * m_l * g * K_AX_1_4_6
-            - t0 * g * rho_a_3 * l_3 * K_AX_1_4_6;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_4_6 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_4_6 * t0 - g * m_l * K_AX_1_4_6 * t0
+            - g * rho_a_1 * K_AX_1_4_6 + g * rho_a_1 * K_AXX_1_4_6;
         m[(3, 5)] = v;
         m[(5, 3)] = v;
     }
-    // stiffness_matrix[4][4] = -rho_a_1*g*K_AX_1_5_5 + rho_a_1*g*K_AXX_1_5_5 - l_1^-1*rho_a_2*l_2*g*K_AX_1_5_5 - l_1^-1*m_l*g*K_AX_1_5_5 - l_1^-1*g*K_AX_1_5_5*rho_a_3*l_3 + l_1^-3*ei_1*K_EI_1_5_5
+    // stiffness_matrix[4][4] = -g*l_2*rho_a_2*K_AX_1_5_5*l_1^-1 - g*l_3*rho_a_3*K_AX_1_5_5*l_1^-1 - g*m_l*K_AX_1_5_5*l_1^-1 - g*rho_a_1*K_AX_1_5_5 + ei_1*K_EI_1_5_5*l_1^-3 + g*rho_a_1*K_AXX_1_5_5
     {
-        m[(4, 4)] = -rho_a_1 * g * K_AX_1_5_5 + rho_a_1 * g * K_AXX_1_5_5
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_5_5 - t0 * m_l * g * K_AX_1_5_5
-            - t0 * g * K_AX_1_5_5 * rho_a_3 * l_3 + t1 * ei_1 * K_EI_1_5_5;
+        m[(4, 4)] = -g * l_2 * rho_a_2 * K_AX_1_5_5 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_5_5 * t0 - g * m_l * K_AX_1_5_5 * t0
+            - g * rho_a_1 * K_AX_1_5_5 + ei_1 * K_EI_1_5_5 * t1
+            + g * rho_a_1 * K_AXX_1_5_5;
     }
-    // stiffness_matrix[4][5] = -rho_a_1*g*K_AX_1_5_6 + rho_a_1*g*K_AXX_1_5_6 - l_1^-1*rho_a_2*l_2*g*K_AX_1_5_6 - l_1^-1*m_l*g*K_AX_1_5_6 - l_1^-1*g*rho_a_3*l_3*K_AX_1_5_6
+    // stiffness_matrix[4][5] = -g*l_2*rho_a_2*K_AX_1_5_6*l_1^-1 - g*l_3*rho_a_3*K_AX_1_5_6*l_1^-1 - g*m_l*K_AX_1_5_6*l_1^-1 - g*rho_a_1*K_AX_1_5_6 + g*rho_a_1*K_AXX_1_5_6
     {
-        let v = -rho_a_1 * g * K_AX_1_5_6 + rho_a_1 * g * K_AXX_1_5_6
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_5_6 - t0 * m_l * g * K_AX_1_5_6
-            - t0 * g * rho_a_3 * l_3 * K_AX_1_5_6;
+        let v = -g * l_2 * rho_a_2 * K_AX_1_5_6 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_5_6 * t0 - g * m_l * K_AX_1_5_6 * t0
+            - g * rho_a_1 * K_AX_1_5_6 + g * rho_a_1 * K_AXX_1_5_6;
         m[(4, 5)] = v;
         m[(5, 4)] = v;
     }
-    // stiffness_matrix[5][5] = -rho_a_1*g*K_AX_1_6_6 + rho_a_1*g*K_AXX_1_6_6 - l_1^-1*rho_a_2*l_2*g*K_AX_1_6_6 - l_1^-1*m_l*g*K_AX_1_6_6 - l_1^-1*g*rho_a_3*l_3*K_AX_1_6_6 + l_1^-3*ei_1*K_EI_1_6_6
+    // stiffness_matrix[5][5] = -g*l_2*rho_a_2*K_AX_1_6_6*l_1^-1 - g*l_3*rho_a_3*K_AX_1_6_6*l_1^-1 - g*m_l*K_AX_1_6_6*l_1^-1 - g*rho_a_1*K_AX_1_6_6 + ei_1*K_EI_1_6_6*l_1^-3 + g*rho_a_1*K_AXX_1_6_6
     {
-        m[(5, 5)] = -rho_a_1 * g * K_AX_1_6_6 + rho_a_1 * g * K_AXX_1_6_6
-            - t0 * rho_a_2 * l_2 * g * K_AX_1_6_6 - t0 * m_l * g * K_AX_1_6_6
-            - t0 * g * rho_a_3 * l_3 * K_AX_1_6_6 + t1 * ei_1 * K_EI_1_6_6;
+        m[(5, 5)] = -g * l_2 * rho_a_2 * K_AX_1_6_6 * t0
+            - g * l_3 * rho_a_3 * K_AX_1_6_6 * t0 - g * m_l * K_AX_1_6_6 * t0
+            - g * rho_a_1 * K_AX_1_6_6 + ei_1 * K_EI_1_6_6 * t1
+            + g * rho_a_1 * K_AXX_1_6_6;
     }
-    // stiffness_matrix[7][7] = -rho_a_2*l_2^2*g*K_AX_2_2_2 + rho_a_2*l_2^2*g*K_AXX_2_2_2 - l_2*m_l*g*K_AX_2_2_2 - l_2*g*K_AX_2_2_2*rho_a_3*l_3
+    // stiffness_matrix[7][7] = -g*l_2*l_3*rho_a_3*K_AX_2_2_2 - g*l_2*m_l*K_AX_2_2_2 - g*rho_a_2*K_AX_2_2_2*l_2^2 + g*rho_a_2*K_AXX_2_2_2*l_2^2
     {
-        m[(7, 7)] = -rho_a_2 * t2 * g * K_AX_2_2_2 + rho_a_2 * t2 * g * K_AXX_2_2_2
-            - l_2 * m_l * g * K_AX_2_2_2 - l_2 * g * K_AX_2_2_2 * rho_a_3 * l_3;
+        m[(7, 7)] = -g * l_2 * l_3 * rho_a_3 * K_AX_2_2_2 - g * l_2 * m_l * K_AX_2_2_2
+            - g * rho_a_2 * K_AX_2_2_2 * t2 + g * rho_a_2 * K_AXX_2_2_2 * t2;
     }
-    // stiffness_matrix[7][8] = rho_a_2*l_2*g*K_AXX_2_2_3
+    // stiffness_matrix[7][8] = g*l_2*rho_a_2*K_AXX_2_2_3
     {
-        let v = rho_a_2 * l_2 * g * K_AXX_2_2_3;
+        let v = g * l_2 * rho_a_2 * K_AXX_2_2_3;
         m[(7, 8)] = v;
         m[(8, 7)] = v;
     }
-    // stiffness_matrix[7][9] = -rho_a_2*l_2*g*K_AX_2_2_4 + rho_a_2*l_2*g*K_AXX_2_2_4 - m_l*g*K_AX_2_2_4 - g*K_AX_2_2_4*rho_a_3*l_3
+    // stiffness_matrix[7][9] = -g*l_2*rho_a_2*K_AX_2_2_4 - g*l_3*rho_a_3*K_AX_2_2_4 - g*m_l*K_AX_2_2_4 + g*l_2*rho_a_2*K_AXX_2_2_4
     {
-        let v = -rho_a_2 * l_2 * g * K_AX_2_2_4 + rho_a_2 * l_2 * g * K_AXX_2_2_4
-            - m_l * g * K_AX_2_2_4 - g * K_AX_2_2_4 * rho_a_3 * l_3;
+        let v = -g * l_2 * rho_a_2 * K_AX_2_2_4 - g * l_3 * rho_a_3 * K_AX_2_2_4
+            - g * m_l * K_AX_2_2_4 + g * l_2 * rho_a_2 * K_AXX_2_2_4;
         m[(7, 9)] = v;
         m[(9, 7)] = v;
     }
-    // stiffness_matrix[7][10] = rho_a_2*l_2*g*K_AXX_2_2_5
+    // stiffness_matrix[7][10] = g*l_2*rho_a_2*K_AXX_2_2_5
     {
-        let v = rho_a_2 * l_2 * g * K_AXX_2_2_5;
+        let v = g * l_2 * rho_a_2 * K_AXX_2_2_5;
         m[(7, 10)] = v;
         m[(10, 7)] = v;
     }
-    // stiffness_matrix[7][11] = -rho_a_2*l_2*g*K_AX_2_2_6 + rho_a_2*l_2*g*K_AXX_2_2_6 - m_l*g*K_AX_2_2_6 - g*rho_a_3*l_3*K_AX_2_2_6
+    // stiffness_matrix[7][11] = -g*l_2*rho_a_2*K_AX_2_2_6 - g*l_3*rho_a_3*K_AX_2_2_6 - g*m_l*K_AX_2_2_6 + g*l_2*rho_a_2*K_AXX_2_2_6
     {
-        let v = -rho_a_2 * l_2 * g * K_AX_2_2_6 + rho_a_2 * l_2 * g * K_AXX_2_2_6
-            - m_l * g * K_AX_2_2_6 - g * rho_a_3 * l_3 * K_AX_2_2_6;
+        let v = -g * l_2 * rho_a_2 * K_AX_2_2_6 - g * l_3 * rho_a_3 * K_AX_2_2_6
+            - g * m_l * K_AX_2_2_6 + g * l_2 * rho_a_2 * K_AXX_2_2_6;
         m[(7, 11)] = v;
         m[(11, 7)] = v;
     }
-    // stiffness_matrix[8][8] = -rho_a_2*g*K_AX_2_3_3 + rho_a_2*g*K_AXX_2_3_3 - l_2^-1*m_l*g*K_AX_2_3_3 - l_2^-1*g*K_AX_2_3_3*rho_a_3*l_3 + l_2^-3*ei_2*K_EI_2_3_3
+    // stiffness_matrix[8][8] = -g*l_3*rho_a_3*K_AX_2_3_3*l_2^-1 - g*m_l*K_AX_2_3_3*l_2^-1 - g*rho_a_2*K_AX_2_3_3 + ei_2*K_EI_2_3_3*l_2^-3 + g*rho_a_2*K_AXX_2_3_3
     {
-        m[(8, 8)] = -rho_a_2 * g * K_AX_2_3_3 + rho_a_2 * g * K_AXX_2_3_3
-            - t3 * m_l * g * K_AX_2_3_3 - t3 * g * K_AX_2_3_3 * rho_a_3 * l_3
-            + t4 * ei_2 * K_EI_2_3_3;
+        m[(8, 8)] = -g * l_3 * rho_a_3 * K_AX_2_3_3 * t3 - g * m_l * K_AX_2_3_3 * t3
+            - g * rho_a_2 * K_AX_2_3_3 + ei_2 * K_EI_2_3_3 * t4
+            + g * rho_a_2 * K_AXX_2_3_3;
     }
-    // stiffness_matrix[8][9] = rho_a_2*g*K_AXX_2_3_4
+    // stiffness_matrix[8][9] = g*rho_a_2*K_AXX_2_3_4
     {
-        let v = rho_a_2 * g * K_AXX_2_3_4;
+        let v = g * rho_a_2 * K_AXX_2_3_4;
         m[(8, 9)] = v;
         m[(9, 8)] = v;
     }
-    // stiffness_matrix[8][10] = -rho_a_2*g*K_AX_2_3_5 + rho_a_2*g*K_AXX_2_3_5 - l_2^-1*m_l*g*K_AX_2_3_5 - l_2^-1*g*K_AX_2_3_5*rho_a_3*l_3
+    // stiffness_matrix[8][10] = -g*l_3*rho_a_3*K_AX_2_3_5*l_2^-1 - g*m_l*K_AX_2_3_5*l_2^-1 - g*rho_a_2*K_AX_2_3_5 + g*rho_a_2*K_AXX_2_3_5
     {
-        let v = -rho_a_2 * g * K_AX_2_3_5 + rho_a_2 * g * K_AXX_2_3_5
-            - t3 * m_l * g * K_AX_2_3_5 - t3 * g * K_AX_2_3_5 * rho_a_3 * l_3;
+        let v = -g * l_3 * rho_a_3 * K_AX_2_3_5 * t3 - g * m_l * K_AX_2_3_5 * t3
+            - g * rho_a_2 * K_AX_2_3_5 + g * rho_a_2 * K_AXX_2_3_5;
         m[(8, 10)] = v;
         m[(10, 8)] = v;
     }
-    // stiffness_matrix[8][11] = rho_a_2*g*K_AXX_2_3_6
+    // stiffness_matrix[8][11] = g*rho_a_2*K_AXX_2_3_6
     {
-        let v = rho_a_2 * g * K_AXX_2_3_6;
+        let v = g * rho_a_2 * K_AXX_2_3_6;
         m[(8, 11)] = v;
         m[(11, 8)] = v;
     }
-    // stiffness_matrix[9][9] = -rho_a_2*g*K_AX_2_4_4 + rho_a_2*g*K_AXX_2_4_4 - l_2^-1*m_l*g*K_AX_2_4_4 - l_2^-1*g*K_AX_2_4_4*rho_a_3*l_3 + l_2^-3*ei_2*K_EI_2_4_4
+    // stiffness_matrix[9][9] = -g*l_3*rho_a_3*K_AX_2_4_4*l_2^-1 - g*m_l*K_AX_2_4_4*l_2^-1 - g*rho_a_2*K_AX_2_4_4 + ei_2*K_EI_2_4_4*l_2^-3 + g*rho_a_2*K_AXX_2_4_4
     {
-        m[(9, 9)] = -rho_a_2 * g * K_AX_2_4_4 + rho_a_2 * g * K_AXX_2_4_4
-            - t3 * m_l * g * K_AX_2_4_4 - t3 * g * K_AX_2_4_4 * rho_a_3 * l_3
-            + t4 * ei_2 * K_EI_2_4_4;
+        m[(9, 9)] = -g * l_3 * rho_a_3 * K_AX_2_4_4 * t3 - g * m_l * K_AX_2_4_4 * t3
+            - g * rho_a_2 * K_AX_2_4_4 + ei_2 * K_EI_2_4_4 * t4
+            + g * rho_a_2 * K_AXX_2_4_4;
     }
-    // stiffness_matrix[9][10] = rho_a_2*g*K_AXX_2_4_5
+    // stiffness_matrix[9][10] = g*rho_a_2*K_AXX_2_4_5
     {
-        let v = rho_a_2 * g * K_AXX_2_4_5;
+        let v = g * rho_a_2 * K_AXX_2_4_5;
         m[(9, 10)] = v;
         m[(10, 9)] = v;
     }
-    // stiffness_matrix[9][11] = -rho_a_2*g*K_AX_2_4_6 + rho_a_2*g*K_AXX_2_4_6 - l_2^-1*m_l*g*K_AX_2_4_6 - l_2^-1*g*rho_a_3*l_3*K_AX_2_4_6
+    // stiffness_matrix[9][11] = -g*l_3*rho_a_3*K_AX_2_4_6*l_2^-1 - g*m_l*K_AX_2_4_6*l_2^-1 - g*rho_a_2*K_AX_2_4_6 + g*rho_a_2*K_AXX_2_4_6
     {
-        let v = -rho_a_2 * g * K_AX_2_4_6 + rho_a_2 * g * K_AXX_2_4_6
-            - t3 * m_l * g * K_AX_2_4_6 - t3 * g * rho_a_3 * l_3 * K_AX_2_4_6;
+        let v = -g * l_3 * rho_a_3 * K_AX_2_4_6 * t3 - g * m_l * K_AX_2_4_6 * t3
+            - g * rho_a_2 * K_AX_2_4_6 + g * rho_a_2 * K_AXX_2_4_6;
         m[(9, 11)] = v;
         m[(11, 9)] = v;
     }
-    // stiffness_matrix[10][10] = -rho_a_2*g*K_AX_2_5_5 + rho_a_2*g*K_AXX_2_5_5 - l_2^-1*m_l*g*K_AX_2_5_5 - l_2^-1*g*K_AX_2_5_5*rho_a_3*l_3 + l_2^-3*ei_2*K_EI_2_5_5
+    // stiffness_matrix[10][10] = -g*l_3*rho_a_3*K_AX_2_5_5*l_2^-1 - g*m_l*K_AX_2_5_5*l_2^-1 - g*rho_a_2*K_AX_2_5_5 + ei_2*K_EI_2_5_5*l_2^-3 + g*rho_a_2*K_AXX_2_5_5
     {
-        m[(10, 10)] = -rho_a_2 * g * K_AX_2_5_5 + rho_a_2 * g * K_AXX_2_5_5
-            - t3 * m_l * g * K_AX_2_5_5 - t3 * g * K_AX_2_5_5 * rho_a_3 * l_3
-            + t4 * ei_2 * K_EI_2_5_5;
+        m[(10, 10)] = -g * l_3 * rho_a_3 * K_AX_2_5_5 * t3 - g * m_l * K_AX_2_5_5 * t3
+            - g * rho_a_2 * K_AX_2_5_5 + ei_2 * K_EI_2_5_5 * t4
+            + g * rho_a_2 * K_AXX_2_5_5;
     }
-    // stiffness_matrix[10][11] = rho_a_2*g*K_AXX_2_5_6
+    // stiffness_matrix[10][11] = g*rho_a_2*K_AXX_2_5_6
     {
-        let v = rho_a_2 * g * K_AXX_2_5_6;
+        let v = g * rho_a_2 * K_AXX_2_5_6;
         m[(10, 11)] = v;
         m[(11, 10)] = v;
     }
-    // stiffness_matrix[11][11] = -rho_a_2*g*K_AX_2_6_6 + rho_a_2*g*K_AXX_2_6_6 - l_2^-1*m_l*g*K_AX_2_6_6 - l_2^-1*g*rho_a_3*l_3*K_AX_2_6_6 + l_2^-3*ei_2*K_EI_2_6_6
+    // stiffness_matrix[11][11] = -g*l_3*rho_a_3*K_AX_2_6_6*l_2^-1 - g*m_l*K_AX_2_6_6*l_2^-1 - g*rho_a_2*K_AX_2_6_6 + ei_2*K_EI_2_6_6*l_2^-3 + g*rho_a_2*K_AXX_2_6_6
     {
-        m[(11, 11)] = -rho_a_2 * g * K_AX_2_6_6 + rho_a_2 * g * K_AXX_2_6_6
-            - t3 * m_l * g * K_AX_2_6_6 - t3 * g * rho_a_3 * l_3 * K_AX_2_6_6
-            + t4 * ei_2 * K_EI_2_6_6;
+        m[(11, 11)] = -g * l_3 * rho_a_3 * K_AX_2_6_6 * t3 - g * m_l * K_AX_2_6_6 * t3
+            - g * rho_a_2 * K_AX_2_6_6 + ei_2 * K_EI_2_6_6 * t4
+            + g * rho_a_2 * K_AXX_2_6_6;
     }
-    // stiffness_matrix[13][13] = -m_l*g*l_3*K_AX_3_2_2 - g*rho_a_3*l_3^2*K_AX_3_2_2 + g*rho_a_3*l_3^2*K_AXX_3_2_2
+    // stiffness_matrix[13][13] = -g*l_3*m_l*K_AX_3_2_2 - g*rho_a_3*K_AX_3_2_2*l_3^2 + g*rho_a_3*K_AXX_3_2_2*l_3^2
     {
-        m[(13, 13)] = -m_l * g * l_3 * K_AX_3_2_2 - g * rho_a_3 * t5 * K_AX_3_2_2
-            + g * rho_a_3 * t5 * K_AXX_3_2_2;
+        m[(13, 13)] = -g * l_3 * m_l * K_AX_3_2_2 - g * rho_a_3 * K_AX_3_2_2 * t5
+            + g * rho_a_3 * K_AXX_3_2_2 * t5;
     }
-    // stiffness_matrix[13][14] = g*rho_a_3*l_3*K_AXX_3_2_3
+    // stiffness_matrix[13][14] = g*l_3*rho_a_3*K_AXX_3_2_3
     {
-        let v = g * rho_a_3 * l_3 * K_AXX_3_2_3;
+        let v = g * l_3 * rho_a_3 * K_AXX_3_2_3;
         m[(13, 14)] = v;
         m[(14, 13)] = v;
     }
-    // stiffness_matrix[13][15] = -m_l*g*K_AX_3_2_4 - g*rho_a_3*l_3*K_AX_3_2_4 + g*rho_a_3*l_3*K_AXX_3_2_4
+    // stiffness_matrix[13][15] = -g*l_3*rho_a_3*K_AX_3_2_4 - g*m_l*K_AX_3_2_4 + g*l_3*rho_a_3*K_AXX_3_2_4
     {
-        let v = -m_l * g * K_AX_3_2_4 - g * rho_a_3 * l_3 * K_AX_3_2_4
-            + g * rho_a_3 * l_3 * K_AXX_3_2_4;
+        let v = -g * l_3 * rho_a_3 * K_AX_3_2_4 - g * m_l * K_AX_3_2_4
+            + g * l_3 * rho_a_3 * K_AXX_3_2_4;
         m[(13, 15)] = v;
         m[(15, 13)] = v;
     }
-    // stiffness_matrix[13][16] = g*rho_a_3*l_3*K_AXX_3_2_5
+    // stiffness_matrix[13][16] = g*l_3*rho_a_3*K_AXX_3_2_5
     {
-        let v = g * rho_a_3 * l_3 * K_AXX_3_2_5;
+        let v = g * l_3 * rho_a_3 * K_AXX_3_2_5;
         m[(13, 16)] = v;
         m[(16, 13)] = v;
     }
-    // stiffness_matrix[13][17] = -m_l*g*K_AX_3_2_6 - g*rho_a_3*l_3*K_AX_3_2_6 + g*rho_a_3*l_3*K_AXX_3_2_6
+    // stiffness_matrix[13][17] = -g*l_3*rho_a_3*K_AX_3_2_6 - g*m_l*K_AX_3_2_6 + g*l_3*rho_a_3*K_AXX_3_2_6
     {
-        let v = -m_l * g * K_AX_3_2_6 - g * rho_a_3 * l_3 * K_AX_3_2_6
-            + g * rho_a_3 * l_3 * K_AXX_3_2_6;
+        let v = -g * l_3 * rho_a_3 * K_AX_3_2_6 - g * m_l * K_AX_3_2_6
+            + g * l_3 * rho_a_3 * K_AXX_3_2_6;
         m[(13, 17)] = v;
         m[(17, 13)] = v;
     }
-    // stiffness_matrix[14][14] = -m_l*g*l_3^-1*K_AX_3_3_3 - g*rho_a_3*K_AX_3_3_3 + g*rho_a_3*K_AXX_3_3_3 + l_3^-3*ei_3*K_EI_3_3_3
+    // stiffness_matrix[14][14] = -g*m_l*K_AX_3_3_3*l_3^-1 - g*rho_a_3*K_AX_3_3_3 + ei_3*K_EI_3_3_3*l_3^-3 + g*rho_a_3*K_AXX_3_3_3
     {
-        m[(14, 14)] = -m_l * g * t6 * K_AX_3_3_3 - g * rho_a_3 * K_AX_3_3_3
-            + g * rho_a_3 * K_AXX_3_3_3 + t7 * ei_3 * K_EI_3_3_3;
+        m[(14, 14)] = -g * m_l * K_AX_3_3_3 * t6 - g * rho_a_3 * K_AX_3_3_3
+            + ei_3 * K_EI_3_3_3 * t7 + g * rho_a_3 * K_AXX_3_3_3;
     }
     // stiffness_matrix[14][15] = g*rho_a_3*K_AXX_3_3_4
     {
@@ -1014,9 +1019,9 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(14, 15)] = v;
         m[(15, 14)] = v;
     }
-    // stiffness_matrix[14][16] = -m_l*g*l_3^-1*K_AX_3_3_5 - g*rho_a_3*K_AX_3_3_5 + g*rho_a_3*K_AXX_3_3_5
+    // stiffness_matrix[14][16] = -g*m_l*K_AX_3_3_5*l_3^-1 - g*rho_a_3*K_AX_3_3_5 + g*rho_a_3*K_AXX_3_3_5
     {
-        let v = -m_l * g * t6 * K_AX_3_3_5 - g * rho_a_3 * K_AX_3_3_5
+        let v = -g * m_l * K_AX_3_3_5 * t6 - g * rho_a_3 * K_AX_3_3_5
             + g * rho_a_3 * K_AXX_3_3_5;
         m[(14, 16)] = v;
         m[(16, 14)] = v;
@@ -1027,10 +1032,10 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(14, 17)] = v;
         m[(17, 14)] = v;
     }
-    // stiffness_matrix[15][15] = -m_l*g*l_3^-1*K_AX_3_4_4 - g*rho_a_3*K_AX_3_4_4 + g*rho_a_3*K_AXX_3_4_4 + l_3^-3*ei_3*K_EI_3_4_4
+    // stiffness_matrix[15][15] = -g*m_l*K_AX_3_4_4*l_3^-1 - g*rho_a_3*K_AX_3_4_4 + ei_3*K_EI_3_4_4*l_3^-3 + g*rho_a_3*K_AXX_3_4_4
     {
-        m[(15, 15)] = -m_l * g * t6 * K_AX_3_4_4 - g * rho_a_3 * K_AX_3_4_4
-            + g * rho_a_3 * K_AXX_3_4_4 + t7 * ei_3 * K_EI_3_4_4;
+        m[(15, 15)] = -g * m_l * K_AX_3_4_4 * t6 - g * rho_a_3 * K_AX_3_4_4
+            + ei_3 * K_EI_3_4_4 * t7 + g * rho_a_3 * K_AXX_3_4_4;
     }
     // stiffness_matrix[15][16] = g*rho_a_3*K_AXX_3_4_5
     {
@@ -1038,17 +1043,17 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(15, 16)] = v;
         m[(16, 15)] = v;
     }
-    // stiffness_matrix[15][17] = -m_l*g*l_3^-1*K_AX_3_4_6 - g*rho_a_3*K_AX_3_4_6 + g*rho_a_3*K_AXX_3_4_6
+    // stiffness_matrix[15][17] = -g*m_l*K_AX_3_4_6*l_3^-1 - g*rho_a_3*K_AX_3_4_6 + g*rho_a_3*K_AXX_3_4_6
     {
-        let v = -m_l * g * t6 * K_AX_3_4_6 - g * rho_a_3 * K_AX_3_4_6
+        let v = -g * m_l * K_AX_3_4_6 * t6 - g * rho_a_3 * K_AX_3_4_6
             + g * rho_a_3 * K_AXX_3_4_6;
         m[(15, 17)] = v;
         m[(17, 15)] = v;
     }
-    // stiffness_matrix[16][16] = -m_l*g*l_3^-1*K_AX_3_5_5 - g*rho_a_3*K_AX_3_5_5 + g*rho_a_3*K_AXX_3_5_5 + l_3^-3*ei_3*K_EI_3_5_5
+    // stiffness_matrix[16][16] = -g*m_l*K_AX_3_5_5*l_3^-1 - g*rho_a_3*K_AX_3_5_5 + ei_3*K_EI_3_5_5*l_3^-3 + g*rho_a_3*K_AXX_3_5_5
     {
-        m[(16, 16)] = -m_l * g * t6 * K_AX_3_5_5 - g * rho_a_3 * K_AX_3_5_5
-            + g * rho_a_3 * K_AXX_3_5_5 + t7 * ei_3 * K_EI_3_5_5;
+        m[(16, 16)] = -g * m_l * K_AX_3_5_5 * t6 - g * rho_a_3 * K_AX_3_5_5
+            + ei_3 * K_EI_3_5_5 * t7 + g * rho_a_3 * K_AXX_3_5_5;
     }
     // stiffness_matrix[16][17] = g*rho_a_3*K_AXX_3_5_6
     {
@@ -1056,63 +1061,63 @@ pub fn stiffness_matrix(p: &ModelParams) -> DMatrix<f64> {
         m[(16, 17)] = v;
         m[(17, 16)] = v;
     }
-    // stiffness_matrix[17][17] = -m_l*g*l_3^-1*K_AX_3_6_6 - g*rho_a_3*K_AX_3_6_6 + g*rho_a_3*K_AXX_3_6_6 + l_3^-3*ei_3*K_EI_3_6_6
+    // stiffness_matrix[17][17] = -g*m_l*K_AX_3_6_6*l_3^-1 - g*rho_a_3*K_AX_3_6_6 + ei_3*K_EI_3_6_6*l_3^-3 + g*rho_a_3*K_AXX_3_6_6
     {
-        m[(17, 17)] = -m_l * g * t6 * K_AX_3_6_6 - g * rho_a_3 * K_AX_3_6_6
-            + g * rho_a_3 * K_AXX_3_6_6 + t7 * ei_3 * K_EI_3_6_6;
+        m[(17, 17)] = -g * m_l * K_AX_3_6_6 * t6 - g * rho_a_3 * K_AX_3_6_6
+            + ei_3 * K_EI_3_6_6 * t7 + g * rho_a_3 * K_AXX_3_6_6;
     }
     m
 }
 /// Basis functions of section 1 at `xi = x / l_1` (cancellation-free forms) and their `d/dxi`, without the factor `l_1^p` (see `LENGTH_POWERS_1`).
 #[inline]
 pub fn shapes_1(xi: f64) -> ([f64; 5], [f64; 5]) {
-    let t0 = xi * K_BETA_1_2;
-    let t1 = -1.0 + xi;
-    let t2 = (K_BETA_1_2 * t1).exp();
-    let t3 = (-xi * K_BETA_1_2).exp();
-    let t4 = xi * K_BETA_1_3;
-    let t5 = (K_BETA_1_3 * t1).exp();
-    let t6 = (-xi * K_BETA_1_3).exp();
-    let t7 = xi * K_BETA_1_4;
-    let t8 = (K_BETA_1_4 * t1).exp();
-    let t9 = (-xi * K_BETA_1_4).exp();
-    let t10 = xi * K_BETA_1_5;
-    let t11 = (K_BETA_1_5 * t1).exp();
-    let t12 = (-xi * K_BETA_1_5).exp();
-    let t13 = xi * K_BETA_1_6;
-    let t14 = (K_BETA_1_6 * t1).exp();
-    let t15 = (-xi * K_BETA_1_6).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_1_2 * t0).exp();
+    let t2 = (-xi * K_BETA_1_2).exp();
+    let t3 = xi * K_BETA_1_2;
+    let t4 = (K_BETA_1_3 * t0).exp();
+    let t5 = (-xi * K_BETA_1_3).exp();
+    let t6 = xi * K_BETA_1_3;
+    let t7 = (K_BETA_1_4 * t0).exp();
+    let t8 = (-xi * K_BETA_1_4).exp();
+    let t9 = xi * K_BETA_1_4;
+    let t10 = (K_BETA_1_5 * t0).exp();
+    let t11 = (-xi * K_BETA_1_5).exp();
+    let t12 = xi * K_BETA_1_5;
+    let t13 = (K_BETA_1_6 * t0).exp();
+    let t14 = (-xi * K_BETA_1_6).exp();
+    let t15 = xi * K_BETA_1_6;
     let mut value = [0.0; 5];
     let mut slope = [0.0; 5];
-    // psi_1,1 = K_C_1_2_3 + cos(xi*K_BETA_1_2) + exp(K_BETA_1_2*(-1 + xi))*K_C_1_2_1 + exp(-xi*K_BETA_1_2)*K_C_1_2_2
+    // psi_1,1 = K_C_1_2_3 + K_C_1_2_1*exp(K_BETA_1_2*(-1 + xi)) + K_C_1_2_2*exp(-xi*K_BETA_1_2) + cos(xi*K_BETA_1_2)
     {
-        value[0] = K_C_1_2_3 + t0.cos() + t2 * K_C_1_2_1 + t3 * K_C_1_2_2;
-        slope[0] = -K_BETA_1_2 * t0.sin() + t2 * K_C_1_2_1 * K_BETA_1_2
-            - t3 * K_BETA_1_2 * K_C_1_2_2;
+        value[0] = K_C_1_2_3 + K_C_1_2_1 * t1 + K_C_1_2_2 * t2 + t3.cos();
+        slope[0] = -K_BETA_1_2 * K_C_1_2_2 * t2 - K_BETA_1_2 * t3.sin()
+            + K_BETA_1_2 * K_C_1_2_1 * t1;
     }
-    // psi_1,2 = K_C_1_3_3 + cos(xi*K_BETA_1_3) + exp(K_BETA_1_3*(-1 + xi))*K_C_1_3_1 + exp(-xi*K_BETA_1_3)*K_C_1_3_2
+    // psi_1,2 = K_C_1_3_3 + K_C_1_3_1*exp(K_BETA_1_3*(-1 + xi)) + K_C_1_3_2*exp(-xi*K_BETA_1_3) + cos(xi*K_BETA_1_3)
     {
-        value[1] = K_C_1_3_3 + t4.cos() + t5 * K_C_1_3_1 + t6 * K_C_1_3_2;
-        slope[1] = -K_BETA_1_3 * t4.sin() + t5 * K_C_1_3_1 * K_BETA_1_3
-            - t6 * K_BETA_1_3 * K_C_1_3_2;
+        value[1] = K_C_1_3_3 + K_C_1_3_1 * t4 + K_C_1_3_2 * t5 + t6.cos();
+        slope[1] = -K_BETA_1_3 * K_C_1_3_2 * t5 - K_BETA_1_3 * t6.sin()
+            + K_BETA_1_3 * K_C_1_3_1 * t4;
     }
-    // psi_1,3 = K_C_1_4_3 + cos(xi*K_BETA_1_4) + exp(K_BETA_1_4*(-1 + xi))*K_C_1_4_1 + exp(-xi*K_BETA_1_4)*K_C_1_4_2
+    // psi_1,3 = K_C_1_4_3 + K_C_1_4_1*exp(K_BETA_1_4*(-1 + xi)) + K_C_1_4_2*exp(-xi*K_BETA_1_4) + cos(xi*K_BETA_1_4)
     {
-        value[2] = K_C_1_4_3 + t7.cos() + t8 * K_C_1_4_1 + t9 * K_C_1_4_2;
-        slope[2] = -K_BETA_1_4 * t7.sin() + t8 * K_C_1_4_1 * K_BETA_1_4
-            - t9 * K_BETA_1_4 * K_C_1_4_2;
+        value[2] = K_C_1_4_3 + K_C_1_4_1 * t7 + K_C_1_4_2 * t8 + t9.cos();
+        slope[2] = -K_BETA_1_4 * K_C_1_4_2 * t8 - K_BETA_1_4 * t9.sin()
+            + K_BETA_1_4 * K_C_1_4_1 * t7;
     }
-    // psi_1,4 = K_C_1_5_3 + cos(xi*K_BETA_1_5) + exp(K_BETA_1_5*(-1 + xi))*K_C_1_5_1 + exp(-xi*K_BETA_1_5)*K_C_1_5_2
+    // psi_1,4 = K_C_1_5_3 + K_C_1_5_1*exp(K_BETA_1_5*(-1 + xi)) + K_C_1_5_2*exp(-xi*K_BETA_1_5) + cos(xi*K_BETA_1_5)
     {
-        value[3] = K_C_1_5_3 + t10.cos() + t11 * K_C_1_5_1 + t12 * K_C_1_5_2;
-        slope[3] = -K_BETA_1_5 * t10.sin() + t11 * K_C_1_5_1 * K_BETA_1_5
-            - t12 * K_BETA_1_5 * K_C_1_5_2;
+        value[3] = K_C_1_5_3 + K_C_1_5_1 * t10 + K_C_1_5_2 * t11 + t12.cos();
+        slope[3] = -K_BETA_1_5 * K_C_1_5_2 * t11 - K_BETA_1_5 * t12.sin()
+            + K_BETA_1_5 * K_C_1_5_1 * t10;
     }
-    // psi_1,5 = K_C_1_6_3 + cos(xi*K_BETA_1_6) + exp(K_BETA_1_6*(-1 + xi))*K_C_1_6_1 + exp(-xi*K_BETA_1_6)*K_C_1_6_2
+    // psi_1,5 = K_C_1_6_3 + K_C_1_6_1*exp(K_BETA_1_6*(-1 + xi)) + K_C_1_6_2*exp(-xi*K_BETA_1_6) + cos(xi*K_BETA_1_6)
     {
-        value[4] = K_C_1_6_3 + t13.cos() + t14 * K_C_1_6_1 + t15 * K_C_1_6_2;
-        slope[4] = -K_BETA_1_6 * t13.sin() + t14 * K_C_1_6_1 * K_BETA_1_6
-            - t15 * K_BETA_1_6 * K_C_1_6_2;
+        value[4] = K_C_1_6_3 + K_C_1_6_1 * t13 + K_C_1_6_2 * t14 + t15.cos();
+        slope[4] = -K_BETA_1_6 * K_C_1_6_2 * t14 - K_BETA_1_6 * t15.sin()
+            + K_BETA_1_6 * K_C_1_6_1 * t13;
     }
     (value, slope)
 }
@@ -1125,27 +1130,27 @@ pub const TOPS_1: [f64; 5] = [K_TOP_1_2, K_TOP_1_3, K_TOP_1_4, K_TOP_1_5, K_TOP_
 /// Basis functions of section 2 at `xi = x / l_2` (cancellation-free forms) and their `d/dxi`, without the factor `l_2^p` (see `LENGTH_POWERS_2`).
 #[inline]
 pub fn shapes_2(xi: f64) -> ([f64; 6], [f64; 6]) {
-    let t0 = xi * K_BETA_2_3;
-    let t1 = t0.sin();
-    let t2 = t0.cos();
-    let t3 = -1.0 + xi;
-    let t4 = (K_BETA_2_3 * t3).exp();
-    let t5 = (-xi * K_BETA_2_3).exp();
-    let t6 = xi * K_BETA_2_4;
-    let t7 = t6.sin();
-    let t8 = t6.cos();
-    let t9 = (K_BETA_2_4 * t3).exp();
-    let t10 = (-xi * K_BETA_2_4).exp();
-    let t11 = xi * K_BETA_2_5;
-    let t12 = t11.sin();
-    let t13 = t11.cos();
-    let t14 = (K_BETA_2_5 * t3).exp();
-    let t15 = (-xi * K_BETA_2_5).exp();
-    let t16 = xi * K_BETA_2_6;
-    let t17 = t16.sin();
-    let t18 = t16.cos();
-    let t19 = (K_BETA_2_6 * t3).exp();
-    let t20 = (-xi * K_BETA_2_6).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_2_3 * t0).exp();
+    let t2 = (-xi * K_BETA_2_3).exp();
+    let t3 = xi * K_BETA_2_3;
+    let t4 = t3.sin();
+    let t5 = t3.cos();
+    let t6 = (K_BETA_2_4 * t0).exp();
+    let t7 = (-xi * K_BETA_2_4).exp();
+    let t8 = xi * K_BETA_2_4;
+    let t9 = t8.sin();
+    let t10 = t8.cos();
+    let t11 = (K_BETA_2_5 * t0).exp();
+    let t12 = (-xi * K_BETA_2_5).exp();
+    let t13 = xi * K_BETA_2_5;
+    let t14 = t13.sin();
+    let t15 = t13.cos();
+    let t16 = (K_BETA_2_6 * t0).exp();
+    let t17 = (-xi * K_BETA_2_6).exp();
+    let t18 = xi * K_BETA_2_6;
+    let t19 = t18.sin();
+    let t20 = t18.cos();
     let mut value = [0.0; 6];
     let mut slope = [0.0; 6];
     // psi_2,6 = 1
@@ -1158,29 +1163,29 @@ pub fn shapes_2(xi: f64) -> ([f64; 6], [f64; 6]) {
         value[1] = xi;
         slope[1] = 1.0;
     }
-    // psi_2,8 = K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3) + exp(K_BETA_2_3*(-1 + xi))*K_C_2_3_0 + exp(-xi*K_BETA_2_3)*K_C_2_3_1
+    // psi_2,8 = K_C_2_3_0*exp(K_BETA_2_3*(-1 + xi)) + K_C_2_3_1*exp(-xi*K_BETA_2_3) + K_C_2_3_3*sin(xi*K_BETA_2_3) + cos(xi*K_BETA_2_3)
     {
-        value[2] = K_C_2_3_3 * t1 + t2 + t4 * K_C_2_3_0 + t5 * K_C_2_3_1;
-        slope[2] = K_BETA_2_3 * K_C_2_3_3 * t2 - K_BETA_2_3 * t1
-            + t4 * K_BETA_2_3 * K_C_2_3_0 - t5 * K_C_2_3_1 * K_BETA_2_3;
+        value[2] = K_C_2_3_0 * t1 + K_C_2_3_1 * t2 + K_C_2_3_3 * t4 + t5;
+        slope[2] = -K_BETA_2_3 * K_C_2_3_1 * t2 - K_BETA_2_3 * t4
+            + K_BETA_2_3 * K_C_2_3_0 * t1 + K_BETA_2_3 * K_C_2_3_3 * t5;
     }
-    // psi_2,9 = K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4) + exp(K_BETA_2_4*(-1 + xi))*K_C_2_4_0 + exp(-xi*K_BETA_2_4)*K_C_2_4_1
+    // psi_2,9 = K_C_2_4_0*exp(K_BETA_2_4*(-1 + xi)) + K_C_2_4_1*exp(-xi*K_BETA_2_4) + K_C_2_4_3*sin(xi*K_BETA_2_4) + cos(xi*K_BETA_2_4)
     {
-        value[3] = K_C_2_4_3 * t7 + t8 + t9 * K_C_2_4_0 + t10 * K_C_2_4_1;
-        slope[3] = K_BETA_2_4 * K_C_2_4_3 * t8 - K_BETA_2_4 * t7
-            + t9 * K_BETA_2_4 * K_C_2_4_0 - t10 * K_C_2_4_1 * K_BETA_2_4;
+        value[3] = K_C_2_4_0 * t6 + K_C_2_4_1 * t7 + K_C_2_4_3 * t9 + t10;
+        slope[3] = -K_BETA_2_4 * K_C_2_4_1 * t7 - K_BETA_2_4 * t9
+            + K_BETA_2_4 * K_C_2_4_0 * t6 + K_BETA_2_4 * K_C_2_4_3 * t10;
     }
-    // psi_2,10 = K_C_2_5_3*sin(xi*K_BETA_2_5) + cos(xi*K_BETA_2_5) + exp(K_BETA_2_5*(-1 + xi))*K_C_2_5_0 + exp(-xi*K_BETA_2_5)*K_C_2_5_1
+    // psi_2,10 = K_C_2_5_0*exp(K_BETA_2_5*(-1 + xi)) + K_C_2_5_1*exp(-xi*K_BETA_2_5) + K_C_2_5_3*sin(xi*K_BETA_2_5) + cos(xi*K_BETA_2_5)
     {
-        value[4] = K_C_2_5_3 * t12 + t13 + t14 * K_C_2_5_0 + t15 * K_C_2_5_1;
-        slope[4] = K_BETA_2_5 * K_C_2_5_3 * t13 - K_BETA_2_5 * t12
-            + t14 * K_BETA_2_5 * K_C_2_5_0 - t15 * K_C_2_5_1 * K_BETA_2_5;
+        value[4] = K_C_2_5_0 * t11 + K_C_2_5_1 * t12 + K_C_2_5_3 * t14 + t15;
+        slope[4] = -K_BETA_2_5 * K_C_2_5_1 * t12 - K_BETA_2_5 * t14
+            + K_BETA_2_5 * K_C_2_5_0 * t11 + K_BETA_2_5 * K_C_2_5_3 * t15;
     }
-    // psi_2,11 = K_C_2_6_3*sin(xi*K_BETA_2_6) + cos(xi*K_BETA_2_6) + exp(K_BETA_2_6*(-1 + xi))*K_C_2_6_0 + exp(-xi*K_BETA_2_6)*K_C_2_6_1
+    // psi_2,11 = K_C_2_6_0*exp(K_BETA_2_6*(-1 + xi)) + K_C_2_6_1*exp(-xi*K_BETA_2_6) + K_C_2_6_3*sin(xi*K_BETA_2_6) + cos(xi*K_BETA_2_6)
     {
-        value[5] = K_C_2_6_3 * t17 + t18 + t19 * K_C_2_6_0 + t20 * K_C_2_6_1;
-        slope[5] = K_BETA_2_6 * K_C_2_6_3 * t18 - K_BETA_2_6 * t17
-            + t19 * K_BETA_2_6 * K_C_2_6_0 - t20 * K_C_2_6_1 * K_BETA_2_6;
+        value[5] = K_C_2_6_0 * t16 + K_C_2_6_1 * t17 + K_C_2_6_3 * t19 + t20;
+        slope[5] = -K_BETA_2_6 * K_C_2_6_1 * t17 - K_BETA_2_6 * t19
+            + K_BETA_2_6 * K_C_2_6_0 * t16 + K_BETA_2_6 * K_C_2_6_3 * t20;
     }
     (value, slope)
 }
@@ -1200,27 +1205,27 @@ pub const TOPS_2: [f64; 6] = [
 /// Basis functions of section 3 at `xi = x / l_3` (cancellation-free forms) and their `d/dxi`, without the factor `l_3^p` (see `LENGTH_POWERS_3`).
 #[inline]
 pub fn shapes_3(xi: f64) -> ([f64; 6], [f64; 6]) {
-    let t0 = xi * K_BETA_3_3;
-    let t1 = t0.sin();
-    let t2 = t0.cos();
-    let t3 = -1.0 + xi;
-    let t4 = (K_BETA_3_3 * t3).exp();
-    let t5 = (-xi * K_BETA_3_3).exp();
-    let t6 = xi * K_BETA_3_4;
-    let t7 = t6.sin();
-    let t8 = t6.cos();
-    let t9 = (K_BETA_3_4 * t3).exp();
-    let t10 = (-xi * K_BETA_3_4).exp();
-    let t11 = xi * K_BETA_3_5;
-    let t12 = t11.sin();
-    let t13 = t11.cos();
-    let t14 = (K_BETA_3_5 * t3).exp();
-    let t15 = (-xi * K_BETA_3_5).exp();
-    let t16 = xi * K_BETA_3_6;
-    let t17 = t16.sin();
-    let t18 = t16.cos();
-    let t19 = (K_BETA_3_6 * t3).exp();
-    let t20 = (-xi * K_BETA_3_6).exp();
+    let t0 = -1.0 + xi;
+    let t1 = (K_BETA_3_3 * t0).exp();
+    let t2 = (-xi * K_BETA_3_3).exp();
+    let t3 = xi * K_BETA_3_3;
+    let t4 = t3.sin();
+    let t5 = t3.cos();
+    let t6 = (K_BETA_3_4 * t0).exp();
+    let t7 = (-xi * K_BETA_3_4).exp();
+    let t8 = xi * K_BETA_3_4;
+    let t9 = t8.sin();
+    let t10 = t8.cos();
+    let t11 = (K_BETA_3_5 * t0).exp();
+    let t12 = (-xi * K_BETA_3_5).exp();
+    let t13 = xi * K_BETA_3_5;
+    let t14 = t13.sin();
+    let t15 = t13.cos();
+    let t16 = (K_BETA_3_6 * t0).exp();
+    let t17 = (-xi * K_BETA_3_6).exp();
+    let t18 = xi * K_BETA_3_6;
+    let t19 = t18.sin();
+    let t20 = t18.cos();
     let mut value = [0.0; 6];
     let mut slope = [0.0; 6];
     // psi_3,12 = 1
@@ -1233,29 +1238,29 @@ pub fn shapes_3(xi: f64) -> ([f64; 6], [f64; 6]) {
         value[1] = xi;
         slope[1] = 1.0;
     }
-    // psi_3,14 = K_C_3_3_3*sin(xi*K_BETA_3_3) + cos(xi*K_BETA_3_3) + exp(K_BETA_3_3*(-1 + xi))*K_C_3_3_0 + exp(-xi*K_BETA_3_3)*K_C_3_3_1
+    // psi_3,14 = K_C_3_3_0*exp(K_BETA_3_3*(-1 + xi)) + K_C_3_3_1*exp(-xi*K_BETA_3_3) + K_C_3_3_3*sin(xi*K_BETA_3_3) + cos(xi*K_BETA_3_3)
     {
-        value[2] = K_C_3_3_3 * t1 + t2 + t4 * K_C_3_3_0 + t5 * K_C_3_3_1;
-        slope[2] = K_BETA_3_3 * K_C_3_3_3 * t2 - K_BETA_3_3 * t1
-            + t4 * K_BETA_3_3 * K_C_3_3_0 - t5 * K_C_3_3_1 * K_BETA_3_3;
+        value[2] = K_C_3_3_0 * t1 + K_C_3_3_1 * t2 + K_C_3_3_3 * t4 + t5;
+        slope[2] = -K_BETA_3_3 * K_C_3_3_1 * t2 - K_BETA_3_3 * t4
+            + K_BETA_3_3 * K_C_3_3_0 * t1 + K_BETA_3_3 * K_C_3_3_3 * t5;
     }
-    // psi_3,15 = K_C_3_4_3*sin(xi*K_BETA_3_4) + cos(xi*K_BETA_3_4) + exp(K_BETA_3_4*(-1 + xi))*K_C_3_4_0 + exp(-xi*K_BETA_3_4)*K_C_3_4_1
+    // psi_3,15 = K_C_3_4_0*exp(K_BETA_3_4*(-1 + xi)) + K_C_3_4_1*exp(-xi*K_BETA_3_4) + K_C_3_4_3*sin(xi*K_BETA_3_4) + cos(xi*K_BETA_3_4)
     {
-        value[3] = K_C_3_4_3 * t7 + t8 + t9 * K_C_3_4_0 + t10 * K_C_3_4_1;
-        slope[3] = K_BETA_3_4 * K_C_3_4_3 * t8 - K_BETA_3_4 * t7
-            + t9 * K_BETA_3_4 * K_C_3_4_0 - t10 * K_C_3_4_1 * K_BETA_3_4;
+        value[3] = K_C_3_4_0 * t6 + K_C_3_4_1 * t7 + K_C_3_4_3 * t9 + t10;
+        slope[3] = -K_BETA_3_4 * K_C_3_4_1 * t7 - K_BETA_3_4 * t9
+            + K_BETA_3_4 * K_C_3_4_0 * t6 + K_BETA_3_4 * K_C_3_4_3 * t10;
     }
-    // psi_3,16 = K_C_3_5_3*sin(xi*K_BETA_3_5) + cos(xi*K_BETA_3_5) + exp(K_BETA_3_5*(-1 + xi))*K_C_3_5_0 + exp(-xi*K_BETA_3_5)*K_C_3_5_1
+    // psi_3,16 = K_C_3_5_0*exp(K_BETA_3_5*(-1 + xi)) + K_C_3_5_1*exp(-xi*K_BETA_3_5) + K_C_3_5_3*sin(xi*K_BETA_3_5) + cos(xi*K_BETA_3_5)
     {
-        value[4] = K_C_3_5_3 * t12 + t13 + t14 * K_C_3_5_0 + t15 * K_C_3_5_1;
-        slope[4] = K_BETA_3_5 * K_C_3_5_3 * t13 - K_BETA_3_5 * t12
-            + t14 * K_BETA_3_5 * K_C_3_5_0 - t15 * K_C_3_5_1 * K_BETA_3_5;
+        value[4] = K_C_3_5_0 * t11 + K_C_3_5_1 * t12 + K_C_3_5_3 * t14 + t15;
+        slope[4] = -K_BETA_3_5 * K_C_3_5_1 * t12 - K_BETA_3_5 * t14
+            + K_BETA_3_5 * K_C_3_5_0 * t11 + K_BETA_3_5 * K_C_3_5_3 * t15;
     }
-    // psi_3,17 = K_C_3_6_3*sin(xi*K_BETA_3_6) + cos(xi*K_BETA_3_6) + exp(K_BETA_3_6*(-1 + xi))*K_C_3_6_0 + exp(-xi*K_BETA_3_6)*K_C_3_6_1
+    // psi_3,17 = K_C_3_6_0*exp(K_BETA_3_6*(-1 + xi)) + K_C_3_6_1*exp(-xi*K_BETA_3_6) + K_C_3_6_3*sin(xi*K_BETA_3_6) + cos(xi*K_BETA_3_6)
     {
-        value[5] = K_C_3_6_3 * t17 + t18 + t19 * K_C_3_6_0 + t20 * K_C_3_6_1;
-        slope[5] = K_BETA_3_6 * K_C_3_6_3 * t18 - K_BETA_3_6 * t17
-            + t19 * K_BETA_3_6 * K_C_3_6_0 - t20 * K_C_3_6_1 * K_BETA_3_6;
+        value[5] = K_C_3_6_0 * t16 + K_C_3_6_1 * t17 + K_C_3_6_3 * t19 + t20;
+        slope[5] = -K_BETA_3_6 * K_C_3_6_1 * t17 - K_BETA_3_6 * t19
+            + K_BETA_3_6 * K_C_3_6_0 * t16 + K_BETA_3_6 * K_C_3_6_3 * t20;
     }
     (value, slope)
 }
@@ -1603,104 +1608,104 @@ impl Model for GeneratedModel {
         {
             q[0] = f_drive;
         }
-        // q[1] = -k_1_2*z_2 - f_0*g_0_1 - k_1_1*z_1 - f_1*g_1_1 - z_5*k_1_5 - z_4*k_1_4 - z_3*k_1_3
+        // q[1] = -f_0*g_0_1 - f_1*g_1_1 - k_1_1*z_1 - k_1_2*z_2 - k_1_3*z_3 - k_1_4*z_4 - k_1_5*z_5
         {
-            q[1] = -self.k[1][2] * z[2] - f[0] * geo.g[0][1] - self.k[1][1] * z[1]
-                - f[1] * geo.g[1][1] - z[5] * self.k[1][5] - z[4] * self.k[1][4]
-                - z[3] * self.k[1][3];
+            q[1] = -f[0] * geo.g[0][1] - f[1] * geo.g[1][1] - self.k[1][1] * z[1]
+                - self.k[1][2] * z[2] - self.k[1][3] * z[3] - self.k[1][4] * z[4]
+                - self.k[1][5] * z[5];
         }
-        // q[2] = -z_2*k_2_2 - f_0*g_0_2 - z_1*k_2_1 - f_1*g_1_2 - z_5*k_2_5 - z_4*k_2_4 - z_3*k_2_3
+        // q[2] = -f_0*g_0_2 - f_1*g_1_2 - k_2_1*z_1 - k_2_2*z_2 - k_2_3*z_3 - k_2_4*z_4 - k_2_5*z_5
         {
-            q[2] = -z[2] * self.k[2][2] - f[0] * geo.g[0][2] - z[1] * self.k[2][1]
-                - f[1] * geo.g[1][2] - z[5] * self.k[2][5] - z[4] * self.k[2][4]
-                - z[3] * self.k[2][3];
+            q[2] = -f[0] * geo.g[0][2] - f[1] * geo.g[1][2] - self.k[2][1] * z[1]
+                - self.k[2][2] * z[2] - self.k[2][3] * z[3] - self.k[2][4] * z[4]
+                - self.k[2][5] * z[5];
         }
-        // q[3] = -z_2*k_3_2 - f_0*g_0_3 - z_1*k_3_1 - f_1*g_1_3 - z_5*k_3_5 - z_4*k_3_4 - z_3*k_3_3
+        // q[3] = -f_0*g_0_3 - f_1*g_1_3 - k_3_1*z_1 - k_3_2*z_2 - k_3_3*z_3 - k_3_4*z_4 - k_3_5*z_5
         {
-            q[3] = -z[2] * self.k[3][2] - f[0] * geo.g[0][3] - z[1] * self.k[3][1]
-                - f[1] * geo.g[1][3] - z[5] * self.k[3][5] - z[4] * self.k[3][4]
-                - z[3] * self.k[3][3];
+            q[3] = -f[0] * geo.g[0][3] - f[1] * geo.g[1][3] - self.k[3][1] * z[1]
+                - self.k[3][2] * z[2] - self.k[3][3] * z[3] - self.k[3][4] * z[4]
+                - self.k[3][5] * z[5];
         }
-        // q[4] = -z_2*k_4_2 - f_0*g_0_4 - z_1*k_4_1 - f_1*g_1_4 - k_4_5*z_5 - k_4_4*z_4 - z_3*k_4_3
+        // q[4] = -f_0*g_0_4 - f_1*g_1_4 - k_4_1*z_1 - k_4_2*z_2 - k_4_3*z_3 - k_4_4*z_4 - k_4_5*z_5
         {
-            q[4] = -z[2] * self.k[4][2] - f[0] * geo.g[0][4] - z[1] * self.k[4][1]
-                - f[1] * geo.g[1][4] - self.k[4][5] * z[5] - self.k[4][4] * z[4]
-                - z[3] * self.k[4][3];
+            q[4] = -f[0] * geo.g[0][4] - f[1] * geo.g[1][4] - self.k[4][1] * z[1]
+                - self.k[4][2] * z[2] - self.k[4][3] * z[3] - self.k[4][4] * z[4]
+                - self.k[4][5] * z[5];
         }
-        // q[5] = -z_2*k_5_2 - f_0*g_0_5 - z_1*k_5_1 - f_1*g_1_5 - z_5*k_5_5 - z_4*k_5_4 - z_3*k_5_3
+        // q[5] = -f_0*g_0_5 - f_1*g_1_5 - k_5_1*z_1 - k_5_2*z_2 - k_5_3*z_3 - k_5_4*z_4 - k_5_5*z_5
         {
-            q[5] = -z[2] * self.k[5][2] - f[0] * geo.g[0][5] - z[1] * self.k[5][1]
-                - f[1] * geo.g[1][5] - z[5] * self.k[5][5] - z[4] * self.k[5][4]
-                - z[3] * self.k[5][3];
+            q[5] = -f[0] * geo.g[0][5] - f[1] * geo.g[1][5] - self.k[5][1] * z[1]
+                - self.k[5][2] * z[2] - self.k[5][3] * z[3] - self.k[5][4] * z[4]
+                - self.k[5][5] * z[5];
         }
         // q[6] = -f_0*g_0_6 - f_1*g_1_6 - f_2*g_2_6 - f_3*g_3_6
         {
             q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - f[2] * geo.g[2][6]
                 - f[3] * geo.g[3][6];
         }
-        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - z_7*k_7_7 - f_2*g_2_7 - z_8*k_7_8 - z_9*k_7_9 - f_3*g_3_7 - z_10*k_7_10 - z_11*k_7_11
+        // q[7] = -f_0*g_0_7 - f_1*g_1_7 - f_2*g_2_7 - f_3*g_3_7 - k_7_10*z_10 - k_7_11*z_11 - k_7_7*z_7 - k_7_8*z_8 - k_7_9*z_9
         {
-            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - z[7] * self.k[7][7]
-                - f[2] * geo.g[2][7] - z[8] * self.k[7][8] - z[9] * self.k[7][9]
-                - f[3] * geo.g[3][7] - z[10] * self.k[7][10] - z[11] * self.k[7][11];
+            q[7] = -f[0] * geo.g[0][7] - f[1] * geo.g[1][7] - f[2] * geo.g[2][7]
+                - f[3] * geo.g[3][7] - self.k[7][10] * z[10] - self.k[7][11] * z[11]
+                - self.k[7][7] * z[7] - self.k[7][8] * z[8] - self.k[7][9] * z[9];
         }
-        // q[8] = -f_0*g_0_8 - f_1*g_1_8 - z_7*k_8_7 - f_2*g_2_8 - z_8*k_8_8 - z_9*k_8_9 - f_3*g_3_8 - z_10*k_8_10 - z_11*k_8_11
+        // q[8] = -f_0*g_0_8 - f_1*g_1_8 - f_2*g_2_8 - f_3*g_3_8 - k_8_10*z_10 - k_8_11*z_11 - k_8_7*z_7 - k_8_8*z_8 - k_8_9*z_9
         {
-            q[8] = -f[0] * geo.g[0][8] - f[1] * geo.g[1][8] - z[7] * self.k[8][7]
-                - f[2] * geo.g[2][8] - z[8] * self.k[8][8] - z[9] * self.k[8][9]
-                - f[3] * geo.g[3][8] - z[10] * self.k[8][10] - z[11] * self.k[8][11];
+            q[8] = -f[0] * geo.g[0][8] - f[1] * geo.g[1][8] - f[2] * geo.g[2][8]
+                - f[3] * geo.g[3][8] - self.k[8][10] * z[10] - self.k[8][11] * z[11]
+                - self.k[8][7] * z[7] - self.k[8][8] * z[8] - self.k[8][9] * z[9];
         }
-        // q[9] = -f_0*g_0_9 - f_1*g_1_9 - z_7*k_9_7 - f_2*g_2_9 - z_8*k_9_8 - z_9*k_9_9 - f_3*g_3_9 - k_9_10*z_10 - k_9_11*z_11
+        // q[9] = -f_0*g_0_9 - f_1*g_1_9 - f_2*g_2_9 - f_3*g_3_9 - k_9_10*z_10 - k_9_11*z_11 - k_9_7*z_7 - k_9_8*z_8 - k_9_9*z_9
         {
-            q[9] = -f[0] * geo.g[0][9] - f[1] * geo.g[1][9] - z[7] * self.k[9][7]
-                - f[2] * geo.g[2][9] - z[8] * self.k[9][8] - z[9] * self.k[9][9]
-                - f[3] * geo.g[3][9] - self.k[9][10] * z[10] - self.k[9][11] * z[11];
+            q[9] = -f[0] * geo.g[0][9] - f[1] * geo.g[1][9] - f[2] * geo.g[2][9]
+                - f[3] * geo.g[3][9] - self.k[9][10] * z[10] - self.k[9][11] * z[11]
+                - self.k[9][7] * z[7] - self.k[9][8] * z[8] - self.k[9][9] * z[9];
         }
-        // q[10] = -f_0*g_0_10 - f_1*g_1_10 - z_7*k_10_7 - f_2*g_2_10 - z_8*k_10_8 - z_9*k_10_9 - f_3*g_3_10 - z_10*k_10_10 - z_11*k_10_11
+        // q[10] = -f_0*g_0_10 - f_1*g_1_10 - f_2*g_2_10 - f_3*g_3_10 - k_10_10*z_10 - k_10_11*z_11 - k_10_7*z_7 - k_10_8*z_8 - k_10_9*z_9
         {
-            q[10] = -f[0] * geo.g[0][10] - f[1] * geo.g[1][10] - z[7] * self.k[10][7]
-                - f[2] * geo.g[2][10] - z[8] * self.k[10][8] - z[9] * self.k[10][9]
-                - f[3] * geo.g[3][10] - z[10] * self.k[10][10] - z[11] * self.k[10][11];
+            q[10] = -f[0] * geo.g[0][10] - f[1] * geo.g[1][10] - f[2] * geo.g[2][10]
+                - f[3] * geo.g[3][10] - self.k[10][10] * z[10] - self.k[10][11] * z[11]
+                - self.k[10][7] * z[7] - self.k[10][8] * z[8] - self.k[10][9] * z[9];
         }
-        // q[11] = -f_0*g_0_11 - f_1*g_1_11 - z_7*k_11_7 - f_2*g_2_11 - z_8*k_11_8 - z_9*k_11_9 - f_3*g_3_11 - z_10*k_11_10 - z_11*k_11_11
+        // q[11] = -f_0*g_0_11 - f_1*g_1_11 - f_2*g_2_11 - f_3*g_3_11 - k_11_10*z_10 - k_11_11*z_11 - k_11_7*z_7 - k_11_8*z_8 - k_11_9*z_9
         {
-            q[11] = -f[0] * geo.g[0][11] - f[1] * geo.g[1][11] - z[7] * self.k[11][7]
-                - f[2] * geo.g[2][11] - z[8] * self.k[11][8] - z[9] * self.k[11][9]
-                - f[3] * geo.g[3][11] - z[10] * self.k[11][10] - z[11] * self.k[11][11];
+            q[11] = -f[0] * geo.g[0][11] - f[1] * geo.g[1][11] - f[2] * geo.g[2][11]
+                - f[3] * geo.g[3][11] - self.k[11][10] * z[10] - self.k[11][11] * z[11]
+                - self.k[11][7] * z[7] - self.k[11][8] * z[8] - self.k[11][9] * z[9];
         }
         // q[12] = -f_2*g_2_12 - f_3*g_3_12
         {
             q[12] = -f[2] * geo.g[2][12] - f[3] * geo.g[3][12];
         }
-        // q[13] = -f_2*g_2_13 - f_3*g_3_13 - k_13_14*z_14 - k_13_15*z_15 - k_13_16*z_16 - k_13_17*z_17 - k_13_13*z_13
+        // q[13] = -f_2*g_2_13 - f_3*g_3_13 - k_13_13*z_13 - k_13_14*z_14 - k_13_15*z_15 - k_13_16*z_16 - k_13_17*z_17
         {
-            q[13] = -f[2] * geo.g[2][13] - f[3] * geo.g[3][13] - self.k[13][14] * z[14]
-                - self.k[13][15] * z[15] - self.k[13][16] * z[16]
-                - self.k[13][17] * z[17] - self.k[13][13] * z[13];
+            q[13] = -f[2] * geo.g[2][13] - f[3] * geo.g[3][13] - self.k[13][13] * z[13]
+                - self.k[13][14] * z[14] - self.k[13][15] * z[15]
+                - self.k[13][16] * z[16] - self.k[13][17] * z[17];
         }
-        // q[14] = -f_2*g_2_14 - f_3*g_3_14 - z_14*k_14_14 - z_15*k_14_15 - z_16*k_14_16 - z_17*k_14_17 - z_13*k_14_13
+        // q[14] = -f_2*g_2_14 - f_3*g_3_14 - k_14_13*z_13 - k_14_14*z_14 - k_14_15*z_15 - k_14_16*z_16 - k_14_17*z_17
         {
-            q[14] = -f[2] * geo.g[2][14] - f[3] * geo.g[3][14] - z[14] * self.k[14][14]
-                - z[15] * self.k[14][15] - z[16] * self.k[14][16]
-                - z[17] * self.k[14][17] - z[13] * self.k[14][13];
+            q[14] = -f[2] * geo.g[2][14] - f[3] * geo.g[3][14] - self.k[14][13] * z[13]
+                - self.k[14][14] * z[14] - self.k[14][15] * z[15]
+                - self.k[14][16] * z[16] - self.k[14][17] * z[17];
         }
-        // q[15] = -f_2*g_2_15 - f_3*g_3_15 - z_14*k_15_14 - z_15*k_15_15 - z_16*k_15_16 - z_17*k_15_17 - z_13*k_15_13
+        // q[15] = -f_2*g_2_15 - f_3*g_3_15 - k_15_13*z_13 - k_15_14*z_14 - k_15_15*z_15 - k_15_16*z_16 - k_15_17*z_17
         {
-            q[15] = -f[2] * geo.g[2][15] - f[3] * geo.g[3][15] - z[14] * self.k[15][14]
-                - z[15] * self.k[15][15] - z[16] * self.k[15][16]
-                - z[17] * self.k[15][17] - z[13] * self.k[15][13];
+            q[15] = -f[2] * geo.g[2][15] - f[3] * geo.g[3][15] - self.k[15][13] * z[13]
+                - self.k[15][14] * z[14] - self.k[15][15] * z[15]
+                - self.k[15][16] * z[16] - self.k[15][17] * z[17];
         }
-        // q[16] = -f_2*g_2_16 - f_3*g_3_16 - z_14*k_16_14 - z_15*k_16_15 - z_16*k_16_16 - z_17*k_16_17 - z_13*k_16_13
+        // q[16] = -f_2*g_2_16 - f_3*g_3_16 - k_16_13*z_13 - k_16_14*z_14 - k_16_15*z_15 - k_16_16*z_16 - k_16_17*z_17
         {
-            q[16] = -f[2] * geo.g[2][16] - f[3] * geo.g[3][16] - z[14] * self.k[16][14]
-                - z[15] * self.k[16][15] - z[16] * self.k[16][16]
-                - z[17] * self.k[16][17] - z[13] * self.k[16][13];
+            q[16] = -f[2] * geo.g[2][16] - f[3] * geo.g[3][16] - self.k[16][13] * z[13]
+                - self.k[16][14] * z[14] - self.k[16][15] * z[15]
+                - self.k[16][16] * z[16] - self.k[16][17] * z[17];
         }
-        // q[17] = -f_2*g_2_17 - f_3*g_3_17 - z_14*k_17_14 - z_15*k_17_15 - z_16*k_17_16 - z_17*k_17_17 - z_13*k_17_13
+        // q[17] = -f_2*g_2_17 - f_3*g_3_17 - k_17_13*z_13 - k_17_14*z_14 - k_17_15*z_15 - k_17_16*z_16 - k_17_17*z_17
         {
-            q[17] = -f[2] * geo.g[2][17] - f[3] * geo.g[3][17] - z[14] * self.k[17][14]
-                - z[15] * self.k[17][15] - z[16] * self.k[17][16]
-                - z[17] * self.k[17][17] - z[13] * self.k[17][13];
+            q[17] = -f[2] * geo.g[2][17] - f[3] * geo.g[3][17] - self.k[17][13] * z[13]
+                - self.k[17][14] * z[14] - self.k[17][15] * z[15]
+                - self.k[17][16] * z[16] - self.k[17][17] * z[17];
         }
         let mut acc = [0.0; DOF];
         for i in 0..DOF {
@@ -1738,16 +1743,16 @@ impl Model for GeneratedModel {
         let t9 = -geo.g[1][1] * geo.g[1][5] * law[1].d_gap;
         let t10 = -geo.g[0][1] * geo.g[0][6] * law[0].d_gap;
         let t11 = -geo.g[1][1] * geo.g[1][6] * law[1].d_gap;
-        let t12 = -geo.g[0][1] * law[0].d_gap * geo.g[0][7];
-        let t13 = -geo.g[1][1] * law[1].d_gap * geo.g[1][7];
-        let t14 = -geo.g[0][1] * law[0].d_gap * geo.g[0][8];
-        let t15 = -geo.g[1][1] * law[1].d_gap * geo.g[1][8];
-        let t16 = -geo.g[0][1] * law[0].d_gap * geo.g[0][9];
-        let t17 = -geo.g[1][1] * law[1].d_gap * geo.g[1][9];
-        let t18 = -geo.g[0][1] * law[0].d_gap * geo.g[0][10];
-        let t19 = -geo.g[1][1] * law[1].d_gap * geo.g[1][10];
-        let t20 = -geo.g[0][1] * law[0].d_gap * geo.g[0][11];
-        let t21 = -geo.g[1][1] * law[1].d_gap * geo.g[1][11];
+        let t12 = -geo.g[0][1] * geo.g[0][7] * law[0].d_gap;
+        let t13 = -geo.g[1][1] * geo.g[1][7] * law[1].d_gap;
+        let t14 = -geo.g[0][1] * geo.g[0][8] * law[0].d_gap;
+        let t15 = -geo.g[1][1] * geo.g[1][8] * law[1].d_gap;
+        let t16 = -geo.g[0][1] * geo.g[0][9] * law[0].d_gap;
+        let t17 = -geo.g[1][1] * geo.g[1][9] * law[1].d_gap;
+        let t18 = -geo.g[0][1] * geo.g[0][10] * law[0].d_gap;
+        let t19 = -geo.g[1][1] * geo.g[1][10] * law[1].d_gap;
+        let t20 = -geo.g[0][1] * geo.g[0][11] * law[0].d_gap;
+        let t21 = -geo.g[1][1] * geo.g[1][11] * law[1].d_gap;
         let t22 = geo.g[0][2].powi(2);
         let t23 = geo.g[1][2].powi(2);
         let t24 = -geo.g[0][2] * geo.g[0][3] * law[0].d_gap;
@@ -1758,16 +1763,16 @@ impl Model for GeneratedModel {
         let t29 = -geo.g[1][2] * geo.g[1][5] * law[1].d_gap;
         let t30 = -geo.g[0][2] * geo.g[0][6] * law[0].d_gap;
         let t31 = -geo.g[1][2] * geo.g[1][6] * law[1].d_gap;
-        let t32 = -geo.g[0][2] * law[0].d_gap * geo.g[0][7];
-        let t33 = -geo.g[1][2] * law[1].d_gap * geo.g[1][7];
-        let t34 = -geo.g[0][2] * law[0].d_gap * geo.g[0][8];
-        let t35 = -geo.g[1][2] * law[1].d_gap * geo.g[1][8];
-        let t36 = -geo.g[0][2] * law[0].d_gap * geo.g[0][9];
-        let t37 = -geo.g[1][2] * law[1].d_gap * geo.g[1][9];
-        let t38 = -geo.g[0][2] * law[0].d_gap * geo.g[0][10];
-        let t39 = -geo.g[1][2] * law[1].d_gap * geo.g[1][10];
-        let t40 = -geo.g[0][2] * law[0].d_gap * geo.g[0][11];
-        let t41 = -geo.g[1][2] * law[1].d_gap * geo.g[1][11];
+        let t32 = -geo.g[0][2] * geo.g[0][7] * law[0].d_gap;
+        let t33 = -geo.g[1][2] * geo.g[1][7] * law[1].d_gap;
+        let t34 = -geo.g[0][2] * geo.g[0][8] * law[0].d_gap;
+        let t35 = -geo.g[1][2] * geo.g[1][8] * law[1].d_gap;
+        let t36 = -geo.g[0][2] * geo.g[0][9] * law[0].d_gap;
+        let t37 = -geo.g[1][2] * geo.g[1][9] * law[1].d_gap;
+        let t38 = -geo.g[0][10] * geo.g[0][2] * law[0].d_gap;
+        let t39 = -geo.g[1][10] * geo.g[1][2] * law[1].d_gap;
+        let t40 = -geo.g[0][11] * geo.g[0][2] * law[0].d_gap;
+        let t41 = -geo.g[1][11] * geo.g[1][2] * law[1].d_gap;
         let t42 = geo.g[0][3].powi(2);
         let t43 = geo.g[1][3].powi(2);
         let t44 = -geo.g[0][3] * geo.g[0][4] * law[0].d_gap;
@@ -1776,456 +1781,456 @@ impl Model for GeneratedModel {
         let t47 = -geo.g[1][3] * geo.g[1][5] * law[1].d_gap;
         let t48 = -geo.g[0][3] * geo.g[0][6] * law[0].d_gap;
         let t49 = -geo.g[1][3] * geo.g[1][6] * law[1].d_gap;
-        let t50 = -geo.g[0][3] * law[0].d_gap * geo.g[0][7];
-        let t51 = -geo.g[1][3] * law[1].d_gap * geo.g[1][7];
-        let t52 = -geo.g[0][3] * law[0].d_gap * geo.g[0][8];
-        let t53 = -geo.g[1][3] * law[1].d_gap * geo.g[1][8];
-        let t54 = -geo.g[0][3] * law[0].d_gap * geo.g[0][9];
-        let t55 = -geo.g[1][3] * law[1].d_gap * geo.g[1][9];
-        let t56 = -geo.g[0][3] * law[0].d_gap * geo.g[0][10];
-        let t57 = -geo.g[1][3] * law[1].d_gap * geo.g[1][10];
-        let t58 = -geo.g[0][3] * law[0].d_gap * geo.g[0][11];
-        let t59 = -geo.g[1][3] * law[1].d_gap * geo.g[1][11];
+        let t50 = -geo.g[0][3] * geo.g[0][7] * law[0].d_gap;
+        let t51 = -geo.g[1][3] * geo.g[1][7] * law[1].d_gap;
+        let t52 = -geo.g[0][3] * geo.g[0][8] * law[0].d_gap;
+        let t53 = -geo.g[1][3] * geo.g[1][8] * law[1].d_gap;
+        let t54 = -geo.g[0][3] * geo.g[0][9] * law[0].d_gap;
+        let t55 = -geo.g[1][3] * geo.g[1][9] * law[1].d_gap;
+        let t56 = -geo.g[0][10] * geo.g[0][3] * law[0].d_gap;
+        let t57 = -geo.g[1][10] * geo.g[1][3] * law[1].d_gap;
+        let t58 = -geo.g[0][11] * geo.g[0][3] * law[0].d_gap;
+        let t59 = -geo.g[1][11] * geo.g[1][3] * law[1].d_gap;
         let t60 = geo.g[0][4].powi(2);
         let t61 = geo.g[1][4].powi(2);
         let t62 = -geo.g[0][4] * geo.g[0][5] * law[0].d_gap;
         let t63 = -geo.g[1][4] * geo.g[1][5] * law[1].d_gap;
         let t64 = -geo.g[0][4] * geo.g[0][6] * law[0].d_gap;
         let t65 = -geo.g[1][4] * geo.g[1][6] * law[1].d_gap;
-        let t66 = -geo.g[0][4] * law[0].d_gap * geo.g[0][7];
-        let t67 = -geo.g[1][4] * law[1].d_gap * geo.g[1][7];
-        let t68 = -geo.g[0][4] * law[0].d_gap * geo.g[0][8];
-        let t69 = -geo.g[1][4] * law[1].d_gap * geo.g[1][8];
-        let t70 = -geo.g[0][4] * law[0].d_gap * geo.g[0][9];
-        let t71 = -geo.g[1][4] * law[1].d_gap * geo.g[1][9];
-        let t72 = -geo.g[0][4] * law[0].d_gap * geo.g[0][10];
-        let t73 = -geo.g[1][4] * law[1].d_gap * geo.g[1][10];
-        let t74 = -geo.g[0][4] * law[0].d_gap * geo.g[0][11];
-        let t75 = -geo.g[1][4] * law[1].d_gap * geo.g[1][11];
+        let t66 = -geo.g[0][4] * geo.g[0][7] * law[0].d_gap;
+        let t67 = -geo.g[1][4] * geo.g[1][7] * law[1].d_gap;
+        let t68 = -geo.g[0][4] * geo.g[0][8] * law[0].d_gap;
+        let t69 = -geo.g[1][4] * geo.g[1][8] * law[1].d_gap;
+        let t70 = -geo.g[0][4] * geo.g[0][9] * law[0].d_gap;
+        let t71 = -geo.g[1][4] * geo.g[1][9] * law[1].d_gap;
+        let t72 = -geo.g[0][10] * geo.g[0][4] * law[0].d_gap;
+        let t73 = -geo.g[1][10] * geo.g[1][4] * law[1].d_gap;
+        let t74 = -geo.g[0][11] * geo.g[0][4] * law[0].d_gap;
+        let t75 = -geo.g[1][11] * geo.g[1][4] * law[1].d_gap;
         let t76 = geo.g[0][5].powi(2);
         let t77 = geo.g[1][5].powi(2);
         let t78 = -geo.g[0][5] * geo.g[0][6] * law[0].d_gap;
         let t79 = -geo.g[1][5] * geo.g[1][6] * law[1].d_gap;
-        let t80 = -geo.g[0][5] * law[0].d_gap * geo.g[0][7];
-        let t81 = -geo.g[1][5] * law[1].d_gap * geo.g[1][7];
-        let t82 = -geo.g[0][5] * law[0].d_gap * geo.g[0][8];
-        let t83 = -geo.g[1][5] * law[1].d_gap * geo.g[1][8];
-        let t84 = -geo.g[0][5] * law[0].d_gap * geo.g[0][9];
-        let t85 = -geo.g[1][5] * law[1].d_gap * geo.g[1][9];
-        let t86 = -geo.g[0][5] * law[0].d_gap * geo.g[0][10];
-        let t87 = -geo.g[1][5] * law[1].d_gap * geo.g[1][10];
-        let t88 = -geo.g[0][5] * law[0].d_gap * geo.g[0][11];
-        let t89 = -geo.g[1][5] * law[1].d_gap * geo.g[1][11];
+        let t80 = -geo.g[0][5] * geo.g[0][7] * law[0].d_gap;
+        let t81 = -geo.g[1][5] * geo.g[1][7] * law[1].d_gap;
+        let t82 = -geo.g[0][5] * geo.g[0][8] * law[0].d_gap;
+        let t83 = -geo.g[1][5] * geo.g[1][8] * law[1].d_gap;
+        let t84 = -geo.g[0][5] * geo.g[0][9] * law[0].d_gap;
+        let t85 = -geo.g[1][5] * geo.g[1][9] * law[1].d_gap;
+        let t86 = -geo.g[0][10] * geo.g[0][5] * law[0].d_gap;
+        let t87 = -geo.g[1][10] * geo.g[1][5] * law[1].d_gap;
+        let t88 = -geo.g[0][11] * geo.g[0][5] * law[0].d_gap;
+        let t89 = -geo.g[1][11] * geo.g[1][5] * law[1].d_gap;
         let t90 = geo.g[0][6].powi(2);
         let t91 = geo.g[1][6].powi(2);
         let t92 = geo.g[2][6].powi(2);
         let t93 = geo.g[3][6].powi(2);
-        let t94 = -geo.g[0][6] * law[0].d_gap * geo.g[0][7];
-        let t95 = -geo.g[1][6] * law[1].d_gap * geo.g[1][7];
+        let t94 = -geo.g[0][6] * geo.g[0][7] * law[0].d_gap;
+        let t95 = -geo.g[1][6] * geo.g[1][7] * law[1].d_gap;
         let t96 = -geo.g[2][6] * geo.g[2][7] * law[2].d_gap;
         let t97 = -geo.g[3][6] * geo.g[3][7] * law[3].d_gap;
-        let t98 = -geo.g[0][6] * law[0].d_gap * geo.g[0][8];
-        let t99 = -geo.g[1][6] * law[1].d_gap * geo.g[1][8];
+        let t98 = -geo.g[0][6] * geo.g[0][8] * law[0].d_gap;
+        let t99 = -geo.g[1][6] * geo.g[1][8] * law[1].d_gap;
         let t100 = -geo.g[2][6] * geo.g[2][8] * law[2].d_gap;
         let t101 = -geo.g[3][6] * geo.g[3][8] * law[3].d_gap;
-        let t102 = -geo.g[0][6] * law[0].d_gap * geo.g[0][9];
-        let t103 = -geo.g[1][6] * law[1].d_gap * geo.g[1][9];
+        let t102 = -geo.g[0][6] * geo.g[0][9] * law[0].d_gap;
+        let t103 = -geo.g[1][6] * geo.g[1][9] * law[1].d_gap;
         let t104 = -geo.g[2][6] * geo.g[2][9] * law[2].d_gap;
         let t105 = -geo.g[3][6] * geo.g[3][9] * law[3].d_gap;
-        let t106 = -geo.g[0][6] * law[0].d_gap * geo.g[0][10];
-        let t107 = -geo.g[1][6] * law[1].d_gap * geo.g[1][10];
-        let t108 = -geo.g[2][6] * law[2].d_gap * geo.g[2][10];
-        let t109 = -geo.g[3][6] * geo.g[3][10] * law[3].d_gap;
-        let t110 = -geo.g[0][6] * law[0].d_gap * geo.g[0][11];
-        let t111 = -geo.g[1][6] * law[1].d_gap * geo.g[1][11];
-        let t112 = -geo.g[2][6] * law[2].d_gap * geo.g[2][11];
-        let t113 = -geo.g[3][6] * geo.g[3][11] * law[3].d_gap;
-        let t114 = -geo.g[2][6] * law[2].d_gap * geo.g[2][12];
-        let t115 = -geo.g[3][6] * law[3].d_gap * geo.g[3][12];
-        let t116 = -geo.g[2][6] * law[2].d_gap * geo.g[2][13];
-        let t117 = -geo.g[3][6] * law[3].d_gap * geo.g[3][13];
-        let t118 = -geo.g[2][6] * law[2].d_gap * geo.g[2][14];
-        let t119 = -geo.g[3][6] * law[3].d_gap * geo.g[3][14];
-        let t120 = -geo.g[2][6] * law[2].d_gap * geo.g[2][15];
-        let t121 = -geo.g[3][6] * law[3].d_gap * geo.g[3][15];
-        let t122 = -geo.g[2][6] * law[2].d_gap * geo.g[2][16];
-        let t123 = -geo.g[3][6] * law[3].d_gap * geo.g[3][16];
-        let t124 = -geo.g[2][6] * law[2].d_gap * geo.g[2][17];
-        let t125 = -geo.g[3][6] * law[3].d_gap * geo.g[3][17];
+        let t106 = -geo.g[0][10] * geo.g[0][6] * law[0].d_gap;
+        let t107 = -geo.g[1][10] * geo.g[1][6] * law[1].d_gap;
+        let t108 = -geo.g[2][10] * geo.g[2][6] * law[2].d_gap;
+        let t109 = -geo.g[3][10] * geo.g[3][6] * law[3].d_gap;
+        let t110 = -geo.g[0][11] * geo.g[0][6] * law[0].d_gap;
+        let t111 = -geo.g[1][11] * geo.g[1][6] * law[1].d_gap;
+        let t112 = -geo.g[2][11] * geo.g[2][6] * law[2].d_gap;
+        let t113 = -geo.g[3][11] * geo.g[3][6] * law[3].d_gap;
+        let t114 = -geo.g[2][12] * geo.g[2][6] * law[2].d_gap;
+        let t115 = -geo.g[3][12] * geo.g[3][6] * law[3].d_gap;
+        let t116 = -geo.g[2][13] * geo.g[2][6] * law[2].d_gap;
+        let t117 = -geo.g[3][13] * geo.g[3][6] * law[3].d_gap;
+        let t118 = -geo.g[2][14] * geo.g[2][6] * law[2].d_gap;
+        let t119 = -geo.g[3][14] * geo.g[3][6] * law[3].d_gap;
+        let t120 = -geo.g[2][15] * geo.g[2][6] * law[2].d_gap;
+        let t121 = -geo.g[3][15] * geo.g[3][6] * law[3].d_gap;
+        let t122 = -geo.g[2][16] * geo.g[2][6] * law[2].d_gap;
+        let t123 = -geo.g[3][16] * geo.g[3][6] * law[3].d_gap;
+        let t124 = -geo.g[2][17] * geo.g[2][6] * law[2].d_gap;
+        let t125 = -geo.g[3][17] * geo.g[3][6] * law[3].d_gap;
         let t126 = geo.g[0][7].powi(2);
         let t127 = geo.g[1][7].powi(2);
         let t128 = geo.g[2][7].powi(2);
         let t129 = geo.g[3][7].powi(2);
-        let t130 = -law[0].d_gap * geo.g[0][7] * geo.g[0][8];
-        let t131 = -law[1].d_gap * geo.g[1][7] * geo.g[1][8];
+        let t130 = -geo.g[0][7] * geo.g[0][8] * law[0].d_gap;
+        let t131 = -geo.g[1][7] * geo.g[1][8] * law[1].d_gap;
         let t132 = -geo.g[2][7] * geo.g[2][8] * law[2].d_gap;
         let t133 = -geo.g[3][7] * geo.g[3][8] * law[3].d_gap;
-        let t134 = -law[0].d_gap * geo.g[0][7] * geo.g[0][9];
-        let t135 = -law[1].d_gap * geo.g[1][7] * geo.g[1][9];
+        let t134 = -geo.g[0][7] * geo.g[0][9] * law[0].d_gap;
+        let t135 = -geo.g[1][7] * geo.g[1][9] * law[1].d_gap;
         let t136 = -geo.g[2][7] * geo.g[2][9] * law[2].d_gap;
         let t137 = -geo.g[3][7] * geo.g[3][9] * law[3].d_gap;
-        let t138 = -law[0].d_gap * geo.g[0][7] * geo.g[0][10];
-        let t139 = -law[1].d_gap * geo.g[1][7] * geo.g[1][10];
-        let t140 = -geo.g[2][7] * law[2].d_gap * geo.g[2][10];
-        let t141 = -geo.g[3][7] * geo.g[3][10] * law[3].d_gap;
-        let t142 = -law[0].d_gap * geo.g[0][7] * geo.g[0][11];
-        let t143 = -law[1].d_gap * geo.g[1][7] * geo.g[1][11];
-        let t144 = -geo.g[2][7] * law[2].d_gap * geo.g[2][11];
-        let t145 = -geo.g[3][7] * geo.g[3][11] * law[3].d_gap;
-        let t146 = -geo.g[2][7] * law[2].d_gap * geo.g[2][12];
-        let t147 = -geo.g[3][7] * law[3].d_gap * geo.g[3][12];
-        let t148 = -geo.g[2][7] * law[2].d_gap * geo.g[2][13];
-        let t149 = -geo.g[3][7] * law[3].d_gap * geo.g[3][13];
-        let t150 = -geo.g[2][7] * law[2].d_gap * geo.g[2][14];
-        let t151 = -geo.g[3][7] * law[3].d_gap * geo.g[3][14];
-        let t152 = -geo.g[2][7] * law[2].d_gap * geo.g[2][15];
-        let t153 = -geo.g[3][7] * law[3].d_gap * geo.g[3][15];
-        let t154 = -geo.g[2][7] * law[2].d_gap * geo.g[2][16];
-        let t155 = -geo.g[3][7] * law[3].d_gap * geo.g[3][16];
-        let t156 = -geo.g[2][7] * law[2].d_gap * geo.g[2][17];
-        let t157 = -geo.g[3][7] * law[3].d_gap * geo.g[3][17];
+        let t138 = -geo.g[0][10] * geo.g[0][7] * law[0].d_gap;
+        let t139 = -geo.g[1][10] * geo.g[1][7] * law[1].d_gap;
+        let t140 = -geo.g[2][10] * geo.g[2][7] * law[2].d_gap;
+        let t141 = -geo.g[3][10] * geo.g[3][7] * law[3].d_gap;
+        let t142 = -geo.g[0][11] * geo.g[0][7] * law[0].d_gap;
+        let t143 = -geo.g[1][11] * geo.g[1][7] * law[1].d_gap;
+        let t144 = -geo.g[2][11] * geo.g[2][7] * law[2].d_gap;
+        let t145 = -geo.g[3][11] * geo.g[3][7] * law[3].d_gap;
+        let t146 = -geo.g[2][12] * geo.g[2][7] * law[2].d_gap;
+        let t147 = -geo.g[3][12] * geo.g[3][7] * law[3].d_gap;
+        let t148 = -geo.g[2][13] * geo.g[2][7] * law[2].d_gap;
+        let t149 = -geo.g[3][13] * geo.g[3][7] * law[3].d_gap;
+        let t150 = -geo.g[2][14] * geo.g[2][7] * law[2].d_gap;
+        let t151 = -geo.g[3][14] * geo.g[3][7] * law[3].d_gap;
+        let t152 = -geo.g[2][15] * geo.g[2][7] * law[2].d_gap;
+        let t153 = -geo.g[3][15] * geo.g[3][7] * law[3].d_gap;
+        let t154 = -geo.g[2][16] * geo.g[2][7] * law[2].d_gap;
+        let t155 = -geo.g[3][16] * geo.g[3][7] * law[3].d_gap;
+        let t156 = -geo.g[2][17] * geo.g[2][7] * law[2].d_gap;
+        let t157 = -geo.g[3][17] * geo.g[3][7] * law[3].d_gap;
         let t158 = geo.g[0][8].powi(2);
         let t159 = geo.g[1][8].powi(2);
         let t160 = geo.g[2][8].powi(2);
         let t161 = geo.g[3][8].powi(2);
-        let t162 = -law[0].d_gap * geo.g[0][8] * geo.g[0][9];
-        let t163 = -law[1].d_gap * geo.g[1][8] * geo.g[1][9];
+        let t162 = -geo.g[0][8] * geo.g[0][9] * law[0].d_gap;
+        let t163 = -geo.g[1][8] * geo.g[1][9] * law[1].d_gap;
         let t164 = -geo.g[2][8] * geo.g[2][9] * law[2].d_gap;
         let t165 = -geo.g[3][8] * geo.g[3][9] * law[3].d_gap;
-        let t166 = -law[0].d_gap * geo.g[0][8] * geo.g[0][10];
-        let t167 = -law[1].d_gap * geo.g[1][8] * geo.g[1][10];
-        let t168 = -geo.g[2][8] * law[2].d_gap * geo.g[2][10];
-        let t169 = -geo.g[3][8] * geo.g[3][10] * law[3].d_gap;
-        let t170 = -law[0].d_gap * geo.g[0][8] * geo.g[0][11];
-        let t171 = -law[1].d_gap * geo.g[1][8] * geo.g[1][11];
-        let t172 = -geo.g[2][8] * law[2].d_gap * geo.g[2][11];
-        let t173 = -geo.g[3][8] * geo.g[3][11] * law[3].d_gap;
-        let t174 = -geo.g[2][8] * law[2].d_gap * geo.g[2][12];
-        let t175 = -geo.g[3][8] * law[3].d_gap * geo.g[3][12];
-        let t176 = -geo.g[2][8] * law[2].d_gap * geo.g[2][13];
-        let t177 = -geo.g[3][8] * law[3].d_gap * geo.g[3][13];
-        let t178 = -geo.g[2][8] * law[2].d_gap * geo.g[2][14];
-        let t179 = -geo.g[3][8] * law[3].d_gap * geo.g[3][14];
-        let t180 = -geo.g[2][8] * law[2].d_gap * geo.g[2][15];
-        let t181 = -geo.g[3][8] * law[3].d_gap * geo.g[3][15];
-        let t182 = -geo.g[2][8] * law[2].d_gap * geo.g[2][16];
-        let t183 = -geo.g[3][8] * law[3].d_gap * geo.g[3][16];
-        let t184 = -geo.g[2][8] * law[2].d_gap * geo.g[2][17];
-        let t185 = -geo.g[3][8] * law[3].d_gap * geo.g[3][17];
+        let t166 = -geo.g[0][10] * geo.g[0][8] * law[0].d_gap;
+        let t167 = -geo.g[1][10] * geo.g[1][8] * law[1].d_gap;
+        let t168 = -geo.g[2][10] * geo.g[2][8] * law[2].d_gap;
+        let t169 = -geo.g[3][10] * geo.g[3][8] * law[3].d_gap;
+        let t170 = -geo.g[0][11] * geo.g[0][8] * law[0].d_gap;
+        let t171 = -geo.g[1][11] * geo.g[1][8] * law[1].d_gap;
+        let t172 = -geo.g[2][11] * geo.g[2][8] * law[2].d_gap;
+        let t173 = -geo.g[3][11] * geo.g[3][8] * law[3].d_gap;
+        let t174 = -geo.g[2][12] * geo.g[2][8] * law[2].d_gap;
+        let t175 = -geo.g[3][12] * geo.g[3][8] * law[3].d_gap;
+        let t176 = -geo.g[2][13] * geo.g[2][8] * law[2].d_gap;
+        let t177 = -geo.g[3][13] * geo.g[3][8] * law[3].d_gap;
+        let t178 = -geo.g[2][14] * geo.g[2][8] * law[2].d_gap;
+        let t179 = -geo.g[3][14] * geo.g[3][8] * law[3].d_gap;
+        let t180 = -geo.g[2][15] * geo.g[2][8] * law[2].d_gap;
+        let t181 = -geo.g[3][15] * geo.g[3][8] * law[3].d_gap;
+        let t182 = -geo.g[2][16] * geo.g[2][8] * law[2].d_gap;
+        let t183 = -geo.g[3][16] * geo.g[3][8] * law[3].d_gap;
+        let t184 = -geo.g[2][17] * geo.g[2][8] * law[2].d_gap;
+        let t185 = -geo.g[3][17] * geo.g[3][8] * law[3].d_gap;
         let t186 = geo.g[0][9].powi(2);
         let t187 = geo.g[1][9].powi(2);
         let t188 = geo.g[2][9].powi(2);
         let t189 = geo.g[3][9].powi(2);
-        let t190 = -law[0].d_gap * geo.g[0][9] * geo.g[0][10];
-        let t191 = -law[1].d_gap * geo.g[1][9] * geo.g[1][10];
-        let t192 = -geo.g[2][9] * law[2].d_gap * geo.g[2][10];
-        let t193 = -geo.g[3][9] * geo.g[3][10] * law[3].d_gap;
-        let t194 = -law[0].d_gap * geo.g[0][9] * geo.g[0][11];
-        let t195 = -law[1].d_gap * geo.g[1][9] * geo.g[1][11];
-        let t196 = -geo.g[2][9] * law[2].d_gap * geo.g[2][11];
-        let t197 = -geo.g[3][9] * geo.g[3][11] * law[3].d_gap;
-        let t198 = -geo.g[2][9] * law[2].d_gap * geo.g[2][12];
-        let t199 = -geo.g[3][9] * law[3].d_gap * geo.g[3][12];
-        let t200 = -geo.g[2][9] * law[2].d_gap * geo.g[2][13];
-        let t201 = -geo.g[3][9] * law[3].d_gap * geo.g[3][13];
-        let t202 = -geo.g[2][9] * law[2].d_gap * geo.g[2][14];
-        let t203 = -geo.g[3][9] * law[3].d_gap * geo.g[3][14];
-        let t204 = -geo.g[2][9] * law[2].d_gap * geo.g[2][15];
-        let t205 = -geo.g[3][9] * law[3].d_gap * geo.g[3][15];
-        let t206 = -geo.g[2][9] * law[2].d_gap * geo.g[2][16];
-        let t207 = -geo.g[3][9] * law[3].d_gap * geo.g[3][16];
-        let t208 = -geo.g[2][9] * law[2].d_gap * geo.g[2][17];
-        let t209 = -geo.g[3][9] * law[3].d_gap * geo.g[3][17];
+        let t190 = -geo.g[0][10] * geo.g[0][9] * law[0].d_gap;
+        let t191 = -geo.g[1][10] * geo.g[1][9] * law[1].d_gap;
+        let t192 = -geo.g[2][10] * geo.g[2][9] * law[2].d_gap;
+        let t193 = -geo.g[3][10] * geo.g[3][9] * law[3].d_gap;
+        let t194 = -geo.g[0][11] * geo.g[0][9] * law[0].d_gap;
+        let t195 = -geo.g[1][11] * geo.g[1][9] * law[1].d_gap;
+        let t196 = -geo.g[2][11] * geo.g[2][9] * law[2].d_gap;
+        let t197 = -geo.g[3][11] * geo.g[3][9] * law[3].d_gap;
+        let t198 = -geo.g[2][12] * geo.g[2][9] * law[2].d_gap;
+        let t199 = -geo.g[3][12] * geo.g[3][9] * law[3].d_gap;
+        let t200 = -geo.g[2][13] * geo.g[2][9] * law[2].d_gap;
+        let t201 = -geo.g[3][13] * geo.g[3][9] * law[3].d_gap;
+        let t202 = -geo.g[2][14] * geo.g[2][9] * law[2].d_gap;
+        let t203 = -geo.g[3][14] * geo.g[3][9] * law[3].d_gap;
+        let t204 = -geo.g[2][15] * geo.g[2][9] * law[2].d_gap;
+        let t205 = -geo.g[3][15] * geo.g[3][9] * law[3].d_gap;
+        let t206 = -geo.g[2][16] * geo.g[2][9] * law[2].d_gap;
+        let t207 = -geo.g[3][16] * geo.g[3][9] * law[3].d_gap;
+        let t208 = -geo.g[2][17] * geo.g[2][9] * law[2].d_gap;
+        let t209 = -geo.g[3][17] * geo.g[3][9] * law[3].d_gap;
         let t210 = geo.g[0][10].powi(2);
         let t211 = geo.g[1][10].powi(2);
         let t212 = geo.g[2][10].powi(2);
         let t213 = geo.g[3][10].powi(2);
-        let t214 = -law[0].d_gap * geo.g[0][10] * geo.g[0][11];
-        let t215 = -law[1].d_gap * geo.g[1][10] * geo.g[1][11];
-        let t216 = -law[2].d_gap * geo.g[2][10] * geo.g[2][11];
+        let t214 = -geo.g[0][10] * geo.g[0][11] * law[0].d_gap;
+        let t215 = -geo.g[1][10] * geo.g[1][11] * law[1].d_gap;
+        let t216 = -geo.g[2][10] * geo.g[2][11] * law[2].d_gap;
         let t217 = -geo.g[3][10] * geo.g[3][11] * law[3].d_gap;
-        let t218 = -law[2].d_gap * geo.g[2][10] * geo.g[2][12];
-        let t219 = -geo.g[3][10] * law[3].d_gap * geo.g[3][12];
-        let t220 = -law[2].d_gap * geo.g[2][10] * geo.g[2][13];
-        let t221 = -geo.g[3][10] * law[3].d_gap * geo.g[3][13];
-        let t222 = -law[2].d_gap * geo.g[2][10] * geo.g[2][14];
-        let t223 = -geo.g[3][10] * law[3].d_gap * geo.g[3][14];
-        let t224 = -law[2].d_gap * geo.g[2][10] * geo.g[2][15];
-        let t225 = -geo.g[3][10] * law[3].d_gap * geo.g[3][15];
-        let t226 = -law[2].d_gap * geo.g[2][10] * geo.g[2][16];
-        let t227 = -geo.g[3][10] * law[3].d_gap * geo.g[3][16];
-        let t228 = -law[2].d_gap * geo.g[2][10] * geo.g[2][17];
-        let t229 = -geo.g[3][10] * law[3].d_gap * geo.g[3][17];
+        let t218 = -geo.g[2][10] * geo.g[2][12] * law[2].d_gap;
+        let t219 = -geo.g[3][10] * geo.g[3][12] * law[3].d_gap;
+        let t220 = -geo.g[2][10] * geo.g[2][13] * law[2].d_gap;
+        let t221 = -geo.g[3][10] * geo.g[3][13] * law[3].d_gap;
+        let t222 = -geo.g[2][10] * geo.g[2][14] * law[2].d_gap;
+        let t223 = -geo.g[3][10] * geo.g[3][14] * law[3].d_gap;
+        let t224 = -geo.g[2][10] * geo.g[2][15] * law[2].d_gap;
+        let t225 = -geo.g[3][10] * geo.g[3][15] * law[3].d_gap;
+        let t226 = -geo.g[2][10] * geo.g[2][16] * law[2].d_gap;
+        let t227 = -geo.g[3][10] * geo.g[3][16] * law[3].d_gap;
+        let t228 = -geo.g[2][10] * geo.g[2][17] * law[2].d_gap;
+        let t229 = -geo.g[3][10] * geo.g[3][17] * law[3].d_gap;
         let t230 = geo.g[0][11].powi(2);
         let t231 = geo.g[1][11].powi(2);
         let t232 = geo.g[2][11].powi(2);
         let t233 = geo.g[3][11].powi(2);
-        let t234 = -law[2].d_gap * geo.g[2][11] * geo.g[2][12];
-        let t235 = -geo.g[3][11] * law[3].d_gap * geo.g[3][12];
-        let t236 = -law[2].d_gap * geo.g[2][11] * geo.g[2][13];
-        let t237 = -geo.g[3][11] * law[3].d_gap * geo.g[3][13];
-        let t238 = -law[2].d_gap * geo.g[2][11] * geo.g[2][14];
-        let t239 = -geo.g[3][11] * law[3].d_gap * geo.g[3][14];
-        let t240 = -law[2].d_gap * geo.g[2][11] * geo.g[2][15];
-        let t241 = -geo.g[3][11] * law[3].d_gap * geo.g[3][15];
-        let t242 = -law[2].d_gap * geo.g[2][11] * geo.g[2][16];
-        let t243 = -geo.g[3][11] * law[3].d_gap * geo.g[3][16];
-        let t244 = -law[2].d_gap * geo.g[2][11] * geo.g[2][17];
-        let t245 = -geo.g[3][11] * law[3].d_gap * geo.g[3][17];
+        let t234 = -geo.g[2][11] * geo.g[2][12] * law[2].d_gap;
+        let t235 = -geo.g[3][11] * geo.g[3][12] * law[3].d_gap;
+        let t236 = -geo.g[2][11] * geo.g[2][13] * law[2].d_gap;
+        let t237 = -geo.g[3][11] * geo.g[3][13] * law[3].d_gap;
+        let t238 = -geo.g[2][11] * geo.g[2][14] * law[2].d_gap;
+        let t239 = -geo.g[3][11] * geo.g[3][14] * law[3].d_gap;
+        let t240 = -geo.g[2][11] * geo.g[2][15] * law[2].d_gap;
+        let t241 = -geo.g[3][11] * geo.g[3][15] * law[3].d_gap;
+        let t242 = -geo.g[2][11] * geo.g[2][16] * law[2].d_gap;
+        let t243 = -geo.g[3][11] * geo.g[3][16] * law[3].d_gap;
+        let t244 = -geo.g[2][11] * geo.g[2][17] * law[2].d_gap;
+        let t245 = -geo.g[3][11] * geo.g[3][17] * law[3].d_gap;
         let t246 = geo.g[2][12].powi(2);
         let t247 = geo.g[3][12].powi(2);
-        let t248 = -law[2].d_gap * geo.g[2][12] * geo.g[2][13];
-        let t249 = -law[3].d_gap * geo.g[3][12] * geo.g[3][13];
-        let t250 = -law[2].d_gap * geo.g[2][12] * geo.g[2][14];
-        let t251 = -law[3].d_gap * geo.g[3][12] * geo.g[3][14];
-        let t252 = -law[2].d_gap * geo.g[2][12] * geo.g[2][15];
-        let t253 = -law[3].d_gap * geo.g[3][12] * geo.g[3][15];
-        let t254 = -law[2].d_gap * geo.g[2][12] * geo.g[2][16];
-        let t255 = -law[3].d_gap * geo.g[3][12] * geo.g[3][16];
-        let t256 = -law[2].d_gap * geo.g[2][12] * geo.g[2][17];
-        let t257 = -law[3].d_gap * geo.g[3][12] * geo.g[3][17];
+        let t248 = -geo.g[2][12] * geo.g[2][13] * law[2].d_gap;
+        let t249 = -geo.g[3][12] * geo.g[3][13] * law[3].d_gap;
+        let t250 = -geo.g[2][12] * geo.g[2][14] * law[2].d_gap;
+        let t251 = -geo.g[3][12] * geo.g[3][14] * law[3].d_gap;
+        let t252 = -geo.g[2][12] * geo.g[2][15] * law[2].d_gap;
+        let t253 = -geo.g[3][12] * geo.g[3][15] * law[3].d_gap;
+        let t254 = -geo.g[2][12] * geo.g[2][16] * law[2].d_gap;
+        let t255 = -geo.g[3][12] * geo.g[3][16] * law[3].d_gap;
+        let t256 = -geo.g[2][12] * geo.g[2][17] * law[2].d_gap;
+        let t257 = -geo.g[3][12] * geo.g[3][17] * law[3].d_gap;
         let t258 = geo.g[2][13].powi(2);
         let t259 = geo.g[3][13].powi(2);
-        let t260 = -law[2].d_gap * geo.g[2][13] * geo.g[2][14];
-        let t261 = -law[3].d_gap * geo.g[3][13] * geo.g[3][14];
-        let t262 = -law[2].d_gap * geo.g[2][13] * geo.g[2][15];
-        let t263 = -law[3].d_gap * geo.g[3][13] * geo.g[3][15];
-        let t264 = -law[2].d_gap * geo.g[2][13] * geo.g[2][16];
-        let t265 = -law[3].d_gap * geo.g[3][13] * geo.g[3][16];
-        let t266 = -law[2].d_gap * geo.g[2][13] * geo.g[2][17];
-        let t267 = -law[3].d_gap * geo.g[3][13] * geo.g[3][17];
+        let t260 = -geo.g[2][13] * geo.g[2][14] * law[2].d_gap;
+        let t261 = -geo.g[3][13] * geo.g[3][14] * law[3].d_gap;
+        let t262 = -geo.g[2][13] * geo.g[2][15] * law[2].d_gap;
+        let t263 = -geo.g[3][13] * geo.g[3][15] * law[3].d_gap;
+        let t264 = -geo.g[2][13] * geo.g[2][16] * law[2].d_gap;
+        let t265 = -geo.g[3][13] * geo.g[3][16] * law[3].d_gap;
+        let t266 = -geo.g[2][13] * geo.g[2][17] * law[2].d_gap;
+        let t267 = -geo.g[3][13] * geo.g[3][17] * law[3].d_gap;
         let t268 = geo.g[2][14].powi(2);
         let t269 = geo.g[3][14].powi(2);
-        let t270 = -law[2].d_gap * geo.g[2][14] * geo.g[2][15];
-        let t271 = -law[3].d_gap * geo.g[3][14] * geo.g[3][15];
-        let t272 = -law[2].d_gap * geo.g[2][14] * geo.g[2][16];
-        let t273 = -law[3].d_gap * geo.g[3][14] * geo.g[3][16];
-        let t274 = -law[2].d_gap * geo.g[2][14] * geo.g[2][17];
-        let t275 = -law[3].d_gap * geo.g[3][14] * geo.g[3][17];
+        let t270 = -geo.g[2][14] * geo.g[2][15] * law[2].d_gap;
+        let t271 = -geo.g[3][14] * geo.g[3][15] * law[3].d_gap;
+        let t272 = -geo.g[2][14] * geo.g[2][16] * law[2].d_gap;
+        let t273 = -geo.g[3][14] * geo.g[3][16] * law[3].d_gap;
+        let t274 = -geo.g[2][14] * geo.g[2][17] * law[2].d_gap;
+        let t275 = -geo.g[3][14] * geo.g[3][17] * law[3].d_gap;
         let t276 = geo.g[2][15].powi(2);
         let t277 = geo.g[3][15].powi(2);
-        let t278 = -law[2].d_gap * geo.g[2][15] * geo.g[2][16];
-        let t279 = -law[3].d_gap * geo.g[3][15] * geo.g[3][16];
-        let t280 = -law[2].d_gap * geo.g[2][15] * geo.g[2][17];
-        let t281 = -law[3].d_gap * geo.g[3][15] * geo.g[3][17];
+        let t278 = -geo.g[2][15] * geo.g[2][16] * law[2].d_gap;
+        let t279 = -geo.g[3][15] * geo.g[3][16] * law[3].d_gap;
+        let t280 = -geo.g[2][15] * geo.g[2][17] * law[2].d_gap;
+        let t281 = -geo.g[3][15] * geo.g[3][17] * law[3].d_gap;
         let t282 = geo.g[2][16].powi(2);
         let t283 = geo.g[3][16].powi(2);
-        let t284 = -law[2].d_gap * geo.g[2][16] * geo.g[2][17];
-        let t285 = -law[3].d_gap * geo.g[3][16] * geo.g[3][17];
+        let t284 = -geo.g[2][16] * geo.g[2][17] * law[2].d_gap;
+        let t285 = -geo.g[3][16] * geo.g[3][17] * law[3].d_gap;
         let t286 = geo.g[2][17].powi(2);
         let t287 = geo.g[3][17].powi(2);
-        let t288 = -geo.g[0][1] * geo.g[0][2] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][2] * law[1].d_rate;
-        let t289 = -geo.g[0][1] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][3] * law[1].d_rate;
-        let t290 = -geo.g[0][1] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][4] * law[1].d_rate;
-        let t291 = -geo.g[0][1] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][5] * law[1].d_rate;
-        let t292 = -geo.g[0][1] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][1] * geo.g[1][6] * law[1].d_rate;
-        let t293 = -geo.g[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][7];
-        let t294 = -geo.g[0][1] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][8];
-        let t295 = -geo.g[0][1] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][9];
-        let t296 = -geo.g[0][1] * law[0].d_rate * geo.g[0][10]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][10];
-        let t297 = -geo.g[0][1] * law[0].d_rate * geo.g[0][11]
-            - geo.g[1][1] * law[1].d_rate * geo.g[1][11];
-        let t298 = -geo.g[0][2] * geo.g[0][3] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][3] * law[1].d_rate;
-        let t299 = -geo.g[0][2] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][4] * law[1].d_rate;
-        let t300 = -geo.g[0][2] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][5] * law[1].d_rate;
-        let t301 = -geo.g[0][2] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][2] * geo.g[1][6] * law[1].d_rate;
-        let t302 = -geo.g[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][7];
-        let t303 = -geo.g[0][2] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][8];
-        let t304 = -geo.g[0][2] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][9];
-        let t305 = -geo.g[0][2] * law[0].d_rate * geo.g[0][10]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][10];
-        let t306 = -geo.g[0][2] * law[0].d_rate * geo.g[0][11]
-            - geo.g[1][2] * law[1].d_rate * geo.g[1][11];
-        let t307 = -geo.g[0][3] * geo.g[0][4] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][4] * law[1].d_rate;
-        let t308 = -geo.g[0][3] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][5] * law[1].d_rate;
-        let t309 = -geo.g[0][3] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][3] * geo.g[1][6] * law[1].d_rate;
-        let t310 = -geo.g[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][7];
-        let t311 = -geo.g[0][3] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][8];
-        let t312 = -geo.g[0][3] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][9];
-        let t313 = -geo.g[0][3] * law[0].d_rate * geo.g[0][10]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][10];
-        let t314 = -geo.g[0][3] * law[0].d_rate * geo.g[0][11]
-            - geo.g[1][3] * law[1].d_rate * geo.g[1][11];
-        let t315 = -geo.g[0][4] * geo.g[0][5] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][5] * law[1].d_rate;
-        let t316 = -geo.g[0][4] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][4] * geo.g[1][6] * law[1].d_rate;
-        let t317 = -geo.g[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][7];
-        let t318 = -geo.g[0][4] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][8];
-        let t319 = -geo.g[0][4] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][9];
-        let t320 = -geo.g[0][4] * law[0].d_rate * geo.g[0][10]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][10];
-        let t321 = -geo.g[0][4] * law[0].d_rate * geo.g[0][11]
-            - geo.g[1][4] * law[1].d_rate * geo.g[1][11];
-        let t322 = -geo.g[0][5] * geo.g[0][6] * law[0].d_rate
-            - geo.g[1][5] * geo.g[1][6] * law[1].d_rate;
-        let t323 = -geo.g[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][7];
-        let t324 = -geo.g[0][5] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][8];
-        let t325 = -geo.g[0][5] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][9];
-        let t326 = -geo.g[0][5] * law[0].d_rate * geo.g[0][10]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][10];
-        let t327 = -geo.g[0][5] * law[0].d_rate * geo.g[0][11]
-            - geo.g[1][5] * law[1].d_rate * geo.g[1][11];
-        let t328 = -geo.g[0][6] * law[0].d_rate * geo.g[0][7]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][7]
-            - geo.g[2][6] * geo.g[2][7] * law[2].d_rate
-            - geo.g[3][6] * geo.g[3][7] * law[3].d_rate;
-        let t329 = -geo.g[0][6] * law[0].d_rate * geo.g[0][8]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][8]
-            - geo.g[2][6] * geo.g[2][8] * law[2].d_rate
-            - geo.g[3][6] * geo.g[3][8] * law[3].d_rate;
-        let t330 = -geo.g[0][6] * law[0].d_rate * geo.g[0][9]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][9]
-            - geo.g[2][6] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][6] * geo.g[3][9] * law[3].d_rate;
-        let t331 = -geo.g[0][6] * law[0].d_rate * geo.g[0][10]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][10]
-            - geo.g[2][6] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][6] * geo.g[3][10] * law[3].d_rate;
-        let t332 = -geo.g[0][6] * law[0].d_rate * geo.g[0][11]
-            - geo.g[1][6] * law[1].d_rate * geo.g[1][11]
-            - geo.g[2][6] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][6] * geo.g[3][11] * law[3].d_rate;
-        let t333 = -geo.g[2][6] * law[2].d_rate * geo.g[2][12]
-            - geo.g[3][6] * law[3].d_rate * geo.g[3][12];
-        let t334 = -geo.g[2][6] * law[2].d_rate * geo.g[2][13]
-            - geo.g[3][6] * law[3].d_rate * geo.g[3][13];
-        let t335 = -geo.g[2][6] * law[2].d_rate * geo.g[2][14]
-            - geo.g[3][6] * law[3].d_rate * geo.g[3][14];
-        let t336 = -geo.g[2][6] * law[2].d_rate * geo.g[2][15]
-            - geo.g[3][6] * law[3].d_rate * geo.g[3][15];
-        let t337 = -geo.g[2][6] * law[2].d_rate * geo.g[2][16]
-            - geo.g[3][6] * law[3].d_rate * geo.g[3][16];
-        let t338 = -geo.g[2][6] * law[2].d_rate * geo.g[2][17]
-            - geo.g[3][6] * law[3].d_rate * geo.g[3][17];
+        let t288 = -law[0].d_rate * geo.g[0][1] * geo.g[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][2];
+        let t289 = -law[0].d_rate * geo.g[0][1] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][3];
+        let t290 = -law[0].d_rate * geo.g[0][1] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][4];
+        let t291 = -law[0].d_rate * geo.g[0][1] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][5];
+        let t292 = -law[0].d_rate * geo.g[0][1] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][6];
+        let t293 = -law[0].d_rate * geo.g[0][1] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][7];
+        let t294 = -law[0].d_rate * geo.g[0][1] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][8];
+        let t295 = -law[0].d_rate * geo.g[0][1] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][9];
+        let t296 = -law[0].d_rate * geo.g[0][1] * geo.g[0][10]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][10];
+        let t297 = -law[0].d_rate * geo.g[0][1] * geo.g[0][11]
+            - law[1].d_rate * geo.g[1][1] * geo.g[1][11];
+        let t298 = -law[0].d_rate * geo.g[0][2] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][3];
+        let t299 = -law[0].d_rate * geo.g[0][2] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][4];
+        let t300 = -law[0].d_rate * geo.g[0][2] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][5];
+        let t301 = -law[0].d_rate * geo.g[0][2] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][6];
+        let t302 = -law[0].d_rate * geo.g[0][2] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][7];
+        let t303 = -law[0].d_rate * geo.g[0][2] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][8];
+        let t304 = -law[0].d_rate * geo.g[0][2] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][2] * geo.g[1][9];
+        let t305 = -law[0].d_rate * geo.g[0][10] * geo.g[0][2]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][2];
+        let t306 = -law[0].d_rate * geo.g[0][11] * geo.g[0][2]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][2];
+        let t307 = -law[0].d_rate * geo.g[0][3] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][4];
+        let t308 = -law[0].d_rate * geo.g[0][3] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][5];
+        let t309 = -law[0].d_rate * geo.g[0][3] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][6];
+        let t310 = -law[0].d_rate * geo.g[0][3] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][7];
+        let t311 = -law[0].d_rate * geo.g[0][3] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][8];
+        let t312 = -law[0].d_rate * geo.g[0][3] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][3] * geo.g[1][9];
+        let t313 = -law[0].d_rate * geo.g[0][10] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][3];
+        let t314 = -law[0].d_rate * geo.g[0][11] * geo.g[0][3]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][3];
+        let t315 = -law[0].d_rate * geo.g[0][4] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][5];
+        let t316 = -law[0].d_rate * geo.g[0][4] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][6];
+        let t317 = -law[0].d_rate * geo.g[0][4] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][7];
+        let t318 = -law[0].d_rate * geo.g[0][4] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][8];
+        let t319 = -law[0].d_rate * geo.g[0][4] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][4] * geo.g[1][9];
+        let t320 = -law[0].d_rate * geo.g[0][10] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][4];
+        let t321 = -law[0].d_rate * geo.g[0][11] * geo.g[0][4]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][4];
+        let t322 = -law[0].d_rate * geo.g[0][5] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][6];
+        let t323 = -law[0].d_rate * geo.g[0][5] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][7];
+        let t324 = -law[0].d_rate * geo.g[0][5] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][8];
+        let t325 = -law[0].d_rate * geo.g[0][5] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][5] * geo.g[1][9];
+        let t326 = -law[0].d_rate * geo.g[0][10] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][5];
+        let t327 = -law[0].d_rate * geo.g[0][11] * geo.g[0][5]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][5];
+        let t328 = -law[0].d_rate * geo.g[0][6] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][6] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][6] * geo.g[3][7];
+        let t329 = -law[0].d_rate * geo.g[0][6] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][6] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][6] * geo.g[3][8];
+        let t330 = -law[0].d_rate * geo.g[0][6] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][6] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][6] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][6] * geo.g[3][9];
+        let t331 = -law[0].d_rate * geo.g[0][10] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][10] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][6];
+        let t332 = -law[0].d_rate * geo.g[0][11] * geo.g[0][6]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][6]
+            - law[2].d_rate * geo.g[2][11] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][6];
+        let t333 = -law[2].d_rate * geo.g[2][12] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][12] * geo.g[3][6];
+        let t334 = -law[2].d_rate * geo.g[2][13] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][13] * geo.g[3][6];
+        let t335 = -law[2].d_rate * geo.g[2][14] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][14] * geo.g[3][6];
+        let t336 = -law[2].d_rate * geo.g[2][15] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][15] * geo.g[3][6];
+        let t337 = -law[2].d_rate * geo.g[2][16] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][16] * geo.g[3][6];
+        let t338 = -law[2].d_rate * geo.g[2][17] * geo.g[2][6]
+            - law[3].d_rate * geo.g[3][17] * geo.g[3][6];
         let t339 = -law[0].d_rate * geo.g[0][7] * geo.g[0][8]
             - law[1].d_rate * geo.g[1][7] * geo.g[1][8]
-            - geo.g[2][7] * geo.g[2][8] * law[2].d_rate
-            - geo.g[3][7] * geo.g[3][8] * law[3].d_rate;
+            - law[2].d_rate * geo.g[2][7] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][7] * geo.g[3][8];
         let t340 = -law[0].d_rate * geo.g[0][7] * geo.g[0][9]
             - law[1].d_rate * geo.g[1][7] * geo.g[1][9]
-            - geo.g[2][7] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][7] * geo.g[3][9] * law[3].d_rate;
-        let t341 = -law[0].d_rate * geo.g[0][7] * geo.g[0][10]
-            - law[1].d_rate * geo.g[1][7] * geo.g[1][10]
-            - geo.g[2][7] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][7] * geo.g[3][10] * law[3].d_rate;
-        let t342 = -law[0].d_rate * geo.g[0][7] * geo.g[0][11]
-            - law[1].d_rate * geo.g[1][7] * geo.g[1][11]
-            - geo.g[2][7] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][7] * geo.g[3][11] * law[3].d_rate;
-        let t343 = -geo.g[2][7] * law[2].d_rate * geo.g[2][12]
-            - geo.g[3][7] * law[3].d_rate * geo.g[3][12];
-        let t344 = -geo.g[2][7] * law[2].d_rate * geo.g[2][13]
-            - geo.g[3][7] * law[3].d_rate * geo.g[3][13];
-        let t345 = -geo.g[2][7] * law[2].d_rate * geo.g[2][14]
-            - geo.g[3][7] * law[3].d_rate * geo.g[3][14];
-        let t346 = -geo.g[2][7] * law[2].d_rate * geo.g[2][15]
-            - geo.g[3][7] * law[3].d_rate * geo.g[3][15];
-        let t347 = -geo.g[2][7] * law[2].d_rate * geo.g[2][16]
-            - geo.g[3][7] * law[3].d_rate * geo.g[3][16];
-        let t348 = -geo.g[2][7] * law[2].d_rate * geo.g[2][17]
-            - geo.g[3][7] * law[3].d_rate * geo.g[3][17];
+            - law[2].d_rate * geo.g[2][7] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][7] * geo.g[3][9];
+        let t341 = -law[0].d_rate * geo.g[0][10] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][10] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][7];
+        let t342 = -law[0].d_rate * geo.g[0][11] * geo.g[0][7]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][7]
+            - law[2].d_rate * geo.g[2][11] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][7];
+        let t343 = -law[2].d_rate * geo.g[2][12] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][12] * geo.g[3][7];
+        let t344 = -law[2].d_rate * geo.g[2][13] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][13] * geo.g[3][7];
+        let t345 = -law[2].d_rate * geo.g[2][14] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][14] * geo.g[3][7];
+        let t346 = -law[2].d_rate * geo.g[2][15] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][15] * geo.g[3][7];
+        let t347 = -law[2].d_rate * geo.g[2][16] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][16] * geo.g[3][7];
+        let t348 = -law[2].d_rate * geo.g[2][17] * geo.g[2][7]
+            - law[3].d_rate * geo.g[3][17] * geo.g[3][7];
         let t349 = -law[0].d_rate * geo.g[0][8] * geo.g[0][9]
             - law[1].d_rate * geo.g[1][8] * geo.g[1][9]
-            - geo.g[2][8] * geo.g[2][9] * law[2].d_rate
-            - geo.g[3][8] * geo.g[3][9] * law[3].d_rate;
-        let t350 = -law[0].d_rate * geo.g[0][8] * geo.g[0][10]
-            - law[1].d_rate * geo.g[1][8] * geo.g[1][10]
-            - geo.g[2][8] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][8] * geo.g[3][10] * law[3].d_rate;
-        let t351 = -law[0].d_rate * geo.g[0][8] * geo.g[0][11]
-            - law[1].d_rate * geo.g[1][8] * geo.g[1][11]
-            - geo.g[2][8] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][8] * geo.g[3][11] * law[3].d_rate;
-        let t352 = -geo.g[2][8] * law[2].d_rate * geo.g[2][12]
-            - geo.g[3][8] * law[3].d_rate * geo.g[3][12];
-        let t353 = -geo.g[2][8] * law[2].d_rate * geo.g[2][13]
-            - geo.g[3][8] * law[3].d_rate * geo.g[3][13];
-        let t354 = -geo.g[2][8] * law[2].d_rate * geo.g[2][14]
-            - geo.g[3][8] * law[3].d_rate * geo.g[3][14];
-        let t355 = -geo.g[2][8] * law[2].d_rate * geo.g[2][15]
-            - geo.g[3][8] * law[3].d_rate * geo.g[3][15];
-        let t356 = -geo.g[2][8] * law[2].d_rate * geo.g[2][16]
-            - geo.g[3][8] * law[3].d_rate * geo.g[3][16];
-        let t357 = -geo.g[2][8] * law[2].d_rate * geo.g[2][17]
-            - geo.g[3][8] * law[3].d_rate * geo.g[3][17];
-        let t358 = -law[0].d_rate * geo.g[0][9] * geo.g[0][10]
-            - law[1].d_rate * geo.g[1][9] * geo.g[1][10]
-            - geo.g[2][9] * law[2].d_rate * geo.g[2][10]
-            - geo.g[3][9] * geo.g[3][10] * law[3].d_rate;
-        let t359 = -law[0].d_rate * geo.g[0][9] * geo.g[0][11]
-            - law[1].d_rate * geo.g[1][9] * geo.g[1][11]
-            - geo.g[2][9] * law[2].d_rate * geo.g[2][11]
-            - geo.g[3][9] * geo.g[3][11] * law[3].d_rate;
-        let t360 = -geo.g[2][9] * law[2].d_rate * geo.g[2][12]
-            - geo.g[3][9] * law[3].d_rate * geo.g[3][12];
-        let t361 = -geo.g[2][9] * law[2].d_rate * geo.g[2][13]
-            - geo.g[3][9] * law[3].d_rate * geo.g[3][13];
-        let t362 = -geo.g[2][9] * law[2].d_rate * geo.g[2][14]
-            - geo.g[3][9] * law[3].d_rate * geo.g[3][14];
-        let t363 = -geo.g[2][9] * law[2].d_rate * geo.g[2][15]
-            - geo.g[3][9] * law[3].d_rate * geo.g[3][15];
-        let t364 = -geo.g[2][9] * law[2].d_rate * geo.g[2][16]
-            - geo.g[3][9] * law[3].d_rate * geo.g[3][16];
-        let t365 = -geo.g[2][9] * law[2].d_rate * geo.g[2][17]
-            - geo.g[3][9] * law[3].d_rate * geo.g[3][17];
+            - law[2].d_rate * geo.g[2][8] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][8] * geo.g[3][9];
+        let t350 = -law[0].d_rate * geo.g[0][10] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][10] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][8];
+        let t351 = -law[0].d_rate * geo.g[0][11] * geo.g[0][8]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][8]
+            - law[2].d_rate * geo.g[2][11] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][8];
+        let t352 = -law[2].d_rate * geo.g[2][12] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][12] * geo.g[3][8];
+        let t353 = -law[2].d_rate * geo.g[2][13] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][13] * geo.g[3][8];
+        let t354 = -law[2].d_rate * geo.g[2][14] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][14] * geo.g[3][8];
+        let t355 = -law[2].d_rate * geo.g[2][15] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][15] * geo.g[3][8];
+        let t356 = -law[2].d_rate * geo.g[2][16] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][16] * geo.g[3][8];
+        let t357 = -law[2].d_rate * geo.g[2][17] * geo.g[2][8]
+            - law[3].d_rate * geo.g[3][17] * geo.g[3][8];
+        let t358 = -law[0].d_rate * geo.g[0][10] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][10] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][10] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][9];
+        let t359 = -law[0].d_rate * geo.g[0][11] * geo.g[0][9]
+            - law[1].d_rate * geo.g[1][11] * geo.g[1][9]
+            - law[2].d_rate * geo.g[2][11] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][9];
+        let t360 = -law[2].d_rate * geo.g[2][12] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][12] * geo.g[3][9];
+        let t361 = -law[2].d_rate * geo.g[2][13] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][13] * geo.g[3][9];
+        let t362 = -law[2].d_rate * geo.g[2][14] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][14] * geo.g[3][9];
+        let t363 = -law[2].d_rate * geo.g[2][15] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][15] * geo.g[3][9];
+        let t364 = -law[2].d_rate * geo.g[2][16] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][16] * geo.g[3][9];
+        let t365 = -law[2].d_rate * geo.g[2][17] * geo.g[2][9]
+            - law[3].d_rate * geo.g[3][17] * geo.g[3][9];
         let t366 = -law[0].d_rate * geo.g[0][10] * geo.g[0][11]
             - law[1].d_rate * geo.g[1][10] * geo.g[1][11]
             - law[2].d_rate * geo.g[2][10] * geo.g[2][11]
-            - geo.g[3][10] * geo.g[3][11] * law[3].d_rate;
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][11];
         let t367 = -law[2].d_rate * geo.g[2][10] * geo.g[2][12]
-            - geo.g[3][10] * law[3].d_rate * geo.g[3][12];
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][12];
         let t368 = -law[2].d_rate * geo.g[2][10] * geo.g[2][13]
-            - geo.g[3][10] * law[3].d_rate * geo.g[3][13];
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][13];
         let t369 = -law[2].d_rate * geo.g[2][10] * geo.g[2][14]
-            - geo.g[3][10] * law[3].d_rate * geo.g[3][14];
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][14];
         let t370 = -law[2].d_rate * geo.g[2][10] * geo.g[2][15]
-            - geo.g[3][10] * law[3].d_rate * geo.g[3][15];
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][15];
         let t371 = -law[2].d_rate * geo.g[2][10] * geo.g[2][16]
-            - geo.g[3][10] * law[3].d_rate * geo.g[3][16];
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][16];
         let t372 = -law[2].d_rate * geo.g[2][10] * geo.g[2][17]
-            - geo.g[3][10] * law[3].d_rate * geo.g[3][17];
+            - law[3].d_rate * geo.g[3][10] * geo.g[3][17];
         let t373 = -law[2].d_rate * geo.g[2][11] * geo.g[2][12]
-            - geo.g[3][11] * law[3].d_rate * geo.g[3][12];
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][12];
         let t374 = -law[2].d_rate * geo.g[2][11] * geo.g[2][13]
-            - geo.g[3][11] * law[3].d_rate * geo.g[3][13];
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][13];
         let t375 = -law[2].d_rate * geo.g[2][11] * geo.g[2][14]
-            - geo.g[3][11] * law[3].d_rate * geo.g[3][14];
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][14];
         let t376 = -law[2].d_rate * geo.g[2][11] * geo.g[2][15]
-            - geo.g[3][11] * law[3].d_rate * geo.g[3][15];
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][15];
         let t377 = -law[2].d_rate * geo.g[2][11] * geo.g[2][16]
-            - geo.g[3][11] * law[3].d_rate * geo.g[3][16];
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][16];
         let t378 = -law[2].d_rate * geo.g[2][11] * geo.g[2][17]
-            - geo.g[3][11] * law[3].d_rate * geo.g[3][17];
+            - law[3].d_rate * geo.g[3][11] * geo.g[3][17];
         let t379 = -law[2].d_rate * geo.g[2][12] * geo.g[2][13]
             - law[3].d_rate * geo.g[3][12] * geo.g[3][13];
         let t380 = -law[2].d_rate * geo.g[2][12] * geo.g[2][14]
@@ -2256,553 +2261,599 @@ impl Model for GeneratedModel {
             - law[3].d_rate * geo.g[3][15] * geo.g[3][17];
         let t393 = -law[2].d_rate * geo.g[2][16] * geo.g[2][17]
             - law[3].d_rate * geo.g[3][16] * geo.g[3][17];
-        dq[1][1] = -geo.g[0][1] * geo.gd[0][1] * law[0].d_rate - self.k[1][1]
-            - geo.g[1][1] * geo.gd[1][1] * law[1].d_rate - t0 * law[0].d_gap
-            - t1 * law[1].d_gap;
-        dq[1][2] = -self.k[1][2] + t2 - geo.g[0][1] * geo.gd[0][2] * law[0].d_rate + t3
-            - geo.g[1][1] * geo.gd[1][2] * law[1].d_rate;
-        dq[1][3] = t4 - geo.g[0][1] * geo.gd[0][3] * law[0].d_rate + t5
-            - geo.g[1][1] * geo.gd[1][3] * law[1].d_rate - self.k[1][3];
-        dq[1][4] = t6 - geo.g[0][1] * geo.gd[0][4] * law[0].d_rate + t7
-            - geo.g[1][1] * geo.gd[1][4] * law[1].d_rate - self.k[1][4];
-        dq[1][5] = t8 - geo.g[0][1] * geo.gd[0][5] * law[0].d_rate + t9
-            - geo.g[1][1] * geo.gd[1][5] * law[1].d_rate - self.k[1][5];
-        dq[1][6] = t10 - geo.g[0][1] * law[0].d_rate * geo.gd[0][6] + t11
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][6];
-        dq[1][7] = t12 - geo.g[0][1] * law[0].d_rate * geo.gd[0][7] + t13
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][7];
-        dq[1][8] = t14 - geo.g[0][1] * law[0].d_rate * geo.gd[0][8] + t15
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][8];
-        dq[1][9] = t16 - geo.g[0][1] * law[0].d_rate * geo.gd[0][9] + t17
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][9];
-        dq[1][10] = t18 - geo.g[0][1] * law[0].d_rate * geo.gd[0][10] + t19
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][10];
-        dq[1][11] = t20 - geo.g[0][1] * law[0].d_rate * geo.gd[0][11] + t21
-            - geo.g[1][1] * law[1].d_rate * geo.gd[1][11];
-        dq[2][1] = t2 + t3 - geo.g[0][2] * geo.gd[0][1] * law[0].d_rate - self.k[2][1]
-            - geo.g[1][2] * geo.gd[1][1] * law[1].d_rate;
-        dq[2][2] = -self.k[2][2] - geo.g[0][2] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][2] * geo.gd[1][2] * law[1].d_rate - t22 * law[0].d_gap
-            - t23 * law[1].d_gap;
-        dq[2][3] = t24 - geo.g[0][2] * geo.gd[0][3] * law[0].d_rate + t25
-            - geo.g[1][2] * geo.gd[1][3] * law[1].d_rate - self.k[2][3];
-        dq[2][4] = t26 - geo.g[0][2] * geo.gd[0][4] * law[0].d_rate + t27
-            - geo.g[1][2] * geo.gd[1][4] * law[1].d_rate - self.k[2][4];
-        dq[2][5] = t28 - geo.g[0][2] * geo.gd[0][5] * law[0].d_rate + t29
-            - geo.g[1][2] * geo.gd[1][5] * law[1].d_rate - self.k[2][5];
-        dq[2][6] = t30 - geo.g[0][2] * law[0].d_rate * geo.gd[0][6] + t31
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][6];
-        dq[2][7] = t32 - geo.g[0][2] * law[0].d_rate * geo.gd[0][7] + t33
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][7];
-        dq[2][8] = t34 - geo.g[0][2] * law[0].d_rate * geo.gd[0][8] + t35
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][8];
-        dq[2][9] = t36 - geo.g[0][2] * law[0].d_rate * geo.gd[0][9] + t37
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][9];
-        dq[2][10] = t38 - geo.g[0][2] * law[0].d_rate * geo.gd[0][10] + t39
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][10];
-        dq[2][11] = t40 - geo.g[0][2] * law[0].d_rate * geo.gd[0][11] + t41
-            - geo.g[1][2] * law[1].d_rate * geo.gd[1][11];
-        dq[3][1] = t4 + t5 - geo.g[0][3] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][1] * law[1].d_rate - self.k[3][1];
-        dq[3][2] = t24 + t25 - geo.g[0][3] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][2] * law[1].d_rate - self.k[3][2];
-        dq[3][3] = -geo.g[0][3] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][3] * geo.gd[1][3] * law[1].d_rate - self.k[3][3]
-            - t42 * law[0].d_gap - t43 * law[1].d_gap;
-        dq[3][4] = t44 - geo.g[0][3] * geo.gd[0][4] * law[0].d_rate + t45
-            - geo.g[1][3] * geo.gd[1][4] * law[1].d_rate - self.k[3][4];
-        dq[3][5] = t46 - geo.g[0][3] * geo.gd[0][5] * law[0].d_rate + t47
-            - geo.g[1][3] * geo.gd[1][5] * law[1].d_rate - self.k[3][5];
-        dq[3][6] = t48 - geo.g[0][3] * law[0].d_rate * geo.gd[0][6] + t49
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][6];
-        dq[3][7] = t50 - geo.g[0][3] * law[0].d_rate * geo.gd[0][7] + t51
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][7];
-        dq[3][8] = t52 - geo.g[0][3] * law[0].d_rate * geo.gd[0][8] + t53
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][8];
-        dq[3][9] = t54 - geo.g[0][3] * law[0].d_rate * geo.gd[0][9] + t55
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][9];
-        dq[3][10] = t56 - geo.g[0][3] * law[0].d_rate * geo.gd[0][10] + t57
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][10];
-        dq[3][11] = t58 - geo.g[0][3] * law[0].d_rate * geo.gd[0][11] + t59
-            - geo.g[1][3] * law[1].d_rate * geo.gd[1][11];
-        dq[4][1] = t6 + t7 - geo.g[0][4] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][1] * law[1].d_rate - self.k[4][1];
-        dq[4][2] = t26 + t27 - geo.g[0][4] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][2] * law[1].d_rate - self.k[4][2];
-        dq[4][3] = t44 + t45 - geo.g[0][4] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][4] * geo.gd[1][3] * law[1].d_rate - self.k[4][3];
-        dq[4][4] = -geo.g[0][4] * geo.gd[0][4] * law[0].d_rate - self.k[4][4]
-            - geo.g[1][4] * geo.gd[1][4] * law[1].d_rate - t60 * law[0].d_gap
-            - t61 * law[1].d_gap;
-        dq[4][5] = -self.k[4][5] + t62 - geo.g[0][4] * geo.gd[0][5] * law[0].d_rate + t63
-            - geo.g[1][4] * geo.gd[1][5] * law[1].d_rate;
-        dq[4][6] = t64 - geo.g[0][4] * law[0].d_rate * geo.gd[0][6] + t65
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][6];
-        dq[4][7] = t66 - geo.g[0][4] * law[0].d_rate * geo.gd[0][7] + t67
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][7];
-        dq[4][8] = t68 - geo.g[0][4] * law[0].d_rate * geo.gd[0][8] + t69
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][8];
-        dq[4][9] = t70 - geo.g[0][4] * law[0].d_rate * geo.gd[0][9] + t71
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][9];
-        dq[4][10] = t72 - geo.g[0][4] * law[0].d_rate * geo.gd[0][10] + t73
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][10];
-        dq[4][11] = t74 - geo.g[0][4] * law[0].d_rate * geo.gd[0][11] + t75
-            - geo.g[1][4] * law[1].d_rate * geo.gd[1][11];
-        dq[5][1] = t8 + t9 - geo.g[0][5] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][1] * law[1].d_rate - self.k[5][1];
-        dq[5][2] = t28 + t29 - geo.g[0][5] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][2] * law[1].d_rate - self.k[5][2];
-        dq[5][3] = t46 + t47 - geo.g[0][5] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][3] * law[1].d_rate - self.k[5][3];
-        dq[5][4] = t62 + t63 - geo.g[0][5] * geo.gd[0][4] * law[0].d_rate - self.k[5][4]
-            - geo.g[1][5] * geo.gd[1][4] * law[1].d_rate;
-        dq[5][5] = -self.k[5][5] - geo.g[0][5] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][5] * geo.gd[1][5] * law[1].d_rate - t76 * law[0].d_gap
-            - t77 * law[1].d_gap;
-        dq[5][6] = t78 - geo.g[0][5] * law[0].d_rate * geo.gd[0][6] + t79
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][6];
-        dq[5][7] = t80 - geo.g[0][5] * law[0].d_rate * geo.gd[0][7] + t81
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][7];
-        dq[5][8] = t82 - geo.g[0][5] * law[0].d_rate * geo.gd[0][8] + t83
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][8];
-        dq[5][9] = t84 - geo.g[0][5] * law[0].d_rate * geo.gd[0][9] + t85
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][9];
-        dq[5][10] = t86 - geo.g[0][5] * law[0].d_rate * geo.gd[0][10] + t87
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][10];
-        dq[5][11] = t88 - geo.g[0][5] * law[0].d_rate * geo.gd[0][11] + t89
-            - geo.g[1][5] * law[1].d_rate * geo.gd[1][11];
-        dq[6][1] = t10 + t11 - geo.g[0][6] * geo.gd[0][1] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][1] * law[1].d_rate;
-        dq[6][2] = t30 + t31 - geo.g[0][6] * geo.gd[0][2] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][2] * law[1].d_rate;
-        dq[6][3] = t48 + t49 - geo.g[0][6] * geo.gd[0][3] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][3] * law[1].d_rate;
-        dq[6][4] = t64 + t65 - geo.g[0][6] * geo.gd[0][4] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][4] * law[1].d_rate;
-        dq[6][5] = t78 + t79 - geo.g[0][6] * geo.gd[0][5] * law[0].d_rate
-            - geo.g[1][6] * geo.gd[1][5] * law[1].d_rate;
-        dq[6][6] = -geo.g[0][6] * law[0].d_rate * geo.gd[0][6]
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][6]
-            - geo.g[2][6] * geo.gd[2][6] * law[2].d_rate
-            - geo.g[3][6] * geo.gd[3][6] * law[3].d_rate - t90 * law[0].d_gap
-            - t91 * law[1].d_gap - t92 * law[2].d_gap - t93 * law[3].d_gap;
-        dq[6][7] = t94 - geo.g[0][6] * law[0].d_rate * geo.gd[0][7] + t95
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][7] + t96
-            - geo.g[2][6] * geo.gd[2][7] * law[2].d_rate + t97
-            - geo.g[3][6] * geo.gd[3][7] * law[3].d_rate;
-        dq[6][8] = t98 - geo.g[0][6] * law[0].d_rate * geo.gd[0][8] + t99
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][8] + t100
-            - geo.g[2][6] * geo.gd[2][8] * law[2].d_rate + t101
-            - geo.g[3][6] * geo.gd[3][8] * law[3].d_rate;
-        dq[6][9] = t102 - geo.g[0][6] * law[0].d_rate * geo.gd[0][9] + t103
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][9] + t104
-            - geo.g[2][6] * law[2].d_rate * geo.gd[2][9] + t105
-            - geo.g[3][6] * geo.gd[3][9] * law[3].d_rate;
-        dq[6][10] = t106 - geo.g[0][6] * law[0].d_rate * geo.gd[0][10] + t107
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][10] + t108
-            - geo.g[2][6] * law[2].d_rate * geo.gd[2][10] + t109
-            - geo.g[3][6] * geo.gd[3][10] * law[3].d_rate;
-        dq[6][11] = t110 - geo.g[0][6] * law[0].d_rate * geo.gd[0][11] + t111
-            - geo.g[1][6] * law[1].d_rate * geo.gd[1][11] + t112
-            - geo.g[2][6] * law[2].d_rate * geo.gd[2][11] + t113
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][11];
-        dq[6][12] = t114 - geo.g[2][6] * law[2].d_rate * geo.gd[2][12] + t115
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][12];
-        dq[6][13] = t116 - geo.g[2][6] * law[2].d_rate * geo.gd[2][13] + t117
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][13];
-        dq[6][14] = t118 - geo.g[2][6] * law[2].d_rate * geo.gd[2][14] + t119
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][14];
-        dq[6][15] = t120 - geo.g[2][6] * law[2].d_rate * geo.gd[2][15] + t121
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][15];
-        dq[6][16] = t122 - geo.g[2][6] * law[2].d_rate * geo.gd[2][16] + t123
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][16];
-        dq[6][17] = t124 - geo.g[2][6] * law[2].d_rate * geo.gd[2][17] + t125
-            - geo.g[3][6] * law[3].d_rate * geo.gd[3][17];
-        dq[7][1] = t12 + t13 - geo.gd[0][1] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][7];
-        dq[7][2] = t32 + t33 - geo.gd[0][2] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][7];
-        dq[7][3] = t50 + t51 - geo.gd[0][3] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][7];
-        dq[7][4] = t66 + t67 - geo.gd[0][4] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][7];
-        dq[7][5] = t80 + t81 - geo.gd[0][5] * law[0].d_rate * geo.g[0][7]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][7];
-        dq[7][6] = t94 + t95 - law[0].d_rate * geo.gd[0][6] * geo.g[0][7]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][7] + t96
-            - geo.g[2][7] * geo.gd[2][6] * law[2].d_rate + t97
-            - geo.g[3][7] * geo.gd[3][6] * law[3].d_rate;
-        dq[7][7] = -law[0].d_gap * t126 - law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
-            - law[1].d_gap * t127 - law[1].d_rate * geo.g[1][7] * geo.gd[1][7]
-            - self.k[7][7] - geo.g[2][7] * geo.gd[2][7] * law[2].d_rate
-            - geo.g[3][7] * geo.gd[3][7] * law[3].d_rate - t128 * law[2].d_gap
-            - t129 * law[3].d_gap;
-        dq[7][8] = t130 - law[0].d_rate * geo.g[0][7] * geo.gd[0][8] + t131
-            - law[1].d_rate * geo.g[1][7] * geo.gd[1][8] - self.k[7][8] + t132
-            - geo.g[2][7] * geo.gd[2][8] * law[2].d_rate + t133
-            - geo.g[3][7] * geo.gd[3][8] * law[3].d_rate;
-        dq[7][9] = t134 - law[0].d_rate * geo.g[0][7] * geo.gd[0][9] + t135
-            - law[1].d_rate * geo.g[1][7] * geo.gd[1][9] - self.k[7][9] + t136
-            - geo.g[2][7] * law[2].d_rate * geo.gd[2][9] + t137
-            - geo.g[3][7] * geo.gd[3][9] * law[3].d_rate;
-        dq[7][10] = t138 - law[0].d_rate * geo.g[0][7] * geo.gd[0][10] + t139
-            - law[1].d_rate * geo.g[1][7] * geo.gd[1][10] + t140
-            - geo.g[2][7] * law[2].d_rate * geo.gd[2][10] + t141
-            - geo.g[3][7] * geo.gd[3][10] * law[3].d_rate - self.k[7][10];
-        dq[7][11] = t142 - law[0].d_rate * geo.g[0][7] * geo.gd[0][11] + t143
-            - law[1].d_rate * geo.g[1][7] * geo.gd[1][11] + t144
-            - geo.g[2][7] * law[2].d_rate * geo.gd[2][11] + t145
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][11] - self.k[7][11];
-        dq[7][12] = t146 - geo.g[2][7] * law[2].d_rate * geo.gd[2][12] + t147
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][12];
-        dq[7][13] = t148 - geo.g[2][7] * law[2].d_rate * geo.gd[2][13] + t149
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][13];
-        dq[7][14] = t150 - geo.g[2][7] * law[2].d_rate * geo.gd[2][14] + t151
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][14];
-        dq[7][15] = t152 - geo.g[2][7] * law[2].d_rate * geo.gd[2][15] + t153
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][15];
-        dq[7][16] = t154 - geo.g[2][7] * law[2].d_rate * geo.gd[2][16] + t155
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][16];
-        dq[7][17] = t156 - geo.g[2][7] * law[2].d_rate * geo.gd[2][17] + t157
-            - geo.g[3][7] * law[3].d_rate * geo.gd[3][17];
-        dq[8][1] = t14 + t15 - geo.gd[0][1] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][8];
-        dq[8][2] = t34 + t35 - geo.gd[0][2] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][8];
-        dq[8][3] = t52 + t53 - geo.gd[0][3] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][8];
-        dq[8][4] = t68 + t69 - geo.gd[0][4] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][8];
-        dq[8][5] = t82 + t83 - geo.gd[0][5] * law[0].d_rate * geo.g[0][8]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][8];
-        dq[8][6] = t98 + t99 - law[0].d_rate * geo.gd[0][6] * geo.g[0][8]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][8] + t100
-            - geo.g[2][8] * geo.gd[2][6] * law[2].d_rate + t101
-            - geo.g[3][8] * geo.gd[3][6] * law[3].d_rate;
-        dq[8][7] = t130 - law[0].d_rate * geo.gd[0][7] * geo.g[0][8] + t131
-            - law[1].d_rate * geo.gd[1][7] * geo.g[1][8] + t132 - self.k[8][7]
-            - geo.g[2][8] * geo.gd[2][7] * law[2].d_rate + t133
-            - geo.g[3][8] * geo.gd[3][7] * law[3].d_rate;
-        dq[8][8] = -law[0].d_gap * t158 - law[0].d_rate * geo.g[0][8] * geo.gd[0][8]
-            - law[1].d_gap * t159 - law[1].d_rate * geo.g[1][8] * geo.gd[1][8]
-            - self.k[8][8] - geo.g[2][8] * geo.gd[2][8] * law[2].d_rate
-            - geo.g[3][8] * geo.gd[3][8] * law[3].d_rate - t160 * law[2].d_gap
-            - t161 * law[3].d_gap;
-        dq[8][9] = t162 - law[0].d_rate * geo.g[0][8] * geo.gd[0][9] + t163
-            - law[1].d_rate * geo.g[1][8] * geo.gd[1][9] - self.k[8][9] + t164
-            - geo.g[2][8] * law[2].d_rate * geo.gd[2][9] + t165
-            - geo.g[3][8] * geo.gd[3][9] * law[3].d_rate;
-        dq[8][10] = t166 - law[0].d_rate * geo.g[0][8] * geo.gd[0][10] + t167
-            - law[1].d_rate * geo.g[1][8] * geo.gd[1][10] + t168
-            - geo.g[2][8] * law[2].d_rate * geo.gd[2][10] + t169
-            - geo.g[3][8] * geo.gd[3][10] * law[3].d_rate - self.k[8][10];
-        dq[8][11] = t170 - law[0].d_rate * geo.g[0][8] * geo.gd[0][11] + t171
-            - law[1].d_rate * geo.g[1][8] * geo.gd[1][11] + t172
-            - geo.g[2][8] * law[2].d_rate * geo.gd[2][11] + t173
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][11] - self.k[8][11];
-        dq[8][12] = t174 - geo.g[2][8] * law[2].d_rate * geo.gd[2][12] + t175
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][12];
-        dq[8][13] = t176 - geo.g[2][8] * law[2].d_rate * geo.gd[2][13] + t177
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][13];
-        dq[8][14] = t178 - geo.g[2][8] * law[2].d_rate * geo.gd[2][14] + t179
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][14];
-        dq[8][15] = t180 - geo.g[2][8] * law[2].d_rate * geo.gd[2][15] + t181
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][15];
-        dq[8][16] = t182 - geo.g[2][8] * law[2].d_rate * geo.gd[2][16] + t183
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][16];
-        dq[8][17] = t184 - geo.g[2][8] * law[2].d_rate * geo.gd[2][17] + t185
-            - geo.g[3][8] * law[3].d_rate * geo.gd[3][17];
-        dq[9][1] = t16 + t17 - geo.gd[0][1] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][9];
-        dq[9][2] = t36 + t37 - geo.gd[0][2] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][9];
-        dq[9][3] = t54 + t55 - geo.gd[0][3] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][9];
-        dq[9][4] = t70 + t71 - geo.gd[0][4] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][9];
-        dq[9][5] = t84 + t85 - geo.gd[0][5] * law[0].d_rate * geo.g[0][9]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][9];
-        dq[9][6] = t102 + t103 - law[0].d_rate * geo.gd[0][6] * geo.g[0][9]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][9] + t104
-            - geo.g[2][9] * geo.gd[2][6] * law[2].d_rate + t105
-            - geo.g[3][9] * geo.gd[3][6] * law[3].d_rate;
-        dq[9][7] = t134 - law[0].d_rate * geo.gd[0][7] * geo.g[0][9] + t135
-            - law[1].d_rate * geo.gd[1][7] * geo.g[1][9] + t136 - self.k[9][7]
-            - geo.g[2][9] * geo.gd[2][7] * law[2].d_rate + t137
-            - geo.g[3][9] * geo.gd[3][7] * law[3].d_rate;
-        dq[9][8] = t162 - law[0].d_rate * geo.g[0][9] * geo.gd[0][8] + t163
-            - law[1].d_rate * geo.g[1][9] * geo.gd[1][8] + t164 - self.k[9][8]
-            - geo.g[2][9] * geo.gd[2][8] * law[2].d_rate + t165
-            - geo.g[3][9] * geo.gd[3][8] * law[3].d_rate;
-        dq[9][9] = -law[0].d_gap * t186 - law[0].d_rate * geo.g[0][9] * geo.gd[0][9]
-            - law[1].d_gap * t187 - law[1].d_rate * geo.g[1][9] * geo.gd[1][9]
-            - self.k[9][9] - geo.g[2][9] * law[2].d_rate * geo.gd[2][9]
-            - geo.g[3][9] * geo.gd[3][9] * law[3].d_rate - t188 * law[2].d_gap
-            - t189 * law[3].d_gap;
-        dq[9][10] = t190 - law[0].d_rate * geo.g[0][9] * geo.gd[0][10] + t191
-            - law[1].d_rate * geo.g[1][9] * geo.gd[1][10] + t192
-            - geo.g[2][9] * law[2].d_rate * geo.gd[2][10] - self.k[9][10] + t193
-            - geo.g[3][9] * geo.gd[3][10] * law[3].d_rate;
-        dq[9][11] = t194 - law[0].d_rate * geo.g[0][9] * geo.gd[0][11] + t195
-            - law[1].d_rate * geo.g[1][9] * geo.gd[1][11] + t196
-            - geo.g[2][9] * law[2].d_rate * geo.gd[2][11] - self.k[9][11] + t197
-            - geo.g[3][9] * law[3].d_rate * geo.gd[3][11];
-        dq[9][12] = t198 - geo.g[2][9] * law[2].d_rate * geo.gd[2][12] + t199
-            - geo.g[3][9] * law[3].d_rate * geo.gd[3][12];
-        dq[9][13] = t200 - geo.g[2][9] * law[2].d_rate * geo.gd[2][13] + t201
-            - geo.g[3][9] * law[3].d_rate * geo.gd[3][13];
-        dq[9][14] = t202 - geo.g[2][9] * law[2].d_rate * geo.gd[2][14] + t203
-            - geo.g[3][9] * law[3].d_rate * geo.gd[3][14];
-        dq[9][15] = t204 - geo.g[2][9] * law[2].d_rate * geo.gd[2][15] + t205
-            - geo.g[3][9] * law[3].d_rate * geo.gd[3][15];
-        dq[9][16] = t206 - geo.g[2][9] * law[2].d_rate * geo.gd[2][16] + t207
-            - geo.g[3][9] * law[3].d_rate * geo.gd[3][16];
-        dq[9][17] = t208 - geo.g[2][9] * law[2].d_rate * geo.gd[2][17] + t209
-            - geo.g[3][9] * law[3].d_rate * geo.gd[3][17];
-        dq[10][1] = t18 + t19 - geo.gd[0][1] * law[0].d_rate * geo.g[0][10]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][10];
-        dq[10][2] = t38 + t39 - geo.gd[0][2] * law[0].d_rate * geo.g[0][10]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][10];
-        dq[10][3] = t56 + t57 - geo.gd[0][3] * law[0].d_rate * geo.g[0][10]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][10];
-        dq[10][4] = t72 + t73 - geo.gd[0][4] * law[0].d_rate * geo.g[0][10]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][10];
-        dq[10][5] = t86 + t87 - geo.gd[0][5] * law[0].d_rate * geo.g[0][10]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][10];
-        dq[10][6] = t106 + t107 - law[0].d_rate * geo.gd[0][6] * geo.g[0][10]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][10] + t108
-            - geo.gd[2][6] * law[2].d_rate * geo.g[2][10] + t109
-            - geo.g[3][10] * geo.gd[3][6] * law[3].d_rate;
-        dq[10][7] = t138 - law[0].d_rate * geo.gd[0][7] * geo.g[0][10] + t139
-            - law[1].d_rate * geo.gd[1][7] * geo.g[1][10] + t140
-            - geo.gd[2][7] * law[2].d_rate * geo.g[2][10] + t141
-            - geo.g[3][10] * geo.gd[3][7] * law[3].d_rate - self.k[10][7];
-        dq[10][8] = t166 - law[0].d_rate * geo.gd[0][8] * geo.g[0][10] + t167
-            - law[1].d_rate * geo.gd[1][8] * geo.g[1][10] + t168
-            - geo.gd[2][8] * law[2].d_rate * geo.g[2][10] + t169
-            - geo.g[3][10] * geo.gd[3][8] * law[3].d_rate - self.k[10][8];
-        dq[10][9] = t190 - law[0].d_rate * geo.gd[0][9] * geo.g[0][10] + t191
-            - law[1].d_rate * geo.gd[1][9] * geo.g[1][10] + t192
-            - law[2].d_rate * geo.gd[2][9] * geo.g[2][10] + t193 - self.k[10][9]
-            - geo.g[3][10] * geo.gd[3][9] * law[3].d_rate;
-        dq[10][10] = -law[0].d_gap * t210 - law[0].d_rate * geo.g[0][10] * geo.gd[0][10]
-            - law[1].d_gap * t211 - law[1].d_rate * geo.g[1][10] * geo.gd[1][10]
-            - law[2].d_gap * t212 - law[2].d_rate * geo.g[2][10] * geo.gd[2][10]
-            - self.k[10][10] - geo.g[3][10] * geo.gd[3][10] * law[3].d_rate
-            - t213 * law[3].d_gap;
-        dq[10][11] = t214 - law[0].d_rate * geo.g[0][10] * geo.gd[0][11] + t215
-            - law[1].d_rate * geo.g[1][10] * geo.gd[1][11] + t216
-            - law[2].d_rate * geo.g[2][10] * geo.gd[2][11] - self.k[10][11] + t217
-            - geo.g[3][10] * law[3].d_rate * geo.gd[3][11];
-        dq[10][12] = t218 - law[2].d_rate * geo.g[2][10] * geo.gd[2][12] + t219
-            - geo.g[3][10] * law[3].d_rate * geo.gd[3][12];
-        dq[10][13] = t220 - law[2].d_rate * geo.g[2][10] * geo.gd[2][13] + t221
-            - geo.g[3][10] * law[3].d_rate * geo.gd[3][13];
-        dq[10][14] = t222 - law[2].d_rate * geo.g[2][10] * geo.gd[2][14] + t223
-            - geo.g[3][10] * law[3].d_rate * geo.gd[3][14];
-        dq[10][15] = t224 - law[2].d_rate * geo.g[2][10] * geo.gd[2][15] + t225
-            - geo.g[3][10] * law[3].d_rate * geo.gd[3][15];
-        dq[10][16] = t226 - law[2].d_rate * geo.g[2][10] * geo.gd[2][16] + t227
-            - geo.g[3][10] * law[3].d_rate * geo.gd[3][16];
-        dq[10][17] = t228 - law[2].d_rate * geo.g[2][10] * geo.gd[2][17] + t229
-            - geo.g[3][10] * law[3].d_rate * geo.gd[3][17];
-        dq[11][1] = t20 + t21 - geo.gd[0][1] * law[0].d_rate * geo.g[0][11]
-            - geo.gd[1][1] * law[1].d_rate * geo.g[1][11];
-        dq[11][2] = t40 + t41 - geo.gd[0][2] * law[0].d_rate * geo.g[0][11]
-            - geo.gd[1][2] * law[1].d_rate * geo.g[1][11];
-        dq[11][3] = t58 + t59 - geo.gd[0][3] * law[0].d_rate * geo.g[0][11]
-            - geo.gd[1][3] * law[1].d_rate * geo.g[1][11];
-        dq[11][4] = t74 + t75 - geo.gd[0][4] * law[0].d_rate * geo.g[0][11]
-            - geo.gd[1][4] * law[1].d_rate * geo.g[1][11];
-        dq[11][5] = t88 + t89 - geo.gd[0][5] * law[0].d_rate * geo.g[0][11]
-            - geo.gd[1][5] * law[1].d_rate * geo.g[1][11];
-        dq[11][6] = t110 + t111 - law[0].d_rate * geo.gd[0][6] * geo.g[0][11]
-            - law[1].d_rate * geo.gd[1][6] * geo.g[1][11] + t112
-            - geo.gd[2][6] * law[2].d_rate * geo.g[2][11] + t113
-            - geo.g[3][11] * geo.gd[3][6] * law[3].d_rate;
-        dq[11][7] = t142 - law[0].d_rate * geo.gd[0][7] * geo.g[0][11] + t143
-            - law[1].d_rate * geo.gd[1][7] * geo.g[1][11] + t144
-            - geo.gd[2][7] * law[2].d_rate * geo.g[2][11] + t145
-            - geo.g[3][11] * geo.gd[3][7] * law[3].d_rate - self.k[11][7];
-        dq[11][8] = t170 - law[0].d_rate * geo.gd[0][8] * geo.g[0][11] + t171
-            - law[1].d_rate * geo.gd[1][8] * geo.g[1][11] + t172
-            - geo.gd[2][8] * law[2].d_rate * geo.g[2][11] + t173
-            - geo.g[3][11] * geo.gd[3][8] * law[3].d_rate - self.k[11][8];
-        dq[11][9] = t194 - law[0].d_rate * geo.gd[0][9] * geo.g[0][11] + t195
-            - law[1].d_rate * geo.gd[1][9] * geo.g[1][11] + t196
-            - law[2].d_rate * geo.gd[2][9] * geo.g[2][11] + t197 - self.k[11][9]
-            - geo.g[3][11] * geo.gd[3][9] * law[3].d_rate;
-        dq[11][10] = t214 - law[0].d_rate * geo.g[0][11] * geo.gd[0][10] + t215
-            - law[1].d_rate * geo.g[1][11] * geo.gd[1][10] + t216
-            - law[2].d_rate * geo.g[2][11] * geo.gd[2][10] + t217 - self.k[11][10]
-            - geo.g[3][11] * geo.gd[3][10] * law[3].d_rate;
-        dq[11][11] = -law[0].d_gap * t230 - law[0].d_rate * geo.g[0][11] * geo.gd[0][11]
-            - law[1].d_gap * t231 - law[1].d_rate * geo.g[1][11] * geo.gd[1][11]
-            - law[2].d_gap * t232 - law[2].d_rate * geo.g[2][11] * geo.gd[2][11]
-            - self.k[11][11] - geo.g[3][11] * law[3].d_rate * geo.gd[3][11]
-            - t233 * law[3].d_gap;
-        dq[11][12] = t234 - law[2].d_rate * geo.g[2][11] * geo.gd[2][12] + t235
-            - geo.g[3][11] * law[3].d_rate * geo.gd[3][12];
-        dq[11][13] = t236 - law[2].d_rate * geo.g[2][11] * geo.gd[2][13] + t237
-            - geo.g[3][11] * law[3].d_rate * geo.gd[3][13];
-        dq[11][14] = t238 - law[2].d_rate * geo.g[2][11] * geo.gd[2][14] + t239
-            - geo.g[3][11] * law[3].d_rate * geo.gd[3][14];
-        dq[11][15] = t240 - law[2].d_rate * geo.g[2][11] * geo.gd[2][15] + t241
-            - geo.g[3][11] * law[3].d_rate * geo.gd[3][15];
-        dq[11][16] = t242 - law[2].d_rate * geo.g[2][11] * geo.gd[2][16] + t243
-            - geo.g[3][11] * law[3].d_rate * geo.gd[3][16];
-        dq[11][17] = t244 - law[2].d_rate * geo.g[2][11] * geo.gd[2][17] + t245
-            - geo.g[3][11] * law[3].d_rate * geo.gd[3][17];
-        dq[12][6] = t114 - geo.gd[2][6] * law[2].d_rate * geo.g[2][12] + t115
-            - geo.gd[3][6] * law[3].d_rate * geo.g[3][12];
-        dq[12][7] = t146 - geo.gd[2][7] * law[2].d_rate * geo.g[2][12] + t147
-            - geo.gd[3][7] * law[3].d_rate * geo.g[3][12];
-        dq[12][8] = t174 - geo.gd[2][8] * law[2].d_rate * geo.g[2][12] + t175
-            - geo.gd[3][8] * law[3].d_rate * geo.g[3][12];
-        dq[12][9] = t198 - law[2].d_rate * geo.gd[2][9] * geo.g[2][12] + t199
-            - geo.gd[3][9] * law[3].d_rate * geo.g[3][12];
-        dq[12][10] = t218 - law[2].d_rate * geo.gd[2][10] * geo.g[2][12] + t219
-            - geo.gd[3][10] * law[3].d_rate * geo.g[3][12];
-        dq[12][11] = t234 - law[2].d_rate * geo.gd[2][11] * geo.g[2][12] + t235
-            - law[3].d_rate * geo.gd[3][11] * geo.g[3][12];
-        dq[12][12] = -law[2].d_gap * t246 - law[2].d_rate * geo.g[2][12] * geo.gd[2][12]
-            - law[3].d_gap * t247 - law[3].d_rate * geo.g[3][12] * geo.gd[3][12];
-        dq[12][13] = t248 - law[2].d_rate * geo.g[2][12] * geo.gd[2][13] + t249
-            - law[3].d_rate * geo.g[3][12] * geo.gd[3][13];
-        dq[12][14] = t250 - law[2].d_rate * geo.g[2][12] * geo.gd[2][14] + t251
-            - law[3].d_rate * geo.g[3][12] * geo.gd[3][14];
-        dq[12][15] = t252 - law[2].d_rate * geo.g[2][12] * geo.gd[2][15] + t253
-            - law[3].d_rate * geo.g[3][12] * geo.gd[3][15];
-        dq[12][16] = t254 - law[2].d_rate * geo.g[2][12] * geo.gd[2][16] + t255
-            - law[3].d_rate * geo.g[3][12] * geo.gd[3][16];
-        dq[12][17] = t256 - law[2].d_rate * geo.g[2][12] * geo.gd[2][17] + t257
-            - law[3].d_rate * geo.g[3][12] * geo.gd[3][17];
-        dq[13][6] = t116 - geo.gd[2][6] * law[2].d_rate * geo.g[2][13] + t117
-            - geo.gd[3][6] * law[3].d_rate * geo.g[3][13];
-        dq[13][7] = t148 - geo.gd[2][7] * law[2].d_rate * geo.g[2][13] + t149
-            - geo.gd[3][7] * law[3].d_rate * geo.g[3][13];
-        dq[13][8] = t176 - geo.gd[2][8] * law[2].d_rate * geo.g[2][13] + t177
-            - geo.gd[3][8] * law[3].d_rate * geo.g[3][13];
-        dq[13][9] = t200 - law[2].d_rate * geo.gd[2][9] * geo.g[2][13] + t201
-            - geo.gd[3][9] * law[3].d_rate * geo.g[3][13];
-        dq[13][10] = t220 - law[2].d_rate * geo.gd[2][10] * geo.g[2][13] + t221
-            - geo.gd[3][10] * law[3].d_rate * geo.g[3][13];
-        dq[13][11] = t236 - law[2].d_rate * geo.gd[2][11] * geo.g[2][13] + t237
-            - law[3].d_rate * geo.gd[3][11] * geo.g[3][13];
-        dq[13][12] = t248 - law[2].d_rate * geo.g[2][13] * geo.gd[2][12] + t249
-            - law[3].d_rate * geo.g[3][13] * geo.gd[3][12];
-        dq[13][13] = -law[2].d_gap * t258 - law[2].d_rate * geo.g[2][13] * geo.gd[2][13]
-            - law[3].d_gap * t259 - law[3].d_rate * geo.g[3][13] * geo.gd[3][13]
-            - self.k[13][13];
-        dq[13][14] = t260 - law[2].d_rate * geo.g[2][13] * geo.gd[2][14] + t261
-            - law[3].d_rate * geo.g[3][13] * geo.gd[3][14] - self.k[13][14];
-        dq[13][15] = t262 - law[2].d_rate * geo.g[2][13] * geo.gd[2][15] + t263
-            - law[3].d_rate * geo.g[3][13] * geo.gd[3][15] - self.k[13][15];
-        dq[13][16] = t264 - law[2].d_rate * geo.g[2][13] * geo.gd[2][16] + t265
-            - law[3].d_rate * geo.g[3][13] * geo.gd[3][16] - self.k[13][16];
-        dq[13][17] = t266 - law[2].d_rate * geo.g[2][13] * geo.gd[2][17] + t267
-            - law[3].d_rate * geo.g[3][13] * geo.gd[3][17] - self.k[13][17];
-        dq[14][6] = t118 - geo.gd[2][6] * law[2].d_rate * geo.g[2][14] + t119
-            - geo.gd[3][6] * law[3].d_rate * geo.g[3][14];
-        dq[14][7] = t150 - geo.gd[2][7] * law[2].d_rate * geo.g[2][14] + t151
-            - geo.gd[3][7] * law[3].d_rate * geo.g[3][14];
-        dq[14][8] = t178 - geo.gd[2][8] * law[2].d_rate * geo.g[2][14] + t179
-            - geo.gd[3][8] * law[3].d_rate * geo.g[3][14];
-        dq[14][9] = t202 - law[2].d_rate * geo.gd[2][9] * geo.g[2][14] + t203
-            - geo.gd[3][9] * law[3].d_rate * geo.g[3][14];
-        dq[14][10] = t222 - law[2].d_rate * geo.gd[2][10] * geo.g[2][14] + t223
-            - geo.gd[3][10] * law[3].d_rate * geo.g[3][14];
-        dq[14][11] = t238 - law[2].d_rate * geo.gd[2][11] * geo.g[2][14] + t239
-            - law[3].d_rate * geo.gd[3][11] * geo.g[3][14];
-        dq[14][12] = t250 - law[2].d_rate * geo.g[2][14] * geo.gd[2][12] + t251
-            - law[3].d_rate * geo.g[3][14] * geo.gd[3][12];
-        dq[14][13] = t260 - law[2].d_rate * geo.g[2][14] * geo.gd[2][13] + t261
-            - law[3].d_rate * geo.g[3][14] * geo.gd[3][13] - self.k[14][13];
-        dq[14][14] = -law[2].d_gap * t268 - law[2].d_rate * geo.g[2][14] * geo.gd[2][14]
-            - law[3].d_gap * t269 - law[3].d_rate * geo.g[3][14] * geo.gd[3][14]
-            - self.k[14][14];
-        dq[14][15] = t270 - law[2].d_rate * geo.g[2][14] * geo.gd[2][15] + t271
-            - law[3].d_rate * geo.g[3][14] * geo.gd[3][15] - self.k[14][15];
-        dq[14][16] = t272 - law[2].d_rate * geo.g[2][14] * geo.gd[2][16] + t273
-            - law[3].d_rate * geo.g[3][14] * geo.gd[3][16] - self.k[14][16];
-        dq[14][17] = t274 - law[2].d_rate * geo.g[2][14] * geo.gd[2][17] + t275
-            - law[3].d_rate * geo.g[3][14] * geo.gd[3][17] - self.k[14][17];
-        dq[15][6] = t120 - geo.gd[2][6] * law[2].d_rate * geo.g[2][15] + t121
-            - geo.gd[3][6] * law[3].d_rate * geo.g[3][15];
-        dq[15][7] = t152 - geo.gd[2][7] * law[2].d_rate * geo.g[2][15] + t153
-            - geo.gd[3][7] * law[3].d_rate * geo.g[3][15];
-        dq[15][8] = t180 - geo.gd[2][8] * law[2].d_rate * geo.g[2][15] + t181
-            - geo.gd[3][8] * law[3].d_rate * geo.g[3][15];
-        dq[15][9] = t204 - law[2].d_rate * geo.gd[2][9] * geo.g[2][15] + t205
-            - geo.gd[3][9] * law[3].d_rate * geo.g[3][15];
-        dq[15][10] = t224 - law[2].d_rate * geo.gd[2][10] * geo.g[2][15] + t225
-            - geo.gd[3][10] * law[3].d_rate * geo.g[3][15];
-        dq[15][11] = t240 - law[2].d_rate * geo.gd[2][11] * geo.g[2][15] + t241
-            - law[3].d_rate * geo.gd[3][11] * geo.g[3][15];
-        dq[15][12] = t252 - law[2].d_rate * geo.g[2][15] * geo.gd[2][12] + t253
-            - law[3].d_rate * geo.g[3][15] * geo.gd[3][12];
-        dq[15][13] = t262 - law[2].d_rate * geo.g[2][15] * geo.gd[2][13] + t263
-            - law[3].d_rate * geo.g[3][15] * geo.gd[3][13] - self.k[15][13];
-        dq[15][14] = t270 - law[2].d_rate * geo.g[2][15] * geo.gd[2][14] + t271
-            - law[3].d_rate * geo.g[3][15] * geo.gd[3][14] - self.k[15][14];
-        dq[15][15] = -law[2].d_gap * t276 - law[2].d_rate * geo.g[2][15] * geo.gd[2][15]
-            - law[3].d_gap * t277 - law[3].d_rate * geo.g[3][15] * geo.gd[3][15]
-            - self.k[15][15];
-        dq[15][16] = t278 - law[2].d_rate * geo.g[2][15] * geo.gd[2][16] + t279
-            - law[3].d_rate * geo.g[3][15] * geo.gd[3][16] - self.k[15][16];
-        dq[15][17] = t280 - law[2].d_rate * geo.g[2][15] * geo.gd[2][17] + t281
-            - law[3].d_rate * geo.g[3][15] * geo.gd[3][17] - self.k[15][17];
-        dq[16][6] = t122 - geo.gd[2][6] * law[2].d_rate * geo.g[2][16] + t123
-            - geo.gd[3][6] * law[3].d_rate * geo.g[3][16];
-        dq[16][7] = t154 - geo.gd[2][7] * law[2].d_rate * geo.g[2][16] + t155
-            - geo.gd[3][7] * law[3].d_rate * geo.g[3][16];
-        dq[16][8] = t182 - geo.gd[2][8] * law[2].d_rate * geo.g[2][16] + t183
-            - geo.gd[3][8] * law[3].d_rate * geo.g[3][16];
-        dq[16][9] = t206 - law[2].d_rate * geo.gd[2][9] * geo.g[2][16] + t207
-            - geo.gd[3][9] * law[3].d_rate * geo.g[3][16];
-        dq[16][10] = t226 - law[2].d_rate * geo.gd[2][10] * geo.g[2][16] + t227
-            - geo.gd[3][10] * law[3].d_rate * geo.g[3][16];
-        dq[16][11] = t242 - law[2].d_rate * geo.gd[2][11] * geo.g[2][16] + t243
-            - law[3].d_rate * geo.gd[3][11] * geo.g[3][16];
-        dq[16][12] = t254 - law[2].d_rate * geo.g[2][16] * geo.gd[2][12] + t255
-            - law[3].d_rate * geo.g[3][16] * geo.gd[3][12];
-        dq[16][13] = t264 - law[2].d_rate * geo.g[2][16] * geo.gd[2][13] + t265
-            - law[3].d_rate * geo.g[3][16] * geo.gd[3][13] - self.k[16][13];
-        dq[16][14] = t272 - law[2].d_rate * geo.g[2][16] * geo.gd[2][14] + t273
-            - law[3].d_rate * geo.g[3][16] * geo.gd[3][14] - self.k[16][14];
-        dq[16][15] = t278 - law[2].d_rate * geo.g[2][16] * geo.gd[2][15] + t279
-            - law[3].d_rate * geo.g[3][16] * geo.gd[3][15] - self.k[16][15];
-        dq[16][16] = -law[2].d_gap * t282 - law[2].d_rate * geo.g[2][16] * geo.gd[2][16]
-            - law[3].d_gap * t283 - law[3].d_rate * geo.g[3][16] * geo.gd[3][16]
-            - self.k[16][16];
-        dq[16][17] = t284 - law[2].d_rate * geo.g[2][16] * geo.gd[2][17] + t285
-            - law[3].d_rate * geo.g[3][16] * geo.gd[3][17] - self.k[16][17];
-        dq[17][6] = t124 - geo.gd[2][6] * law[2].d_rate * geo.g[2][17] + t125
-            - geo.gd[3][6] * law[3].d_rate * geo.g[3][17];
-        dq[17][7] = t156 - geo.gd[2][7] * law[2].d_rate * geo.g[2][17] + t157
-            - geo.gd[3][7] * law[3].d_rate * geo.g[3][17];
-        dq[17][8] = t184 - geo.gd[2][8] * law[2].d_rate * geo.g[2][17] + t185
-            - geo.gd[3][8] * law[3].d_rate * geo.g[3][17];
-        dq[17][9] = t208 - law[2].d_rate * geo.gd[2][9] * geo.g[2][17] + t209
-            - geo.gd[3][9] * law[3].d_rate * geo.g[3][17];
-        dq[17][10] = t228 - law[2].d_rate * geo.gd[2][10] * geo.g[2][17] + t229
-            - geo.gd[3][10] * law[3].d_rate * geo.g[3][17];
-        dq[17][11] = t244 - law[2].d_rate * geo.gd[2][11] * geo.g[2][17] + t245
-            - law[3].d_rate * geo.gd[3][11] * geo.g[3][17];
-        dq[17][12] = t256 - law[2].d_rate * geo.g[2][17] * geo.gd[2][12] + t257
-            - law[3].d_rate * geo.g[3][17] * geo.gd[3][12];
-        dq[17][13] = t266 - law[2].d_rate * geo.g[2][17] * geo.gd[2][13] + t267
-            - law[3].d_rate * geo.g[3][17] * geo.gd[3][13] - self.k[17][13];
-        dq[17][14] = t274 - law[2].d_rate * geo.g[2][17] * geo.gd[2][14] + t275
-            - law[3].d_rate * geo.g[3][17] * geo.gd[3][14] - self.k[17][14];
-        dq[17][15] = t280 - law[2].d_rate * geo.g[2][17] * geo.gd[2][15] + t281
-            - law[3].d_rate * geo.g[3][17] * geo.gd[3][15] - self.k[17][15];
-        dq[17][16] = t284 - law[2].d_rate * geo.g[2][17] * geo.gd[2][16] + t285
-            - law[3].d_rate * geo.g[3][17] * geo.gd[3][16] - self.k[17][16];
-        dq[17][17] = -law[2].d_gap * t286 - law[2].d_rate * geo.g[2][17] * geo.gd[2][17]
-            - law[3].d_gap * t287 - law[3].d_rate * geo.g[3][17] * geo.gd[3][17]
-            - self.k[17][17];
-        dq[1][19] = -t0 * law[0].d_rate - t1 * law[1].d_rate;
+        dq[1][1] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][1] - self.k[1][1]
+            - law[0].d_gap * t0 - law[1].d_gap * t1;
+        dq[1][2] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][2] + t2 + t3 - self.k[1][2];
+        dq[1][3] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][3] + t4 + t5 - self.k[1][3];
+        dq[1][4] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][4] + t6 + t7 - self.k[1][4];
+        dq[1][5] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][5] + t8 + t9 - self.k[1][5];
+        dq[1][6] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][6] + t10 + t11;
+        dq[1][7] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][7] + t12 + t13;
+        dq[1][8] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][8] + t14 + t15;
+        dq[1][9] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][9] + t16 + t17;
+        dq[1][10] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][10] + t18 + t19;
+        dq[1][11] = -law[0].d_rate * geo.g[0][1] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][1] * geo.gd[1][11] + t20 + t21;
+        dq[2][1] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][1] + t2 + t3 - self.k[2][1];
+        dq[2][2] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][2] - self.k[2][2]
+            - law[0].d_gap * t22 - law[1].d_gap * t23;
+        dq[2][3] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][3] + t24 + t25 - self.k[2][3];
+        dq[2][4] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][4] + t26 + t27 - self.k[2][4];
+        dq[2][5] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][5] + t28 + t29 - self.k[2][5];
+        dq[2][6] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][6] + t30 + t31;
+        dq[2][7] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][7] + t32 + t33;
+        dq[2][8] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][8] + t34 + t35;
+        dq[2][9] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][9] + t36 + t37;
+        dq[2][10] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][10] + t38 + t39;
+        dq[2][11] = -law[0].d_rate * geo.g[0][2] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][2] * geo.gd[1][11] + t40 + t41;
+        dq[3][1] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][1] + t4 + t5 - self.k[3][1];
+        dq[3][2] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][2] + t24 + t25 - self.k[3][2];
+        dq[3][3] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][3] - self.k[3][3]
+            - law[0].d_gap * t42 - law[1].d_gap * t43;
+        dq[3][4] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][4] + t44 + t45 - self.k[3][4];
+        dq[3][5] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][5] + t46 + t47 - self.k[3][5];
+        dq[3][6] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][6] + t48 + t49;
+        dq[3][7] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][7] + t50 + t51;
+        dq[3][8] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][8] + t52 + t53;
+        dq[3][9] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][9] + t54 + t55;
+        dq[3][10] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][10] + t56 + t57;
+        dq[3][11] = -law[0].d_rate * geo.g[0][3] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][3] * geo.gd[1][11] + t58 + t59;
+        dq[4][1] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][1] + t6 + t7 - self.k[4][1];
+        dq[4][2] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][2] + t26 + t27 - self.k[4][2];
+        dq[4][3] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][3] + t44 + t45 - self.k[4][3];
+        dq[4][4] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][4] - self.k[4][4]
+            - law[0].d_gap * t60 - law[1].d_gap * t61;
+        dq[4][5] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][5] + t62 + t63 - self.k[4][5];
+        dq[4][6] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][6] + t64 + t65;
+        dq[4][7] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][7] + t66 + t67;
+        dq[4][8] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][8] + t68 + t69;
+        dq[4][9] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][9] + t70 + t71;
+        dq[4][10] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][10] + t72 + t73;
+        dq[4][11] = -law[0].d_rate * geo.g[0][4] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][4] * geo.gd[1][11] + t74 + t75;
+        dq[5][1] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][1] + t8 + t9 - self.k[5][1];
+        dq[5][2] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][2] + t28 + t29 - self.k[5][2];
+        dq[5][3] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][3] + t46 + t47 - self.k[5][3];
+        dq[5][4] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][4] + t62 + t63 - self.k[5][4];
+        dq[5][5] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][5] - self.k[5][5]
+            - law[0].d_gap * t76 - law[1].d_gap * t77;
+        dq[5][6] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][6] + t78 + t79;
+        dq[5][7] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][7] + t80 + t81;
+        dq[5][8] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][8] + t82 + t83;
+        dq[5][9] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][9] + t84 + t85;
+        dq[5][10] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][10] + t86 + t87;
+        dq[5][11] = -law[0].d_rate * geo.g[0][5] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][5] * geo.gd[1][11] + t88 + t89;
+        dq[6][1] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][1] + t10 + t11;
+        dq[6][2] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][2] + t30 + t31;
+        dq[6][3] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][3] + t48 + t49;
+        dq[6][4] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][4] + t64 + t65;
+        dq[6][5] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][5] + t78 + t79;
+        dq[6][6] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][6] - law[0].d_gap * t90
+            - law[1].d_gap * t91 - law[2].d_gap * t92 - law[3].d_gap * t93;
+        dq[6][7] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][7] + t94 + t95 + t96 + t97;
+        dq[6][8] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][8] + t98 + t99 + t100 + t101;
+        dq[6][9] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][9] + t102 + t103 + t104 + t105;
+        dq[6][10] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][10]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][10] + t106 + t107 + t108 + t109;
+        dq[6][11] = -law[0].d_rate * geo.g[0][6] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][6] * geo.gd[1][11]
+            - law[2].d_rate * geo.g[2][6] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][11] + t110 + t111 + t112 + t113;
+        dq[6][12] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][12] + t114 + t115;
+        dq[6][13] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][13] + t116 + t117;
+        dq[6][14] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][14] + t118 + t119;
+        dq[6][15] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][15] + t120 + t121;
+        dq[6][16] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][16] + t122 + t123;
+        dq[6][17] = -law[2].d_rate * geo.g[2][6] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][6] * geo.gd[3][17] + t124 + t125;
+        dq[7][1] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][1] + t12 + t13;
+        dq[7][2] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][2] + t32 + t33;
+        dq[7][3] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][3] + t50 + t51;
+        dq[7][4] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][4] + t66 + t67;
+        dq[7][5] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][5] + t80 + t81;
+        dq[7][6] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][6] + t94 + t95 + t96 + t97;
+        dq[7][7] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][7] - self.k[7][7]
+            - law[0].d_gap * t126 - law[1].d_gap * t127 - law[2].d_gap * t128
+            - law[3].d_gap * t129;
+        dq[7][8] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][8] + t130 + t131 + t132 + t133
+            - self.k[7][8];
+        dq[7][9] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][9] + t134 + t135 + t136 + t137
+            - self.k[7][9];
+        dq[7][10] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][10]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][10] + t138 + t139 + t140 + t141
+            - self.k[7][10];
+        dq[7][11] = -law[0].d_rate * geo.g[0][7] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][7] * geo.gd[1][11]
+            - law[2].d_rate * geo.g[2][7] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][11] + t142 + t143 + t144 + t145
+            - self.k[7][11];
+        dq[7][12] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][12] + t146 + t147;
+        dq[7][13] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][13] + t148 + t149;
+        dq[7][14] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][14] + t150 + t151;
+        dq[7][15] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][15] + t152 + t153;
+        dq[7][16] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][16] + t154 + t155;
+        dq[7][17] = -law[2].d_rate * geo.g[2][7] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][7] * geo.gd[3][17] + t156 + t157;
+        dq[8][1] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][1] + t14 + t15;
+        dq[8][2] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][2] + t34 + t35;
+        dq[8][3] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][3] + t52 + t53;
+        dq[8][4] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][4] + t68 + t69;
+        dq[8][5] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][5] + t82 + t83;
+        dq[8][6] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][6] + t98 + t99 + t100 + t101;
+        dq[8][7] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][7] + t130 + t131 + t132 + t133
+            - self.k[8][7];
+        dq[8][8] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][8] - self.k[8][8]
+            - law[0].d_gap * t158 - law[1].d_gap * t159 - law[2].d_gap * t160
+            - law[3].d_gap * t161;
+        dq[8][9] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][9] + t162 + t163 + t164 + t165
+            - self.k[8][9];
+        dq[8][10] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][10]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][10] + t166 + t167 + t168 + t169
+            - self.k[8][10];
+        dq[8][11] = -law[0].d_rate * geo.g[0][8] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][8] * geo.gd[1][11]
+            - law[2].d_rate * geo.g[2][8] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][11] + t170 + t171 + t172 + t173
+            - self.k[8][11];
+        dq[8][12] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][12] + t174 + t175;
+        dq[8][13] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][13] + t176 + t177;
+        dq[8][14] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][14] + t178 + t179;
+        dq[8][15] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][15] + t180 + t181;
+        dq[8][16] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][16] + t182 + t183;
+        dq[8][17] = -law[2].d_rate * geo.g[2][8] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][8] * geo.gd[3][17] + t184 + t185;
+        dq[9][1] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][1] + t16 + t17;
+        dq[9][2] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][2] + t36 + t37;
+        dq[9][3] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][3] + t54 + t55;
+        dq[9][4] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][4] + t70 + t71;
+        dq[9][5] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][5] + t84 + t85;
+        dq[9][6] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][6] + t102 + t103 + t104 + t105;
+        dq[9][7] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][7] + t134 + t135 + t136 + t137
+            - self.k[9][7];
+        dq[9][8] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][8] + t162 + t163 + t164 + t165
+            - self.k[9][8];
+        dq[9][9] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][9] - self.k[9][9]
+            - law[0].d_gap * t186 - law[1].d_gap * t187 - law[2].d_gap * t188
+            - law[3].d_gap * t189;
+        dq[9][10] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][10]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][10] + t190 + t191 + t192 + t193
+            - self.k[9][10];
+        dq[9][11] = -law[0].d_rate * geo.g[0][9] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][9] * geo.gd[1][11]
+            - law[2].d_rate * geo.g[2][9] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][11] + t194 + t195 + t196 + t197
+            - self.k[9][11];
+        dq[9][12] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][12] + t198 + t199;
+        dq[9][13] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][13] + t200 + t201;
+        dq[9][14] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][14] + t202 + t203;
+        dq[9][15] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][15] + t204 + t205;
+        dq[9][16] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][16] + t206 + t207;
+        dq[9][17] = -law[2].d_rate * geo.g[2][9] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][9] * geo.gd[3][17] + t208 + t209;
+        dq[10][1] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][1] + t18 + t19;
+        dq[10][2] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][2] + t38 + t39;
+        dq[10][3] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][3] + t56 + t57;
+        dq[10][4] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][4] + t72 + t73;
+        dq[10][5] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][5] + t86 + t87;
+        dq[10][6] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][10] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][6] + t106 + t107 + t108 + t109;
+        dq[10][7] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][10] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][7] + t138 + t139 + t140 + t141
+            - self.k[10][7];
+        dq[10][8] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][10] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][8] + t166 + t167 + t168 + t169
+            - self.k[10][8];
+        dq[10][9] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][10] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][9] + t190 + t191 + t192 + t193
+            - self.k[10][9];
+        dq[10][10] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][10]
+            - law[2].d_rate * geo.g[2][10] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][10] - self.k[10][10]
+            - law[0].d_gap * t210 - law[1].d_gap * t211 - law[2].d_gap * t212
+            - law[3].d_gap * t213;
+        dq[10][11] = -law[0].d_rate * geo.g[0][10] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][10] * geo.gd[1][11]
+            - law[2].d_rate * geo.g[2][10] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][11] + t214 + t215 + t216 + t217
+            - self.k[10][11];
+        dq[10][12] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][12] + t218 + t219;
+        dq[10][13] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][13] + t220 + t221;
+        dq[10][14] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][14] + t222 + t223;
+        dq[10][15] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][15] + t224 + t225;
+        dq[10][16] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][16] + t226 + t227;
+        dq[10][17] = -law[2].d_rate * geo.g[2][10] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][10] * geo.gd[3][17] + t228 + t229;
+        dq[11][1] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][1]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][1] + t20 + t21;
+        dq[11][2] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][2]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][2] + t40 + t41;
+        dq[11][3] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][3]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][3] + t58 + t59;
+        dq[11][4] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][4]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][4] + t74 + t75;
+        dq[11][5] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][5]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][5] + t88 + t89;
+        dq[11][6] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][6]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][6]
+            - law[2].d_rate * geo.g[2][11] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][6] + t110 + t111 + t112 + t113;
+        dq[11][7] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][7]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][7]
+            - law[2].d_rate * geo.g[2][11] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][7] + t142 + t143 + t144 + t145
+            - self.k[11][7];
+        dq[11][8] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][8]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][8]
+            - law[2].d_rate * geo.g[2][11] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][8] + t170 + t171 + t172 + t173
+            - self.k[11][8];
+        dq[11][9] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][9]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][9]
+            - law[2].d_rate * geo.g[2][11] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][9] + t194 + t195 + t196 + t197
+            - self.k[11][9];
+        dq[11][10] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][10]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][10]
+            - law[2].d_rate * geo.g[2][11] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][10] + t214 + t215 + t216 + t217
+            - self.k[11][10];
+        dq[11][11] = -law[0].d_rate * geo.g[0][11] * geo.gd[0][11]
+            - law[1].d_rate * geo.g[1][11] * geo.gd[1][11]
+            - law[2].d_rate * geo.g[2][11] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][11] - self.k[11][11]
+            - law[0].d_gap * t230 - law[1].d_gap * t231 - law[2].d_gap * t232
+            - law[3].d_gap * t233;
+        dq[11][12] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][12] + t234 + t235;
+        dq[11][13] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][13] + t236 + t237;
+        dq[11][14] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][14] + t238 + t239;
+        dq[11][15] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][15] + t240 + t241;
+        dq[11][16] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][16] + t242 + t243;
+        dq[11][17] = -law[2].d_rate * geo.g[2][11] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][11] * geo.gd[3][17] + t244 + t245;
+        dq[12][6] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][6] + t114 + t115;
+        dq[12][7] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][7] + t146 + t147;
+        dq[12][8] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][8] + t174 + t175;
+        dq[12][9] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][9] + t198 + t199;
+        dq[12][10] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][10] + t218 + t219;
+        dq[12][11] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][11] + t234 + t235;
+        dq[12][12] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][12] - law[2].d_gap * t246
+            - law[3].d_gap * t247;
+        dq[12][13] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][13] + t248 + t249;
+        dq[12][14] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][14] + t250 + t251;
+        dq[12][15] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][15] + t252 + t253;
+        dq[12][16] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][16] + t254 + t255;
+        dq[12][17] = -law[2].d_rate * geo.g[2][12] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][12] * geo.gd[3][17] + t256 + t257;
+        dq[13][6] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][6] + t116 + t117;
+        dq[13][7] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][7] + t148 + t149;
+        dq[13][8] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][8] + t176 + t177;
+        dq[13][9] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][9] + t200 + t201;
+        dq[13][10] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][10] + t220 + t221;
+        dq[13][11] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][11] + t236 + t237;
+        dq[13][12] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][12] + t248 + t249;
+        dq[13][13] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][13] - self.k[13][13]
+            - law[2].d_gap * t258 - law[3].d_gap * t259;
+        dq[13][14] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][14] + t260 + t261
+            - self.k[13][14];
+        dq[13][15] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][15] + t262 + t263
+            - self.k[13][15];
+        dq[13][16] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][16] + t264 + t265
+            - self.k[13][16];
+        dq[13][17] = -law[2].d_rate * geo.g[2][13] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][13] * geo.gd[3][17] + t266 + t267
+            - self.k[13][17];
+        dq[14][6] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][6] + t118 + t119;
+        dq[14][7] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][7] + t150 + t151;
+        dq[14][8] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][8] + t178 + t179;
+        dq[14][9] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][9] + t202 + t203;
+        dq[14][10] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][10] + t222 + t223;
+        dq[14][11] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][11] + t238 + t239;
+        dq[14][12] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][12] + t250 + t251;
+        dq[14][13] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][13] + t260 + t261
+            - self.k[14][13];
+        dq[14][14] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][14] - self.k[14][14]
+            - law[2].d_gap * t268 - law[3].d_gap * t269;
+        dq[14][15] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][15] + t270 + t271
+            - self.k[14][15];
+        dq[14][16] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][16] + t272 + t273
+            - self.k[14][16];
+        dq[14][17] = -law[2].d_rate * geo.g[2][14] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][14] * geo.gd[3][17] + t274 + t275
+            - self.k[14][17];
+        dq[15][6] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][6] + t120 + t121;
+        dq[15][7] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][7] + t152 + t153;
+        dq[15][8] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][8] + t180 + t181;
+        dq[15][9] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][9] + t204 + t205;
+        dq[15][10] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][10] + t224 + t225;
+        dq[15][11] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][11] + t240 + t241;
+        dq[15][12] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][12] + t252 + t253;
+        dq[15][13] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][13] + t262 + t263
+            - self.k[15][13];
+        dq[15][14] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][14] + t270 + t271
+            - self.k[15][14];
+        dq[15][15] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][15] - self.k[15][15]
+            - law[2].d_gap * t276 - law[3].d_gap * t277;
+        dq[15][16] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][16] + t278 + t279
+            - self.k[15][16];
+        dq[15][17] = -law[2].d_rate * geo.g[2][15] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][15] * geo.gd[3][17] + t280 + t281
+            - self.k[15][17];
+        dq[16][6] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][6] + t122 + t123;
+        dq[16][7] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][7] + t154 + t155;
+        dq[16][8] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][8] + t182 + t183;
+        dq[16][9] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][9] + t206 + t207;
+        dq[16][10] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][10] + t226 + t227;
+        dq[16][11] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][11] + t242 + t243;
+        dq[16][12] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][12] + t254 + t255;
+        dq[16][13] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][13] + t264 + t265
+            - self.k[16][13];
+        dq[16][14] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][14] + t272 + t273
+            - self.k[16][14];
+        dq[16][15] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][15] + t278 + t279
+            - self.k[16][15];
+        dq[16][16] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][16] - self.k[16][16]
+            - law[2].d_gap * t282 - law[3].d_gap * t283;
+        dq[16][17] = -law[2].d_rate * geo.g[2][16] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][16] * geo.gd[3][17] + t284 + t285
+            - self.k[16][17];
+        dq[17][6] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][6]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][6] + t124 + t125;
+        dq[17][7] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][7]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][7] + t156 + t157;
+        dq[17][8] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][8]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][8] + t184 + t185;
+        dq[17][9] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][9]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][9] + t208 + t209;
+        dq[17][10] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][10]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][10] + t228 + t229;
+        dq[17][11] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][11]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][11] + t244 + t245;
+        dq[17][12] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][12]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][12] + t256 + t257;
+        dq[17][13] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][13]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][13] + t266 + t267
+            - self.k[17][13];
+        dq[17][14] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][14]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][14] + t274 + t275
+            - self.k[17][14];
+        dq[17][15] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][15]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][15] + t280 + t281
+            - self.k[17][15];
+        dq[17][16] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][16]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][16] + t284 + t285
+            - self.k[17][16];
+        dq[17][17] = -law[2].d_rate * geo.g[2][17] * geo.gd[2][17]
+            - law[3].d_rate * geo.g[3][17] * geo.gd[3][17] - self.k[17][17]
+            - law[2].d_gap * t286 - law[3].d_gap * t287;
+        dq[1][19] = -law[0].d_rate * t0 - law[1].d_rate * t1;
         dq[1][20] = t288;
         dq[1][21] = t289;
         dq[1][22] = t290;
@@ -2814,7 +2865,7 @@ impl Model for GeneratedModel {
         dq[1][28] = t296;
         dq[1][29] = t297;
         dq[2][19] = t288;
-        dq[2][20] = -t22 * law[0].d_rate - t23 * law[1].d_rate;
+        dq[2][20] = -law[0].d_rate * t22 - law[1].d_rate * t23;
         dq[2][21] = t298;
         dq[2][22] = t299;
         dq[2][23] = t300;
@@ -2826,7 +2877,7 @@ impl Model for GeneratedModel {
         dq[2][29] = t306;
         dq[3][19] = t289;
         dq[3][20] = t298;
-        dq[3][21] = -t42 * law[0].d_rate - t43 * law[1].d_rate;
+        dq[3][21] = -law[0].d_rate * t42 - law[1].d_rate * t43;
         dq[3][22] = t307;
         dq[3][23] = t308;
         dq[3][24] = t309;
@@ -2838,7 +2889,7 @@ impl Model for GeneratedModel {
         dq[4][19] = t290;
         dq[4][20] = t299;
         dq[4][21] = t307;
-        dq[4][22] = -t60 * law[0].d_rate - t61 * law[1].d_rate;
+        dq[4][22] = -law[0].d_rate * t60 - law[1].d_rate * t61;
         dq[4][23] = t315;
         dq[4][24] = t316;
         dq[4][25] = t317;
@@ -2850,7 +2901,7 @@ impl Model for GeneratedModel {
         dq[5][20] = t300;
         dq[5][21] = t308;
         dq[5][22] = t315;
-        dq[5][23] = -t76 * law[0].d_rate - t77 * law[1].d_rate;
+        dq[5][23] = -law[0].d_rate * t76 - law[1].d_rate * t77;
         dq[5][24] = t322;
         dq[5][25] = t323;
         dq[5][26] = t324;
@@ -2862,8 +2913,8 @@ impl Model for GeneratedModel {
         dq[6][21] = t309;
         dq[6][22] = t316;
         dq[6][23] = t322;
-        dq[6][24] = -t90 * law[0].d_rate - t91 * law[1].d_rate - t92 * law[2].d_rate
-            - t93 * law[3].d_rate;
+        dq[6][24] = -law[0].d_rate * t90 - law[1].d_rate * t91 - law[2].d_rate * t92
+            - law[3].d_rate * t93;
         dq[6][25] = t328;
         dq[6][26] = t329;
         dq[6][27] = t330;
@@ -2881,8 +2932,8 @@ impl Model for GeneratedModel {
         dq[7][22] = t317;
         dq[7][23] = t323;
         dq[7][24] = t328;
-        dq[7][25] = -law[0].d_rate * t126 - law[1].d_rate * t127 - t128 * law[2].d_rate
-            - t129 * law[3].d_rate;
+        dq[7][25] = -law[0].d_rate * t126 - law[1].d_rate * t127 - law[2].d_rate * t128
+            - law[3].d_rate * t129;
         dq[7][26] = t339;
         dq[7][27] = t340;
         dq[7][28] = t341;
@@ -2900,8 +2951,8 @@ impl Model for GeneratedModel {
         dq[8][23] = t324;
         dq[8][24] = t329;
         dq[8][25] = t339;
-        dq[8][26] = -law[0].d_rate * t158 - law[1].d_rate * t159 - t160 * law[2].d_rate
-            - t161 * law[3].d_rate;
+        dq[8][26] = -law[0].d_rate * t158 - law[1].d_rate * t159 - law[2].d_rate * t160
+            - law[3].d_rate * t161;
         dq[8][27] = t349;
         dq[8][28] = t350;
         dq[8][29] = t351;
@@ -2919,8 +2970,8 @@ impl Model for GeneratedModel {
         dq[9][24] = t330;
         dq[9][25] = t340;
         dq[9][26] = t349;
-        dq[9][27] = -law[0].d_rate * t186 - law[1].d_rate * t187 - t188 * law[2].d_rate
-            - t189 * law[3].d_rate;
+        dq[9][27] = -law[0].d_rate * t186 - law[1].d_rate * t187 - law[2].d_rate * t188
+            - law[3].d_rate * t189;
         dq[9][28] = t358;
         dq[9][29] = t359;
         dq[9][30] = t360;
@@ -2939,7 +2990,7 @@ impl Model for GeneratedModel {
         dq[10][26] = t350;
         dq[10][27] = t358;
         dq[10][28] = -law[0].d_rate * t210 - law[1].d_rate * t211 - law[2].d_rate * t212
-            - t213 * law[3].d_rate;
+            - law[3].d_rate * t213;
         dq[10][29] = t366;
         dq[10][30] = t367;
         dq[10][31] = t368;
@@ -2958,7 +3009,7 @@ impl Model for GeneratedModel {
         dq[11][27] = t359;
         dq[11][28] = t366;
         dq[11][29] = -law[0].d_rate * t230 - law[1].d_rate * t231 - law[2].d_rate * t232
-            - t233 * law[3].d_rate;
+            - law[3].d_rate * t233;
         dq[11][30] = t373;
         dq[11][31] = t374;
         dq[11][32] = t375;

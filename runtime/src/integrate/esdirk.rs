@@ -1,4 +1,4 @@
-//! ESDIRK4(3)6L[2]SA of Kennedy & Carpenter (NASA/TM-2016-219173, Table 16): a six-stage,
+//! ESDIRK4(3)6L\[2\]SA of Kennedy & Carpenter (NASA/TM-2016-219173, Table 16): a six-stage,
 //! L-stable, stiffly accurate singly diagonally implicit Runge-Kutta method of order 4 with
 //! an embedded order-3 solution, explicit first stage. Each implicit stage solves
 //! `Y_i = y + h sum_{j<i} a_ij k_j + h gamma f(t + c_i h, Y_i)` by Newton on the analytic

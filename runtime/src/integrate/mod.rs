@@ -37,7 +37,7 @@ pub enum Method {
     Dopri5,
     /// Dormand-Prince 8(5,3) (DOP853), adaptive, explicit.
     Dop853,
-    /// ESDIRK4(3)6L[2]SA (Kennedy-Carpenter), adaptive, L-stable, Newton on the analytic
+    /// ESDIRK4(3)6L\[2\]SA (Kennedy-Carpenter), adaptive, L-stable, Newton on the analytic
     /// Jacobian.
     Esdirk,
     /// Variable-order variable-step BDF (orders 1 to `max_order`), Newton on the analytic

@@ -60,12 +60,12 @@ impl fmt::Display for FieldError {
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// The file could not be read.
-    #[error("cannot read scene file {path}: {source}")]
+    #[error("cannot read scene file {path}: {error}")]
     Io {
         /// The file.
         path: PathBuf,
         /// The cause.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The file is not valid TOML.
     #[error("scene file {path} is not valid TOML: {message}")]
@@ -120,9 +120,9 @@ impl Scene {
     /// # Errors
     /// [`SceneError`] naming the field and the rule for every problem found.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
             path: path.to_owned(),
-            source,
+            error,
         })?;
         Self::from_toml_str(&text, path, overrides)
     }

@@ -275,6 +275,34 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         }
     };
 
+    // the products the model uses must exist in double precision too
+    if let (Some(a), Some(rho), Some(i), Some(e)) = (&areas, &densities, &inertias, &moduli) {
+        for k in 0..n {
+            let per_length = rho[k] * a[k];
+            if !(per_length.is_finite() && per_length > 0.0) {
+                r.fail(
+                    format!("sections.area[{k}] and sections.density[{k}]"),
+                    format!(
+                        "their product, the mass per length, must be a finite number > 0 in \
+                         double precision (got {} x {} = {per_length})",
+                        a[k], rho[k]
+                    ),
+                );
+            }
+            let bending = e[k] * i[k];
+            if !(bending.is_finite() && bending > 0.0) {
+                r.fail(
+                    format!("sections.youngs_modulus[{k}] and sections.inertia[{k}]"),
+                    format!(
+                        "their product, the bending stiffness, must be a finite number > 0 in \
+                         double precision (got {} x {} = {bending})",
+                        e[k], i[k]
+                    ),
+                );
+            }
+        }
+    }
+
     // the output's size, before a run allocates it
     if r.errors.is_empty() {
         let points = file.contact.as_ref().map_or(0, |c| c.points);
