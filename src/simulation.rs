@@ -202,6 +202,7 @@ impl Trajectory {
 }
 
 /// A finished simulation: what ran and every sample.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Simulation {
     /// The scene's name.
     pub scene: String,

@@ -249,7 +249,9 @@ pub fn work_precision(
         "{} on the {}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
         scene.name, chosen.description
     ));
+    // every run, the references included, within the work budget
     let run = |method, settings: &Settings| {
+        crate::budget::check_run(scene, model.as_ref(), method, settings)?;
         run_trajectory(scene, model.as_ref(), method, settings, reporter)
     };
     let reference = run(Method::Dop853, &tolerance(1e-12))?;

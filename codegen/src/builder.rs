@@ -166,7 +166,7 @@ pub struct Written {
 ///
 /// and in the crate:
 ///
-/// ```ignore
+/// ```text
 /// include!(concat!(env!("OUT_DIR"), "/telescopic_models.rs"));
 /// // a module per configuration, e.g. s3_m3x3x3_c2_external_clearance_fixed_force, whose
 /// // GeneratedModel implements telescopic_runtime::Model; CONFIGURATIONS; prepare(params);

@@ -123,40 +123,23 @@ fn table(pairs: &[(&str, toml::Value)]) -> toml::Value {
     toml::Value::Table(pairs.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
 }
 
-/// A complete, valid scene (the case study), which the mutations below break.
-const BASE: &str = r#"
-name = "fuzz"
-[sections]
-count = 2
-length = [1.35, 1.35]
-area = 0.001
-inertia = 0.83e-8
-density = 7850.0
-youngs_modulus = 2.1e11
-modes = [4, 4]
-[masses]
-vehicle = 100.0
-load = 17.897
-[gravity]
-g = 9.81
-force_flow = "cable"
-[contact]
-points = 2
-stiffness = 0.2375e9
-damping = 1000.0
-clearance = 0.01
-[telescope]
-positions = [{ kind = "smoothstep", start = 0.0, end = 12.0, from = 0.35, to = 1.15 }]
-[drive]
-force = { kind = "piecewise-constant", times = [0.0, 4.0, 8.0, 12.0], values = [100.0, 0.0, -100.0, 0.0] }
-[time]
-start = 0.0
-end = 16.0
-sample = 0.001
-[[reference]]
-label = "paper"
-frequencies_hz = [0.53, 6.35]
-"#;
+/// A complete, valid scene, which the mutations below break: the shipped case study with a
+/// reference column.
+fn base() -> toml::Table {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/case-study.toml");
+    let mut doc: toml::Table = std::fs::read_to_string(path)
+        .expect("the shipped scene")
+        .parse()
+        .expect("the shipped scene is TOML");
+    doc.insert(
+        "reference".into(),
+        toml::Value::Array(vec![table(&[
+            ("label", "paper".into()),
+            ("frequencies_hz", toml::Value::Array(vec![0.53.into(), 6.35.into()])),
+        ])]),
+    );
+    doc
+}
 
 /// Every field of the schema, by its path of table keys, and what kind of value it takes.
 #[derive(Debug, Clone, Copy)]
@@ -252,7 +235,7 @@ fn parent<'a>(doc: &'a mut toml::Table, path: &[&str]) -> Option<&'a mut toml::T
 /// A scene document from the schema: the valid base with 0 to 4 random mutations.
 fn document() -> impl Strategy<Value = toml::Table> {
     prop::collection::vec(mutation(), 0..5).prop_map(|mutations| {
-        let mut doc: toml::Table = BASE.parse().expect("the base scene is TOML");
+        let mut doc = base();
         for m in mutations {
             let (i, change) = match &m {
                 Mutation::Set(i, _) | Mutation::Remove(i) | Mutation::Unknown(i, _) => (*i, m.clone()),
@@ -388,8 +371,7 @@ proptest! {
 
     #[test]
     fn overrides_on_a_valid_scene_load_or_name_the_field(set in overrides()) {
-        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/case-study.toml"))
-            .expect("the shipped scene");
+        let text = toml::to_string(&base()).expect("a table serializes");
         if let Err(e) = load(&text, &set) {
             assert_named(&e, &text);
         }

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use telescopic::converge::{ConvergeOptions, converge as run_converge};
 use telescopic::model_choice::ModelChoice;
 use telescopic::output::{check_stdout_open, write_to};
-use telescopic::plot::save;
+use telescopic::plot::{Figure, save};
 use telescopic::shape_errors::{ShapeErrorsOptions, shape_errors as run_shape_errors};
 use telescopic::stability::stability_analysis;
 use telescopic::work_precision::{DEFAULT_METHODS, WorkPrecisionOptions, work_precision as run_wp};
@@ -36,6 +36,50 @@ pub fn stability(args: &StabilityArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// `--out` and `--csv`: the chart and the table of an analysis.
+#[derive(Debug, Args)]
+pub struct Outputs {
+    /// Chart (SVG or PNG by extension).
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
+    pub out: Option<PathBuf>,
+    /// The table behind the chart as CSV, one row per run, model or mode (default: standard
+    /// output, except for converge, which prints its answer there).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+}
+
+impl Outputs {
+    /// Checks the paths before any work; `stdout`: something will be printed.
+    fn check(&self, stdout: bool) -> anyhow::Result<()> {
+        check_chart("--out", self.out.as_deref())?;
+        check_output("--csv", self.csv.as_deref())?;
+        if stdout {
+            check_stdout_open()?;
+        }
+        Ok(())
+    }
+
+    /// Writes the table (to stdout without `--csv` when `table_to_stdout`) and the chart.
+    fn write(
+        &self,
+        table: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+        chart: &impl Figure,
+        table_to_stdout: bool,
+    ) -> anyhow::Result<()> {
+        if self.csv.is_some() || table_to_stdout {
+            write_to(self.csv.as_deref(), table)?;
+        }
+        if let Some(path) = &self.csv {
+            eprintln!("wrote {}", path.display());
+        }
+        if let Some(path) = &self.out {
+            save(chart, path)?;
+            eprintln!("wrote {}", path.display());
+        }
+        Ok(())
+    }
+}
+
 /// Options of `telescopic work-precision`.
 #[derive(Debug, Args)]
 pub struct WorkPrecisionArgs {
@@ -46,12 +90,8 @@ pub struct WorkPrecisionArgs {
     /// default, e.g. dopri5 while the positions move and exact once they rest).
     #[arg(long, value_delimiter = ',', default_value = DEFAULT_METHODS)]
     pub methods: Vec<String>,
-    /// Chart file (SVG or PNG by extension).
-    #[arg(long, value_name = "FILE.svg|FILE.png")]
-    pub out: Option<PathBuf>,
-    /// CSV file with one row per run (the data behind the chart); default: standard output.
-    #[arg(long, value_name = "FILE")]
-    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub outputs: Outputs,
     /// Timed repetitions per setting (the median is reported), 1 to 100.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
@@ -62,11 +102,7 @@ pub struct WorkPrecisionArgs {
 
 /// Runs `telescopic work-precision`.
 pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
-    check_chart("--out", args.out.as_deref())?;
-    check_output("--csv", args.csv.as_deref())?;
-    if args.csv.is_none() {
-        check_stdout_open()?;
-    }
+    args.outputs.check(args.outputs.csv.is_none())?;
     let scene = args.scene.load()?;
     let options = WorkPrecisionOptions {
         methods: args.methods.clone(),
@@ -74,15 +110,8 @@ pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         model: args.model,
     };
     let result = run_wp(&scene, &options, &Progress::new())?;
-    write_to(args.csv.as_deref(), |w| result.write_table(w))?;
-    if let Some(path) = &args.csv {
-        eprintln!("wrote {}", path.display());
-    }
-    if let Some(path) = &args.out {
-        save(&result.chart(), path)?;
-        eprintln!("wrote {}", path.display());
-    }
-    Ok(())
+    args.outputs
+        .write(|w| result.write_table(w), &result.chart(), true)
 }
 
 /// Options of `telescopic converge`.
@@ -99,19 +128,13 @@ pub struct ConvergeArgs {
     /// Most contact points per overlap tried (from 2; 3 to 32).
     #[arg(long, default_value_t = 5, value_name = "N")]
     pub max_contacts: usize,
-    /// Chart of model error against cost (SVG or PNG by extension).
-    #[arg(long, value_name = "FILE.svg|FILE.png")]
-    pub out: Option<PathBuf>,
-    /// CSV with one row per model tried.
-    #[arg(long, value_name = "FILE")]
-    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub outputs: Outputs,
 }
 
 /// Runs `telescopic converge`.
 pub fn converge(args: &ConvergeArgs) -> anyhow::Result<()> {
-    check_chart("--out", args.out.as_deref())?;
-    check_output("--csv", args.csv.as_deref())?;
-    check_stdout_open()?;
+    args.outputs.check(true)?;
     let scene = args.scene.load()?;
     let options = ConvergeOptions {
         tol: args.tol,
@@ -121,15 +144,8 @@ pub fn converge(args: &ConvergeArgs) -> anyhow::Result<()> {
     let result = run_converge(&scene, &options, &Progress::new())?;
     let text = result.render();
     write_to(None, |w| w.write_all(text.as_bytes()))?;
-    if let Some(path) = &args.csv {
-        write_to(Some(path), |w| result.write_table(w))?;
-        eprintln!("wrote {}", path.display());
-    }
-    if let Some(path) = &args.out {
-        save(&result.chart(), path)?;
-        eprintln!("wrote {}", path.display());
-    }
-    Ok(())
+    args.outputs
+        .write(|w| result.write_table(w), &result.chart(), false)
 }
 
 /// Options of `telescopic shape-errors`.
@@ -141,32 +157,17 @@ pub struct ShapeErrorsArgs {
     /// Evaluation points along the section (derivatives 0 to 3 at each).
     #[arg(long, default_value_t = 41, value_name = "N")]
     pub points: usize,
-    /// Chart (SVG or PNG by extension).
-    #[arg(long, value_name = "FILE.svg|FILE.png")]
-    pub out: Option<PathBuf>,
-    /// CSV: kind, mode, worst scaled error of each form; default: standard output.
-    #[arg(long, value_name = "FILE")]
-    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub outputs: Outputs,
 }
 
 /// Runs `telescopic shape-errors`.
 pub fn shape_errors(args: &ShapeErrorsArgs) -> anyhow::Result<()> {
-    check_chart("--out", args.out.as_deref())?;
-    check_output("--csv", args.csv.as_deref())?;
-    if args.csv.is_none() {
-        check_stdout_open()?;
-    }
+    args.outputs.check(args.outputs.csv.is_none())?;
     let result = run_shape_errors(&ShapeErrorsOptions {
         length: args.length,
         points: args.points,
     })?;
-    write_to(args.csv.as_deref(), |w| result.write_table(w))?;
-    if let Some(path) = &args.csv {
-        eprintln!("wrote {}", path.display());
-    }
-    if let Some(path) = &args.out {
-        save(&result.chart(), path)?;
-        eprintln!("wrote {}", path.display());
-    }
-    Ok(())
+    args.outputs
+        .write(|w| result.write_table(w), &result.chart(), true)
 }

@@ -1,0 +1,90 @@
+//! The work budget: its step prediction against the steps real runs take on the shipped
+//! scenes, and the refusal, before any work, of runs whose predicted work is absurd.
+
+use telescopic::budget::estimate_steps;
+use telescopic::model_choice::{ModelChoice, build_model};
+use telescopic::simulation::{MethodChoice, SimulationOptions, plan, simulate_scene};
+use telescopic::{Error, Scene, Silent};
+use telescopic_runtime::Method;
+
+fn scene(name: &str, overrides: &[&str]) -> Scene {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scene::load(format!("scenes/{name}.toml").as_ref(), &o).unwrap()
+}
+
+#[test]
+fn the_predicted_steps_are_within_a_factor_3_of_real_runs() {
+    // the prediction assumes every contact closed; real runs spend time in free flight and
+    // in rejected steps, so it is an estimate, but one good enough to call a run absurd
+    let cases = [
+        ("adams-clearance", Method::Dopri5),
+        ("adams-clearance", Method::Dop853),
+        ("adams-clearance", Method::Exact),
+        ("adams-linear", Method::Dopri5),
+        ("case-study", Method::Dopri5),
+        ("case-study", Method::Dop853),
+        ("case-study-no-clearance", Method::Dopri5),
+        ("three-section", Method::Dop853),
+    ];
+    for (name, method) in cases {
+        let scene = scene(name, &[]);
+        let options = SimulationOptions {
+            method: MethodChoice::Method(method),
+            ..SimulationOptions::default()
+        };
+        let planned = plan(&scene, &options).unwrap();
+        let model = build_model(&scene.params, ModelChoice::Auto).unwrap().model;
+        let predicted = estimate_steps(&scene, model.as_ref(), method, &planned.settings)
+            .unwrap()
+            .expect("explicit methods and exact stepping have a prediction")
+            .steps;
+        let run = simulate_scene(&scene, &options, &Silent).unwrap();
+        let steps = run.trajectory.stats.steps as f64;
+        eprintln!("{name} {method}: predicted {predicted:.0}, took {steps}");
+        assert!(
+            predicted / steps < 3.0 && steps / predicted < 3.0,
+            "{name} {method}: predicted {predicted:.0} steps, the run took {steps}"
+        );
+    }
+}
+
+#[test]
+fn absurd_runs_are_refused_before_they_start_with_the_estimate_and_the_cause() {
+    let cases: [(&str, &[&str], &[&str]); 3] = [
+        (
+            "case-study",
+            &["sections.area=1e-12"],
+            &["would need about", "steps over 16 s", "more than the step limit", "--method esdirk"],
+        ),
+        (
+            "case-study-no-clearance",
+            &["contact.damping=1e300"],
+            &["e300 steps", "contact damping", "contact.damping"],
+        ),
+        (
+            "adams-clearance",
+            &["contact.stiffness=1e22"],
+            &["stiffest mode with closed contacts", "contact.stiffness"],
+        ),
+    ];
+    for (name, overrides, needles) in cases {
+        let scene = scene(name, overrides);
+        let start = std::time::Instant::now();
+        let err = simulate_scene(&scene, &SimulationOptions::default(), &Silent).unwrap_err();
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{name}: the refusal took too long");
+        assert!(matches!(err, Error::Unaffordable { .. }), "{name}: {err}");
+        let message = err.to_string();
+        for n in needles {
+            assert!(message.contains(n), "{name} {overrides:?}: `{n}` missing from: {message}");
+        }
+    }
+    // a fixed step: the count is span / dt
+    let scene = scene("adams-linear", &[]);
+    let options = SimulationOptions {
+        method: MethodChoice::Method(Method::Rk4),
+        dt: Some(1e-8),
+        ..SimulationOptions::default()
+    };
+    let err = simulate_scene(&scene, &options, &Silent).unwrap_err().to_string();
+    assert!(err.contains("needs about 5.00e8 steps") && err.contains("raise --dt"), "{err}");
+}
