@@ -11,7 +11,7 @@
 
 use crate::{Error, Result};
 use telescopic_runtime::integrate::StepControl;
-use telescopic_runtime::integrate::stability::linearization_times;
+use telescopic_runtime::integrate::stability::{linearization_times, stable_h_rho};
 use telescopic_runtime::{FastestRates, Method, Model, Scene, Settings, TimeSpan, fastest_rates};
 
 /// Output samples of a span (the start included, and the end when it is off the grid);
@@ -19,20 +19,6 @@ use telescopic_runtime::{FastestRates, Method, Model, Scene, Settings, TimeSpan,
 pub fn sample_count(span: &TimeSpan) -> usize {
     let n = telescopic_runtime::scene::limits::sample_count(span.start, span.end, span.sample);
     usize::try_from(n).unwrap_or(usize::MAX).min(1 << 28)
-}
-
-/// Largest `h rho` an explicit method or exact stepping takes (about: the real-axis extent
-/// of the stability region, which for these methods is close to the imaginary-axis one);
-/// `None` for methods with no stability bound on the step.
-pub fn stable_h_rho(method: Method) -> Option<f64> {
-    match method {
-        Method::Dopri5 => Some(3.3),
-        Method::Dop853 => Some(6.0),
-        Method::Rk4 => Some(telescopic_runtime::integrate::stability::RK4_REAL_AXIS),
-        Method::Verlet => Some(telescopic_runtime::integrate::stability::VERLET_LIMIT),
-        Method::Exact => Some(1.5),
-        _ => None,
-    }
 }
 
 /// A predicted step count and where it comes from.

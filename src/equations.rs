@@ -1,8 +1,8 @@
 //! The derived equations of a scene's generated model, as rendered when it was generated
 //! (the library never runs Symbolica).
 
-use crate::model_choice::no_generated_model;
 use crate::Result;
+use crate::model_choice::no_generated_model;
 use std::fmt;
 use std::str::FromStr;
 use telescopic_runtime::{Scene, configuration_key};
@@ -42,7 +42,9 @@ impl FromStr for EquationFormat {
             "latex" => Ok(EquationFormat::Latex),
             "rust" => Ok(EquationFormat::Rust),
             "json" => Ok(EquationFormat::Json),
-            _ => Err(format!("`{s}` is not a format; use text, latex, rust or json")),
+            _ => Err(format!(
+                "`{s}` is not a format; use text, latex, rust or json"
+            )),
         }
     }
 }
@@ -59,8 +61,6 @@ impl fmt::Display for EquationFormat {
 /// [`crate::Error::Model`] when the scene's configuration was not generated (with the entry to add).
 pub fn equations(scene: &Scene, format: EquationFormat) -> Result<&'static str> {
     let key = configuration_key(&scene.params);
-    telescopic_generated::rendering(&key, format.name()).ok_or_else(|| {
-        no_generated_model(&scene.params, "no derived equations to show")
-    })
+    telescopic_generated::rendering(&key, format.name())
+        .ok_or_else(|| no_generated_model(&scene.params, "no derived equations to show"))
 }
-

@@ -4,8 +4,30 @@
 mod cli;
 
 use clap::Parser;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether descriptor 1 was closed when the process started.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// Runs before Rust's runtime, which would put `/dev/null` on a closed standard output and
+/// hide that the output is lost: a constructor in `.init_array` (hand-written: a dependency
+/// for one function pointer is not worth it).
+extern "C" fn record_closed_stdout() {
+    // SAFETY: F_GETFD only queries the descriptor's flags.
+    STDOUT_CLOSED.store(
+        unsafe { libc::fcntl(1, libc::F_GETFD) } == -1,
+        Ordering::Relaxed,
+    );
+}
+
+#[used]
+#[unsafe(link_section = ".init_array")]
+static RECORD_CLOSED_STDOUT: extern "C" fn() = record_closed_stdout;
 
 fn main() -> std::process::ExitCode {
+    if STDOUT_CLOSED.load(Ordering::Relaxed) {
+        telescopic::output::note_stdout_closed_at_start();
+    }
     // Ctrl-C or SIGTERM: remove the output files still being written, then stop (130).
     let _ = ctrlc::set_handler(|| {
         telescopic::output::remove_partial_files();

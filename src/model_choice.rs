@@ -4,7 +4,9 @@
 use crate::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
-use telescopic_runtime::{AssembledModel, Model, ModelParams, configuration_key, models_toml_entry};
+use telescopic_runtime::{
+    AssembledModel, Model, ModelParams, configuration_key, models_toml_entry,
+};
 
 /// Which implementation of the equations to use (`--model`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -85,9 +87,7 @@ pub fn build_model(params: &ModelParams, choice: ModelChoice) -> Result<ChosenMo
             how_to_generate(params)
         ))),
         (None, choice) => Ok(ChosenModel {
-            model: Box::new(
-                AssembledModel::new(params).map_err(|e| Error::Model(e.to_string()))?,
-            ),
+            model: Box::new(AssembledModel::new(params).map_err(|e| Error::Model(e.to_string()))?),
             description: "quadrature-assembled model".to_string(),
             note: (choice == ModelChoice::Auto).then(|| {
                 format!(

@@ -69,7 +69,10 @@ pub fn check_writable(option: &str, path: &Path) -> Result<()> {
             let _ = std::fs::remove_file(&probe);
             Ok(())
         }
-        Err(e) => bad(format!("the directory {} is not writable ({e})", dir.display())),
+        Err(e) => bad(format!(
+            "the directory {} is not writable ({e})",
+            dir.display()
+        )),
     }
 }
 
@@ -125,15 +128,28 @@ pub fn write_to(
     }
 }
 
-/// Fails when standard output is closed: Rust's standard library then discards writes
-/// silently (it treats a closed descriptor 1 as a sink), which would lose the output with
-/// exit code 0.
+/// Set by a binary that found its standard output closed when the process started (see
+/// [`note_stdout_closed_at_start`]).
+static STDOUT_CLOSED_AT_START: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
+/// Records that standard output was closed when the process started. Rust's runtime puts
+/// `/dev/null` on a closed descriptor 1 before `main` runs, so only code that ran earlier (a
+/// binary's constructor) can know; such a binary calls this at the start of `main`.
+pub fn note_stdout_closed_at_start() {
+    STDOUT_CLOSED_AT_START.store(true, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Fails when standard output is closed: writes to it would be discarded silently (by the
+/// standard library, or into the `/dev/null` the runtime put in its place), which would lose
+/// the output with exit code 0.
 ///
 /// # Errors
 /// [`Error::Stdout`].
 pub fn check_stdout_open() -> Result<()> {
     // SAFETY: F_GETFD only queries the descriptor's flags.
-    if unsafe { libc::fcntl(1, libc::F_GETFD) } == -1 {
+    let closed_now = unsafe { libc::fcntl(1, libc::F_GETFD) } == -1;
+    if closed_now || STDOUT_CLOSED_AT_START.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(Error::Stdout(std::io::Error::other(
             "standard output is closed; give an output file instead",
         )));

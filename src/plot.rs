@@ -94,10 +94,8 @@ pub trait Figure {
     /// Size in pixels.
     fn size(&self) -> (u32, u32);
     /// Draws the picture on `root`.
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> Result<()>;
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>)
+    -> Result<()>;
 }
 
 /// Saves `figure` as SVG or PNG by the extension of `path` (written completely or not at

@@ -52,7 +52,10 @@ pub fn shape_errors(options: &ShapeErrorsOptions) -> Result<ShapeErrors> {
     if !(options.length > 0.0 && options.length.is_finite()) {
         return Err(Error::option(
             "--length",
-            format!("must be a positive number of metres (got {})", options.length),
+            format!(
+                "must be a positive number of metres (got {})",
+                options.length
+            ),
         ));
     }
     if !(2..=MAX_POINTS).contains(&options.points) {

@@ -232,7 +232,9 @@ impl Simulation {
                 "rtol {:e}, atol {:e}{cap}; {} matrix exponentials",
                 settings.rtol, settings.atol, s.exponentials
             ),
-            StepControl::Adaptive => format!("rtol {:e}, atol {:e}{cap}", settings.rtol, settings.atol),
+            StepControl::Adaptive => {
+                format!("rtol {:e}, atol {:e}{cap}", settings.rtol, settings.atol)
+            }
             StepControl::Fixed => format!("dt {:e} s", settings.dt.unwrap_or(f64::NAN)),
             StepControl::Exact => format!("{} matrix exponentials", s.exponentials),
         };
@@ -287,7 +289,7 @@ pub fn simulate_scene(
         scene: scene.name.clone(),
         span: (scene.time.start, scene.time.end),
         model: chosen.description,
-        specializations: specializations(model, &scene.time),
+        specializations: specializations(model, &scene.time, plan.method, plan.settings.exact_from),
         plan,
         trajectory,
     })

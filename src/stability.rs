@@ -4,11 +4,11 @@
 
 use crate::model_choice::{ModelChoice, build_model};
 use crate::{Error, Result};
-use telescopic_runtime::{Method, Scene};
 use telescopic_runtime::integrate::stability::{
     RK4_IMAGINARY_AXIS, RK4_REAL_AXIS, STEP_CAP_SAFETY, StabilityReport, VERLET_LIMIT,
     closed_contact_stable_step, linearization_times, stability_report,
 };
+use telescopic_runtime::{Method, Scene};
 
 /// The stability facts of a scene: the closed-contact model at its stiffest time, and the
 /// largest stable steps of the adaptive explicit methods.
@@ -39,7 +39,10 @@ pub fn stability_analysis(scene: &Scene, choice: ModelChoice) -> Result<Stabilit
     let times = linearization_times(model, &scene.time);
     let mut reports = Vec::new();
     for &t in &times {
-        reports.push(stability_report(model, t).map_err(Error::Analysis)?);
+        reports.push(
+            stability_report(model, t)
+                .map_err(|e| Error::Analysis(format!("scene {}: {e}", scene.name)))?,
+        );
     }
     let worst = reports
         .into_iter()
@@ -61,7 +64,13 @@ pub fn stability_analysis(scene: &Scene, choice: ModelChoice) -> Result<Stabilit
 impl Stability {
     /// The report as text (`telescopic stability`).
     pub fn render(&self) -> String {
-        render(&self.scene, &self.model, &self.worst, self.times, &self.adaptive)
+        render(
+            &self.scene,
+            &self.model,
+            &self.worst,
+            self.times,
+            &self.adaptive,
+        )
     }
 }
 

@@ -184,7 +184,8 @@ fn sweep(method: Method, model: &dyn Model, scene: &Scene) -> Result<Vec<(String
         // exact up to rounding: nothing to sweep
         Method::Exact => vec![("exact".to_string(), Settings::default())],
         Method::Rk4 | Method::Verlet => {
-            let r = stability_report(model, scene.time.start).map_err(Error::Analysis)?;
+            let r = stability_report(model, scene.time.start)
+                .map_err(|e| Error::Analysis(format!("scene {}: {e}", scene.name)))?;
             let limit = if method == Method::Rk4 {
                 r.rk4_step
             } else {

@@ -54,16 +54,21 @@ fn absurd_runs_are_refused_before_they_start_with_the_estimate_and_the_cause() {
         (
             "case-study",
             &["sections.area=1e-12"],
-            &["would need about", "steps over 16 s", "more than the step limit", "--method esdirk"],
+            &[
+                "would need about",
+                "steps over 16 s",
+                "more than the step limit",
+                "--method esdirk",
+            ],
         ),
         (
             "case-study-no-clearance",
-            &["contact.damping=1e300"],
-            &["e300 steps", "contact damping", "contact.damping"],
+            &["contact.damping=1e10"],
+            &["contact damping", "contact.damping"],
         ),
         (
             "adams-clearance",
-            &["contact.stiffness=1e22"],
+            &["contact.stiffness=1e15"],
             &["stiffest mode with closed contacts", "contact.stiffness"],
         ),
     ];
@@ -71,13 +76,30 @@ fn absurd_runs_are_refused_before_they_start_with_the_estimate_and_the_cause() {
         let scene = scene(name, overrides);
         let start = std::time::Instant::now();
         let err = simulate_scene(&scene, &SimulationOptions::default(), &Silent).unwrap_err();
-        assert!(start.elapsed().as_secs_f64() < 5.0, "{name}: the refusal took too long");
+        assert!(
+            start.elapsed().as_secs_f64() < 5.0,
+            "{name}: the refusal took too long"
+        );
         assert!(matches!(err, Error::Unaffordable { .. }), "{name}: {err}");
         let message = err.to_string();
         for n in needles {
-            assert!(message.contains(n), "{name} {overrides:?}: `{n}` missing from: {message}");
+            assert!(
+                message.contains(n),
+                "{name} {overrides:?}: `{n}` missing from: {message}"
+            );
         }
     }
+    // a damping beyond anything double precision resolves is refused earlier, by the scene
+    let err = Scene::load(
+        "scenes/case-study-no-clearance.toml".as_ref(),
+        &["contact.damping=1e300".to_string()],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("`contact.damping`") && err.contains("damping ratio"),
+        "{err}"
+    );
     // a fixed step: the count is span / dt
     let scene = scene("adams-linear", &[]);
     let options = SimulationOptions {
@@ -85,6 +107,11 @@ fn absurd_runs_are_refused_before_they_start_with_the_estimate_and_the_cause() {
         dt: Some(1e-8),
         ..SimulationOptions::default()
     };
-    let err = simulate_scene(&scene, &options, &Silent).unwrap_err().to_string();
-    assert!(err.contains("needs about 5.00e8 steps") && err.contains("raise --dt"), "{err}");
+    let err = simulate_scene(&scene, &options, &Silent)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("needs about 5.00e8 steps") && err.contains("raise --dt"),
+        "{err}"
+    );
 }

@@ -15,7 +15,13 @@ fn scratch(test: &str) -> PathBuf {
 /// A long run: case-study with 1.6 million samples (a CSV of about 200 MB).
 fn long_run(csv: &Path) -> Child {
     Command::new(env!("CARGO_BIN_EXE_telescopic"))
-        .args(["simulate", "scenes/case-study.toml", "--set", "time.sample=1e-5", "--out"])
+        .args([
+            "simulate",
+            "scenes/case-study.toml",
+            "--set",
+            "time.sample=1e-5",
+            "--out",
+        ])
         .arg(csv)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .stdout(Stdio::null())
@@ -50,7 +56,10 @@ fn an_interrupted_csv_write_leaves_no_file() {
             child.try_wait().unwrap().is_none(),
             "the run ended before its CSV was written"
         );
-        assert!(start.elapsed() < Duration::from_secs(120), "no CSV write started");
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no CSV write started"
+        );
         std::thread::sleep(Duration::from_millis(1));
     }
     std::thread::sleep(Duration::from_millis(20));

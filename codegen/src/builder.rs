@@ -292,8 +292,11 @@ impl Builder {
                 content: model.source,
             });
             if self.renderings {
-                for (text, ext) in [(model.text, "txt"), (model.latex, "tex"), (model.json, "json")]
-                {
+                for (text, ext) in [
+                    (model.text, "txt"),
+                    (model.latex, "tex"),
+                    (model.json, "json"),
+                ] {
                     files.push(GeneratedFile {
                         name: format!("{}.{ext}", model.module),
                         content: text,
@@ -393,7 +396,9 @@ impl Builder {
         for f in &files {
             let path = dir.join(&f.name);
             if f.name.ends_with(".rs") && f.name != MODELS_FILE {
-                written.keys.push(f.name.trim_end_matches(".rs").to_string());
+                written
+                    .keys
+                    .push(f.name.trim_end_matches(".rs").to_string());
             }
             if std::fs::read_to_string(&path).ok().as_deref() == Some(f.content.as_str()) {
                 written.unchanged += 1;

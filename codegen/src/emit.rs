@@ -758,6 +758,13 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
             #[allow(unused_variables, unused_mut)]
             fn exact_geometry(&self, t: f64) -> Geometry {
                 #positions_at
+                self.geometry_at(&positions)
+            }
+
+            /// Contact vectors for positions `a_k` (m) moving at `a_k'` (m/s), as `(a_k, a_k')`
+            /// for `k = 2..n`, evaluated from the shape functions.
+            #[allow(unused_variables, unused_mut)]
+            fn geometry_at(&self, positions: &[(f64, f64); #n_pos]) -> Geometry {
                 let mut geo = Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] };
                 #(#geo_stmts)*
                 geo
@@ -800,6 +807,13 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
 
             fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
                 #geometry_source
+                for c in 0..CONTACTS { for j in 0..DOF { g[(j, c)] = geo.g[c][j]; gdot[(j, c)] = geo.gd[c][j]; } }
+            }
+
+            fn contact_vectors_at(&self, positions: &[f64], rates: &[f64], g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
+                let mut at = [(0.0, 0.0); #n_pos];
+                for k in 0..#n_pos { at[k] = (positions[k], rates[k]); }
+                let geo = self.geometry_at(&at);
                 for c in 0..CONTACTS { for j in 0..DOF { g[(j, c)] = geo.g[c][j]; gdot[(j, c)] = geo.gd[c][j]; } }
             }
 

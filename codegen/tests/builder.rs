@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use telescopic_codegen::{BuildError, Builder, DriveKind, ForceFlow, ModelConfig, Positions};
 
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("telescopic-builder-{test}-{}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("telescopic-builder-{test}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -38,9 +39,16 @@ fn compile_writes_modules_renderings_and_the_lookup_and_rewrites_only_changes() 
     let dir = scratch("compile");
     let config = small(vec![2, 2]);
     let key = config.key();
-    let builder = Builder::new().model(config.clone()).model(config).out_dir(&dir);
+    let builder = Builder::new()
+        .model(config.clone())
+        .model(config)
+        .out_dir(&dir);
     let first = builder.compile().unwrap();
-    assert_eq!(first.keys, vec![key.clone()], "a repeated configuration is generated once");
+    assert_eq!(
+        first.keys,
+        vec![key.clone()],
+        "a repeated configuration is generated once"
+    );
     assert_eq!(first.changed.len(), 5);
     assert_eq!(
         names(&dir),
@@ -64,7 +72,10 @@ fn compile_writes_modules_renderings_and_the_lookup_and_rewrites_only_changes() 
         format!("(\"{key}\", \"latex\")"),
         format!("include_str!(\"{key}.tex\")"),
     ] {
-        assert!(lookup.contains(&needle), "lookup lacks `{needle}`:\n{lookup}");
+        assert!(
+            lookup.contains(&needle),
+            "lookup lacks `{needle}`:\n{lookup}"
+        );
     }
     // unchanged content is not rewritten
     let second = builder.compile().unwrap();
@@ -83,8 +94,15 @@ fn without_renderings_only_the_rust_is_written_and_served() {
     let dir = scratch("no-renderings");
     let config = small(vec![2]);
     let key = config.key();
-    Builder::new().model(config).renderings(false).write_to(&dir).unwrap();
-    assert_eq!(names(&dir), [format!("{key}.rs"), "telescopic_models.rs".to_string()]);
+    Builder::new()
+        .model(config)
+        .renderings(false)
+        .write_to(&dir)
+        .unwrap();
+    assert_eq!(
+        names(&dir),
+        [format!("{key}.rs"), "telescopic_models.rs".to_string()]
+    );
     let lookup = std::fs::read_to_string(dir.join("telescopic_models.rs")).unwrap();
     assert!(lookup.contains(&format!("(\"{key}\", \"rust\")")));
     assert!(!lookup.contains("\"latex\""));
@@ -110,9 +128,19 @@ fn verify_names_every_changed_missing_and_leftover_file() {
         panic!("{err}")
     };
     assert_eq!(differences.len(), 2, "{err}");
-    assert!(differences[0].starts_with(&format!("{ka}.rs: differs from line")), "{err}");
-    assert!(differences[1].contains(&format!("{kb}.txt: missing")), "{err}");
-    assert!(err.to_string().contains("cargo run -p telescopic-codegen -- write"), "{err}");
+    assert!(
+        differences[0].starts_with(&format!("{ka}.rs: differs from line")),
+        "{err}"
+    );
+    assert!(
+        differences[1].contains(&format!("{kb}.txt: missing")),
+        "{err}"
+    );
+    assert!(
+        err.to_string()
+            .contains("cargo run -p telescopic-codegen -- write"),
+        "{err}"
+    );
 
     // b dropped from the list: its files are left over until written again
     both.write_to(&dir).unwrap();
@@ -139,8 +167,9 @@ fn errors_name_the_configuration_where_it_was_given_and_the_rule() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("configuration s2_m2x31_c2_cable_clearance_fixed_force (Builder::model call 2)")
-            && err.contains("modes: each in 1..=30 (got 31)"),
+        err.contains(
+            "configuration s2_m2x31_c2_cable_clearance_fixed_force (Builder::model call 2)"
+        ) && err.contains("modes: each in 1..=30 (got 31)"),
         "{err}"
     );
 
@@ -152,22 +181,37 @@ fn errors_name_the_configuration_where_it_was_given_and_the_rule() {
          force_flow = \"cable\"\nclearance = true\npositions = \"fixed\"\ndrive = \"force\"\n",
     )
     .unwrap();
-    let err = Builder::new().models_file(&models).write_to(&dir).unwrap_err().to_string();
+    let err = Builder::new()
+        .models_file(&models)
+        .write_to(&dir)
+        .unwrap_err()
+        .to_string();
     assert!(
-        err.contains("[[model]] entry 2") && err.contains("contacts: at least 2 per overlap (got 1)"),
+        err.contains("[[model]] entry 2")
+            && err.contains("contacts: at least 2 per overlap (got 1)"),
         "{err}"
     );
 
     std::fs::write(&models, "[[model]]\nmodes = [2, 2]\ncontacts = \"two\"\n").unwrap();
-    let err = Builder::new().models_file(&models).write_to(&dir).unwrap_err().to_string();
-    assert!(err.contains("models.toml") && err.contains("line 3"), "{err}");
+    let err = Builder::new()
+        .models_file(&models)
+        .write_to(&dir)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("models.toml") && err.contains("line 3"),
+        "{err}"
+    );
 
     let err = Builder::new()
         .models_file(dir.join("absent.toml"))
         .write_to(&dir)
         .unwrap_err()
         .to_string();
-    assert!(err.contains("cannot read the models file") && err.contains("absent.toml"), "{err}");
+    assert!(
+        err.contains("cannot read the models file") && err.contains("absent.toml"),
+        "{err}"
+    );
 
     let err = Builder::new().write_to(&dir).unwrap_err();
     assert!(matches!(err, BuildError::Empty), "{err}");

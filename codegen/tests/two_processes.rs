@@ -104,7 +104,8 @@ fn a_configuration_comes_out_the_same_whatever_was_generated_before_it() {
     // the canonical ordering of the generator, a configuration generated after others (the
     // generated crate's list) differed in term order from the same configuration generated
     // alone (a downstream build script), and with it the rounding of every run
-    let dir = std::env::temp_dir().join(format!("telescopic-codegen-history-{}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("telescopic-codegen-history-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let alone = dir.join("alone.toml");
     std::fs::write(

@@ -222,3 +222,41 @@ fn generated_models_agree_with_the_assembled_model() {
         }
     }
 }
+
+#[test]
+fn contact_vectors_at_given_positions_agree_and_match_the_time_path() {
+    for c in configs().into_iter().filter(|c| c.sections() > 1) {
+        let p = params_for(&c, 1);
+        let generated = prepare(&p).unwrap().unwrap();
+        let assembled = AssembledModel::new(&p).unwrap();
+        let (n, nc, npos) = (
+            assembled.dof(),
+            assembled.layout().contact_count(),
+            c.sections() - 1,
+        );
+        let key = c.key();
+        let at = |m: &dyn telescopic_runtime::Model, a: &[f64], r: &[f64]| {
+            let (mut g, mut gd) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
+            m.contact_vectors_at(a, r, &mut g, &mut gd);
+            (g, gd)
+        };
+        // positions and speeds the scene never takes: an LPV model is evaluated anywhere
+        for (a, r) in [(0.4, 0.0), (0.8, 0.3), (1.2, -0.5)] {
+            let positions = vec![a; npos];
+            let rates = vec![r; npos];
+            let (g1, gd1) = at(generated.as_ref(), &positions, &rates);
+            let (g2, gd2) = at(&assembled, &positions, &rates);
+            assert_close(&format!("{key}: g at a = {a}"), &g1, &g2, 1e-12);
+            assert_close(&format!("{key}: gdot at a = {a}"), &gd1, &gd2, 1e-12);
+        }
+        // at the scene's own positions they are the time path's vectors
+        let t = 5.0;
+        let positions: Vec<f64> = p.positions.iter().map(|q| q.value(t)).collect();
+        let rates: Vec<f64> = p.positions.iter().map(|q| q.rate(t)).collect();
+        let (g1, gd1) = at(&assembled, &positions, &rates);
+        let (mut g2, mut gd2) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
+        assembled.contact_vectors(t, &mut g2, &mut gd2);
+        assert_close(&format!("{key}: g(t) path"), &g1, &g2, 1e-15);
+        assert_close(&format!("{key}: gdot(t) path"), &gd1, &gd2, 1e-15);
+    }
+}

@@ -277,10 +277,15 @@ impl AssembledModel {
 
     /// Contact vector entries of contact point `c` at time `t`.
     fn contact_entries(&self, c: ContactPoint, t: f64) -> ContactEntries {
+        let a = &self.params.positions[c.overlap - 2];
+        self.contact_entries_at(c, a.value(t), a.rate(t))
+    }
+
+    /// Contact vector entries of contact point `c` with its overlap's foot position `a_t` (m)
+    /// moving at `a_rate` (m/s).
+    fn contact_entries_at(&self, c: ContactPoint, a_t: f64, a_rate: f64) -> ContactEntries {
         let k = c.overlap;
         let l_out = self.params.sections[k - 2].length;
-        let a = &self.params.positions[k - 2];
-        let (a_t, a_rate) = (a.value(t), a.rate(t));
         let s = c.fraction;
         let x_in = s * (l_out - a_t);
         let x_out = a_t + s * (l_out - a_t);
@@ -364,6 +369,24 @@ impl Model for AssembledModel {
                 gdot[(j, c)] = gd;
             }
         });
+    }
+
+    fn contact_vectors_at(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+        g: &mut DMatrix<f64>,
+        gdot: &mut DMatrix<f64>,
+    ) {
+        g.fill(0.0);
+        gdot.fill(0.0);
+        for (c, p) in self.layout.contacts().enumerate() {
+            let e = self.contact_entries_at(p, positions[p.overlap - 2], rates[p.overlap - 2]);
+            for (j, gv, gd) in e.entries() {
+                g[(j, c)] = gv;
+                gdot[(j, c)] = gd;
+            }
+        }
     }
 
     fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {

@@ -11,9 +11,11 @@
 //!   momentum, `u = -M_0p p / M_00`);
 //! * with a prescribed motion the vehicle is held: `u = 0`, no rigid mode.
 //!
-//! Any further eigenvalue within the solver's round-off, `|w^2| <= 16 r eps max|w^2|` for `r`
-//! relative coordinates, also counts as rigid (with contacts on every overlap there is none);
-//! negative ones are unstable (buckled) and reported as growth rates.
+//! Every overlap is held by contact springs, so the configuration has no further rigid mode:
+//! an eigenvalue within the solver's round-off of zero (`|w^2| <= 16 r eps max|w^2|` for `r`
+//! relative coordinates) means digits were lost, and the analysis refuses, as it does when
+//! the lowest frequency's estimated error exceeds [`FREQUENCY_ERROR_LIMIT`]. Negative
+//! eigenvalues are unstable (buckled) modes, reported as growth rates.
 
 use crate::model::Model;
 use crate::params::Drive;
@@ -52,6 +54,38 @@ pub enum EigenError {
         /// Which decomposition.
         operation: &'static str,
     },
+    /// A matrix to decompose has entries that are not finite.
+    #[error("{operation}: the matrix has entries that are not finite in double precision")]
+    NonFinite {
+        /// Which decomposition.
+        operation: &'static str,
+    },
+    /// The eigenvalues span more than double precision resolves: the smallest lose their
+    /// digits to the rounding of the largest.
+    #[error(
+        "the eigenvalues span {orders:.1} orders of magnitude (w^2 from {smallest:.3e} to \
+         {largest:.3e} 1/s^2): the lowest frequency would carry a relative error of about \
+         {error:.0e}{lost}; the stiffnesses and masses of the scene differ too much in scale \
+         for double precision, or a mode sits at its buckling load (the gravity prestress \
+         cancelling its stiffness)",
+        lost = if *extra_rigid > 0 {
+            format!(" and {extra_rigid} mode(s) vanish in the rounding")
+        } else {
+            String::new()
+        }
+    )]
+    IllConditioned {
+        /// log10 of the ratio of the largest to the smallest eigenvalue.
+        orders: f64,
+        /// Smallest eigenvalue magnitude, rigid modes excluded (1/s^2).
+        smallest: f64,
+        /// Largest eigenvalue (1/s^2).
+        largest: f64,
+        /// Estimated relative error of the lowest frequency.
+        error: f64,
+        /// Modes that came out as rigid beyond those the configuration has.
+        extra_rigid: usize,
+    },
 }
 
 /// `K_eff = K + c sum_c g_c g_c'` at time `t` (s).
@@ -72,8 +106,24 @@ pub fn closed_contact_stiffness(model: &dyn Model, t: f64) -> DMatrix<f64> {
 /// Natural frequencies and mode shapes at time `t` (s) with closed contacts.
 ///
 /// # Errors
-/// [`EigenError::MassNotPositiveDefinite`] if the mass matrix cannot be factored.
+/// [`EigenError::MassNotPositiveDefinite`] if the mass matrix cannot be factored,
+/// [`EigenError::IllConditioned`] when the spectrum lost its digits (see the module docs),
+/// [`EigenError::NoConvergence`] or [`EigenError::NonFinite`].
 pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenError> {
+    solve(model, t, true)
+}
+
+/// The eigenvalues `w^2` (1/s^2) of [`modal_analysis`]'s problem, ascending, without its
+/// refusal of a spectrum whose smallest eigenvalues carry few digits: for following an
+/// eigenvalue through zero (a buckling load), where the smallest is small by nature.
+///
+/// # Errors
+/// As [`modal_analysis`], but never [`EigenError::IllConditioned`].
+pub fn closed_contact_eigenvalues(model: &dyn Model, t: f64) -> Result<Vec<f64>, EigenError> {
+    solve(model, t, false).map(|m| m.eigenvalues)
+}
+
+fn solve(model: &dyn Model, t: f64, checked: bool) -> Result<ModalAnalysis, EigenError> {
     let n = model.dof();
     let m = model.mass_matrix();
     let k = closed_contact_stiffness(model, t);
@@ -86,7 +136,7 @@ pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenE
     if free_vehicle {
         m_r -= &coupling * coupling.transpose() / m[(0, 0)];
     }
-    let mut rigid_modes = usize::from(free_vehicle);
+    let rigid_modes = usize::from(free_vehicle);
     let mut analysis = ModalAnalysis {
         time: t,
         frequencies_hz: Vec::new(),
@@ -108,16 +158,26 @@ pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenE
         .solve_lower_triangular(&a.transpose())
         .expect("Cholesky factor is invertible");
     a = 0.5 * (&a + a.transpose());
-    let eig = SymmetricEigen::new(a);
+    if !a.iter().all(|v| v.is_finite()) {
+        return Err(EigenError::NonFinite {
+            operation: "K_eff reduced by the Cholesky factor of M",
+        });
+    }
+    let eig = SymmetricEigen::try_new(a, f64::EPSILON, 100 * r.max(10)).ok_or(
+        EigenError::NoConvergence {
+            operation: "symmetric eigenvalues of K_eff reduced by the Cholesky factor of M",
+        },
+    )?;
     let mut order: Vec<usize> = (0..r).collect();
     order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
     let scale = eig.eigenvalues.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+    if checked {
+        check_conditioning(eig.eigenvalues.as_slice(), scale, r)?;
+    }
     for &i in &order {
         let lambda = eig.eigenvalues[i];
         analysis.eigenvalues.push(lambda);
-        if lambda.abs() <= 16.0 * r as f64 * f64::EPSILON * scale {
-            rigid_modes += 1;
-        } else if lambda < 0.0 {
+        if lambda < 0.0 {
             analysis.unstable_growth_rates.push((-lambda).sqrt());
         } else {
             // v = L^-T w gives v' M_r v = 1
@@ -136,8 +196,47 @@ pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenE
         }
     }
     analysis.unstable_growth_rates.sort_by(f64::total_cmp);
-    analysis.rigid_modes = rigid_modes;
     Ok(analysis)
+}
+
+/// Largest relative error of the lowest frequency that [`modal_analysis`] reports instead of
+/// refusing: a symmetric eigen solver's eigenvalues are exact to about `eps` times the
+/// largest, so the lowest frequency's relative error is about `eps/2 * w_max^2 / w_min^2`.
+pub const FREQUENCY_ERROR_LIMIT: f64 = 1e-3;
+
+/// Refuses a spectrum whose small eigenvalues are lost in the rounding of its largest: when
+/// any eigenvalue beyond the vehicle's translation falls within rounding of zero (the
+/// configuration has no other rigid mode: every overlap is held by contact springs), or when
+/// the lowest frequency's estimated relative error exceeds [`FREQUENCY_ERROR_LIMIT`].
+fn check_conditioning(eigenvalues: &[f64], scale: f64, r: usize) -> Result<(), EigenError> {
+    let floor = 16.0 * r as f64 * f64::EPSILON * scale;
+    let extra_rigid = eigenvalues.iter().filter(|l| l.abs() <= floor).count();
+    let smallest = eigenvalues
+        .iter()
+        .map(|l| l.abs())
+        .filter(|&l| l > floor)
+        .fold(f64::INFINITY, f64::min);
+    let error = if smallest.is_finite() {
+        0.5 * f64::EPSILON * scale / smallest
+    } else {
+        f64::INFINITY
+    };
+    if extra_rigid > 0 || error > FREQUENCY_ERROR_LIMIT {
+        // all lost: the floor stands for the smallest
+        let low = if smallest.is_finite() {
+            smallest
+        } else {
+            floor.max(f64::MIN_POSITIVE)
+        };
+        return Err(EigenError::IllConditioned {
+            orders: (scale / low).log10(),
+            smallest: low,
+            largest: scale,
+            error,
+            extra_rigid,
+        });
+    }
+    Ok(())
 }
 
 /// A mode shape sampled along every section: `points` evenly spaced values of `w_k(x)` per
@@ -241,4 +340,25 @@ pub fn fastest_rates(model: &dyn Model, t: f64) -> Result<FastestRates, EigenErr
         omega_max: omega2.max(0.0).sqrt(),
         damping_rate,
     })
+}
+
+/// Eigenvalues of a real square matrix, robustly: refused when an entry is not finite,
+/// computed on the balanced matrix (Parlett-Reinsch: rows and columns scaled by powers of 2,
+/// which keeps a matrix mixing displacements and velocities of a stiff model within
+/// rounding of its eigenvalues) by a Schur decomposition with an iteration limit.
+///
+/// # Errors
+/// [`EigenError::NonFinite`] or [`EigenError::NoConvergence`], naming `operation`.
+pub fn eigenvalues(
+    mut m: DMatrix<f64>,
+    operation: &'static str,
+) -> Result<Vec<nalgebra::Complex<f64>>, EigenError> {
+    if !m.iter().all(|v| v.is_finite()) {
+        return Err(EigenError::NonFinite { operation });
+    }
+    let n = m.nrows();
+    nalgebra::linalg::balancing::balance_parlett_reinsch(&mut m);
+    let schur = nalgebra::linalg::Schur::try_new(m, f64::EPSILON, 100 * n.max(10))
+        .ok_or(EigenError::NoConvergence { operation })?;
+    Ok(schur.complex_eigenvalues().iter().copied().collect())
 }

@@ -38,19 +38,20 @@ pub mod shape;
 pub mod shape_reference;
 pub mod specialize;
 
-pub use configuration::{configuration_key, models_toml_entry};
-/// The linear-algebra crate of the [`Model`] interface, re-exported so that generated modules
-/// and downstream crates use the same version.
-pub use nalgebra;
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
+pub use configuration::{configuration_key, models_toml_entry};
 pub use contact::{ContactForce, ContactLaw, ContactState};
 pub use contact_table::ContactTable;
 pub use eigen::{
-    EigenError, FastestRates, ModalAnalysis, fastest_rates, modal_analysis, sample_shape,
+    EigenError, FastestRates, ModalAnalysis, closed_contact_eigenvalues, eigenvalues,
+    fastest_rates, modal_analysis, sample_shape,
 };
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};
 pub use model::{Model, mechanical_energy, rest_state};
+/// The linear-algebra crate of the [`Model`] interface, re-exported so that generated modules
+/// and downstream crates use the same version.
+pub use nalgebra;
 pub use params::{Drive, ForceFlow, ModelParams, SectionParams};
 pub use profile::{Profile, ShapedProfile};
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};

@@ -52,6 +52,17 @@ pub trait Model {
     /// derivative; both `dof x contact_count`. `xi_c = g_c . z`, `xi_dot_c = g_c . zd + gdot_c . z`.
     fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>);
 
+    /// Contact vectors for telescopic positions `positions` (m, `a_2..a_n`) moving at `rates`
+    /// (m/s), whatever the scene's profiles say: what a linear parameter-varying model is
+    /// evaluated with. Same layout as [`Model::contact_vectors`].
+    fn contact_vectors_at(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+        g: &mut DMatrix<f64>,
+        gdot: &mut DMatrix<f64>,
+    );
+
     /// The table the model interpolates its contact vectors from when positions move
     /// ([`crate::ContactTable`]); `None` when it evaluates them exactly.
     fn contact_table(&self) -> Option<&crate::ContactTable> {

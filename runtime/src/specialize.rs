@@ -8,8 +8,15 @@ use crate::model::Model;
 use crate::params::{ForceFlow, ModelParams};
 use crate::scene::TimeSpan;
 
-/// The specializations that apply to `model` over `span`, one phrase each.
-pub fn specializations(model: &dyn Model, span: &TimeSpan) -> Vec<String> {
+/// The specializations that apply to `model` over `span` in a run of `method` (with exact
+/// stepping from `exact_from`, if set), one phrase each; a shortcut the scene allows but the
+/// run does not take is named as available, not as used.
+pub fn specializations(
+    model: &dyn Model,
+    span: &TimeSpan,
+    method: Method,
+    exact_from: Option<f64>,
+) -> Vec<String> {
     let params = model.params();
     let mut found = Vec::new();
     if params.positions.iter().all(|p| p.is_constant()) {
@@ -40,16 +47,24 @@ pub fn specializations(model: &dyn Model, span: &TimeSpan) -> Vec<String> {
         found.push(format!("{why}: no prestress terms"));
     }
     if lti_obstacle(params).is_none() {
-        found.push(
+        let how = if method == Method::Exact {
+            "exact stepping (method exact)".to_string()
+        } else {
+            format!("exact stepping would apply (method exact or auto; this run: {method})")
+        };
+        found.push(format!(
             "linear time-invariant between contact switches with a piecewise-constant force: \
-             exact stepping (method exact)"
-                .to_string(),
-        );
+             {how}"
+        ));
     }
     if let Some(t) = exact_tail_start(params, span) {
+        let how = if exact_from.is_some() {
+            "exact stepping of the rest (method auto)".to_string()
+        } else {
+            format!("exact stepping of the rest would apply (method auto; this run: {method})")
+        };
         found.push(format!(
-            "positions at rest from t = {t} s: linear time-invariant from there, exact \
-             stepping of the rest (method auto)"
+            "positions at rest from t = {t} s: linear time-invariant from there, {how}"
         ));
     }
     found

@@ -44,9 +44,11 @@ fn exact_method_matches_an_independent_matrix_exponential() {
         .map(|((_, y), e)| (tip_rel(&model, y) - tip_rel(&model, e)).abs())
         .fold(0.0, f64::max);
     eprintln!("exact vs hand-built exponential: worst |tip_rel| difference over 2 s {worst:.2e} m");
-    // both are exact up to rounding; measured 7.8e-11 m (tip_rel ~0.1 m), and the method on
-    // 1 ms and 0.125 ms grids agrees with itself to 2.5e-11 m, dop853 at rtol 1e-12 to 5.5e-10 m
-    assert!(worst < 3e-10, "tip_rel differs by {worst:e} m");
+    // both are exact up to rounding (tip_rel ~0.1 m): the rounding of scaling and squaring
+    // depends on the last digits of the spectral radius that scales the velocities, measured
+    // 7.8e-11 m with it from an unbalanced Schur decomposition, 8.9e-10 m from a balanced one
+    // (the two radii agree to 2e-11); dop853 at rtol 1e-12 agrees to 5.5e-10 m
+    assert!(worst < 2e-9, "tip_rel differs by {worst:e} m");
 }
 
 #[test]

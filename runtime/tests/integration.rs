@@ -323,6 +323,15 @@ impl Model for WrongJacobian {
     fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
         self.0.contact_vectors(t, g, gdot)
     }
+    fn contact_vectors_at(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+        g: &mut DMatrix<f64>,
+        gdot: &mut DMatrix<f64>,
+    ) {
+        self.0.contact_vectors_at(positions, rates, g, gdot)
+    }
     fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
         self.0.contact_gaps(t, y, xi, xi_dot)
     }

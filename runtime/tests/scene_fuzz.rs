@@ -120,7 +120,12 @@ fn profile() -> impl Strategy<Value = toml::Value> + Clone {
 }
 
 fn table(pairs: &[(&str, toml::Value)]) -> toml::Value {
-    toml::Value::Table(pairs.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
+    toml::Value::Table(
+        pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.clone()))
+            .collect(),
+    )
 }
 
 /// A complete, valid scene, which the mutations below break: the shipped case study with a
@@ -135,7 +140,10 @@ fn base() -> toml::Table {
         "reference".into(),
         toml::Value::Array(vec![table(&[
             ("label", "paper".into()),
-            ("frequencies_hz", toml::Value::Array(vec![0.53.into(), 6.35.into()])),
+            (
+                "frequencies_hz",
+                toml::Value::Array(vec![0.53.into(), 6.35.into()]),
+            ),
         ])]),
     );
     doc
@@ -238,11 +246,15 @@ fn document() -> impl Strategy<Value = toml::Table> {
         let mut doc = base();
         for m in mutations {
             let (i, change) = match &m {
-                Mutation::Set(i, _) | Mutation::Remove(i) | Mutation::Unknown(i, _) => (*i, m.clone()),
+                Mutation::Set(i, _) | Mutation::Remove(i) | Mutation::Unknown(i, _) => {
+                    (*i, m.clone())
+                }
             };
             let path = FIELDS[i].0;
             let last = path[path.len() - 1];
-            let Some(t) = parent(&mut doc, path) else { continue };
+            let Some(t) = parent(&mut doc, path) else {
+                continue;
+            };
             match change {
                 Mutation::Set(_, v) => {
                     t.insert(last.to_string(), v);
@@ -325,7 +337,9 @@ fn assert_named(err: &SceneError, text: &str) {
                 assert!(!e.rule.is_empty(), "{message}");
             }
         }
-        SceneError::Schema { field, message: m, .. } => {
+        SceneError::Schema {
+            field, message: m, ..
+        } => {
             // at the root the message itself names the missing or unknown key
             assert!(
                 !field.is_empty() && (field != "." || m.contains('`')),
@@ -336,7 +350,10 @@ fn assert_named(err: &SceneError, text: &str) {
             assert!(m.contains("line") || m.contains("TOML"), "{message}");
         }
         SceneError::Override { argument, rule } => {
-            assert!(!rule.is_empty() && message.contains(argument.as_str()), "{message}");
+            assert!(
+                !rule.is_empty() && message.contains(argument.as_str()),
+                "{message}"
+            );
         }
         SceneError::Io { .. } => panic!("no file is read: {message}"),
     }

@@ -177,7 +177,11 @@ fn per_section_lists_need_one_value_per_section() {
         "sections.modes",
         "has 3 values but sections.count is 2",
     );
-    rejects(&["sections.count=0"], "sections.count", "must be in 1..=16 (got 0)");
+    rejects(
+        &["sections.count=0"],
+        "sections.count",
+        "must be in 1..=16 (got 0)",
+    );
 }
 
 #[test]
@@ -197,7 +201,11 @@ fn modes_are_limited_to_1_through_30() {
 
 #[test]
 fn contacts_need_two_points() {
-    rejects(&["contact.points=1"], "contact.points", "must be in 2..=32 (got 1)");
+    rejects(
+        &["contact.points=1"],
+        "contact.points",
+        "must be in 2..=32 (got 1)",
+    );
     let text = BASE.replace(
         "[contact]\npoints = 2\nstiffness = 0.2375e9\ndamping = 1000.0\nclearance = 0.01\n",
         "",
@@ -410,15 +418,26 @@ fn sizes_are_bounded_before_anything_is_allocated() {
         "sections.count",
         "must be in 1..=16 (got 1000000000000)",
     );
-    assert!(start.elapsed().as_secs_f64() < 1.0, "validation must not allocate by the count");
-    rejects(&["contact.points=33"], "contact.points", "must be in 2..=32 (got 33)");
+    assert!(
+        start.elapsed().as_secs_f64() < 1.0,
+        "validation must not allocate by the count"
+    );
+    rejects(
+        &["contact.points=33"],
+        "contact.points",
+        "must be in 2..=32 (got 33)",
+    );
     // 16 s every picosecond: 1.6e13 samples
     rejects(
         &["time.sample=1e-12"],
         "time.sample",
         "more than the limit of 100000000 output values",
     );
-    rejects(&["time.sample=1e-300"], "time.sample", "raise time.sample to at least");
+    rejects(
+        &["time.sample=1e-300"],
+        "time.sample",
+        "raise time.sample to at least",
+    );
     // at the limit: 2 sections, 2 contacts: 8 columns; 1e8 / 8 samples over 16 s is fine
     assert!(load(&["time.sample=2e-6"]).is_ok());
     assert!(load(&["sections.count=16", "telescope.positions=[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]", "sections.length=1.35"]).is_ok());

@@ -32,9 +32,11 @@ impl Reporter for Progress {
         }
         let bar = indicatif::ProgressBar::new(1000);
         bar.set_style(
-            indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {percent}% ({elapsed}, ETA {eta})")
-                .expect("a valid template")
-                .progress_chars("=> "),
+            indicatif::ProgressStyle::with_template(
+                "{msg} [{bar:40}] {percent}% ({elapsed}, ETA {eta})",
+            )
+            .expect("a valid template")
+            .progress_chars("=> "),
         );
         bar.set_message(what.to_string());
         *self.bar() = Some(bar);

@@ -20,11 +20,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
 
     let modes = modal_analysis(model.as_ref(), scene.time.start)?;
-    let first: Vec<String> = modes.frequencies_hz.iter().take(4).map(|f| format!("{f:.4}")).collect();
-    println!("first natural frequencies with closed contacts: {} Hz", first.join(", "));
+    let first: Vec<String> = modes
+        .frequencies_hz
+        .iter()
+        .take(4)
+        .map(|f| format!("{f:.4}"))
+        .collect();
+    println!(
+        "first natural frequencies with closed contacts: {} Hz",
+        first.join(", ")
+    );
 
     let names = model.output_names();
-    let tip = names.iter().position(|n| n == "tip_rel").expect("tip_rel is an output");
+    let tip = names
+        .iter()
+        .position(|n| n == "tip_rel")
+        .expect("tip_rel is an output");
     let mut out = vec![0.0; names.len()];
     let (mut peak, mut at) = (0.0f64, 0.0);
     let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {

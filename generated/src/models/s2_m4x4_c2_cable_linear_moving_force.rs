@@ -600,6 +600,12 @@ impl GeneratedModel {
         for (k, p) in self.params.positions.iter().enumerate() {
             positions[k] = (p.value(t), p.rate(t));
         }
+        self.geometry_at(&positions)
+    }
+    /// Contact vectors for positions `a_k` (m) moving at `a_k'` (m/s), as `(a_k, a_k')`
+    /// for `k = 2..n`, evaluated from the shape functions.
+    #[allow(unused_variables, unused_mut)]
+    fn geometry_at(&self, positions: &[(f64, f64); 1]) -> Geometry {
         let mut geo = Geometry {
             g: [[0.0; DOF]; CONTACTS],
             gd: [[0.0; DOF]; CONTACTS],
@@ -737,6 +743,25 @@ impl Model for GeneratedModel {
     }
     fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
         let geo = &self.geometry(t);
+        for c in 0..CONTACTS {
+            for j in 0..DOF {
+                g[(j, c)] = geo.g[c][j];
+                gdot[(j, c)] = geo.gd[c][j];
+            }
+        }
+    }
+    fn contact_vectors_at(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+        g: &mut DMatrix<f64>,
+        gdot: &mut DMatrix<f64>,
+    ) {
+        let mut at = [(0.0, 0.0); 1];
+        for k in 0..1 {
+            at[k] = (positions[k], rates[k]);
+        }
+        let geo = self.geometry_at(&at);
         for c in 0..CONTACTS {
             for j in 0..DOF {
                 g[(j, c)] = geo.g[c][j];

@@ -2,12 +2,12 @@
 //! events, sampling, divergence checks.
 
 use super::events::{HermiteCubic, newton_in_bracket};
-use super::stability::{closed_contact_step_cap, stable_step};
+use super::stability::{closed_contact_step_cap, stable_h_rho, stable_step};
 use super::{
     ContactTracker, Method, Observer, Progress, RunStats, SampleGrid, Settings, SimError,
     StepControl, StepFailure, Stepper, System, make_stepper,
 };
-use crate::eigen::modal_analysis;
+use crate::eigen::{fastest_rates, modal_analysis};
 use crate::model::Model;
 use crate::scene::TimeSpan;
 
@@ -183,6 +183,19 @@ impl<'m> Driver<'m> {
             (None, true) => self.initial_step(),
             (None, false) => unreachable!("checked in new"),
         };
+        let h_floor = 16.0 * f64::EPSILON * self.t.abs().max(1.0);
+        if !(self.h >= h_floor) {
+            return Err(SimError::StepUnderflow {
+                t: self.t,
+                method: self.method.name(),
+                h: self.h,
+                h_min: h_floor,
+                cause: format!(
+                    "the state changes too fast at the start for any step; {}",
+                    super::diagnosis::growth_cause(self.sys.model, self.t, &self.span)
+                ),
+            });
+        }
         observe(self.t, &self.y, &self.f0);
         self.next_sample = 1;
         let mut newton_failures = 0u32;
@@ -254,6 +267,9 @@ impl<'m> Driver<'m> {
                         } else {
                             "; a fixed step cannot be cut: take a smaller --dt or the adaptive galpha"
                         };
+                        let stiffness = self
+                            .stiffness(h)
+                            .map_or("stiffness unknown".into(), |s| s.describe(self.method));
                         return Err(SimError::NewtonFailure {
                             t: self.t,
                             method: self.method.name(),
@@ -261,7 +277,7 @@ impl<'m> Driver<'m> {
                             attempts: newton_failures,
                             cause: format!(
                                 "the Jacobian does not describe the step (a contact switch \
-                                 inside it, or a singular iteration matrix){remedy}"
+                                 inside it, or a singular iteration matrix){remedy}; {stiffness}"
                             ),
                         });
                     }
@@ -477,9 +493,13 @@ impl<'m> Driver<'m> {
                     .ok()
                     .and_then(|m| m.frequencies_hz.last().copied())
                     .map(|f| 2.0 * std::f64::consts::PI * f);
-                match omega_max {
-                    Some(w) => {
-                        let limit = stable_step(self.sys.model, self.method, self.t, w);
+                let limit = omega_max.and_then(|w| {
+                    stable_step(self.sys.model, self.method, self.t, w)
+                        .ok()
+                        .map(|l| (w, l))
+                });
+                match limit {
+                    Some((w, limit)) => {
                         if h > limit {
                             format!(
                                 "{what}; the step {h:.3e} s is above the stability limit of {}: \
@@ -515,7 +535,8 @@ impl<'m> Driver<'m> {
                 )
             }
             None => format!(
-                "{what}; the model or its parameters may be unstable (buckling under gravity?)"
+                "{what}; {}",
+                super::diagnosis::growth_cause(self.sys.model, self.t, &self.span)
             ),
         };
         Err(SimError::Diverged {
@@ -545,12 +566,91 @@ impl<'m> Driver<'m> {
     }
 
     fn too_many_steps_cause(&self) -> String {
-        if self.adaptive() {
-            "the tolerance is too tight or the contacts chatter; loosen --rtol/--atol or raise \
-             the step limit"
-                .into()
+        let steps = (self.sys.stats.steps + self.sys.stats.rejected).max(1);
+        let mean = (self.t - self.span.start).max(0.0) / steps as f64;
+        match self.stiffness(mean) {
+            Some(s) if s.too_stiff() => s.describe(self.method),
+            Some(s) if self.adaptive() => format!(
+                "{}, so stiffness is not the cause: the tolerance is too tight or the contacts \
+                 chatter; loosen --rtol/--atol",
+                s.describe(self.method)
+            ),
+            _ if self.adaptive() => "the tolerance is too tight or the contacts chatter; loosen \
+                                     --rtol/--atol"
+                .into(),
+            _ => "the fixed step is too small for the span; take a larger --dt".into(),
+        }
+    }
+
+    /// The stiffest rate of the closed-contact system at the current time against a step `h`
+    /// (s); `None` when the eigen analysis fails.
+    fn stiffness(&self, h: f64) -> Option<StiffnessCheck> {
+        let rates = fastest_rates(self.sys.model, self.t).ok()?;
+        let source = if rates.damping_rate > rates.omega_max {
+            format!("the contact damping rate {:.3e} 1/s", rates.damping_rate)
         } else {
-            "the fixed step is too small for the span; take a larger --dt".into()
+            format!(
+                "the stiffest mode with closed contacts, omega_max = {:.3e} rad/s",
+                rates.omega_max
+            )
+        };
+        Some(StiffnessCheck {
+            rho: rates.spectral_radius(),
+            source,
+            h,
+            limit: stable_h_rho(self.method),
+        })
+    }
+}
+
+/// A step against the stiffest rate `rho` of the closed-contact system.
+struct StiffnessCheck {
+    /// Spectral radius estimate (1/s).
+    rho: f64,
+    /// What sets it.
+    source: String,
+    /// The step (s).
+    h: f64,
+    /// The method's stable `h rho`, if it has one (explicit methods, exact stepping).
+    limit: Option<f64>,
+}
+
+impl StiffnessCheck {
+    /// The step sits at the method's stability limit: the model is too stiff for it.
+    fn too_stiff(&self) -> bool {
+        self.limit.is_some_and(|l| self.h * self.rho > 0.3 * l)
+    }
+
+    /// `h rho` beyond `1e-6 / eps`: an implicit method's iteration matrix `I - h gamma J`
+    /// keeps fewer than six digits.
+    fn beyond_double_precision(&self) -> bool {
+        self.limit.is_none() && self.h * self.rho > 1e-6 / f64::EPSILON
+    }
+
+    fn describe(&self, method: Method) -> String {
+        let (h, source) = (self.h, &self.source);
+        match self.limit {
+            Some(limit) if self.too_stiff() => format!(
+                "too stiff for this method: {source} allows {} steps of at most about {:.3e} s \
+                 (h rho <= {limit}), and the steps were {h:.3e} s on average; an implicit \
+                 method (esdirk, bdf) is not bound by it, or check the stiffnesses and masses",
+                method.name(),
+                limit / self.rho
+            ),
+            Some(limit) => format!(
+                "the steps ({h:.3e} s on average) stayed far below the stability limit of about \
+                 {:.3e} s set by {source}",
+                limit / self.rho
+            ),
+            None if self.beyond_double_precision() => format!(
+                "too stiff for this method in double precision: the step {h:.3e} s against \
+                 {source} gives h rho = {:.3e}, and the iteration matrix keeps too few digits",
+                h * self.rho
+            ),
+            None => format!(
+                "the step {h:.3e} s against {source}: h rho = {:.3e}",
+                h * self.rho
+            ),
         }
     }
 }

@@ -116,8 +116,6 @@ struct Branch {
     phi: DMatrix<f64>,
     /// `int_0^h exp(A s) ds e`.
     gamma: DVector<f64>,
-    /// Largest real part of the eigenvalues of `A` (1/s): positive means a growing mode.
-    growth: f64,
     /// Spectral radius of `A` (rad/s).
     omega: f64,
 }
@@ -291,7 +289,7 @@ impl ExactRun<'_> {
                 self.expand(current, tau)?;
                 self.sum_taylor(tau);
             }
-            self.check_size(current, t, tau)?;
+            self.check_size(t, tau)?;
             self.stats.steps += 1;
             if let Some(tau_event) = self.find_event(current, t, tau)? {
                 // y1 holds the state just past the crossing
@@ -398,9 +396,11 @@ impl ExactRun<'_> {
                  contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"
             )));
         }
-        let eigen = a.clone().complex_eigenvalues();
+        let eigen = crate::eigen::eigenvalues(a.clone(), "eigenvalues of a branch's Jacobian")
+            .map_err(|e| {
+                SimError::Settings(format!("method exact at t = {t} s: {e}; take dopri5"))
+            })?;
         let omega = eigen.iter().map(|l| l.norm()).fold(0.0, f64::max);
-        let growth = eigen.iter().map(|l| l.re).fold(f64::NEG_INFINITY, f64::max);
         // without switch functions (l_S = 0) the step is exact at any length: one per sample
         let mut h = self.span.sample;
         while !self.functionals.is_empty() && h * omega > STEP_OMEGA {
@@ -414,7 +414,6 @@ impl ExactRun<'_> {
             a,
             e,
             h,
-            growth,
             omega,
         })
     }
@@ -540,20 +539,18 @@ impl ExactRun<'_> {
         observe(t, self.y.as_slice(), self.ydot.as_slice());
     }
 
-    fn check_size(&self, branch: usize, t: f64, tau: f64) -> Result<(), SimError> {
+    fn check_size(&self, t: f64, tau: f64) -> Result<(), SimError> {
         let finite = self.y1.iter().all(|v| v.is_finite());
         if finite && self.y1.rows(1, self.n - 1).amax() <= self.size_limit {
             return Ok(());
         }
-        let growth = self.branches[branch].growth;
         Err(SimError::Diverged {
             t,
             method: "exact".into(),
             h: tau,
             cause: format!(
-                "the exact solution grows without bound: the linear system of the current \
-                 contact branches has an eigenvalue with real part {growth:.3e} 1/s (buckling \
-                 under gravity, or a prestress beyond the critical load?)"
+                "the exact solution grows beyond any physical size; {}",
+                super::diagnosis::growth_cause(self.model, t, &self.span)
             ),
         })
     }

@@ -13,7 +13,7 @@
 
 use super::events::ContactTracker;
 use super::{Method, RunStats, Settings, System, make_stepper};
-use crate::eigen::modal_analysis;
+use crate::eigen::{EigenError, eigenvalues, modal_analysis};
 use crate::model::Model;
 use crate::scene::TimeSpan;
 use nalgebra::DMatrix;
@@ -84,15 +84,15 @@ pub fn step_matrix(model: &dyn Model, method: Method, t: f64, h: f64) -> DMatrix
 }
 
 /// Spectral radius of a real square matrix.
-fn spectral_radius(m: DMatrix<f64>) -> f64 {
-    m.complex_eigenvalues()
+fn spectral_radius(m: DMatrix<f64>) -> Result<f64, EigenError> {
+    Ok(eigenvalues(m, "eigenvalues of a step matrix G(h)")?
         .iter()
         .map(|z| z.norm())
-        .fold(0.0, f64::max)
+        .fold(0.0, f64::max))
 }
 
 /// Largest growth rate `max Re(lambda)` of the closed-contact system at `t` (1/s, >= 0).
-fn growth_rate(model: &dyn Model, t: f64) -> f64 {
+fn growth_rate(model: &dyn Model, t: f64) -> Result<f64, EigenError> {
     let n = 2 * model.dof();
     let mut sys = System {
         model,
@@ -102,45 +102,72 @@ fn growth_rate(model: &dyn Model, t: f64) -> f64 {
     };
     let mut jac = DMatrix::zeros(n, n);
     sys.jacobian(t, &vec![0.0; n], &mut jac);
-    jac.complex_eigenvalues()
-        .iter()
-        .map(|z| z.re)
-        .fold(0.0, f64::max)
+    Ok(
+        eigenvalues(jac, "eigenvalues of the closed-contact Jacobian")?
+            .iter()
+            .map(|z| z.re)
+            .fold(0.0, f64::max),
+    )
 }
 
 /// Largest stable step of `method` at time `t` (s), by bisection on the spectral radius of
 /// its step matrix, to a relative precision of 1e-6. `omega_max` (rad/s) brackets the search.
-pub fn stable_step(model: &dyn Model, method: Method, t: f64, omega_max: f64) -> f64 {
+///
+/// # Errors
+/// [`EigenError`] when an eigenvalue computation fails (non-finite entries, no convergence).
+pub fn stable_step(
+    model: &dyn Model,
+    method: Method,
+    t: f64,
+    omega_max: f64,
+) -> Result<f64, EigenError> {
     stable_step_within(model, method, t, omega_max, 1e-6)
 }
 
+/// Most doublings of the trial step above `4 / omega_max` (an unconditionally stable method
+/// would double forever; 2^40 is far beyond any explicit method's region).
+const MAX_DOUBLINGS: u32 = 40;
+
 /// [`stable_step`] to a relative precision `rel` (the result is at most that far below the
 /// limit).
-fn stable_step_within(model: &dyn Model, method: Method, t: f64, omega_max: f64, rel: f64) -> f64 {
-    let sigma = growth_rate(model, t);
-    let stable =
-        |h: f64| spectral_radius(step_matrix(model, method, t, h)) <= (sigma * h).exp() + 1e-7;
+fn stable_step_within(
+    model: &dyn Model,
+    method: Method,
+    t: f64,
+    omega_max: f64,
+    rel: f64,
+) -> Result<f64, EigenError> {
+    let sigma = growth_rate(model, t)?;
+    let stable = |h: f64| -> Result<bool, EigenError> {
+        Ok(spectral_radius(step_matrix(model, method, t, h))? <= (sigma * h).exp() + 1e-7)
+    };
     let mut lo = 0.0;
     let mut hi = 4.0 / omega_max;
-    while stable(hi) {
+    let mut doublings = 0;
+    while stable(hi)? {
         lo = hi;
         hi *= 2.0;
+        doublings += 1;
+        if doublings > MAX_DOUBLINGS {
+            return Ok(f64::INFINITY);
+        }
     }
     while hi - lo > rel * hi {
         let mid = 0.5 * (lo + hi);
-        if stable(mid) {
+        if stable(mid)? {
             lo = mid;
         } else {
             hi = mid;
         }
     }
-    lo
+    Ok(lo)
 }
 
 /// The stability report of `model` at time `t`.
 ///
 /// # Errors
-/// A message when the modal analysis fails (mass matrix not positive definite).
+/// A message when the modal analysis or an eigenvalue computation fails (mass matrix not
+/// positive definite, digits lost, no convergence).
 pub fn stability_report(model: &dyn Model, t: f64) -> Result<StabilityReport, String> {
     let modal = modal_analysis(model, t).map_err(|e| e.to_string())?;
     let omega_max = 2.0
@@ -153,9 +180,9 @@ pub fn stability_report(model: &dyn Model, t: f64) -> Result<StabilityReport, St
     Ok(StabilityReport {
         time: t,
         omega_max,
-        growth_rate: growth_rate(model, t),
-        rk4_step: stable_step(model, Method::Rk4, t, omega_max),
-        verlet_step: stable_step(model, Method::Verlet, t, omega_max),
+        growth_rate: growth_rate(model, t).map_err(|e| e.to_string())?,
+        rk4_step: stable_step(model, Method::Rk4, t, omega_max).map_err(|e| e.to_string())?,
+        verlet_step: stable_step(model, Method::Verlet, t, omega_max).map_err(|e| e.to_string())?,
     })
 }
 
@@ -206,7 +233,22 @@ pub fn closed_contact_stable_step(
         }
     }
     let (t, omega_max) = stiffest?;
-    Some(stable_step_within(model, method, t, omega_max, 1e-3))
+    stable_step_within(model, method, t, omega_max, 1e-3).ok()
+}
+
+/// The largest `h rho` an explicit method or exact stepping takes, about: the extent of its
+/// stability region along the negative real axis (for these methods close to that along
+/// the imaginary axis), with `rho` the spectral radius of the system; `None` for methods
+/// without a stability bound on the step.
+pub fn stable_h_rho(method: Method) -> Option<f64> {
+    match method {
+        Method::Dopri5 => Some(3.3),
+        Method::Dop853 => Some(6.0),
+        Method::Rk4 => Some(RK4_REAL_AXIS),
+        Method::Verlet => Some(VERLET_LIMIT),
+        Method::Exact => Some(super::exact::STEP_OMEGA),
+        _ => None,
+    }
 }
 
 /// The step cap (s) of dop853 while a contact is closed: [`STEP_CAP_SAFETY`] times its

@@ -3,6 +3,7 @@
 
 pub mod limits;
 mod overrides;
+pub mod plausibility;
 pub mod schema;
 mod validate;
 

@@ -1,13 +1,13 @@
 //! The rules a scene must satisfy, and its conversion into [`ModelParams`].
 
+use super::limits::{
+    MAX_CONTACT_POINTS, MAX_OUTPUT_VALUES, MAX_SECTIONS, output_columns, sample_count,
+};
 use super::schema::{PerSection, SceneFile};
 use super::{FieldError, Scene, SceneError, TimeSpan};
 use crate::contact::ContactLaw;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile};
-use super::limits::{
-    MAX_CONTACT_POINTS, MAX_OUTPUT_VALUES, MAX_SECTIONS, output_columns, sample_count,
-};
 use crate::shape::MAX_MODES;
 
 /// Collects broken rules.
@@ -318,7 +318,11 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
                      time.sample to at least {:.3e} s or shorten the span",
                     t.sample,
                     t.end - t.start,
-                    if samples == u64::MAX { "about 1e18 or more".to_string() } else { samples.to_string() },
+                    if samples == u64::MAX {
+                        "about 1e18 or more".to_string()
+                    } else {
+                        samples.to_string()
+                    },
                     (t.end - t.start) * columns as f64 / MAX_OUTPUT_VALUES as f64
                 ),
             );
@@ -379,6 +383,13 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         positions,
         drive: drive.expect("checked"),
     };
+    let implausible = super::plausibility::check(&params);
+    if !implausible.is_empty() {
+        return Err(SceneError::Invalid {
+            origin: origin.to_string(),
+            errors: implausible,
+        });
+    }
     Ok(Scene {
         name: file.name.clone(),
         description: file.description.clone(),

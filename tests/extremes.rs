@@ -1,0 +1,401 @@
+//! Inputs at the edges of the physics: every reproduction of the reliability issue ends within
+//! 10 s (an upper bound against hangs, not a speed claim) with a clear error naming the field,
+//! the bound or the cause, or with a correct result.
+
+mod common;
+
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// Runs the binary with a deadline: kills it and fails the test if it runs longer.
+fn run_within(args: &[&str], limit: Duration) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("{args:?} ran longer than {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Fails within 10 s, cleanly, naming every needle.
+fn refused(args: &[&str], needles: &[&str]) {
+    let out = run_within(args, Duration::from_secs(10));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    assert!(
+        out.stdout.is_empty(),
+        "{args:?} printed to stdout on failure"
+    );
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: stderr lacks `{n}`:\n{err}");
+    }
+}
+
+#[test]
+fn sizes_are_bounded_before_any_allocation() {
+    for count in ["1000000000000", "1000000000", "100000000"] {
+        let set = format!("sections.count={count}");
+        refused(
+            &["simulate", "scenes/adams-clearance.toml", "--set", &set],
+            &["sections.count", "must be in 1..=16", "see docs/scenes.md"],
+        );
+    }
+    refused(
+        &[
+            "modes",
+            "scenes/adams-clearance.toml",
+            "--shapes",
+            "1000000000",
+        ],
+        &["--shapes", "must be 2 to 10000"],
+    );
+    refused(
+        &["shape-errors", "--points", "1000000000"],
+        &["--points", "must be 2 to 1000"],
+    );
+    refused(
+        &[
+            "converge",
+            "scenes/adams-clearance.toml",
+            "--tol",
+            "1e-2",
+            "--max-contacts",
+            "1000000",
+        ],
+        &["--max-contacts", "must be 3 to 32"],
+    );
+    refused(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--repeat",
+            "1000000000",
+        ],
+        &["--repeat", "must be 1 to 100"],
+    );
+    refused(
+        &[
+            "simulate",
+            "scenes/case-study.toml",
+            "--set",
+            "time.sample=1e-12",
+        ],
+        &[
+            "time.sample",
+            "more than the limit of 100000000 output values",
+            "raise time.sample",
+        ],
+    );
+}
+
+#[test]
+fn stiff_sections_end_in_a_correct_result_or_a_clear_error() {
+    // these used to hang in the Schur decomposition
+    let out = run_within(
+        &[
+            "stability",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "sections.youngs_modulus=1e24",
+        ],
+        Duration::from_secs(10),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("orders of magnitude") && err.contains("double precision"),
+        "{err}"
+    );
+    refused(
+        &[
+            "simulate",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "sections.youngs_modulus=1e30",
+            "--method",
+            "rk4",
+            "--dt",
+            "1e-4",
+        ],
+        &[
+            "contact.stiffness against sections.youngs_modulus[0]",
+            "bending stiffness",
+        ],
+    );
+    refused(
+        &[
+            "simulate",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "sections.youngs_modulus=1e24",
+            "--method",
+            "dop853",
+        ],
+        &[
+            "would need about",
+            "more than the step limit",
+            "stiffest mode",
+        ],
+    );
+    refused(
+        &[
+            "work-precision",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "sections.youngs_modulus=1e24",
+            "--methods",
+            "rk4",
+        ],
+        &["would need about", "more than the step limit"],
+    );
+}
+
+/// The `h omega_max` of rk4's limit on the model, from `telescopic stability`'s report.
+fn rk4_h_omega(report: &str) -> f64 {
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("rk4 "))
+        .expect("an rk4 line");
+    line.split_whitespace().last().unwrap().parse().unwrap()
+}
+
+#[test]
+fn stability_of_stiff_sections_is_right_not_garbage() {
+    // E = 1e20: the bending modes outrun the contacts; rk4's limit on an undamped mode is
+    // h omega = 2 sqrt(2) (it used to report 0.0234)
+    let out = run_within(
+        &[
+            "stability",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "sections.youngs_modulus=1e20",
+        ],
+        Duration::from_secs(10),
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let h_omega = rk4_h_omega(&text);
+    assert!(
+        (h_omega - 2.0 * 2f64.sqrt()).abs() < 0.01,
+        "rk4 h omega = {h_omega}:\n{text}"
+    );
+    // E = 1e22 without gravity: stable, not "unstable" by rounding
+    let out = run_within(
+        &[
+            "stability",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "sections.youngs_modulus=1e22",
+            "--set",
+            "gravity.g=0",
+        ],
+        Duration::from_secs(10),
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(text.contains("largest growth rate 0 (stable)"), "{text}");
+    assert!(
+        (rk4_h_omega(&text) - 2.0 * 2f64.sqrt()).abs() < 0.01,
+        "{text}"
+    );
+}
+
+#[test]
+fn modes_that_double_precision_cannot_resolve_are_refused_not_printed() {
+    // 1e20: seven "rigid" modes and frequencies above 1e8 Hz used to come out
+    refused(
+        &[
+            "modes",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "contact.stiffness=1e20",
+        ],
+        &[
+            "contact.stiffness against sections.youngs_modulus",
+            "beyond a ratio of 1e12",
+        ],
+    );
+    // 1e15: passes the parameter check, but the 0.7 Hz mode would vanish in rounding
+    refused(
+        &[
+            "modes",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "contact.stiffness=1e15",
+        ],
+        &["orders of magnitude", "vanish in the rounding"],
+    );
+    // a stiff but resolvable contact still gives its modes, with exactly one rigid mode
+    let out = run_within(
+        &[
+            "modes",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "contact.stiffness=1e12",
+            "--json",
+        ],
+        Duration::from_secs(10),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["rigid_modes"], 1);
+    let f1 = doc["frequencies_hz"][0].as_f64().unwrap();
+    assert!(f1 > 0.5 && f1 < 1.0, "f1 = {f1} Hz");
+}
+
+#[test]
+fn implausible_masses_name_their_fields() {
+    for (set, field) in [
+        (
+            "sections.density=1e-30",
+            "sections.area[0] and sections.density[0]",
+        ),
+        (
+            "sections.area=1e-300",
+            "sections.area[0] and sections.density[0]",
+        ),
+        ("masses.load=1e300", "masses.load against sections.area[0]"),
+    ] {
+        refused(
+            &["modes", "scenes/adams-clearance.toml", "--set", set],
+            &[field, "differ by more than 1e12"],
+        );
+    }
+}
+
+#[test]
+fn failure_causes_are_diagnosed() {
+    // an absurd force with gravity off: the drive, not buckling, is named
+    for method in ["auto", "dopri5", "esdirk"] {
+        refused(
+            &[
+                "simulate",
+                "scenes/adams-clearance.toml",
+                "--set",
+                "drive.force=1e300",
+                "--method",
+                method,
+            ],
+            &[
+                "no buckled mode",
+                "drive profile ranges over [1e300, 1e300]",
+            ],
+        );
+    }
+    // a dopri5 run does not claim exact stepping
+    let dir = std::env::temp_dir().join(format!("telescopic-extremes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("run.csv");
+    let out = run_within(
+        &[
+            "simulate",
+            "scenes/adams-clearance.toml",
+            "--method",
+            "dopri5",
+            "--set",
+            "time.end=0.2",
+            "--out",
+            csv.to_str().unwrap(),
+        ],
+        Duration::from_secs(10),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("method dopri5"), "{err}");
+    assert!(
+        err.contains("exact stepping would apply (method exact or auto; this run: dopri5)"),
+        "{err}"
+    );
+    assert!(!err.contains("exact stepping (method exact)"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn inputs_and_outputs_are_checked_before_the_run() {
+    // an unwritable plot and a broken compare scene fail at once, not after the run
+    refused(
+        &[
+            "simulate",
+            "scenes/case-study.toml",
+            "--plot",
+            "/nonexistent-dir/run.svg",
+        ],
+        &["--plot", "does not exist"],
+    );
+    refused(
+        &[
+            "simulate",
+            "scenes/case-study.toml",
+            "--out",
+            "/nonexistent-dir/run.csv",
+        ],
+        &["--out", "does not exist"],
+    );
+    refused(
+        &[
+            "simulate",
+            "scenes/case-study.toml",
+            "--plot",
+            "/tmp/run.svg",
+            "--compare",
+            "scenes/absent.toml",
+        ],
+        &["cannot read scene file scenes/absent.toml"],
+    );
+    refused(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--csv",
+            "/nonexistent-dir/t.csv",
+        ],
+        &["--csv", "does not exist"],
+    );
+}
+
+#[test]
+fn a_closed_standard_output_is_an_error() {
+    // Rust's standard library discards writes to a closed stdout; the CSV would be lost
+    // with exit code 0
+    for command in [
+        "simulate scenes/adams-linear.toml --set time.end=0.1",
+        "modes scenes/test-rig.toml",
+        "stability scenes/adams-linear.toml",
+    ] {
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "exec >&-; exec '{}' {command}",
+                env!("CARGO_BIN_EXE_telescopic")
+            ))
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stderr(Stdio::piped())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{command}: {err}");
+        assert!(
+            err.contains("standard output is closed"),
+            "{command}: {err}"
+        );
+    }
+}
