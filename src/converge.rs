@@ -191,14 +191,19 @@ pub fn converge(
     if !(2..=MAX_MODES).contains(&options.max_modes) {
         return Err(Error::option(
             "--max-modes",
-            format!("must be 2 to {MAX_MODES} (got {})", options.max_modes),
+            format!(
+                "must be 2 to {MAX_MODES} (got {}); the shape functions are checked up to mode \
+                 {MAX_MODES}",
+                options.max_modes
+            ),
         ));
     }
     if !(3..=MAX_CONTACT_POINTS).contains(&options.max_contacts) {
         return Err(Error::option(
             "--max-contacts",
             format!(
-                "must be 3 to {MAX_CONTACT_POINTS} (got {}): contacts are raised from 2",
+                "must be 3 to {MAX_CONTACT_POINTS} (got {}): contacts are raised from 2 to at \
+                 most the scene limit",
                 options.max_contacts
             ),
         ));

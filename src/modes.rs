@@ -108,7 +108,10 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
     {
         return Err(Error::option(
             "--shapes",
-            format!("must be 2 to {MAX_SHAPE_POINTS} points per section (got {points})"),
+            format!(
+                "must be 2 to {MAX_SHAPE_POINTS} points per section (got {points}); more add \
+                 nothing a plot or table can show"
+            ),
         ));
     }
     let chosen = build_model(&scene.params, options.model)?;

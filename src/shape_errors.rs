@@ -61,7 +61,11 @@ pub fn shape_errors(options: &ShapeErrorsOptions) -> Result<ShapeErrors> {
     if !(2..=MAX_POINTS).contains(&options.points) {
         return Err(Error::option(
             "--points",
-            format!("must be 2 to {MAX_POINTS} (got {})", options.points),
+            format!(
+                "must be 2 to {MAX_POINTS} (got {}); each point costs 512-bit evaluations of \
+                 57 shape functions (1000 take about 50 s)",
+                options.points
+            ),
         ));
     }
     let mut hp = Hp::new();

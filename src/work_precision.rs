@@ -223,7 +223,11 @@ pub fn work_precision(
     if !(1..=MAX_REPEAT).contains(&options.repeat) {
         return Err(Error::option(
             "--repeat",
-            format!("must be 1 to {MAX_REPEAT} (got {})", options.repeat),
+            format!(
+                "must be 1 to {MAX_REPEAT} (got {}); the median of a few timed runs is \
+                 already stable",
+                options.repeat
+            ),
         ));
     }
     let args = options;

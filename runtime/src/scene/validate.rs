@@ -191,7 +191,11 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             if !(2..=MAX_CONTACT_POINTS).contains(&c.points) {
                 r.fail(
                     "contact.points",
-                    format!("must be in 2..={MAX_CONTACT_POINTS} (got {})", c.points),
+                    format!(
+                        "must be in 2..={MAX_CONTACT_POINTS} (got {}); more points only stiffen \
+                         the coupling (see docs/scenes.md)",
+                        c.points
+                    ),
                 );
             }
             r.positive("contact.stiffness", c.stiffness);
