@@ -47,6 +47,7 @@ pub mod budget;
 pub mod converge;
 pub mod equations;
 mod error;
+pub mod linear;
 pub mod model_choice;
 pub mod modes;
 pub mod output;

@@ -43,7 +43,7 @@ pub struct ModalAnalysis {
 }
 
 /// Why the eigen analysis failed.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EigenError {
     /// The (condensed) mass matrix is not positive definite.
     #[error("the mass matrix is not positive definite; no eigen analysis is possible")]

@@ -28,6 +28,7 @@ pub mod contact_table;
 pub mod eigen;
 pub mod integrate;
 pub mod layout;
+pub mod linear;
 pub mod model;
 pub mod params;
 pub mod profile;
@@ -48,6 +49,7 @@ pub use eigen::{
 };
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};
+pub use linear::{ContactMode, LinearError, LinearModel, Lpv, Signal};
 pub use model::{Model, mechanical_energy, rest_state};
 /// The linear-algebra crate of the [`Model`] interface, re-exported so that generated modules
 /// and downstream crates use the same version.

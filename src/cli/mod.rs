@@ -2,6 +2,7 @@
 //! prints. Nothing in the library depends on this module.
 
 mod analysis;
+mod control;
 mod modes;
 mod progress;
 mod simulate;
@@ -38,6 +39,10 @@ enum Command {
     /// The smallest model a scene needs: modes per section (then contacts per overlap)
     /// raised until tip_rel and the first three frequencies change by less than --tol.
     Converge(analysis::ConvergeArgs),
+    /// The linear model x' = A x + B u, y = C x + D u about the straight configuration, with
+    /// stable state, input and output names, at one operating point or over a grid; as JSON,
+    /// MATLAB/Octave, NumPy (.npz), python-control or LaTeX.
+    Linearize(control::LinearizeArgs),
     /// Evaluation error of the shape functions for modes 1..30: the paper's printed forms
     /// against the cancellation-free ones, both measured in 512-bit arithmetic.
     ShapeErrors(analysis::ShapeErrorsArgs),
@@ -88,6 +93,7 @@ impl Cli {
             Command::WorkPrecision(args) => analysis::work_precision(&args),
             Command::Converge(args) => analysis::converge(&args),
             Command::ShapeErrors(args) => analysis::shape_errors(&args),
+            Command::Linearize(args) => control::linearize(&args),
         }
     }
 }

@@ -1,0 +1,376 @@
+//! Linear models about the straight configuration, with stable names:
+//! `x' = A x + B u`, `y = C x + D u` at given telescopic positions `a_k` and speeds `a_k'`
+//! (a linear parameter-varying model: [`Lpv::at`] evaluates it anywhere from the model's own
+//! `M`, `K` and contact vectors, the generated model's from the same symbolic expressions as
+//! its right-hand side, and assembles nothing).
+//!
+//! **States**, in this order (part of the format): the coordinates `z` of docs/model.md
+//! section 5, then their rates:
+//!
+//! | name | unit | what |
+//! |---|---|---|
+//! | `u` | m | vehicle position `w_1(0, t)` (rigid translation of the whole telescope) |
+//! | `q_1_i` (`i >= 2`) | m | section 1's shape coordinate `i`, basis `phi_1,i(x) - phi_1,i(0)` |
+//! | `r_k` (`k >= 2`) | m | section `k`'s rigid offset from the vehicle (basis 1) |
+//! | `q_k_2` (`k >= 2`) | rad | section `k`'s rigid rotation (basis `x`) |
+//! | `q_k_i` (`k >= 2`, `i >= 3`) | m | section `k`'s free-free shape coordinate `i` |
+//! | `<name>_dot` | m/s, rad/s | the rate of each of the above, same order |
+//!
+//! **Inputs:** `F` (N), the drive force, for a force-driven scene; `a_vehicle` (m/s^2), the
+//! vehicle's acceleration, for a prescribed motion.
+//!
+//! **Outputs:** `vehicle`, `tip_rel`, `top1_rel` (m), `xi_k_j` (m) for every contact, and
+//! `f_k_j` (N) for every contact when the contacts are closed.
+//!
+//! **Contacts.** Closed: every contact obeys the linear law `f = c xi + d xi_dot` (the
+//! clearance is left out, as about the straight configuration inside the band). Open: the
+//! contacts are left out, so each upper section floats free; its coordinates are then not
+//! controllable from the drive, nor is anything above it.
+
+use crate::eigen::EigenError;
+use crate::model::Model;
+use crate::params::Drive;
+use nalgebra::DMatrix;
+
+/// How the contacts enter a linear model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ContactMode {
+    /// Every contact closed with the linear law `f = c xi + d xi_dot`.
+    #[default]
+    Closed,
+    /// No contacts: the sections are not coupled.
+    Open,
+}
+
+impl ContactMode {
+    /// `closed` or `open`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactMode::Closed => "closed",
+            ContactMode::Open => "open",
+        }
+    }
+}
+
+/// A named signal: a state, an input or an output.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Signal {
+    /// Stable name (see the module documentation).
+    pub name: String,
+    /// SI unit.
+    pub unit: String,
+    /// What it is.
+    pub description: String,
+}
+
+fn signal(name: String, unit: &str, description: String) -> Signal {
+    Signal {
+        name,
+        unit: unit.to_string(),
+        description,
+    }
+}
+
+/// The matrices at one operating point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearModel {
+    /// Telescopic positions `a_2..a_n` (m).
+    pub positions: Vec<f64>,
+    /// Their speeds (m/s); they enter the damping through `gdot`.
+    pub rates: Vec<f64>,
+    /// State matrix (`2 dof x 2 dof`).
+    pub a: DMatrix<f64>,
+    /// Input matrix (`2 dof x 1`).
+    pub b: DMatrix<f64>,
+    /// Output matrix.
+    pub c: DMatrix<f64>,
+    /// Feedthrough (zero for these outputs).
+    pub d: DMatrix<f64>,
+}
+
+/// Why a linear model cannot be had.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LinearError {
+    /// A position is outside the overlap's valid range.
+    #[error(
+        "position a_{section} = {value} m is outside the valid overlap: it must lie in \
+         [{min}, {max}) m, where the overlap of sections {} and {section} stays in (0, min(l_{}, \
+         l_{section})]",
+        section - 1,
+        section - 1
+    )]
+    OutOfRange {
+        /// Section `k` of `a_k`.
+        section: usize,
+        /// The value given (m).
+        value: f64,
+        /// Smallest valid value (m).
+        min: f64,
+        /// Valid values are below this (m).
+        max: f64,
+    },
+    /// Positions or speeds of the wrong count or not finite.
+    #[error("{0}")]
+    Input(String),
+    /// The mass matrix could not be factored.
+    #[error(transparent)]
+    Eigen(#[from] EigenError),
+}
+
+/// The linear parameter-varying model of a [`Model`]: `M^-1` once, then `A`, `B`, `C`, `D` at
+/// any positions.
+pub struct Lpv<'m> {
+    model: &'m dyn Model,
+    contacts: ContactMode,
+    minv: DMatrix<f64>,
+    motion: bool,
+    states: Vec<Signal>,
+    inputs: Vec<Signal>,
+    outputs: Vec<Signal>,
+    /// Rows of `vehicle`, `tip_rel` and `top1_rel` over the coordinates.
+    rigid_rows: DMatrix<f64>,
+}
+
+impl<'m> Lpv<'m> {
+    /// Prepares the LPV model of `model` with `contacts`.
+    ///
+    /// # Errors
+    /// [`LinearError::Eigen`] when the mass matrix is not positive definite.
+    pub fn new(model: &'m dyn Model, contacts: ContactMode) -> Result<Self, LinearError> {
+        let n = model.dof();
+        let m = model.mass_matrix().clone();
+        let minv = m
+            .cholesky()
+            .ok_or(EigenError::MassNotPositiveDefinite)?
+            .inverse();
+        let motion = matches!(model.params().drive, Drive::Motion(_));
+        let layout = model.layout();
+        let params = model.params();
+        let sections = params.sections.len();
+        let mut rigid_rows = DMatrix::zeros(3, n);
+        let top = params.sections[sections - 1].length;
+        let l1 = params.sections[0].length;
+        for j in 0..n {
+            let mut e = vec![0.0; n];
+            e[j] = 1.0;
+            let foot = model.displacement(1, 0.0, &e);
+            rigid_rows[(0, j)] = foot;
+            rigid_rows[(1, j)] = model.displacement(sections, top, &e) - foot;
+            rigid_rows[(2, j)] = model.displacement(1, l1, &e) - foot;
+        }
+        let mut states = Vec::with_capacity(2 * n);
+        for k in 1..=sections {
+            for i in 1..=layout.modes()[k - 1] {
+                states.push(match (k, i) {
+                    (1, 1) => signal(
+                        "u".into(),
+                        "m",
+                        "vehicle position w_1(0,t), the rigid translation of the telescope".into(),
+                    ),
+                    (1, i) => signal(
+                        format!("q_1_{i}"),
+                        "m",
+                        format!("section 1, shape coordinate {i} (basis phi_1,{i}(x) - phi_1,{i}(0))"),
+                    ),
+                    (k, 1) => signal(
+                        format!("r_{k}"),
+                        "m",
+                        format!("section {k}, rigid offset from the vehicle (basis 1)"),
+                    ),
+                    (k, 2) => signal(
+                        format!("q_{k}_2"),
+                        "rad",
+                        format!("section {k}, rigid rotation (basis x)"),
+                    ),
+                    (k, i) => signal(
+                        format!("q_{k}_{i}"),
+                        "m",
+                        format!("section {k}, free-free shape coordinate {i}"),
+                    ),
+                });
+            }
+        }
+        let rates: Vec<Signal> = states
+            .iter()
+            .map(|s| {
+                signal(
+                    format!("{}_dot", s.name),
+                    &format!("{}/s", s.unit),
+                    format!("rate of: {}", s.description),
+                )
+            })
+            .collect();
+        states.extend(rates);
+        let inputs = vec![if motion {
+            signal(
+                "a_vehicle".into(),
+                "m/s^2",
+                "prescribed vehicle acceleration".into(),
+            )
+        } else {
+            signal("F".into(), "N", "drive force on the vehicle".into())
+        }];
+        let mut outputs = vec![
+            signal("vehicle".into(), "m", "vehicle position w_1(0,t)".into()),
+            signal(
+                "tip_rel".into(),
+                "m",
+                "load relative to the foot, w_n(l_n,t) - w_1(0,t)".into(),
+            ),
+            signal(
+                "top1_rel".into(),
+                "m",
+                "top of section 1 relative to the foot, w_1(l_1,t) - w_1(0,t)".into(),
+            ),
+        ];
+        for c in layout.contacts() {
+            outputs.push(signal(
+                format!("xi_{}_{}", c.overlap, c.point),
+                "m",
+                format!("gap at contact {} of overlap {}", c.point, c.overlap),
+            ));
+        }
+        if contacts == ContactMode::Closed {
+            for c in layout.contacts() {
+                outputs.push(signal(
+                    format!("f_{}_{}", c.overlap, c.point),
+                    "N",
+                    format!("force at contact {} of overlap {}", c.point, c.overlap),
+                ));
+            }
+        }
+        Ok(Lpv {
+            model,
+            contacts,
+            minv,
+            motion,
+            states,
+            inputs,
+            outputs,
+            rigid_rows,
+        })
+    }
+
+    /// The states, in the order of the matrices.
+    pub fn states(&self) -> &[Signal] {
+        &self.states
+    }
+
+    /// The inputs.
+    pub fn inputs(&self) -> &[Signal] {
+        &self.inputs
+    }
+
+    /// The outputs.
+    pub fn outputs(&self) -> &[Signal] {
+        &self.outputs
+    }
+
+    /// How the contacts enter.
+    pub fn contacts(&self) -> ContactMode {
+        self.contacts
+    }
+
+    /// The valid range `[min, max)` (m) of `a_k`, `k = 2..n` (index 0 is `a_2`).
+    pub fn position_range(&self, index: usize) -> (f64, f64) {
+        let s = &self.model.params().sections;
+        let (below, above) = (s[index].length, s[index + 1].length);
+        (below - below.min(above), below)
+    }
+
+    /// `A`, `B`, `C`, `D` at positions `a_2..a_n` (m) moving at `rates` (m/s).
+    ///
+    /// # Errors
+    /// [`LinearError`] for positions outside the valid overlap, or of the wrong count.
+    pub fn at(&self, positions: &[f64], rates: &[f64]) -> Result<LinearModel, LinearError> {
+        let model = self.model;
+        let n = model.dof();
+        let npos = model.params().sections.len() - 1;
+        if positions.len() != npos || rates.len() != npos {
+            return Err(LinearError::Input(format!(
+                "the model has {npos} telescopic position(s), a_2..a_n; got {} position(s) and {} \
+                 speed(s)",
+                positions.len(),
+                rates.len()
+            )));
+        }
+        for (i, (&a, &r)) in positions.iter().zip(rates).enumerate() {
+            let (min, max) = self.position_range(i);
+            if !(a >= min && a < max) {
+                return Err(LinearError::OutOfRange {
+                    section: i + 2,
+                    value: a,
+                    min,
+                    max,
+                });
+            }
+            if !r.is_finite() {
+                return Err(LinearError::Input(format!(
+                    "the speed of a_{} must be finite (got {r})",
+                    i + 2
+                )));
+            }
+        }
+        let nc = model.layout().contact_count();
+        let mut g = DMatrix::zeros(n, nc);
+        let mut gdot = DMatrix::zeros(n, nc);
+        model.contact_vectors_at(positions, rates, &mut g, &mut gdot);
+        let law = &model.params().contact;
+        // M z'' + D z' + K_e z = b u with the linear law on every closed contact:
+        // f = c g'z + d (g'z' + gdot'z)
+        let mut k_e = model.stiffness_matrix().clone();
+        let mut d = DMatrix::zeros(n, n);
+        if self.contacts == ContactMode::Closed && nc > 0 {
+            k_e += law.stiffness * &g * g.transpose() + law.damping * &g * gdot.transpose();
+            d += law.damping * &g * g.transpose();
+        }
+        let mut a = DMatrix::zeros(2 * n, 2 * n);
+        let mut b = DMatrix::zeros(2 * n, 1);
+        for i in 0..n {
+            a[(i, n + i)] = 1.0;
+        }
+        if self.motion {
+            // u'' is the input; the other coordinates follow M_pp p'' = -M_p0 u'' - ...
+            let r = n - 1;
+            let m = model.mass_matrix();
+            let mpp_inv = m
+                .view((1, 1), (r, r))
+                .into_owned()
+                .cholesky()
+                .ok_or(EigenError::MassNotPositiveDefinite)?
+                .inverse();
+            let kz = -(&mpp_inv * k_e.view((1, 0), (r, n)));
+            let dz = -(&mpp_inv * d.view((1, 0), (r, n)));
+            a.view_mut((n + 1, 0), (r, n)).copy_from(&kz);
+            a.view_mut((n + 1, n), (r, n)).copy_from(&dz);
+            b[(n, 0)] = 1.0;
+            let bp = -(&mpp_inv * m.view((1, 0), (r, 1)));
+            b.view_mut((n + 1, 0), (r, 1)).copy_from(&bp);
+        } else {
+            a.view_mut((n, 0), (n, n)).copy_from(&(-(&self.minv * &k_e)));
+            a.view_mut((n, n), (n, n)).copy_from(&(-(&self.minv * &d)));
+            let bz = &self.minv * model.drive_vector();
+            b.view_mut((n, 0), (n, 1)).copy_from(&bz);
+        }
+        let mut c = DMatrix::zeros(self.outputs.len(), 2 * n);
+        c.view_mut((0, 0), (3, n)).copy_from(&self.rigid_rows);
+        for ci in 0..nc {
+            for j in 0..n {
+                c[(3 + ci, j)] = g[(j, ci)];
+                if self.contacts == ContactMode::Closed {
+                    c[(3 + nc + ci, j)] = law.stiffness * g[(j, ci)] + law.damping * gdot[(j, ci)];
+                    c[(3 + nc + ci, n + j)] = law.damping * g[(j, ci)];
+                }
+            }
+        }
+        let d_mat = DMatrix::zeros(self.outputs.len(), 1);
+        Ok(LinearModel {
+            positions: positions.to_vec(),
+            rates: rates.to_vec(),
+            a,
+            b,
+            c,
+            d: d_mat,
+        })
+    }
+}

@@ -1,0 +1,93 @@
+//! `telescopic linearize`: the scene's linear model with stable names, in the formats of the
+//! tools controls engineers use.
+
+use super::{SceneArgs, check_output};
+use clap::Args;
+use std::path::PathBuf;
+use telescopic::linear::{Format, Grid, LinearizeOptions, linearize as run_linearize, parse_positions};
+use telescopic::model_choice::ModelChoice;
+use telescopic::output::{check_stdout_open, write_to};
+use telescopic::runtime::ContactMode;
+
+/// `--contacts`: closed (linear law) or open.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Contacts {
+    /// Every contact with the linear law f = c xi + d xi_dot.
+    Closed,
+    /// No contacts: the sections float free of each other.
+    Open,
+}
+
+/// Options of `telescopic linearize`.
+#[derive(Debug, Args)]
+pub struct LinearizeArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Telescopic positions to linearize at, e.g. `a2=1.15` or `a2=1.0,a3=0.9` (m; at rest);
+    /// the others come from the scene.
+    #[arg(long, value_name = "a2=V,...", conflicts_with = "at_time")]
+    pub positions: Option<String>,
+    /// Take the positions and their speeds of the scene at this time (s); default: its start.
+    #[arg(long, value_name = "T")]
+    pub at_time: Option<f64>,
+    /// Contacts closed (linear law) or open.
+    #[arg(long, value_enum, default_value = "closed")]
+    pub contacts: Contacts,
+    /// Sample the linear parameter-varying model over a grid of one position, e.g.
+    /// `a2=0.35:1.15:9` (m; speeds zero).
+    #[arg(long, value_name = "a2=FROM:TO:COUNT")]
+    pub grid: Option<Grid>,
+    /// Output format: json, matlab (an .m script), npz, python (a python-control script) or
+    /// latex (small models).
+    #[arg(long, default_value = "json", value_name = "FORMAT")]
+    pub format: Format,
+    /// Output file (written whole or not at all); default: standard output.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Which model's matrices: auto, generated or assembled.
+    #[arg(long, default_value = "auto", value_name = "MODEL")]
+    pub model: ModelChoice,
+}
+
+/// Runs `telescopic linearize`.
+pub fn linearize(args: &LinearizeArgs) -> anyhow::Result<()> {
+    check_output("--out", args.out.as_deref())?;
+    if args.out.is_none() {
+        check_stdout_open()?;
+    }
+    let scene = args.scene.load()?;
+    let positions = match &args.positions {
+        Some(p) => parse_positions(p).map_err(|e| anyhow::anyhow!("--positions: {e}"))?,
+        None => Vec::new(),
+    };
+    let options = LinearizeOptions {
+        positions,
+        at_time: args.at_time,
+        contacts: match args.contacts {
+            Contacts::Closed => ContactMode::Closed,
+            Contacts::Open => ContactMode::Open,
+        },
+        grid: args.grid.clone(),
+        model: args.model,
+    };
+    let mut export = run_linearize(&scene, &options)?;
+    export.scene_file = args.scene.scene.display().to_string();
+    export.overrides = args.scene.overrides.clone();
+    export.check_format(args.format)?;
+    write_to(args.out.as_deref(), |w| export.write(args.format, w))?;
+    let points = export.points.len();
+    eprintln!(
+        "{}: {} states, {} input(s), {} outputs, contacts {}, {} operating point(s) ({})",
+        export.scene,
+        export.states.len(),
+        export.inputs.len(),
+        export.outputs.len(),
+        export.contacts.name(),
+        points,
+        export.operating_point
+    );
+    if let Some(p) = &args.out {
+        eprintln!("wrote {}", p.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,558 @@
+//! The export formats of a [`LinearExport`]: JSON (with a reader, for round trips and for
+//! tools), a MATLAB/Octave script, NumPy's `.npz`, a python-control script and LaTeX.
+
+use super::LinearExport;
+use super::npy::{self, Array};
+use crate::{Error, Result};
+use serde_json::{Value, json};
+use std::fmt;
+use std::io::Write;
+use std::str::FromStr;
+use telescopic_runtime::nalgebra::DMatrix;
+use telescopic_runtime::{ContactMode, LinearModel, Signal};
+
+/// Most states the LaTeX export writes out entry by entry.
+pub const MAX_LATEX_STATES: usize = 24;
+
+/// The version of the JSON document's layout (docs/linear.md).
+const JSON_VERSION: u64 = 1;
+
+/// An export format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Format {
+    /// A JSON document with names, units, the operating point or grid, scene and generator.
+    #[default]
+    Json,
+    /// A MATLAB/Octave script defining `sys` (`ss` with names).
+    Matlab,
+    /// NumPy's `.npz`: the arrays and the names.
+    Npz,
+    /// A Python script defining `sys`, a `control.StateSpace` (python-control).
+    Python,
+    /// A LaTeX document with the matrices' entries (small models).
+    Latex,
+}
+
+impl FromStr for Format {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "json" => Ok(Format::Json),
+            "matlab" => Ok(Format::Matlab),
+            "npz" => Ok(Format::Npz),
+            "python" => Ok(Format::Python),
+            "latex" => Ok(Format::Latex),
+            _ => Err(format!(
+                "`{s}` is not a format; use json, matlab, npz, python or latex"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Format::Json => "json",
+            Format::Matlab => "matlab",
+            Format::Npz => "npz",
+            Format::Python => "python",
+            Format::Latex => "latex",
+        })
+    }
+}
+
+/// A number with every digit needed to read it back exactly.
+fn num(v: f64) -> String {
+    if v == 0.0 {
+        "0".to_string()
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Rows of a matrix, row-major.
+fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+        .collect()
+}
+
+fn names(signals: &[Signal]) -> Vec<String> {
+    signals.iter().map(|s| s.name.clone()).collect()
+}
+
+fn signals_json(signals: &[Signal]) -> Value {
+    Value::Array(
+        signals
+            .iter()
+            .map(|s| json!({"name": s.name, "unit": s.unit, "description": s.description}))
+            .collect(),
+    )
+}
+
+impl LinearExport {
+    /// The names of the positions `a_2..a_n`.
+    fn position_names(&self) -> Vec<String> {
+        let n = self.points.first().map_or(0, |p| p.positions.len());
+        (0..n).map(|i| format!("a_{}", i + 2)).collect()
+    }
+
+    /// Checks that the export can be written in `format`.
+    ///
+    /// # Errors
+    /// [`Error::Option`] for LaTeX of a model too large to write out.
+    pub fn check_format(&self, format: Format) -> Result<()> {
+        if format == Format::Latex && self.states.len() > MAX_LATEX_STATES {
+            return Err(Error::option(
+                "--format latex",
+                format!(
+                    "is for small models: at most {MAX_LATEX_STATES} states, this one has {}; \
+                     use json, matlab, npz or python",
+                    self.states.len()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Writes the export in `format` (check it first with [`LinearExport::check_format`]).
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write(&self, format: Format, w: &mut dyn Write) -> std::io::Result<()> {
+        let text = match format {
+            Format::Json => {
+                serde_json::to_string_pretty(&self.to_json()).expect("plain data") + "\n"
+            }
+            Format::Matlab => self.to_matlab(),
+            Format::Python => self.to_python(),
+            Format::Latex => self.to_latex(),
+            Format::Npz => return w.write_all(&self.to_npz()?),
+        };
+        w.write_all(text.as_bytes())
+    }
+
+    /// The JSON document (docs/linear.md).
+    pub fn to_json(&self) -> Value {
+        let pos_names = self.position_names();
+        let points: Vec<Value> = self
+            .points
+            .iter()
+            .map(|p| {
+                let named = |v: &[f64]| {
+                    Value::Object(
+                        pos_names
+                            .iter()
+                            .zip(v)
+                            .map(|(n, x)| (n.clone(), json!(x)))
+                            .collect(),
+                    )
+                };
+                json!({
+                    "positions": named(&p.positions),
+                    "rates": named(&p.rates),
+                    "A": rows(&p.a), "B": rows(&p.b), "C": rows(&p.c), "D": rows(&p.d),
+                })
+            })
+            .collect();
+        json!({
+            "format": "telescopic linear model",
+            "version": JSON_VERSION,
+            "generator": format!("telescopic {}", env!("CARGO_PKG_VERSION")),
+            "equations": "x' = A x + B u, y = C x + D u",
+            "scene": {"name": self.scene, "file": self.scene_file, "overrides": self.overrides},
+            "configuration": self.configuration,
+            "model": self.model,
+            "contacts": self.contacts.name(),
+            "operating_point": self.operating_point,
+            "states": signals_json(&self.states),
+            "inputs": signals_json(&self.inputs),
+            "outputs": signals_json(&self.outputs),
+            "grid": self.grid.as_ref().map(|(n, v)| json!({"parameter": n, "values": v})),
+            "points": points,
+        })
+    }
+
+    /// Reads a JSON document written by [`LinearExport::to_json`].
+    ///
+    /// # Errors
+    /// [`Error::Analysis`] naming what is missing or malformed.
+    pub fn from_json(text: &str) -> Result<Self> {
+        let bad = |what: &str| Error::Analysis(format!("linear model JSON: {what}"));
+        let v: Value = serde_json::from_str(text).map_err(|e| bad(&e.to_string()))?;
+        if v["format"] != "telescopic linear model" {
+            return Err(bad("`format` is not \"telescopic linear model\""));
+        }
+        if v["version"].as_u64() != Some(JSON_VERSION) {
+            return Err(bad(&format!("`version` is not {JSON_VERSION}")));
+        }
+        let text_of = |x: &Value, what: &str| {
+            x.as_str()
+                .map(str::to_string)
+                .ok_or_else(|| bad(&format!("`{what}` is not a string")))
+        };
+        let signals = |key: &str| -> Result<Vec<Signal>> {
+            v[key]
+                .as_array()
+                .ok_or_else(|| bad(&format!("`{key}` is not a list")))?
+                .iter()
+                .map(|s| {
+                    Ok(Signal {
+                        name: text_of(&s["name"], key)?,
+                        unit: text_of(&s["unit"], key)?,
+                        description: text_of(&s["description"], key)?,
+                    })
+                })
+                .collect()
+        };
+        let matrix = |x: &Value, what: &str| -> Result<DMatrix<f64>> {
+            let rows: Vec<Vec<f64>> = serde_json::from_value(x.clone())
+                .map_err(|e| bad(&format!("`{what}`: {e}")))?;
+            let ncols = rows.first().map_or(0, Vec::len);
+            if rows.iter().any(|r| r.len() != ncols) {
+                return Err(bad(&format!("`{what}` has rows of different lengths")));
+            }
+            Ok(DMatrix::from_row_iterator(rows.len(), ncols, rows.into_iter().flatten()))
+        };
+        // by name: a JSON object's keys need not keep their order (a_10 sorts before a_2)
+        let values = |x: &Value| -> Result<Vec<f64>> {
+            let count = x.as_object().map_or(0, |o| o.len());
+            (0..count)
+                .map(|i| {
+                    x[format!("a_{}", i + 2)]
+                        .as_f64()
+                        .ok_or_else(|| bad(&format!("position a_{} missing", i + 2)))
+                })
+                .collect()
+        };
+        let points = v["points"]
+            .as_array()
+            .ok_or_else(|| bad("`points` is not a list"))?
+            .iter()
+            .map(|p| {
+                Ok(LinearModel {
+                    positions: values(&p["positions"])?,
+                    rates: values(&p["rates"])?,
+                    a: matrix(&p["A"], "A")?,
+                    b: matrix(&p["B"], "B")?,
+                    c: matrix(&p["C"], "C")?,
+                    d: matrix(&p["D"], "D")?,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let grid = match &v["grid"] {
+            Value::Null => None,
+            g => Some((
+                text_of(&g["parameter"], "grid.parameter")?,
+                serde_json::from_value(g["values"].clone()).map_err(|e| bad(&e.to_string()))?,
+            )),
+        };
+        Ok(LinearExport {
+            scene: text_of(&v["scene"]["name"], "scene.name")?,
+            scene_file: text_of(&v["scene"]["file"], "scene.file")?,
+            overrides: serde_json::from_value(v["scene"]["overrides"].clone())
+                .map_err(|e| bad(&e.to_string()))?,
+            configuration: text_of(&v["configuration"], "configuration")?,
+            model: text_of(&v["model"], "model")?,
+            contacts: match v["contacts"].as_str() {
+                Some("closed") => ContactMode::Closed,
+                Some("open") => ContactMode::Open,
+                _ => return Err(bad("`contacts` is not \"closed\" or \"open\"")),
+            },
+            states: signals("states")?,
+            inputs: signals("inputs")?,
+            outputs: signals("outputs")?,
+            grid,
+            operating_point: text_of(&v["operating_point"], "operating_point")?,
+            points,
+        })
+    }
+
+    fn banner(&self, comment: &str) -> String {
+        let scene = if self.overrides.is_empty() {
+            self.scene_file.clone()
+        } else {
+            format!("{} --set {}", self.scene_file, self.overrides.join(" --set "))
+        };
+        [
+            format!(
+                "Linear model x' = A x + B u, y = C x + D u of scene {} ({scene}),",
+                self.scene
+            ),
+            format!(
+                "configuration {}, {}, contacts {}; {}.",
+                self.configuration,
+                self.model,
+                self.contacts.name(),
+                self.operating_point
+            ),
+            format!(
+                "Generated by telescopic {}; states, inputs and outputs: docs/linear.md.",
+                env!("CARGO_PKG_VERSION")
+            ),
+        ]
+        .iter()
+        .map(|l| format!("{comment} {l}\n"))
+        .collect()
+    }
+
+    /// A MATLAB/Octave script: `A`, `B`, `C`, `D` and `sys = ss(...)` with names; for a grid,
+    /// 3-D arrays and an `ss` array with its `SamplingGrid` in MATLAB, a cell array of `ss`
+    /// models in Octave (whose control package has no model arrays).
+    pub fn to_matlab(&self) -> String {
+        let mut s = self.banner("%");
+        s += "if exist('OCTAVE_VERSION', 'builtin')\n  pkg load control\nend\n";
+        let cell = |signals: &[Signal]| {
+            let q: Vec<String> = signals.iter().map(|x| format!("'{}'", x.name)).collect();
+            format!("{{{}}}", q.join(", "))
+        };
+        let units = |signals: &[Signal]| {
+            let q: Vec<String> = signals.iter().map(|x| format!("'{}'", x.unit)).collect();
+            format!("{{{}}}", q.join(", "))
+        };
+        let mat = |m: &DMatrix<f64>| {
+            let r: Vec<String> = rows(m)
+                .iter()
+                .map(|row| row.iter().map(|v| num(*v)).collect::<Vec<_>>().join(" "))
+                .collect();
+            format!("[{}]", r.join(";\n  "))
+        };
+        s += &format!(
+            "StateName = {};\nStateUnit = {};\nInputName = {};\nInputUnit = {};\nOutputName = \
+             {};\nOutputUnit = {};\n",
+            cell(&self.states),
+            units(&self.states),
+            cell(&self.inputs),
+            units(&self.inputs),
+            cell(&self.outputs),
+            units(&self.outputs)
+        );
+        let names = "'StateName', StateName, 'InputName', InputName, 'OutputName', OutputName";
+        match &self.grid {
+            None => {
+                let p = &self.points[0];
+                for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
+                    s += &format!("{name} = {};\n", mat(m));
+                }
+                s += &format!("sys = ss(A, B, C, D, {names});\n");
+            }
+            Some((param, values)) => {
+                let grid: Vec<String> = values.iter().map(|v| num(*v)).collect();
+                s += &format!("{param} = [{}];\n", grid.join(" "));
+                for (k, p) in self.points.iter().enumerate() {
+                    for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
+                        s += &format!("{name}(:, :, {}) = {};\n", k + 1, mat(m));
+                    }
+                }
+                s += &format!(
+                    "if exist('OCTAVE_VERSION', 'builtin')\n  sys = cell(1, numel({param}));\n  \
+                     for k = 1:numel({param})\n    sys{{k}} = ss(A(:, :, k), B(:, :, k), C(:, :, \
+                     k), D(:, :, k), {names});\n  end\nelse\n  sys = ss(A, B, C, D, {names});\n  \
+                     sys.SamplingGrid = struct('{param}', {param});\nend\n"
+                );
+            }
+        }
+        s
+    }
+
+    /// A Python script defining `sys` (a `control.StateSpace` with names; for a grid, a list
+    /// of them and `grid`) and the arrays.
+    pub fn to_python(&self) -> String {
+        let mut s = self.banner("#");
+        s += "import numpy as np\nimport control\n\n";
+        let list = |v: &[String]| {
+            let q: Vec<String> = v.iter().map(|x| format!("{x:?}")).collect();
+            format!("[{}]", q.join(", "))
+        };
+        let arr = |m: &DMatrix<f64>| {
+            let r: Vec<String> = rows(m)
+                .iter()
+                .map(|row| {
+                    format!(
+                        "[{}]",
+                        row.iter().map(|v| num(*v)).collect::<Vec<_>>().join(", ")
+                    )
+                })
+                .collect();
+            format!("np.array([\n    {},\n])", r.join(",\n    "))
+        };
+        s += &format!(
+            "states = {}\ninputs = {}\noutputs = {}\n",
+            list(&names(&self.states)),
+            list(&names(&self.inputs)),
+            list(&names(&self.outputs))
+        );
+        let ss = "control.ss(A, B, C, D, states=states, inputs=inputs, outputs=outputs)";
+        match &self.grid {
+            None => {
+                let p = &self.points[0];
+                for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
+                    s += &format!("{name} = {}\n", arr(m));
+                }
+                s += &format!("sys = {ss}\n");
+            }
+            Some((param, values)) => {
+                let grid: Vec<String> = values.iter().map(|v| num(*v)).collect();
+                s += &format!("grid_parameter = {param:?}\ngrid = np.array([{}])\nsys = []\n", grid.join(", "));
+                for p in &self.points {
+                    for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
+                        s += &format!("{name} = {}\n", arr(m));
+                    }
+                    s += &format!("sys.append({ss})\n");
+                }
+            }
+        }
+        s
+    }
+
+    /// NumPy's `.npz`: `A`, `B`, `C`, `D` (stacked along a first axis over a grid),
+    /// `positions`, `rates` (points x positions), the names and units of states, inputs and
+    /// outputs, and `grid` with `grid_parameter` for a grid.
+    ///
+    /// # Errors
+    /// The zip writer's error.
+    pub fn to_npz(&self) -> std::io::Result<Vec<u8>> {
+        let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+        let options = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Stored);
+        let mut add = |name: &str, array: Array| -> std::io::Result<()> {
+            zip.start_file(format!("{name}.npy"), options)
+                .map_err(std::io::Error::other)?;
+            npy::write(&mut zip, &array)
+        };
+        let stacked = |pick: fn(&LinearModel) -> &DMatrix<f64>| {
+            let first = pick(&self.points[0]);
+            let mut shape = vec![first.nrows(), first.ncols()];
+            if self.grid.is_some() {
+                shape.insert(0, self.points.len());
+            }
+            let data: Vec<f64> = self
+                .points
+                .iter()
+                .flat_map(|p| rows(pick(p)).into_iter().flatten())
+                .collect();
+            (shape, data)
+        };
+        for (name, pick) in [
+            ("A", (|p: &LinearModel| &p.a) as fn(&LinearModel) -> &DMatrix<f64>),
+            ("B", |p| &p.b),
+            ("C", |p| &p.c),
+            ("D", |p| &p.d),
+        ] {
+            let (shape, data) = stacked(pick);
+            add(name, Array::Float { shape, data: &data })?;
+        }
+        let npos = self.points[0].positions.len();
+        for (name, pick) in [
+            ("positions", (|p: &LinearModel| &p.positions) as fn(&LinearModel) -> &Vec<f64>),
+            ("rates", |p| &p.rates),
+        ] {
+            let data: Vec<f64> = self.points.iter().flat_map(|p| pick(p).clone()).collect();
+            add(
+                name,
+                Array::Float {
+                    shape: vec![self.points.len(), npos],
+                    data: &data,
+                },
+            )?;
+        }
+        let pos_names = self.position_names();
+        add(
+            "position_names",
+            Array::Text {
+                shape: vec![pos_names.len()],
+                data: &pos_names,
+            },
+        )?;
+        for (name, signals) in [
+            ("states", &self.states),
+            ("inputs", &self.inputs),
+            ("outputs", &self.outputs),
+        ] {
+            let n = names(signals);
+            let u: Vec<String> = signals.iter().map(|s| s.unit.clone()).collect();
+            add(name, Array::Text { shape: vec![n.len()], data: &n })?;
+            add(
+                &format!("{}_units", name.trim_end_matches('s')),
+                Array::Text { shape: vec![u.len()], data: &u },
+            )?;
+        }
+        if let Some((param, values)) = &self.grid {
+            add("grid", Array::Float { shape: vec![values.len()], data: values })?;
+            add(
+                "grid_parameter",
+                Array::Text {
+                    shape: vec![],
+                    data: std::slice::from_ref(param),
+                },
+            )?;
+        }
+        let cursor = zip.finish().map_err(std::io::Error::other)?;
+        Ok(cursor.into_inner())
+    }
+
+    /// A LaTeX document with the names, units and the entries of `A`, `B`, `C` and `D` (six
+    /// significant digits; the first operating point of a grid).
+    pub fn to_latex(&self) -> String {
+        let esc = |t: &str| t.replace('_', "\\_");
+        let entry = |v: f64| {
+            if v == 0.0 {
+                "0".to_string()
+            } else {
+                let e = v.abs().log10().floor() as i32;
+                let m = v / 10f64.powi(e);
+                // 9.9999995 rounds up to 10.00000
+                let (m, e) = if format!("{:.5}", m.abs()).starts_with("10") {
+                    (m / 10.0, e + 1)
+                } else {
+                    (m, e)
+                };
+                if e == 0 {
+                    format!("{m:.5}")
+                } else {
+                    format!("{m:.5}\\cdot 10^{{{e}}}")
+                }
+            }
+        };
+        let matrix = |m: &DMatrix<f64>| {
+            let r: Vec<String> = rows(m)
+                .iter()
+                .map(|row| row.iter().map(|v| entry(*v)).collect::<Vec<_>>().join(" & "))
+                .collect();
+            format!("\\begin{{bmatrix}}\n{}\n\\end{{bmatrix}}", r.join(" \\\\\n"))
+        };
+        let table = |title: &str, signals: &[Signal]| {
+            let r: Vec<String> = signals
+                .iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    format!("{} & \\texttt{{{}}} & {} \\\\", i + 1, esc(&s.name), esc(&s.unit))
+                })
+                .collect();
+            format!(
+                "\\paragraph{{{title}}}\n\\begin{{tabular}}{{rll}}\n{}\n\\end{{tabular}}\n",
+                r.join("\n")
+            )
+        };
+        let p = &self.points[0];
+        let mut s = self.banner("%");
+        s += "\\documentclass[landscape]{article}\n\\usepackage[margin=1cm]{geometry}\n\
+              \\usepackage{amsmath}\n\\setcounter{MaxMatrixCols}{64}\n\\begin{document}\n\\tiny\n";
+        s += &format!(
+            "\\section*{{Linear model of {}}}\n{}, contacts {}; {}.\n\\[ \\dot x = A x + B u, \\quad y = C x + D u \\]\n",
+            esc(&self.scene),
+            esc(&self.configuration),
+            self.contacts.name(),
+            esc(&self.operating_point)
+        );
+        s += &table("States x", &self.states);
+        s += &table("Inputs u", &self.inputs);
+        s += &table("Outputs y", &self.outputs);
+        for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
+            s += &format!("\\[ {name} = {} \\]\n", matrix(m));
+        }
+        s += "\\end{document}\n";
+        s
+    }
+}

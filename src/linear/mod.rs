@@ -1,0 +1,265 @@
+//! Linear models of a scene with stable names, at one operating point or over a grid of
+//! telescopic positions, and their export to the tools controls engineers use (JSON,
+//! MATLAB/Octave, NumPy, python-control, LaTeX). The states, inputs and outputs are those of
+//! [`telescopic_runtime::linear`]; docs/linear.md describes the formats.
+//!
+//! ```
+//! use telescopic::linear::{LinearizeOptions, linearize};
+//!
+//! let scene = telescopic::Scene::load("scenes/test-rig.toml".as_ref(), &[])?;
+//! let export = linearize(&scene, &LinearizeOptions::default())?;
+//! let point = &export.points[0];
+//! assert_eq!(point.a.nrows(), 20); // 10 coordinates and their rates
+//! assert_eq!(export.states[0].name, "u");
+//! assert_eq!(export.inputs[0].name, "F");
+//! # Ok::<(), telescopic::Error>(())
+//! ```
+
+mod formats;
+mod npy;
+
+pub use formats::{Format, MAX_LATEX_STATES};
+
+use crate::model_choice::{ModelChoice, build_model};
+use crate::{Error, Result};
+use std::str::FromStr;
+use telescopic_runtime::{ContactMode, LinearModel, Lpv, Scene, Signal, configuration_key};
+
+/// Most points of a grid.
+pub const MAX_GRID_POINTS: usize = 10_000;
+
+/// A grid over one telescopic position: `a<k>=FROM:TO:COUNT` (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// Section `k` of `a_k` (2..=n).
+    pub section: usize,
+    /// First value (m).
+    pub from: f64,
+    /// Last value (m).
+    pub to: f64,
+    /// Number of points (2 or more), evenly spaced.
+    pub count: usize,
+}
+
+impl Grid {
+    /// The grid's values (m).
+    pub fn values(&self) -> Vec<f64> {
+        (0..self.count)
+            .map(|i| self.from + (self.to - self.from) * i as f64 / (self.count - 1) as f64)
+            .collect()
+    }
+}
+
+/// Parses `a<k>` into `k`.
+fn position_name(name: &str) -> std::result::Result<usize, String> {
+    name.trim()
+        .strip_prefix('a')
+        .map(|k| k.trim_start_matches('_'))
+        .and_then(|k| k.parse::<usize>().ok())
+        .filter(|&k| k >= 2)
+        .ok_or_else(|| format!("`{name}` is not a telescopic position; use a2, a3, ..."))
+}
+
+impl FromStr for Grid {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let usage = "expected a<k>=FROM:TO:COUNT, e.g. a2=0.35:1.15:9";
+        let (name, range) = s.split_once('=').ok_or(usage)?;
+        let section = position_name(name)?;
+        let parts: Vec<&str> = range.split(':').collect();
+        let [from, to, count] = parts.as_slice() else {
+            return Err(usage.to_string());
+        };
+        let number = |v: &str| {
+            v.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("`{v}` is not a finite number of metres"))
+        };
+        let count = count
+            .trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|c| (2..=MAX_GRID_POINTS).contains(c))
+            .ok_or_else(|| format!("COUNT must be 2 to {MAX_GRID_POINTS} (got `{count}`)"))?;
+        Ok(Grid {
+            section,
+            from: number(from)?,
+            to: number(to)?,
+            count,
+        })
+    }
+}
+
+/// Parses `a2=V,a3=W` into `(k, value)` pairs.
+///
+/// # Errors
+/// A message naming the bad part.
+pub fn parse_positions(s: &str) -> std::result::Result<Vec<(usize, f64)>, String> {
+    s.split(',')
+        .map(|part| {
+            let (name, value) = part
+                .split_once('=')
+                .ok_or_else(|| format!("`{part}`: expected a<k>=VALUE, e.g. a2=1.15"))?;
+            let v = value
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("`{value}` is not a finite number of metres"))?;
+            Ok((position_name(name)?, v))
+        })
+        .collect()
+}
+
+/// Options of [`linearize`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LinearizeOptions {
+    /// Telescopic positions to use, `(k, a_k)` (m); the others come from the scene.
+    pub positions: Vec<(usize, f64)>,
+    /// Take the positions and their speeds of the scene at this time (s); default: the
+    /// scene's start.
+    pub at_time: Option<f64>,
+    /// Closed (linear law) or open contacts.
+    pub contacts: ContactMode,
+    /// Sample the LPV model over a grid of one position (speeds zero).
+    pub grid: Option<Grid>,
+    /// Which model's matrices.
+    pub model: ModelChoice,
+}
+
+/// A linear model, or a grid of them, with everything needed to read it elsewhere.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearExport {
+    /// The scene's name.
+    pub scene: String,
+    /// The scene's file, as given (empty when the caller did not say).
+    pub scene_file: String,
+    /// Its `--set` overrides (empty when the caller did not say).
+    pub overrides: Vec<String>,
+    /// The configuration key.
+    pub configuration: String,
+    /// Which model (`generated model <key>` or `quadrature-assembled model`).
+    pub model: String,
+    /// How the contacts enter.
+    pub contacts: ContactMode,
+    /// States, in the order of the matrices.
+    pub states: Vec<Signal>,
+    /// Inputs.
+    pub inputs: Vec<Signal>,
+    /// Outputs.
+    pub outputs: Vec<Signal>,
+    /// The gridded position (`a_k`) and its values, when a grid was asked for.
+    pub grid: Option<(String, Vec<f64>)>,
+    /// How the operating point was chosen, e.g. `positions of the scene at t = 0 s`.
+    pub operating_point: String,
+    /// One linear model per operating point (one without a grid).
+    pub points: Vec<LinearModel>,
+}
+
+/// The linear model of `scene` at the operating point or grid of `options`.
+///
+/// # Errors
+/// [`Error::Option`] for positions, times or grids outside the scene or the valid overlap;
+/// [`Error::Model`] when no model can be had.
+pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExport> {
+    let chosen = build_model(&scene.params, options.model)?;
+    let model = chosen.model.as_ref();
+    let lpv = Lpv::new(model, options.contacts).map_err(|e| Error::Model(e.to_string()))?;
+    let npos = scene.params.sections.len() - 1;
+    let t = options.at_time.unwrap_or(scene.time.start);
+    if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
+        return Err(Error::option(
+            "--at-time",
+            format!(
+                "{t}: must lie in the scene's time span [{}, {}] s",
+                scene.time.start, scene.time.end
+            ),
+        ));
+    }
+    let mut positions: Vec<f64> = scene.params.positions.iter().map(|p| p.value(t)).collect();
+    let mut rates: Vec<f64> = scene.params.positions.iter().map(|p| p.rate(t)).collect();
+    let mut operating_point = format!("positions and speeds of the scene at t = {t} s");
+    let check = |option: &str, k: usize| {
+        if !(2..=npos + 1).contains(&k) {
+            return Err(Error::option(
+                option,
+                format!(
+                    "a{k}: the scene has {} section(s), so its positions are a2..a{}",
+                    npos + 1,
+                    npos + 1
+                ),
+            ));
+        }
+        Ok(())
+    };
+    if !options.positions.is_empty() {
+        for &(k, v) in &options.positions {
+            check("--positions", k)?;
+            positions[k - 2] = v;
+            rates[k - 2] = 0.0;
+        }
+        operating_point = "positions given (--positions), at rest".to_string();
+    }
+    let in_range = |option: &str, k: usize, v: f64| {
+        let (min, max) = lpv.position_range(k - 2);
+        if v >= min && v < max {
+            Ok(())
+        } else {
+            Err(Error::option(
+                option,
+                format!(
+                    "a{k} = {v} m is outside the valid overlap: it must lie in [{min}, {max}) m"
+                ),
+            ))
+        }
+    };
+    for (i, &v) in positions.iter().enumerate() {
+        in_range("--positions", i + 2, v)?;
+    }
+    let (grid, points) = match &options.grid {
+        None => (None, vec![at(&lpv, &positions, &rates)?]),
+        Some(g) => {
+            check("--grid", g.section)?;
+            let values = g.values();
+            let mut points = Vec::with_capacity(values.len());
+            for &v in &values {
+                in_range("--grid", g.section, v)?;
+                let mut p = positions.clone();
+                p[g.section - 2] = v;
+                points.push(at(&lpv, &p, &vec![0.0; npos])?);
+            }
+            let others = if npos > 1 {
+                format!("; the other positions: {operating_point}")
+            } else {
+                String::new()
+            };
+            operating_point = format!(
+                "a grid of a_{} over [{}, {}] m ({} points), at rest{others}",
+                g.section, g.from, g.to, g.count
+            );
+            (Some((format!("a_{}", g.section), values)), points)
+        }
+    };
+    Ok(LinearExport {
+        scene: scene.name.clone(),
+        scene_file: String::new(),
+        overrides: Vec::new(),
+        configuration: configuration_key(&scene.params),
+        model: chosen.description,
+        contacts: options.contacts,
+        states: lpv.states().to_vec(),
+        inputs: lpv.inputs().to_vec(),
+        outputs: lpv.outputs().to_vec(),
+        grid,
+        operating_point,
+        points,
+    })
+}
+
+fn at(lpv: &Lpv, positions: &[f64], rates: &[f64]) -> Result<LinearModel> {
+    lpv.at(positions, rates)
+        .map_err(|e| Error::option("--positions", e.to_string()))
+}
