@@ -44,6 +44,7 @@
 #![warn(missing_docs)]
 
 pub mod budget;
+pub mod control;
 pub mod converge;
 pub mod equations;
 mod error;

@@ -110,7 +110,20 @@ pub fn closed_contact_stiffness(model: &dyn Model, t: f64) -> DMatrix<f64> {
 /// [`EigenError::IllConditioned`] when the spectrum lost its digits (see the module docs),
 /// [`EigenError::NoConvergence`] or [`EigenError::NonFinite`].
 pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenError> {
-    solve(model, t, true)
+    solve(model, t, &closed_contact_stiffness(model, t), true)
+}
+
+/// [`modal_analysis`] of `model`'s mass matrix with a given stiffness `k` (in computing
+/// coordinates, zero row and column 0): for closed-contact stiffnesses at positions other
+/// than a time's (a linear parameter-varying model's).
+///
+/// # Errors
+/// As [`modal_analysis`].
+pub fn modal_analysis_with(
+    model: &dyn Model,
+    k: &DMatrix<f64>,
+) -> Result<ModalAnalysis, EigenError> {
+    solve(model, f64::NAN, k, true)
 }
 
 /// The eigenvalues `w^2` (1/s^2) of [`modal_analysis`]'s problem, ascending, without its
@@ -120,13 +133,17 @@ pub fn modal_analysis(model: &dyn Model, t: f64) -> Result<ModalAnalysis, EigenE
 /// # Errors
 /// As [`modal_analysis`], but never [`EigenError::IllConditioned`].
 pub fn closed_contact_eigenvalues(model: &dyn Model, t: f64) -> Result<Vec<f64>, EigenError> {
-    solve(model, t, false).map(|m| m.eigenvalues)
+    solve(model, t, &closed_contact_stiffness(model, t), false).map(|m| m.eigenvalues)
 }
 
-fn solve(model: &dyn Model, t: f64, checked: bool) -> Result<ModalAnalysis, EigenError> {
+fn solve(
+    model: &dyn Model,
+    t: f64,
+    k: &DMatrix<f64>,
+    checked: bool,
+) -> Result<ModalAnalysis, EigenError> {
     let n = model.dof();
     let m = model.mass_matrix();
-    let k = closed_contact_stiffness(model, t);
     let free_vehicle = matches!(model.params().drive, Drive::Force(_));
     let r = n - 1;
     // the problem in the relative coordinates p = z[1..]

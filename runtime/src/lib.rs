@@ -45,7 +45,7 @@ pub use contact::{ContactForce, ContactLaw, ContactState};
 pub use contact_table::ContactTable;
 pub use eigen::{
     EigenError, FastestRates, ModalAnalysis, closed_contact_eigenvalues, eigenvalues,
-    fastest_rates, modal_analysis, sample_shape,
+    fastest_rates, modal_analysis, modal_analysis_with, sample_shape,
 };
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};

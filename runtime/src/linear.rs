@@ -278,6 +278,39 @@ impl<'m> Lpv<'m> {
         (below - below.min(above), below)
     }
 
+    /// `K_e` and `D` of `M z'' + D z' + K_e z = b u` with the linear law on every closed
+    /// contact, `f = c g'z + d (g'z' + gdot'z)`, for contact vectors `g`, `gdot`.
+    fn second_order(&self, g: &DMatrix<f64>, gdot: &DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
+        let n = self.model.dof();
+        let law = &self.model.params().contact;
+        let mut k_e = self.model.stiffness_matrix().clone();
+        let mut d = DMatrix::zeros(n, n);
+        if self.contacts == ContactMode::Closed && g.ncols() > 0 {
+            k_e += law.stiffness * g * g.transpose() + law.damping * g * gdot.transpose();
+            d += law.damping * g * g.transpose();
+        }
+        (k_e, d)
+    }
+
+    /// The second-order form at positions `a_2..a_n` (m) moving at `rates` (m/s): `(K_e, D)`
+    /// of `M z'' + D z' + K_e z = b u` (with `M` the model's mass matrix).
+    ///
+    /// # Errors
+    /// As [`Lpv::at`].
+    pub fn second_order_at(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+    ) -> Result<(DMatrix<f64>, DMatrix<f64>), LinearError> {
+        self.at(positions, rates)?;
+        let n = self.model.dof();
+        let nc = self.model.layout().contact_count();
+        let mut g = DMatrix::zeros(n, nc);
+        let mut gdot = DMatrix::zeros(n, nc);
+        self.model.contact_vectors_at(positions, rates, &mut g, &mut gdot);
+        Ok(self.second_order(&g, &gdot))
+    }
+
     /// `A`, `B`, `C`, `D` at positions `a_2..a_n` (m) moving at `rates` (m/s).
     ///
     /// # Errors
@@ -316,14 +349,7 @@ impl<'m> Lpv<'m> {
         let mut gdot = DMatrix::zeros(n, nc);
         model.contact_vectors_at(positions, rates, &mut g, &mut gdot);
         let law = &model.params().contact;
-        // M z'' + D z' + K_e z = b u with the linear law on every closed contact:
-        // f = c g'z + d (g'z' + gdot'z)
-        let mut k_e = model.stiffness_matrix().clone();
-        let mut d = DMatrix::zeros(n, n);
-        if self.contacts == ContactMode::Closed && nc > 0 {
-            k_e += law.stiffness * &g * g.transpose() + law.damping * &g * gdot.transpose();
-            d += law.damping * &g * g.transpose();
-        }
+        let (k_e, d) = self.second_order(&g, &gdot);
         let mut a = DMatrix::zeros(2 * n, 2 * n);
         let mut b = DMatrix::zeros(2 * n, 1);
         for i in 0..n {

@@ -4,6 +4,7 @@
 use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::PathBuf;
+use telescopic::control::DesignOptions;
 use telescopic::linear::{Format, Grid, LinearizeOptions, linearize as run_linearize, parse_positions};
 use telescopic::model_choice::ModelChoice;
 use telescopic::output::{check_stdout_open, write_to};
@@ -88,6 +89,89 @@ pub fn linearize(args: &LinearizeArgs) -> anyhow::Result<()> {
     );
     if let Some(p) = &args.out {
         eprintln!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// Options of `telescopic design`.
+#[derive(Debug, Args)]
+pub struct DesignArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The controller to write: lqr (gain-scheduled state feedback around the drive
+    /// profile), shaper (a ZV/ZVD input shaper of the profile) or lqr+shaper.
+    #[arg(long, default_value = "lqr+shaper", value_name = "KIND")]
+    pub controller: telescopic::control::ControllerKind,
+    /// The drive's force limit (N): the total force saturates there.
+    #[arg(long, default_value_t = DesignOptions::default().force_limit, value_name = "N")]
+    pub force_limit: f64,
+    /// Acceptable tip_rel (m): the LQR weighs it by 1/scale^2.
+    #[arg(long, default_value_t = DesignOptions::default().tip_scale, value_name = "M")]
+    pub tip_scale: f64,
+    /// Acceptable deviation of the vehicle from the rigid travel asked for (m).
+    #[arg(long, default_value_t = DesignOptions::default().vehicle_scale, value_name = "M")]
+    pub vehicle_scale: f64,
+    /// Design points over the moving telescopic position (1 to 200).
+    #[arg(long, default_value_t = DesignOptions::default().grid_points, value_name = "N")]
+    pub grid_points: usize,
+    /// Elastic modes of the LQR's design model (the rigid translation and these modes).
+    #[arg(long, default_value_t = DesignOptions::default().design_modes, value_name = "N")]
+    pub design_modes: usize,
+    /// The shaper: zv or zvd.
+    #[arg(long, default_value = "zvd", value_name = "KIND")]
+    pub shaper: telescopic::control::ShaperKind,
+    /// The controller file (JSON) to write.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Skip the table of variants (four simulations of the scene).
+    #[arg(long)]
+    pub no_table: bool,
+    /// Which model's matrices: auto, generated or assembled.
+    #[arg(long, default_value = "auto", value_name = "MODEL")]
+    pub model: ModelChoice,
+}
+
+/// Runs `telescopic design`.
+pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
+    check_output("--out", Some(&args.out))?;
+    check_stdout_open()?;
+    let scene = args.scene.load()?;
+    let options = DesignOptions {
+        kind: args.controller,
+        force_limit: args.force_limit,
+        tip_scale: args.tip_scale,
+        vehicle_scale: args.vehicle_scale,
+        grid_points: args.grid_points,
+        design_modes: args.design_modes,
+        shaper: args.shaper,
+        model: args.model,
+    };
+    let controller = telescopic::control::design(&scene, &options)?;
+    write_to(Some(&args.out), |w| w.write_all(controller.to_json().as_bytes()))?;
+    eprintln!(
+        "{}: controller {} with {} design point(s){}; wrote {}",
+        scene.name,
+        controller.kind,
+        controller.schedule.len(),
+        controller
+            .schedule_parameter
+            .as_ref()
+            .map_or(String::new(), |p| format!(" over {p}")),
+        args.out.display()
+    );
+    if !args.no_table {
+        let rows = telescopic::control::compare_variants(
+            &scene,
+            &options,
+            &super::progress::Progress::new(),
+        )?;
+        let text = format!(
+            "residual vibration: standard deviation of tip_rel from t = {} s (the drive's last \
+             change) to the end\n{}",
+            rows[0].metrics.window_start,
+            telescopic::control::variants_table(&rows)
+        );
+        write_to(None, |w| w.write_all(text.as_bytes()))?;
     }
     Ok(())
 }

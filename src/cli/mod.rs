@@ -43,6 +43,9 @@ enum Command {
     /// stable state, input and output names, at one operating point or over a grid; as JSON,
     /// MATLAB/Octave, NumPy (.npz), python-control or LaTeX.
     Linearize(control::LinearizeArgs),
+    /// Design a vibration-suppressing controller (gain-scheduled LQR, input shaper, or both)
+    /// on the linear models, write it as JSON, and compare the variants on the full model.
+    Design(control::DesignArgs),
     /// Evaluation error of the shape functions for modes 1..30: the paper's printed forms
     /// against the cancellation-free ones, both measured in 512-bit arithmetic.
     ShapeErrors(analysis::ShapeErrorsArgs),
@@ -94,6 +97,7 @@ impl Cli {
             Command::Converge(args) => analysis::converge(&args),
             Command::ShapeErrors(args) => analysis::shape_errors(&args),
             Command::Linearize(args) => control::linearize(&args),
+            Command::Design(args) => control::design(&args),
         }
     }
 }

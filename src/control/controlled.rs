@@ -1,0 +1,255 @@
+//! A controller applied to the full nonlinear model with clearance: a [`Model`] that wraps
+//! the scene's own and replaces its drive force by the controller's saturated law, so every
+//! integrator, the contact events and the outputs work unchanged. The output gains a
+//! `drive_force` column: the total force the drive applies.
+
+use super::design::{Controller, interpolate_index};
+use crate::{Error, Result};
+use telescopic_runtime::nalgebra::{DMatrix, DVector};
+use telescopic_runtime::{ContactState, ContactTable, Drive, Layout, Model, ModelParams, Profile};
+
+/// The rigid reference `u_ref(t)`, `u_ref'(t)`: piecewise quadratic between nodes, exact for
+/// a piecewise-constant force.
+struct Reference {
+    times: Vec<f64>,
+    /// `(u, v, a)` at each node; `a` holds until the next.
+    states: Vec<(f64, f64, f64)>,
+}
+
+impl Reference {
+    /// Integrates `u'' = f(t) / m` from rest at `start` to `end`, on nodes at the profile's
+    /// breakpoints and at most `step` apart, with the acceleration at each interval's
+    /// midpoint.
+    fn new(force: &Profile, mass: f64, start: f64, end: f64, step: f64) -> Self {
+        let mut nodes: Vec<f64> = force
+            .breakpoints()
+            .into_iter()
+            .filter(|&b| b > start && b < end)
+            .collect();
+        let count = ((end - start) / step).ceil() as usize;
+        nodes.extend((0..=count).map(|i| (start + i as f64 * step).min(end)));
+        nodes.sort_by(f64::total_cmp);
+        nodes.dedup();
+        let mut states = Vec::with_capacity(nodes.len());
+        let (mut u, mut v) = (0.0, 0.0);
+        for w in nodes.windows(2) {
+            let (t0, t1) = (w[0], w[1]);
+            let a = force.value(0.5 * (t0 + t1)) / mass;
+            states.push((u, v, a));
+            let h = t1 - t0;
+            u += v * h + 0.5 * a * h * h;
+            v += a * h;
+        }
+        states.push((u, v, 0.0));
+        Reference {
+            times: nodes,
+            states,
+        }
+    }
+
+    /// `(u_ref, u_ref')` at `t` (s); constant extrapolation of the motion outside.
+    fn at(&self, t: f64) -> (f64, f64) {
+        let i = self.times.partition_point(|&x| x <= t).saturating_sub(1);
+        let (u, v, a) = self.states[i];
+        let h = (t - self.times[i]).max(0.0);
+        (u + v * h + 0.5 * a * h * h, v + a * h)
+    }
+}
+
+/// The control law, ready to evaluate: allocation-free per call.
+pub struct ControlLaw {
+    feedforward: Profile,
+    reference: Reference,
+    /// One gain row per schedule point (empty without LQR).
+    gains: Vec<Vec<f64>>,
+    schedule: Vec<super::design::SchedulePoint>,
+    /// `(index into the scene's positions, k)` of the scheduled position.
+    parameter: Option<usize>,
+    positions: Vec<Profile>,
+    limit: f64,
+}
+
+impl ControlLaw {
+    /// The law of `controller` on `params` over `[start, end]` s.
+    pub fn new(controller: &Controller, params: &ModelParams, start: f64, end: f64) -> Self {
+        let parameter = controller
+            .schedule_parameter
+            .as_ref()
+            .and_then(|n| n.trim_start_matches("a_").parse::<usize>().ok());
+        ControlLaw {
+            feedforward: controller.feedforward.clone(),
+            reference: Reference::new(
+                &controller.feedforward,
+                controller.total_mass_kg,
+                start,
+                end,
+                1e-3,
+            ),
+            gains: controller
+                .schedule
+                .iter()
+                .filter_map(|p| p.k.first().cloned())
+                .collect(),
+            schedule: controller.schedule.clone(),
+            parameter,
+            positions: params.positions.clone(),
+            limit: controller.force_limit_n,
+        }
+    }
+
+    /// The scheduled gains around time `t`: `(i, j, w)`.
+    fn weights(&self, t: f64) -> (usize, usize, f64) {
+        match self.parameter {
+            Some(k) => interpolate_index(&self.schedule, k, self.positions[k - 2].value(t)),
+            None => (0, 0, 0.0),
+        }
+    }
+
+    /// The total drive force (N) at `t`, state `y`, and whether it saturated.
+    pub fn force(&self, t: f64, y: &[f64]) -> (f64, bool) {
+        let mut f = self.feedforward.value(t);
+        if !self.gains.is_empty() {
+            let n = y.len() / 2;
+            let (u_ref, v_ref) = self.reference.at(t);
+            let (i, j, w) = self.weights(t);
+            let (ki, kj) = (&self.gains[i], &self.gains[j]);
+            let mut feedback = 0.0;
+            for (m, &ym) in y.iter().enumerate() {
+                let e = if m == 0 {
+                    ym - u_ref
+                } else if m == n {
+                    ym - v_ref
+                } else {
+                    ym
+                };
+                feedback += ((1.0 - w) * ki[m] + w * kj[m]) * e;
+            }
+            f -= feedback;
+        }
+        if f.abs() > self.limit {
+            (self.limit.copysign(f), true)
+        } else {
+            (f, false)
+        }
+    }
+
+    /// `dF/dy_m` at `t` (zero when saturated or without feedback), as a function of `m`.
+    fn gradient(&self, t: f64, y: &[f64]) -> Option<impl Fn(usize) -> f64 + '_> {
+        if self.gains.is_empty() || self.force(t, y).1 {
+            return None;
+        }
+        let (i, j, w) = self.weights(t);
+        Some(move |m: usize| -((1.0 - w) * self.gains[i][m] + w * self.gains[j][m]))
+    }
+}
+
+/// The scene's model with its drive replaced by a controller.
+pub struct Controlled<'m> {
+    base: &'m dyn Model,
+    law: ControlLaw,
+    /// The base parameters with the feedforward profile as the drive (its breakpoints end
+    /// the integrator's steps).
+    params: ModelParams,
+    /// `M^-1 b`: where a change of the drive force goes in the accelerations.
+    drive_response: Vec<f64>,
+}
+
+impl<'m> Controlled<'m> {
+    /// Wraps `base` with `controller` over `[start, end]` s.
+    ///
+    /// # Errors
+    /// [`Error::Model`] when the mass matrix cannot be factored.
+    pub fn new(base: &'m dyn Model, controller: &Controller, start: f64, end: f64) -> Result<Self> {
+        let response = base
+            .mass_matrix()
+            .clone()
+            .cholesky()
+            .ok_or_else(|| Error::Model("the mass matrix is not positive definite".into()))?
+            .solve(base.drive_vector());
+        let mut params = base.params().clone();
+        params.drive = Drive::Force(controller.feedforward.clone());
+        Ok(Controlled {
+            base,
+            law: ControlLaw::new(controller, base.params(), start, end),
+            params,
+            drive_response: response.iter().copied().collect(),
+        })
+    }
+
+    /// The control law.
+    pub fn law(&self) -> &ControlLaw {
+        &self.law
+    }
+
+    fn base_force(&self, t: f64) -> f64 {
+        self.base.params().drive_profile().value(t)
+    }
+}
+
+impl Model for Controlled<'_> {
+    fn layout(&self) -> &Layout {
+        self.base.layout()
+    }
+    fn params(&self) -> &ModelParams {
+        &self.params
+    }
+    fn mass_matrix(&self) -> &DMatrix<f64> {
+        self.base.mass_matrix()
+    }
+    fn stiffness_matrix(&self) -> &DMatrix<f64> {
+        self.base.stiffness_matrix()
+    }
+    fn drive_vector(&self) -> &DVector<f64> {
+        self.base.drive_vector()
+    }
+    fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
+        self.base.contact_vectors(t, g, gdot)
+    }
+    fn contact_vectors_at(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+        g: &mut DMatrix<f64>,
+        gdot: &mut DMatrix<f64>,
+    ) {
+        self.base.contact_vectors_at(positions, rates, g, gdot)
+    }
+    fn contact_table(&self) -> Option<&ContactTable> {
+        self.base.contact_table()
+    }
+    fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
+        self.base.contact_gaps(t, y, xi, xi_dot)
+    }
+    fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
+        self.base.rhs(t, y, states, ydot);
+        let n = self.dof();
+        let change = self.law.force(t, y).0 - self.base_force(t);
+        for (a, r) in ydot[n..].iter_mut().zip(&self.drive_response) {
+            *a += r * change;
+        }
+    }
+    fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
+        self.base.jacobian(t, y, states, jac);
+        let n = self.dof();
+        if let Some(grad) = self.law.gradient(t, y) {
+            for (i, r) in self.drive_response.iter().enumerate() {
+                for j in 0..2 * n {
+                    jac[(n + i, j)] += r * grad(j);
+                }
+            }
+        }
+    }
+    fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
+        self.base.displacement(section, x, z)
+    }
+    fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
+        let last = out.len() - 1;
+        self.base.outputs(t, y, ydot, &mut out[..last]);
+        out[last] = self.law.force(t, y).0;
+    }
+    fn output_names(&self) -> Vec<String> {
+        let mut names = self.base.output_names();
+        names.push("drive_force".into());
+        names
+    }
+}

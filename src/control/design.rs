@@ -1,0 +1,535 @@
+//! Vibration suppression for a force-driven telescope: an LQR state feedback on the
+//! closed-contact linear model, gain-scheduled over the moving telescopic position, that
+//! tracks the rigid travel the drive profile asks for; a ZV/ZVD input shaper of the drive
+//! profile tuned to the first mode along the schedule; or both. The controller file records
+//! every grid point's positions, `A`, `B`, `Q`, `R` and `K`, so anyone can check the design.
+//!
+//! The law applied to the full nonlinear model (with clearance) is
+//!
+//! ```text
+//! F(t, x) = sat( F_ff(t) - K(a(t)) (x - x_ref(t)), +-F_max )
+//! ```
+//!
+//! with `F_ff` the drive profile (shaped or not), `x_ref` the rigid motion it gives the whole
+//! telescope (`u_ref'' = F_ff / m_total`, every other coordinate zero) and `K` interpolated
+//! linearly in the moving position between the grid points.
+
+use super::riccati::care;
+use super::shaper::{ShaperKind, jumps, shape};
+use crate::linear::Grid;
+use crate::model_choice::{ModelChoice, build_model};
+use std::ops::AddAssign;
+use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
+use crate::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+use telescopic_runtime::nalgebra::DMatrix;
+use telescopic_runtime::{Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues};
+
+/// Which controller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum ControllerKind {
+    /// The gain-scheduled LQR state feedback around the drive profile.
+    #[serde(rename = "lqr")]
+    Lqr,
+    /// The drive profile through an input shaper, no feedback.
+    #[serde(rename = "shaper")]
+    Shaper,
+    /// The LQR around the shaped profile.
+    #[default]
+    #[serde(rename = "lqr+shaper")]
+    LqrShaper,
+}
+
+impl ControllerKind {
+    /// Whether the kind has the LQR feedback.
+    pub fn has_lqr(self) -> bool {
+        matches!(self, ControllerKind::Lqr | ControllerKind::LqrShaper)
+    }
+
+    /// Whether the kind shapes the drive profile.
+    pub fn has_shaper(self) -> bool {
+        matches!(self, ControllerKind::Shaper | ControllerKind::LqrShaper)
+    }
+}
+
+impl FromStr for ControllerKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "lqr" => Ok(ControllerKind::Lqr),
+            "shaper" => Ok(ControllerKind::Shaper),
+            "lqr+shaper" => Ok(ControllerKind::LqrShaper),
+            _ => Err(format!("`{s}` is not a controller; use lqr, shaper or lqr+shaper")),
+        }
+    }
+}
+
+impl fmt::Display for ControllerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ControllerKind::Lqr => "lqr",
+            ControllerKind::Shaper => "shaper",
+            ControllerKind::LqrShaper => "lqr+shaper",
+        })
+    }
+}
+
+/// Settings of [`design`]; the defaults are Bryson's rule with the scales below.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignOptions {
+    /// The controller.
+    pub kind: ControllerKind,
+    /// The drive's force limit (N): the total force saturates there (default 300).
+    pub force_limit: f64,
+    /// Acceptable `tip_rel` (m): its weight is `1 / tip^2` (default 0.01).
+    pub tip_scale: f64,
+    /// Acceptable deviation of the vehicle from the rigid travel asked for (m): weight
+    /// `1 / vehicle^2` (default 0.01).
+    pub vehicle_scale: f64,
+    /// Grid points over the moving position's range (default 5; 1 for fixed positions).
+    pub grid_points: usize,
+    /// Elastic modes of the design model (default 3): the LQR is designed on the rigid
+    /// translation and these modes (a modal truncation of the closed-contact linear model),
+    /// whose Riccati equation is well conditioned; the gain acts on the full state.
+    pub design_modes: usize,
+    /// The shaper's kind (default ZVD).
+    pub shaper: ShaperKind,
+    /// Which model's matrices.
+    pub model: ModelChoice,
+}
+
+impl Default for DesignOptions {
+    fn default() -> Self {
+        DesignOptions {
+            kind: ControllerKind::LqrShaper,
+            force_limit: 300.0,
+            tip_scale: 0.01,
+            vehicle_scale: 0.01,
+            grid_points: 5,
+            design_modes: 3,
+            shaper: ShaperKind::Zvd,
+            model: ModelChoice::Auto,
+        }
+    }
+}
+
+/// Most grid points of a schedule.
+pub const MAX_GRID_POINTS: usize = 200;
+
+/// One design point of the schedule. The design model is the modal truncation of the
+/// closed-contact linear model: modal coordinates `eta = W x` (the rigid translation and the
+/// first elastic modes, mass-normalized, then their rates), `eta' = A eta + B u`; the LQR
+/// gain on it is `K_modal = R^-1 B' X` with `X` the stabilizing solution of the Riccati
+/// equation of `(A, B, Q, R)`, and on the full state `K = K_modal W`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SchedulePoint {
+    /// Telescopic positions `a_2..a_n` (m).
+    pub positions: Vec<f64>,
+    /// State matrix of the design model, rows.
+    #[serde(rename = "A")]
+    pub a: Vec<Vec<f64>>,
+    /// Input matrix of the design model, rows.
+    #[serde(rename = "B")]
+    pub b: Vec<Vec<f64>>,
+    /// State weight on the design model's states, rows.
+    #[serde(rename = "Q")]
+    pub q: Vec<Vec<f64>>,
+    /// Input weight, rows.
+    #[serde(rename = "R")]
+    pub r: Vec<Vec<f64>>,
+    /// The gain on the design model's states, rows; empty for a shaper alone.
+    #[serde(rename = "K_modal")]
+    pub k_modal: Vec<Vec<f64>>,
+    /// The projection `eta = W x` from the full state to the design model's, rows.
+    #[serde(rename = "W")]
+    pub w: Vec<Vec<f64>>,
+    /// The gain on the full state (`u = -K x`, `K = K_modal W`), rows; empty for a shaper
+    /// alone.
+    #[serde(rename = "K")]
+    pub k: Vec<Vec<f64>>,
+    /// First elastic mode: frequency (Hz) and damping ratio, for the shaper.
+    pub first_mode_hz: f64,
+    /// Its damping ratio.
+    pub first_mode_damping: f64,
+    /// Relative residual of the Riccati solution (0 without LQR).
+    pub riccati_residual: f64,
+    /// Largest real part of the closed-loop eigenvalues (1/s; 0 without LQR).
+    pub closed_loop_abscissa: f64,
+}
+
+/// A designed controller: what `design` writes and `simulate --controller` reads.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Controller {
+    /// `telescopic controller`.
+    pub format: String,
+    /// Layout version of the file.
+    pub version: u32,
+    /// The tool that wrote it.
+    pub generator: String,
+    /// The scene designed for.
+    pub scene: String,
+    /// Its configuration key (a scene of another configuration is refused).
+    pub configuration: String,
+    /// The state names, in the order of the gains.
+    pub states: Vec<String>,
+    /// The controller.
+    pub kind: ControllerKind,
+    /// Force limit (N).
+    pub force_limit_n: f64,
+    /// `tip_rel` scale of the weights (m).
+    pub tip_scale_m: f64,
+    /// Vehicle scale of the weights (m).
+    pub vehicle_scale_m: f64,
+    /// Total mass of the telescope, vehicle and load (kg): the rigid reference's.
+    pub total_mass_kg: f64,
+    /// The scheduled position (`a_k`), if the positions move.
+    pub schedule_parameter: Option<String>,
+    /// The design points, ordered by the scheduled position.
+    pub schedule: Vec<SchedulePoint>,
+    /// The shaper, if any.
+    pub shaper: Option<ShaperKind>,
+    /// The feedforward force: the drive profile, shaped or not.
+    pub feedforward: Profile,
+}
+
+fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+        .collect()
+}
+
+/// The first elastic mode of `A`: frequency (Hz) and damping ratio, from the eigenvalue pair
+/// of least magnitude with a non-zero imaginary part.
+fn first_mode(a: &DMatrix<f64>) -> Result<(f64, f64)> {
+    let ev = eigenvalues(a.clone(), "eigenvalues of the closed-contact linear model")
+        .map_err(|e| Error::Analysis(e.to_string()))?;
+    let l = ev
+        .iter()
+        .filter(|l| l.im > 1e-9 * l.norm().max(1e-300))
+        .min_by(|x, y| x.norm().total_cmp(&y.norm()))
+        .ok_or_else(|| Error::Analysis("the linear model has no oscillating mode".into()))?;
+    let omega = l.norm();
+    Ok((omega / (2.0 * std::f64::consts::PI), -l.re / omega))
+}
+
+/// The modal design model of one grid point.
+struct ModalDesign {
+    /// Mass-normalized basis: the rigid translation, then the first elastic modes (columns).
+    phi: DMatrix<f64>,
+    /// `eta' = A eta + B u` for `eta = [coordinates, rates]`.
+    a: DMatrix<f64>,
+    b: DMatrix<f64>,
+    /// `eta = W x`.
+    w: DMatrix<f64>,
+}
+
+/// The rigid translation and the first `modes` elastic modes of the closed-contact model as
+/// a design model: `M`-orthonormal basis `Phi`, `eta = Phi' M z`, and the projected
+/// second-order system.
+fn modal_design(
+    model: &dyn Model,
+    modal: &ModalAnalysis,
+    k_e: &DMatrix<f64>,
+    d: &DMatrix<f64>,
+    modes: usize,
+) -> ModalDesign {
+    let n = model.dof();
+    let m = model.mass_matrix();
+    let keep = modes.min(modal.shapes.len());
+    let mut phi = DMatrix::zeros(n, keep + 1);
+    // the translation is z = e_0 in computing coordinates; the elastic modes carry no
+    // momentum, so the basis is M-orthonormal
+    phi[(0, 0)] = 1.0 / m[(0, 0)].sqrt();
+    for (i, v) in modal.shapes.iter().take(keep).enumerate() {
+        phi.column_mut(i + 1).copy_from(v);
+    }
+    let r = keep + 1;
+    let kr = phi.transpose() * k_e * &phi;
+    let dr = phi.transpose() * d * &phi;
+    let br = phi.transpose() * model.drive_vector();
+    let mut a = DMatrix::zeros(2 * r, 2 * r);
+    a.view_mut((0, r), (r, r)).fill_with_identity();
+    a.view_mut((r, 0), (r, r)).copy_from(&(-kr));
+    a.view_mut((r, r), (r, r)).copy_from(&(-dr));
+    let mut b = DMatrix::zeros(2 * r, 1);
+    b.view_mut((r, 0), (r, 1)).copy_from(&br);
+    let proj = phi.transpose() * m;
+    let mut w = DMatrix::zeros(2 * r, 2 * n);
+    w.view_mut((0, 0), (r, n)).copy_from(&proj);
+    w.view_mut((r, n), (r, n)).copy_from(&proj);
+    ModalDesign { phi, a, b, w }
+}
+
+/// Designs the controller of `options.kind` for `scene`.
+///
+/// # Errors
+/// [`Error::Option`] for settings out of range or a scene the design does not cover (a
+/// prescribed motion, more than one moving position, a shaper on a force that is not
+/// piecewise constant); [`Error::Analysis`] when the Riccati equation has no acceptable
+/// solution at a grid point (the message names the point and the failed check).
+pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
+    let Drive::Force(force) = &scene.params.drive else {
+        return Err(Error::option(
+            "--controller",
+            "the design needs a force-driven scene (the drive force is the input)",
+        ));
+    };
+    for (name, v) in [
+        ("--force-limit", options.force_limit),
+        ("--tip-scale", options.tip_scale),
+        ("--vehicle-scale", options.vehicle_scale),
+    ] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(Error::option(name, format!("must be a finite number > 0 (got {v})")));
+        }
+    }
+    if !(1..=MAX_GRID_POINTS).contains(&options.grid_points) {
+        return Err(Error::option(
+            "--grid-points",
+            format!("must be 1 to {MAX_GRID_POINTS} (got {})", options.grid_points),
+        ));
+    }
+    let moving: Vec<usize> = scene
+        .params
+        .positions
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| !p.is_constant())
+        .map(|(i, _)| i)
+        .collect();
+    if moving.len() > 1 {
+        return Err(Error::option(
+            "--controller",
+            "gain scheduling over more than one moving telescopic position is not supported; \
+             design at fixed positions (--set telescope.positions=[...])",
+        ));
+    }
+    // the schedule: the moving position over its range in the span, else one point
+    let (parameter, grid) = match moving.first() {
+        Some(&i) => {
+            let (lo, hi) = scene.params.positions[i].range(scene.time.start, scene.time.end);
+            let count = options.grid_points.max(2);
+            (Some(i + 2), Some(Grid { section: i + 2, from: lo, to: hi, count }))
+        }
+        None => (None, None),
+    };
+    let chosen = build_model(&scene.params, options.model)?;
+    let model = chosen.model.as_ref();
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
+    let n = model.dof();
+    if !(1..n).contains(&options.design_modes) {
+        return Err(Error::option(
+            "--design-modes",
+            format!("must be 1 to {} (the model's elastic modes; got {})", n - 1, options.design_modes),
+        ));
+    }
+    let npos = scene.params.positions.len();
+    let here: Vec<f64> = scene.params.positions.iter().map(|p| p.value(scene.time.start)).collect();
+    let points: Vec<Vec<f64>> = match &grid {
+        Some(g) => g
+            .values()
+            .into_iter()
+            .map(|v| {
+                let mut p = here.clone();
+                p[g.section - 2] = v;
+                p
+            })
+            .collect(),
+        None => vec![here],
+    };
+    let tip_row = lpv.outputs().iter().position(|s| s.name == "tip_rel").expect("tip_rel");
+    let mut schedule = Vec::new();
+    for (j, positions) in points.iter().enumerate() {
+        let at = |e: &dyn fmt::Display| {
+            Error::Analysis(format!("grid point {} (positions {positions:?} m): {e}", j + 1))
+        };
+        let full = lpv.at(positions, &vec![0.0; npos]).map_err(|e| at(&e))?;
+        let (f1, zeta1) = first_mode(&full.a)?;
+        let (k_e, d) = lpv
+            .second_order_at(positions, &vec![0.0; npos])
+            .map_err(|e| at(&e))?;
+        let modal = modal_analysis_with(model, &k_e).map_err(|e| at(&e))?;
+        let design = modal_design(model, &modal, &k_e, &d, options.design_modes);
+        let c_tip = full.c.view((tip_row, 0), (1, n)).into_owned() * &design.phi;
+        let m2 = design.a.nrows();
+        let mut q = DMatrix::zeros(m2, m2);
+        q.view_mut((0, 0), (m2 / 2, m2 / 2)).copy_from(
+            &(c_tip.transpose() * &c_tip / (options.tip_scale * options.tip_scale)),
+        );
+        let u_row = design.phi.row(0).into_owned();
+        q.view_mut((0, 0), (m2 / 2, m2 / 2)).add_assign(
+            &(u_row.transpose() * &u_row / (options.vehicle_scale * options.vehicle_scale)),
+        );
+        let r = DMatrix::from_element(1, 1, 1.0 / (options.force_limit * options.force_limit));
+        let (k_modal, k_full, residual, abscissa) = if options.kind.has_lqr() {
+            let solution = care(&design.a, &design.b, &q, &r).map_err(|e| at(&e))?;
+            let k_full = &solution.k * &design.w;
+            (
+                rows(&solution.k),
+                rows(&k_full),
+                solution.residual,
+                solution.closed_loop_abscissa,
+            )
+        } else {
+            (Vec::new(), Vec::new(), 0.0, 0.0)
+        };
+        schedule.push(SchedulePoint {
+            positions: positions.clone(),
+            a: rows(&design.a),
+            b: rows(&design.b),
+            q: rows(&q),
+            r: rows(&r),
+            k_modal,
+            w: rows(&design.w),
+            k: k_full,
+            first_mode_hz: f1,
+            first_mode_damping: zeta1,
+            riccati_residual: residual,
+            closed_loop_abscissa: abscissa,
+        });
+    }
+    let states: Vec<String> = lpv.states().iter().map(|s| s.name.clone()).collect();
+    let feedforward = if options.kind.has_shaper() {
+        let j = jumps(force, scene.time.start).map_err(|e| Error::option("--controller", e))?;
+        let at = |t: f64| -> (f64, f64) {
+            let point = match parameter {
+                Some(k) => interpolate_index(&schedule, k, scene.params.positions[k - 2].value(t)),
+                None => (0, 0, 0.0),
+            };
+            let (a, b, w) = point;
+            let lerp = |x: f64, y: f64| x + w * (y - x);
+            let (pa, pb) = (&schedule[a], &schedule[b]);
+            (
+                2.0 * std::f64::consts::PI * lerp(pa.first_mode_hz, pb.first_mode_hz),
+                lerp(pa.first_mode_damping, pb.first_mode_damping),
+            )
+        };
+        shape(&j, options.shaper, at)
+    } else {
+        force.clone()
+    };
+    Ok(Controller {
+        format: "telescopic controller".into(),
+        version: 1,
+        generator: format!("telescopic {}", env!("CARGO_PKG_VERSION")),
+        scene: scene.name.clone(),
+        configuration: configuration_key(&scene.params),
+        states,
+        kind: options.kind,
+        force_limit_n: options.force_limit,
+        tip_scale_m: options.tip_scale,
+        vehicle_scale_m: options.vehicle_scale,
+        total_mass_kg: scene.params.total_mass(),
+        schedule_parameter: parameter.map(|k| format!("a_{k}")),
+        schedule,
+        shaper: options.kind.has_shaper().then_some(options.shaper),
+        feedforward,
+    })
+}
+
+/// The two schedule points around position value `a` of `a_k` and the weight of the second:
+/// `(i, j, w)`, clamped at the ends.
+pub fn interpolate_index(schedule: &[SchedulePoint], k: usize, a: f64) -> (usize, usize, f64) {
+    let x = |p: &SchedulePoint| p.positions[k - 2];
+    let last = schedule.len() - 1;
+    if last == 0 || a <= x(&schedule[0]) {
+        return (0, 0, 0.0);
+    }
+    if a >= x(&schedule[last]) {
+        return (last, last, 0.0);
+    }
+    let j = schedule.partition_point(|p| x(p) <= a).clamp(1, last);
+    let (x0, x1) = (x(&schedule[j - 1]), x(&schedule[j]));
+    (j - 1, j, (a - x0) / (x1 - x0))
+}
+
+impl Controller {
+    /// The controller file (JSON).
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("plain data") + "\n"
+    }
+
+    /// Reads a controller file.
+    ///
+    /// # Errors
+    /// [`Error::Analysis`] naming what is malformed.
+    pub fn from_json(text: &str) -> Result<Self> {
+        let c: Controller = serde_json::from_str(text)
+            .map_err(|e| Error::Analysis(format!("controller file: {e}")))?;
+        if c.format != "telescopic controller" || c.version != 1 {
+            return Err(Error::Analysis(
+                "controller file: not a telescopic controller of version 1".into(),
+            ));
+        }
+        Ok(c)
+    }
+
+    /// Checks that the controller fits `scene`: the same configuration and states, a force
+    /// drive.
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the mismatch.
+    pub fn check_fits(&self, scene: &Scene) -> Result<()> {
+        let key = configuration_key(&scene.params);
+        if key != self.configuration {
+            return Err(Error::option(
+                "--controller",
+                format!(
+                    "the controller was designed for configuration {} (scene {}), the scene is \
+                     {key}",
+                    self.configuration, self.scene
+                ),
+            ));
+        }
+        let dof = scene.params.modes().iter().sum::<usize>();
+        if self.states.len() != 2 * dof || self.schedule.is_empty() {
+            return Err(Error::option(
+                "--controller",
+                format!(
+                    "the controller has {} states and {} design points; the scene's model has \
+                     {} states",
+                    self.states.len(),
+                    self.schedule.len(),
+                    2 * dof
+                ),
+            ));
+        }
+        if self.kind.has_lqr()
+            && self
+                .schedule
+                .iter()
+                .any(|p| p.k.len() != 1 || p.k[0].len() != 2 * dof)
+        {
+            return Err(Error::option("--controller", "a gain K has the wrong size"));
+        }
+        if !matches!(scene.params.drive, Drive::Force(_)) {
+            return Err(Error::option(
+                "--controller",
+                "the scene has a prescribed motion; a controller drives a force",
+            ));
+        }
+        if let Some(name) = &self.schedule_parameter {
+            let k: usize = name.trim_start_matches("a_").parse().unwrap_or(0);
+            if k < 2 || k > scene.params.sections.len() {
+                return Err(Error::option(
+                    "--controller",
+                    format!("the schedule runs over {name}, which the scene does not have"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The feedforward profile as a piecewise-constant one, if it is (for the summary).
+    pub fn feedforward_steps(&self) -> Option<(&[f64], &[f64])> {
+        match &self.feedforward {
+            Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values }) => {
+                Some((times, values))
+            }
+            _ => None,
+        }
+    }
+}
