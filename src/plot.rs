@@ -52,6 +52,9 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
             "top of section 1 relative to the foot (Fig. 10)",
         ),
     ];
+    if names.iter().any(|n| n == "drive_force") {
+        out.push(panel("drive_force", "drive_force [N]", "force of the drive on the vehicle"));
+    }
     let gaps: Vec<&String> = names.iter().filter(|n| n.starts_with("xi_2_")).collect();
     if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
         out.push(panel(

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use telescopic::Scene;
 use telescopic::model_choice::ModelChoice;
 use telescopic::plot::{Curve, plot};
+use telescopic::control::{Controller, drive_stop, metrics, simulate_controlled};
 use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
 
 /// Options of `telescopic simulate`.
@@ -42,8 +43,12 @@ pub struct SimulateArgs {
     pub plot: Option<PathBuf>,
     /// A second scene to simulate with the same method and overlay in the plot (e.g. the
     /// case-study without clearance).
-    #[arg(long, value_name = "SCENE2", requires = "plot")]
+    #[arg(long, value_name = "SCENE2", requires = "plot", conflicts_with = "controller")]
     pub compare: Option<PathBuf>,
+    /// Drive the scene with this controller (a file of `telescopic design`) on the full
+    /// model; the run without it is made too, for the comparison in the summary and the plot.
+    #[arg(long, value_name = "CONTROLLER.json")]
+    pub controller: Option<PathBuf>,
     /// Which model computes the right-hand side: auto, generated or assembled.
     #[arg(long, default_value = "auto", value_name = "MODEL")]
     pub model: ModelChoice,
@@ -62,6 +67,17 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         Some(path) => Some(Scene::load(path, &args.scene.overrides)?),
         None => None,
     };
+    let controller = match &args.controller {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
+            let c = Controller::from_json(&text)
+                .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
+            c.check_fits(&scene)?;
+            Some(c)
+        }
+        None => None,
+    };
     let options = SimulationOptions {
         method: args.method,
         rtol: args.rtol,
@@ -71,18 +87,58 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         model: args.model,
     };
     let progress = Progress::new();
-    let run = simulate_scene(&scene, &options, &progress)?;
+    let run = match &controller {
+        Some(c) => simulate_controlled(&scene, c, &options, &progress)?,
+        None => simulate_scene(&scene, &options, &progress)?,
+    };
     write_csv(&run.trajectory, args.out.as_deref())?;
     eprintln!("{}", run.summary());
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), run.trajectory.rows.len());
     }
+    let open_loop = match &controller {
+        Some(c) => {
+            let open = simulate_scene(&scene, &options, &progress)?;
+            let window = drive_stop(&scene);
+            let with = metrics(&scene, &run.trajectory, window);
+            let without = metrics(&scene, &open.trajectory, window);
+            eprintln!(
+                "controller {}: residual tip vibration (standard deviation of tip_rel from t = \
+                 {window} s) {:.5} m with control, {:.5} m without ({:.1}x less); peak drive \
+                 force {:.1} N with (limit {} N), {:.1} N without; final vehicle position {:.4} \
+                 m with, {:.4} m without ({:+.3} %)",
+                c.kind,
+                with.residual_std,
+                without.residual_std,
+                without.residual_std / with.residual_std,
+                with.peak_force,
+                c.force_limit_n,
+                without.peak_force,
+                with.final_vehicle,
+                without.final_vehicle,
+                100.0 * (with.final_vehicle / without.final_vehicle - 1.0)
+            );
+            Some(open)
+        }
+        None => None,
+    };
     if let Some(plot_path) = &args.plot {
+        let controlled_label = controller
+            .as_ref()
+            .map(|c| format!("{} with {}", scene.name, c.kind));
         let mut curves = vec![Curve {
-            label: &scene.name,
+            label: controlled_label.as_deref().unwrap_or(&scene.name),
             traj: &run.trajectory,
             half_band: scene.params.contact.half_band(),
         }];
+        let open_label = format!("{} without control", scene.name);
+        if let Some(open) = &open_loop {
+            curves.push(Curve {
+                label: &open_label,
+                traj: &open.trajectory,
+                half_band: scene.params.contact.half_band(),
+            });
+        }
         let compared = match &other {
             Some(other) => {
                 let run = simulate_scene(other, &options, &progress)?;

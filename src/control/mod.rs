@@ -81,7 +81,11 @@ pub fn simulate_controlled(
         scene: scene.name.clone(),
         span: (scene.time.start, scene.time.end),
         model: chosen.description,
-        specializations: specializations(&model, &scene.time, method, None),
+        // a controlled scene is not linear time-invariant: exact stepping never applies
+        specializations: specializations(&model, &scene.time, method, None)
+            .into_iter()
+            .filter(|s| !s.contains("exact stepping"))
+            .collect(),
         plan: resolved,
         trajectory,
     })
