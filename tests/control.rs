@@ -129,3 +129,49 @@ fn bad_input_is_refused_with_the_rule() {
     let err = Controller::from_json("{\"format\": \"something else\"}").unwrap_err().to_string();
     assert!(err.contains("controller file"), "{err}");
 }
+
+#[test]
+fn the_kalman_variant_runs_within_the_limit_and_its_filter_is_checkable() {
+    // measured and reported (docs/control.md), with no threshold on its vibration
+    let scene = scene("case-study", &[]);
+    let options = DesignOptions {
+        kind: ControllerKind::LqrShaperKalman,
+        ..DesignOptions::default()
+    };
+    let controller = design(&scene, &options).unwrap();
+    for p in &controller.schedule {
+        let o = p.observer.as_ref().expect("a Kalman filter per design point");
+        // the dual Riccati problem gives the recorded gain
+        let dual = care(
+            &matrix(&p.a).transpose(),
+            &matrix(&o.c_modal).transpose(),
+            &matrix(&o.q_noise),
+            &matrix(&o.r_noise),
+        )
+        .unwrap();
+        let l_modal = matrix(&o.l_modal);
+        assert!((dual.k.transpose() - &l_modal).norm() <= 1e-9 * l_modal.norm());
+    }
+    let sim = SimulationOptions {
+        method: MethodChoice::Method(Method::Dopri5),
+        ..SimulationOptions::default()
+    };
+    let run = simulate_controlled(&scene, &controller, &sim, &Silent).unwrap();
+    let m = metrics(&scene, &run.trajectory, 12.0);
+    eprintln!("lqr+shaper+kalman: residual std {:.5} m, peak force {:.1} N", m.residual_std, m.peak_force);
+    assert!(m.peak_force <= 300.0 + 1e-9);
+    assert!(m.residual_std.is_finite());
+    // the filter's stacked system runs with explicit methods only
+    let err = simulate_controlled(
+        &scene,
+        &controller,
+        &SimulationOptions {
+            method: MethodChoice::Method(Method::Esdirk),
+            ..SimulationOptions::default()
+        },
+        &Silent,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("dopri5 or dop853"), "{err}");
+}

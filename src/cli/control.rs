@@ -99,7 +99,9 @@ pub struct DesignArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// The controller to write: lqr (gain-scheduled state feedback around the drive
-    /// profile), shaper (a ZV/ZVD input shaper of the profile) or lqr+shaper.
+    /// profile), shaper (a ZV/ZVD input shaper of the profile), lqr+shaper, or
+    /// lqr+shaper+kalman (the feedback on a Kalman filter's estimate from vehicle and
+    /// tip_rel).
     #[arg(long, default_value = "lqr+shaper", value_name = "KIND")]
     pub controller: telescopic::control::ControllerKind,
     /// The drive's force limit (N): the total force saturates there.
@@ -120,6 +122,12 @@ pub struct DesignArgs {
     /// The shaper: zv or zvd.
     #[arg(long, default_value = "zvd", value_name = "KIND")]
     pub shaper: telescopic::control::ShaperKind,
+    /// Kalman filter (lqr+shaper+kalman): measurement noise of vehicle and tip_rel (m).
+    #[arg(long, default_value_t = DesignOptions::default().sensor_noise, value_name = "M")]
+    pub sensor_noise: f64,
+    /// Kalman filter: the force disturbance (N).
+    #[arg(long, default_value_t = DesignOptions::default().force_noise, value_name = "N")]
+    pub force_noise: f64,
     /// The controller file (JSON) to write.
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
@@ -144,6 +152,8 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         grid_points: args.grid_points,
         design_modes: args.design_modes,
         shaper: args.shaper,
+        sensor_noise: args.sensor_noise,
+        force_noise: args.force_noise,
         model: args.model,
     };
     let controller = telescopic::control::design(&scene, &options)?;

@@ -253,3 +253,202 @@ impl Model for Controlled<'_> {
         names
     }
 }
+
+/// One design point's Kalman filter as matrices.
+struct ObserverMatrices {
+    a: DMatrix<f64>,
+    b: DMatrix<f64>,
+    l: DMatrix<f64>,
+    c: DMatrix<f64>,
+}
+
+/// The scene's model driven by a controller whose feedback acts on a Kalman filter's
+/// estimate: the state is the model's `[z, zd]` and the estimate `x_hat = [x_z, x_zd]`,
+/// stacked as `[z, x_z, zd, x_zd]`. For explicit methods (the stacked system is not of the
+/// second-order form the implicit methods use).
+pub struct Observed<'m> {
+    inner: Controlled<'m>,
+    points: Vec<ObserverMatrices>,
+    /// `[z, zd]`, its rate and `x_hat`, gathered from the stacked state (no allocation per
+    /// call).
+    scratch: std::cell::RefCell<(Vec<f64>, Vec<f64>, Vec<f64>)>,
+}
+
+impl<'m> Observed<'m> {
+    /// Wraps `base` with `controller`, whose design points must carry Kalman filters.
+    ///
+    /// # Errors
+    /// [`Error::Model`] for a mass matrix that cannot be factored, [`Error::Option`] for a
+    /// controller without filters.
+    pub fn new(base: &'m dyn Model, controller: &Controller, start: f64, end: f64) -> Result<Self> {
+        let matrix = |rows: &[Vec<f64>]| {
+            DMatrix::from_row_iterator(rows.len(), rows[0].len(), rows.iter().flatten().copied())
+        };
+        let points = controller
+            .schedule
+            .iter()
+            .map(|p| {
+                p.observer
+                    .as_ref()
+                    .map(|o| ObserverMatrices {
+                        a: matrix(&o.a_full),
+                        b: matrix(&o.b_full),
+                        l: matrix(&o.l),
+                        c: matrix(&o.c_meas),
+                    })
+                    .ok_or_else(|| {
+                        Error::option("--controller", "the controller has no Kalman filter")
+                    })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let n = base.dof();
+        Ok(Observed {
+            inner: Controlled::new(base, controller, start, end)?,
+            points,
+            scratch: std::cell::RefCell::new((vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n])),
+        })
+    }
+
+    fn n(&self) -> usize {
+        self.inner.base.dof()
+    }
+
+    /// Copies `[z, zd]` out of the stacked state into `out`.
+    fn gather(&self, y: &[f64], out: &mut [f64]) {
+        let n = self.n();
+        out[..n].copy_from_slice(&y[..n]);
+        out[n..].copy_from_slice(&y[2 * n..3 * n]);
+    }
+
+    /// Entry `i` of the estimate `x_hat = [x_z, x_zd]` in the stacked state.
+    fn estimate(&self, y: &[f64], i: usize) -> f64 {
+        let n = self.n();
+        if i < n { y[n + i] } else { y[2 * n + i] }
+    }
+}
+
+impl Model for Observed<'_> {
+    fn layout(&self) -> &Layout {
+        self.inner.layout()
+    }
+    fn params(&self) -> &ModelParams {
+        self.inner.params()
+    }
+    fn mass_matrix(&self) -> &DMatrix<f64> {
+        self.inner.mass_matrix()
+    }
+    fn stiffness_matrix(&self) -> &DMatrix<f64> {
+        self.inner.stiffness_matrix()
+    }
+    fn drive_vector(&self) -> &DVector<f64> {
+        self.inner.drive_vector()
+    }
+    fn dof(&self) -> usize {
+        2 * self.n()
+    }
+    fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
+        self.inner.contact_vectors(t, g, gdot)
+    }
+    fn contact_vectors_at(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+        g: &mut DMatrix<f64>,
+        gdot: &mut DMatrix<f64>,
+    ) {
+        self.inner.contact_vectors_at(positions, rates, g, gdot)
+    }
+    fn contact_table(&self) -> Option<&ContactTable> {
+        self.inner.contact_table()
+    }
+    fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
+        let mut s = self.scratch.borrow_mut();
+        self.gather(y, &mut s.0);
+        self.inner.base.contact_gaps(t, &s.0, xi, xi_dot)
+    }
+    fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
+        let n = self.n();
+        let mut guard = self.scratch.borrow_mut();
+        let (yb, ydb, xhat) = &mut *guard;
+        self.gather(y, yb);
+        self.inner.base.rhs(t, yb, states, ydb);
+        // the law on the estimate
+        for (i, x) in xhat.iter_mut().enumerate() {
+            *x = self.estimate(y, i);
+        }
+        let force = self.inner.law.force(t, xhat).0;
+        let change = force - self.inner.base_force(t);
+        for (a, r) in ydb[n..].iter_mut().zip(&self.inner.drive_response) {
+            *a += r * change;
+        }
+        // the filter: x_hat' = A x_hat + B F + L (y_meas - C x_hat), interpolated
+        let (i, j, w) = self.inner.law.weights(t);
+        let (pi, pj) = (&self.points[i], &self.points[j]);
+        let blend = |a: f64, b: f64| (1.0 - w) * a + w * b;
+        let mut innovation = [0.0f64; 2];
+        for (k, inn) in innovation.iter_mut().enumerate() {
+            let mut measured = 0.0;
+            let mut estimated = 0.0;
+            for m in 0..2 * n {
+                let c = blend(pi.c[(k, m)], pj.c[(k, m)]);
+                measured += c * yb[m];
+                estimated += c * self.estimate(y, m);
+            }
+            *inn = measured - estimated;
+        }
+        for r in 0..2 * n {
+            let mut v = blend(pi.b[(r, 0)], pj.b[(r, 0)]) * force
+                + blend(pi.l[(r, 0)], pj.l[(r, 0)]) * innovation[0]
+                + blend(pi.l[(r, 1)], pj.l[(r, 1)]) * innovation[1];
+            for m in 0..2 * n {
+                v += blend(pi.a[(r, m)], pj.a[(r, m)]) * self.estimate(y, m);
+            }
+            // x_hat' into its place of the stacked rate
+            if r < n {
+                ydot[n + r] = v;
+            } else {
+                ydot[2 * n + r] = v;
+            }
+        }
+        ydot[..n].copy_from_slice(&ydb[..n]);
+        ydot[2 * n..3 * n].copy_from_slice(&ydb[n..]);
+    }
+    fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
+        // central differences: the stacked system is for explicit methods; this serves the
+        // analyses that linearize it
+        let len = y.len();
+        let mut yp = y.to_vec();
+        let (mut fp, mut fm) = (vec![0.0; len], vec![0.0; len]);
+        for j in 0..len {
+            let h = 1e-7 * y[j].abs().max(1e-6);
+            yp[j] = y[j] + h;
+            self.rhs(t, &yp, states, &mut fp);
+            yp[j] = y[j] - h;
+            self.rhs(t, &yp, states, &mut fm);
+            yp[j] = y[j];
+            for i in 0..len {
+                jac[(i, j)] = (fp[i] - fm[i]) / (2.0 * h);
+            }
+        }
+    }
+    fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
+        self.inner.base.displacement(section, x, &z[..self.n()])
+    }
+    fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
+        let n = self.n();
+        let last = out.len() - 1;
+        let mut s = self.scratch.borrow_mut();
+        let (yb, ydb, xhat) = &mut *s;
+        self.gather(y, yb);
+        ydb[..n].copy_from_slice(&ydot[..n]);
+        ydb[n..].copy_from_slice(&ydot[2 * n..3 * n]);
+        self.inner.base.outputs(t, yb, ydb, &mut out[..last]);
+        for (i, x) in xhat.iter_mut().enumerate() {
+            *x = self.estimate(y, i);
+        }
+        out[last] = self.inner.law.force(t, xhat).0;
+    }
+    fn output_names(&self) -> Vec<String> {
+        self.inner.output_names()
+    }
+}

@@ -40,17 +40,26 @@ pub enum ControllerKind {
     #[default]
     #[serde(rename = "lqr+shaper")]
     LqrShaper,
+    /// The LQR around the shaped profile on the state a Kalman filter estimates from the
+    /// measured `vehicle` and `tip_rel` alone.
+    #[serde(rename = "lqr+shaper+kalman")]
+    LqrShaperKalman,
 }
 
 impl ControllerKind {
     /// Whether the kind has the LQR feedback.
     pub fn has_lqr(self) -> bool {
-        matches!(self, ControllerKind::Lqr | ControllerKind::LqrShaper)
+        !matches!(self, ControllerKind::Shaper)
     }
 
     /// Whether the kind shapes the drive profile.
     pub fn has_shaper(self) -> bool {
-        matches!(self, ControllerKind::Shaper | ControllerKind::LqrShaper)
+        !matches!(self, ControllerKind::Lqr)
+    }
+
+    /// Whether the feedback acts on a Kalman filter's estimate.
+    pub fn has_observer(self) -> bool {
+        matches!(self, ControllerKind::LqrShaperKalman)
     }
 }
 
@@ -62,7 +71,10 @@ impl FromStr for ControllerKind {
             "lqr" => Ok(ControllerKind::Lqr),
             "shaper" => Ok(ControllerKind::Shaper),
             "lqr+shaper" => Ok(ControllerKind::LqrShaper),
-            _ => Err(format!("`{s}` is not a controller; use lqr, shaper or lqr+shaper")),
+            "lqr+shaper+kalman" => Ok(ControllerKind::LqrShaperKalman),
+            _ => Err(format!(
+                "`{s}` is not a controller; use lqr, shaper, lqr+shaper or lqr+shaper+kalman"
+            )),
         }
     }
 }
@@ -73,6 +85,7 @@ impl fmt::Display for ControllerKind {
             ControllerKind::Lqr => "lqr",
             ControllerKind::Shaper => "shaper",
             ControllerKind::LqrShaper => "lqr+shaper",
+            ControllerKind::LqrShaperKalman => "lqr+shaper+kalman",
         })
     }
 }
@@ -97,6 +110,12 @@ pub struct DesignOptions {
     pub design_modes: usize,
     /// The shaper's kind (default ZVD).
     pub shaper: ShaperKind,
+    /// Kalman filter: standard deviation of the measurement noise of `vehicle` and
+    /// `tip_rel` (m; default 1e-3).
+    pub sensor_noise: f64,
+    /// Kalman filter: standard deviation of the force disturbance (N; default 0.1 of the
+    /// force limit).
+    pub force_noise: f64,
     /// Which model's matrices.
     pub model: ModelChoice,
 }
@@ -111,6 +130,8 @@ impl Default for DesignOptions {
             grid_points: 5,
             design_modes: 3,
             shaper: ShaperKind::Zvd,
+            sensor_noise: 1e-3,
+            force_noise: 30.0,
             model: ModelChoice::Auto,
         }
     }
@@ -150,6 +171,9 @@ pub struct SchedulePoint {
     /// alone.
     #[serde(rename = "K")]
     pub k: Vec<Vec<f64>>,
+    /// The Kalman filter, for the observer variant.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub observer: Option<ObserverPoint>,
     /// First elastic mode: frequency (Hz) and damping ratio, for the shaper.
     pub first_mode_hz: f64,
     /// Its damping ratio.
@@ -158,6 +182,37 @@ pub struct SchedulePoint {
     pub riccati_residual: f64,
     /// Largest real part of the closed-loop eigenvalues (1/s; 0 without LQR).
     pub closed_loop_abscissa: f64,
+}
+
+/// The Kalman filter of one design point: designed on the modal model from the measured
+/// `vehicle` and `tip_rel` (`y = C_meas x`), run on the full linear model
+/// `x_hat' = A x_hat + B F + L (y - C_meas x_hat)` with `L = [Phi 0; 0 Phi] L_modal`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ObserverPoint {
+    /// Measurement rows on the design model's states.
+    #[serde(rename = "C_modal")]
+    pub c_modal: Vec<Vec<f64>>,
+    /// Process noise on the design model's states (`sigma_F^2 B B'`).
+    #[serde(rename = "Q_noise")]
+    pub q_noise: Vec<Vec<f64>>,
+    /// Measurement noise.
+    #[serde(rename = "R_noise")]
+    pub r_noise: Vec<Vec<f64>>,
+    /// The Kalman gain on the design model (`L_modal = P C' R^-1`), rows.
+    #[serde(rename = "L_modal")]
+    pub l_modal: Vec<Vec<f64>>,
+    /// The gain on the full state, rows (`2 dof x 2`).
+    #[serde(rename = "L")]
+    pub l: Vec<Vec<f64>>,
+    /// The full closed-contact linear model the filter runs on, rows.
+    #[serde(rename = "A_full")]
+    pub a_full: Vec<Vec<f64>>,
+    /// Its input matrix, rows.
+    #[serde(rename = "B_full")]
+    pub b_full: Vec<Vec<f64>>,
+    /// Measurement rows on the full state (`vehicle`, `tip_rel`).
+    #[serde(rename = "C_meas")]
+    pub c_meas: Vec<Vec<f64>>,
 }
 
 /// A designed controller: what `design` writes and `simulate --controller` reads.
@@ -263,6 +318,44 @@ fn modal_design(
     ModalDesign { phi, a, b, w }
 }
 
+/// The Kalman filter of one design point, from the dual Riccati equation of the modal model.
+fn kalman(
+    full: &telescopic_runtime::LinearModel,
+    design: &ModalDesign,
+    tip_row: usize,
+    options: &DesignOptions,
+) -> std::result::Result<ObserverPoint, String> {
+    let n2 = full.a.nrows();
+    let m2 = design.a.nrows();
+    // y = [vehicle, tip_rel] on the full state
+    let mut c_meas = DMatrix::zeros(2, n2);
+    c_meas.row_mut(0).copy_from(&full.c.row(0));
+    c_meas.row_mut(1).copy_from(&full.c.row(tip_row));
+    // on the modal states: x = [Phi 0; 0 Phi] eta for the retained part
+    let r = m2 / 2;
+    let n = n2 / 2;
+    let mut phi_full = DMatrix::zeros(n2, m2);
+    phi_full.view_mut((0, 0), (n, r)).copy_from(&design.phi);
+    phi_full.view_mut((n, r), (n, r)).copy_from(&design.phi);
+    let c_modal = &c_meas * &phi_full;
+    let q_noise = &design.b * design.b.transpose() * options.force_noise.powi(2);
+    let r_noise = DMatrix::identity(2, 2) * options.sensor_noise.powi(2);
+    let dual = care(&design.a.transpose(), &c_modal.transpose(), &q_noise, &r_noise)
+        .map_err(|e| format!("Kalman filter: {e}"))?;
+    let l_modal = dual.k.transpose();
+    let l = &phi_full * &l_modal;
+    Ok(ObserverPoint {
+        c_modal: rows(&c_modal),
+        q_noise: rows(&q_noise),
+        r_noise: rows(&r_noise),
+        l_modal: rows(&l_modal),
+        l: rows(&l),
+        a_full: rows(&full.a),
+        b_full: rows(&full.b),
+        c_meas: rows(&c_meas),
+    })
+}
+
 /// Designs the controller of `options.kind` for `scene`.
 ///
 /// # Errors
@@ -281,6 +374,8 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         ("--force-limit", options.force_limit),
         ("--tip-scale", options.tip_scale),
         ("--vehicle-scale", options.vehicle_scale),
+        ("--sensor-noise", options.sensor_noise),
+        ("--force-noise", options.force_noise),
     ] {
         if !(v > 0.0 && v.is_finite()) {
             return Err(Error::option(name, format!("must be a finite number > 0 (got {v})")));
@@ -376,7 +471,13 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         } else {
             (Vec::new(), Vec::new(), 0.0, 0.0)
         };
+        let observer = if options.kind.has_observer() {
+            Some(kalman(&full, &design, tip_row, options).map_err(|e| at(&e))?)
+        } else {
+            None
+        };
         schedule.push(SchedulePoint {
+            observer,
             positions: positions.clone(),
             a: rows(&design.a),
             b: rows(&design.b),

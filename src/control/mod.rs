@@ -19,7 +19,7 @@ pub mod design;
 pub mod riccati;
 pub mod shaper;
 
-pub use controlled::{ControlLaw, Controlled};
+pub use controlled::{ControlLaw, Controlled, Observed};
 pub use design::{Controller, ControllerKind, DesignOptions, design};
 pub use shaper::ShaperKind;
 
@@ -69,20 +69,33 @@ pub fn simulate_controlled(
     if let Some(note) = &chosen.note {
         reporter.note(note);
     }
-    let model = Controlled::new(
-        chosen.model.as_ref(),
-        controller,
-        scene.time.start,
-        scene.time.end,
-    )?;
-    crate::budget::check_run(scene, &model, method, &resolved.settings)?;
-    let trajectory = run_trajectory(scene, &model, method, &resolved.settings, reporter)?;
+    let base = chosen.model.as_ref();
+    let (start, end) = (scene.time.start, scene.time.end);
+    let trajectory = if controller.kind.has_observer() {
+        if method.step_control() != telescopic_runtime::integrate::StepControl::Adaptive
+            || !matches!(method, Method::Dopri5 | Method::Dop853)
+        {
+            return Err(Error::option(
+                "--method",
+                "a controller with a Kalman filter runs with dopri5 or dop853",
+            ));
+        }
+        let model = Observed::new(base, controller, start, end)?;
+        // the filter adds no stiffness of its own: the budget is the structure's
+        crate::budget::check_run(scene, base, method, &resolved.settings)?;
+        run_trajectory(scene, &model, method, &resolved.settings, reporter)?
+    } else {
+        let model = Controlled::new(base, controller, start, end)?;
+        crate::budget::check_run(scene, &model, method, &resolved.settings)?;
+        run_trajectory(scene, &model, method, &resolved.settings, reporter)?
+    };
+    let specials = specializations(base, &scene.time, method, None);
     Ok(Simulation {
         scene: scene.name.clone(),
         span: (scene.time.start, scene.time.end),
         model: chosen.description,
         // a controlled scene is not linear time-invariant: exact stepping never applies
-        specializations: specializations(&model, &scene.time, method, None)
+        specializations: specials
             .into_iter()
             .filter(|s| !s.contains("exact stepping"))
             .collect(),
@@ -159,7 +172,8 @@ pub struct VariantRow {
     pub wall: f64,
 }
 
-/// Every variant on `scene`: open loop, shaper, LQR, both (the design settings of
+/// Every variant on `scene`: open loop, shaper, LQR, both, and both on a Kalman filter's
+/// estimate (the design settings of
 /// `options`, its `kind` aside), each simulated on the full nonlinear model with dopri5.
 ///
 /// # Errors
@@ -185,7 +199,12 @@ pub fn compare_variants(
         travel_ratio: 1.0,
         wall: open.trajectory.stats.wall.as_secs_f64(),
     }];
-    for kind in [ControllerKind::Shaper, ControllerKind::Lqr, ControllerKind::LqrShaper] {
+    for kind in [
+        ControllerKind::Shaper,
+        ControllerKind::Lqr,
+        ControllerKind::LqrShaper,
+        ControllerKind::LqrShaperKalman,
+    ] {
         reporter.note(&format!("{}: {kind}", scene.name));
         let controller = design(scene, &DesignOptions { kind, ..options.clone() })?;
         let run = simulate_controlled(scene, &controller, &sim, reporter)?;
@@ -204,7 +223,7 @@ pub fn compare_variants(
 /// The variants as a text table.
 pub fn variants_table(rows: &[VariantRow]) -> String {
     let mut s = format!(
-        "{:<12} {:>18} {:>10} {:>15} {:>16} {:>10} {:>8}\n",
+        "{:<18} {:>17} {:>10} {:>15} {:>18} {:>10} {:>8}\n",
         "variant",
         "residual std [m]",
         "reduction",
@@ -215,7 +234,7 @@ pub fn variants_table(rows: &[VariantRow]) -> String {
     );
     for r in rows {
         s += &format!(
-            "{:<12} {:>18.5} {:>9.1}x {:>15.1} {:>16.4} {:>9.4}% {:>8.2}\n",
+            "{:<18} {:>17.5} {:>9.1}x {:>15.1} {:>18.4} {:>9.4}% {:>8.2}\n",
             r.variant,
             r.metrics.residual_std,
             r.reduction,
