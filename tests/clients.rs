@@ -284,3 +284,13 @@ fn the_riccati_solver_agrees_with_scipy_and_python_control() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+#[ignore = "needs pdflatex: run ./scripts/test"]
+fn pdflatex_compiles_the_latex_export() {
+    let dir = scratch("latex");
+    write(&case_study(None), Format::Latex, &dir.join("model.tex"));
+    run("pdflatex", "pdflatex", &["-interaction=nonstopmode", "-halt-on-error", "model.tex"], &dir);
+    assert!(dir.join("model.pdf").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
