@@ -81,6 +81,13 @@ pub enum Error {
     /// Standard output could not be written.
     #[error("writing to standard output: {0}")]
     Stdout(std::io::Error),
+    /// A multi-run command was stopped between runs (Ctrl-C); what it finished is kept.
+    #[error("interrupted: {0}")]
+    Interrupted(String),
+    /// One run of a multi-run command panicked: a bug in telescopic, recorded as that run's
+    /// error so the others go on.
+    #[error("the run panicked (a bug in telescopic; please report it with the run's values): {0}")]
+    Panicked(String),
     /// Drawing a chart failed.
     #[error("drawing failed: {0}")]
     Plot(String),

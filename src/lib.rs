@@ -9,8 +9,9 @@
 //! parameters; they select a model, the generated one of their configuration when
 //! `telescopic-generated` has it ([`model_choice`]); the runtime integrates it with the
 //! clearance contact law ([`simulation`]); the analyses ([`modes`], [`stability`],
-//! [`work_precision`], [`converge`], [`shape_errors`]) and outputs ([`output`], [`plot`])
-//! build on that.
+//! [`work_precision`], [`converge`], [`shape_errors`]), linear models and controllers
+//! ([`linear`], [`control`]), parameter studies ([`sweep`]) and outputs ([`output`],
+//! [`plot`]) build on that.
 //!
 //! Simulate a scene file and write its CSV:
 //!
@@ -48,6 +49,7 @@ pub mod control;
 pub mod converge;
 pub mod equations;
 mod error;
+pub mod interrupt;
 pub mod linear;
 pub mod model_choice;
 pub mod modes;
@@ -57,6 +59,7 @@ pub mod report;
 pub mod shape_errors;
 pub mod simulation;
 pub mod stability;
+pub mod sweep;
 pub mod work_precision;
 
 pub use error::{Error, Result};

@@ -28,8 +28,13 @@ fn main() -> std::process::ExitCode {
     if STDOUT_CLOSED.load(Ordering::Relaxed) {
         telescopic::output::note_stdout_closed_at_start();
     }
-    // Ctrl-C or SIGTERM: remove the output files still being written, then stop (130).
+    // Ctrl-C or SIGTERM: a sweep stops between runs (keeping every finished row); anything
+    // else, or a second signal, removes the output files still being written and stops (130)
     let _ = ctrlc::set_handler(|| {
+        if telescopic::interrupt::request() {
+            eprintln!("\ninterrupt: stopping after the runs in progress (again to stop at once)");
+            return;
+        }
         telescopic::output::remove_partial_files();
         eprintln!("interrupted: no partial output file was left");
         std::process::exit(130);

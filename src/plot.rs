@@ -53,7 +53,11 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
         ),
     ];
     if names.iter().any(|n| n == "drive_force") {
-        out.push(panel("drive_force", "drive_force [N]", "force of the drive on the vehicle"));
+        out.push(panel(
+            "drive_force",
+            "drive_force [N]",
+            "force of the drive on the vehicle",
+        ));
     }
     let gaps: Vec<&String> = names.iter().filter(|n| n.starts_with("xi_2_")).collect();
     if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
@@ -231,6 +235,19 @@ pub const COLORS: [RGBColor; 8] = [
     RGBColor(227, 119, 194),
     RGBColor(23, 190, 207),
 ];
+
+/// The legend of a chart's labelled series, in its upper left corner on a light box.
+pub fn upper_left_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(plot_error)
+}
 
 /// A white page with `title` on top (22 px); returns the area below the title.
 pub fn titled_page<DB: DrawingBackend>(
@@ -418,12 +435,5 @@ fn draw_panel<DB: DrawingBackend>(
             .label(curves[i].label)
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(plot_error)?;
-    Ok(())
+    upper_left_legend(&mut chart)
 }

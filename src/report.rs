@@ -17,6 +17,11 @@ pub trait Reporter: Sync {
     /// The current run has ended (successfully or not).
     fn finish(&self) {}
 
+    /// A multi-run command has finished `done` of `total` runs.
+    fn runs(&self, done: usize, total: usize) {
+        let _ = (done, total);
+    }
+
     /// A line worth showing a user (a reference run's result, a note on the model used).
     fn note(&self, line: &str) {
         let _ = line;

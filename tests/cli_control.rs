@@ -2,24 +2,21 @@
 
 mod common;
 
-use common::{fails_with, telescopic};
-
-fn scratch(test: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("telescopic-cli-control-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use common::{fails_with, scratch, telescopic};
 
 #[test]
 fn linearize_writes_each_format() {
     let out = telescopic(&["linearize", "scenes/adams-linear.toml"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(doc["format"], "telescopic linear model");
     assert_eq!(doc["states"][0]["name"], "u");
     assert_eq!(doc["points"][0]["A"].as_array().unwrap().len(), 20);
-    let dir = scratch("formats");
+    let dir = scratch("cli-control-formats");
     for (format, starts) in [
         ("matlab", "% Linear model"),
         ("python", "# Linear model"),
@@ -37,7 +34,11 @@ fn linearize_writes_each_format() {
             "--out",
             file.to_str().unwrap(),
         ]);
-        assert!(out.status.success(), "{format}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{format}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let bytes = std::fs::read(&file).unwrap();
         assert!(bytes.starts_with(starts.as_bytes()), "{format}");
     }
@@ -47,15 +48,32 @@ fn linearize_writes_each_format() {
 #[test]
 fn linearize_refuses_bad_operating_points() {
     fails_with(
-        &["linearize", "scenes/case-study.toml", "--positions", "a2=2.0"],
+        &[
+            "linearize",
+            "scenes/case-study.toml",
+            "--positions",
+            "a2=2.0",
+        ],
         &["a2 = 2 m is outside the valid overlap"],
     );
     fails_with(
-        &["linearize", "scenes/case-study.toml", "--grid", "a2=0.35:1.15"],
+        &[
+            "linearize",
+            "scenes/case-study.toml",
+            "--grid",
+            "a2=0.35:1.15",
+        ],
         &["--grid", "a<k>=FROM:TO:COUNT"],
     );
     fails_with(
-        &["linearize", "scenes/three-section.toml", "--set", "sections.modes=6", "--format", "latex"],
+        &[
+            "linearize",
+            "scenes/three-section.toml",
+            "--set",
+            "sections.modes=6",
+            "--format",
+            "latex",
+        ],
         &["at most 24 states"],
     );
     fails_with(
@@ -66,7 +84,7 @@ fn linearize_refuses_bad_operating_points() {
 
 #[test]
 fn design_then_simulate_with_the_controller() {
-    let dir = scratch("design");
+    let dir = scratch("cli-control-design");
     let controller = dir.join("controller.json");
     let out = telescopic(&[
         "design",
@@ -77,7 +95,11 @@ fn design_then_simulate_with_the_controller() {
         "--out",
         controller.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let csv = dir.join("run.csv");
     let out = telescopic(&[
         "simulate",
@@ -89,12 +111,25 @@ fn design_then_simulate_with_the_controller() {
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
-    assert!(err.contains("controller lqr: residual tip vibration") && err.contains("without"), "{err}");
-    let header = std::fs::read_to_string(&csv).unwrap().lines().next().unwrap().to_string();
+    assert!(
+        err.contains("controller lqr: residual tip vibration") && err.contains("without"),
+        "{err}"
+    );
+    let header = std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .next()
+        .unwrap()
+        .to_string();
     assert!(header.ends_with(",drive_force"), "{header}");
     // a controller for another configuration is refused before the run
     fails_with(
-        &["simulate", "scenes/adams-clearance.toml", "--controller", controller.to_str().unwrap()],
+        &[
+            "simulate",
+            "scenes/adams-clearance.toml",
+            "--controller",
+            controller.to_str().unwrap(),
+        ],
         &["--controller", "designed for configuration"],
     );
     std::fs::remove_dir_all(&dir).unwrap();

@@ -3,16 +3,9 @@
 
 mod common;
 
-use common::{fails_with, telescopic};
-use std::path::PathBuf;
+use common::{fails_with, scratch, telescopic};
 
 /// A fresh directory for one test's files.
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("telescopic-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 #[test]
 fn csv_has_the_model_md_columns_and_one_row_per_sample() {

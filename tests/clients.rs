@@ -8,23 +8,20 @@
 //! `control`, `numpy` and `scipy`, named by `TELESCOPIC_PYTHON`) and runs them. A missing
 //! client fails the test, naming it.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::scratch;
+
+use std::path::Path;
 use std::process::Command;
+use telescopic::Scene;
 use telescopic::control::{DesignOptions, design};
 use telescopic::linear::{Format, LinearExport, LinearizeOptions, linearize};
 use telescopic::runtime::eigenvalues;
 use telescopic::runtime::nalgebra::{Complex, DMatrix};
-use telescopic::Scene;
 
 /// The frequencies (rad/s) the responses are compared at.
 const FREQUENCIES: [f64; 5] = [0.5, 3.0, 30.0, 300.0, 3000.0];
-
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("telescopic-clients-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn case_study(grid: Option<&str>) -> LinearExport {
     let scene = Scene::load("scenes/case-study.toml".as_ref(), &[]).unwrap();
@@ -70,15 +67,25 @@ fn python() -> String {
 }
 
 /// `H(i w) = C (i w I - A)^-1 B + D` of one input, one row per output.
-fn frequency_response(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DMatrix<f64>, w: f64) -> Vec<Complex<f64>> {
+fn frequency_response(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    w: f64,
+) -> Vec<Complex<f64>> {
     let n = a.nrows();
+    // i w I - A
     let shifted = DMatrix::from_fn(n, n, |i, j| {
-        Complex::new(if i == j { 0.0 } else { 0.0 }, if i == j { w } else { 0.0 }) - Complex::new(a[(i, j)], 0.0)
+        Complex::new(-a[(i, j)], if i == j { w } else { 0.0 })
     });
     let bc = b.map(|v| Complex::new(v, 0.0));
     let x = shifted.lu().solve(&bc).expect("i w is not an eigenvalue");
     (0..c.nrows())
-        .map(|r| (0..n).map(|j| Complex::new(c[(r, j)], 0.0) * x[(j, 0)]).sum())
+        .map(|r| {
+            (0..n)
+                .map(|j| Complex::new(c[(r, j)], 0.0) * x[(j, 0)])
+                .sum()
+        })
         .collect()
 }
 
@@ -86,7 +93,11 @@ fn frequency_response(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DMatrix<f64>, w: f
 fn numbers(text: &str) -> Vec<Vec<f64>> {
     text.lines()
         .filter(|l| !l.trim().is_empty())
-        .map(|l| l.split_whitespace().map(|v| v.parse::<f64>().unwrap()).collect())
+        .map(|l| {
+            l.split_whitespace()
+                .map(|v| v.parse::<f64>().unwrap())
+                .collect()
+        })
         .collect()
 }
 
@@ -95,8 +106,14 @@ fn same_poles(ours: &[Complex<f64>], theirs: &[Complex<f64>], what: &str) {
     assert_eq!(ours.len(), theirs.len(), "{what}: pole counts");
     let scale = ours.iter().fold(0.0f64, |m, p| m.max(p.norm()));
     for p in theirs {
-        let nearest = ours.iter().map(|q| (q - p).norm()).fold(f64::INFINITY, f64::min);
-        assert!(nearest <= 1e-9 * scale, "{what}: pole {p} is {nearest:e} from ours");
+        let nearest = ours
+            .iter()
+            .map(|q| (q - p).norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest <= 1e-9 * scale,
+            "{what}: pole {p} is {nearest:e} from ours"
+        );
     }
 }
 
@@ -114,7 +131,7 @@ fn same_response(ours: &[Complex<f64>], theirs: &[Complex<f64>], what: &str) {
 #[test]
 #[ignore = "needs GNU Octave with its control package: run ./scripts/test"]
 fn octave_runs_the_matlab_export_with_the_same_poles_and_frequency_response() {
-    let dir = scratch("octave");
+    let dir = scratch("clients-octave");
     let export = case_study(None);
     write(&export, Format::Matlab, &dir.join("model.m"));
     let w: Vec<String> = FREQUENCIES.iter().map(|f| f.to_string()).collect();
@@ -129,24 +146,39 @@ fn octave_runs_the_matlab_export_with_the_same_poles_and_frequency_response() {
         ),
     )
     .unwrap();
-    run("octave", "GNU Octave", &["--no-gui", "--quiet", "check.m"], &dir);
+    run(
+        "octave",
+        "GNU Octave",
+        &["--no-gui", "--quiet", "check.m"],
+        &dir,
+    );
     let point = &export.points[0];
     let ours = eigenvalues(point.a.clone(), "test").unwrap();
-    let theirs: Vec<Complex<f64>> = numbers(&std::fs::read_to_string(dir.join("poles.txt")).unwrap())
-        .iter()
-        .map(|r| Complex::new(r[0], r[1]))
-        .collect();
+    let theirs: Vec<Complex<f64>> =
+        numbers(&std::fs::read_to_string(dir.join("poles.txt")).unwrap())
+            .iter()
+            .map(|r| Complex::new(r[0], r[1]))
+            .collect();
     same_poles(&ours, &theirs, "Octave's pole()");
     let response = numbers(&std::fs::read_to_string(dir.join("response.txt")).unwrap());
     let outputs = export.outputs.len();
     for (k, &w) in FREQUENCIES.iter().enumerate() {
-        let theirs: Vec<Complex<f64>> =
-            (0..outputs).map(|i| Complex::new(response[i][k], response[outputs + i][k])).collect();
-        same_response(&frequency_response(&point.a, &point.b, &point.c, w), &theirs, &format!("Octave's freqresp at {w} rad/s"));
+        let theirs: Vec<Complex<f64>> = (0..outputs)
+            .map(|i| Complex::new(response[i][k], response[outputs + i][k]))
+            .collect();
+        same_response(
+            &frequency_response(&point.a, &point.b, &point.c, w),
+            &theirs,
+            &format!("Octave's freqresp at {w} rad/s"),
+        );
     }
     let names = std::fs::read_to_string(dir.join("names.txt")).unwrap();
     let ours: Vec<&str> = export.states.iter().map(|s| s.name.as_str()).collect();
-    assert_eq!(names.lines().collect::<Vec<_>>(), ours, "state names survive in Octave");
+    assert_eq!(
+        names.lines().collect::<Vec<_>>(),
+        ours,
+        "state names survive in Octave"
+    );
 
     // a grid: one model per point (Octave's control package has no model arrays)
     let grid = case_study(Some("a2=0.35:1.15:3"));
@@ -157,12 +189,25 @@ fn octave_runs_the_matlab_export_with_the_same_poles_and_frequency_response() {
          fprintf(fid, '%.17g\\n', max(abs(p)));\nend\nfclose(fid);\n",
     )
     .unwrap();
-    run("octave", "GNU Octave", &["--no-gui", "--quiet", "check_grid.m"], &dir);
+    run(
+        "octave",
+        "GNU Octave",
+        &["--no-gui", "--quiet", "check_grid.m"],
+        &dir,
+    );
     let theirs = numbers(&std::fs::read_to_string(dir.join("grid.txt")).unwrap());
     assert_eq!(theirs.len(), 3);
     for (p, t) in grid.points.iter().zip(&theirs) {
-        let ours = eigenvalues(p.a.clone(), "test").unwrap().iter().fold(0.0f64, |m, l| m.max(l.norm()));
-        assert!((ours - t[0]).abs() <= 1e-9 * ours, "grid point a2 = {:?}: {ours} against {}", p.positions, t[0]);
+        let ours = eigenvalues(p.a.clone(), "test")
+            .unwrap()
+            .iter()
+            .fold(0.0f64, |m, l| m.max(l.norm()));
+        assert!(
+            (ours - t[0]).abs() <= 1e-9 * ours,
+            "grid point a2 = {:?}: {ours} against {}",
+            p.positions,
+            t[0]
+        );
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -170,10 +215,14 @@ fn octave_runs_the_matlab_export_with_the_same_poles_and_frequency_response() {
 #[test]
 #[ignore = "needs python-control, NumPy and SciPy: run ./scripts/test"]
 fn python_control_runs_the_python_export_and_numpy_reads_the_npz() {
-    let dir = scratch("python");
+    let dir = scratch("clients-python");
     let export = case_study(None);
     write(&export, Format::Python, &dir.join("model.py"));
-    write(&case_study(Some("a2=0.35:1.15:3")), Format::Npz, &dir.join("grid.npz"));
+    write(
+        &case_study(Some("a2=0.35:1.15:3")),
+        Format::Npz,
+        &dir.join("grid.npz"),
+    );
     std::fs::write(
         dir.join("check.py"),
         format!(
@@ -189,7 +238,12 @@ fn python_control_runs_the_python_export_and_numpy_reads_the_npz() {
         ),
     )
     .unwrap();
-    let out = run(&python(), "python-control (TELESCOPIC_PYTHON)", &["check.py"], &dir);
+    let out = run(
+        &python(),
+        "python-control (TELESCOPIC_PYTHON)",
+        &["check.py"],
+        &dir,
+    );
     let v: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
     let point = &export.points[0];
     let ours = eigenvalues(point.a.clone(), "test").unwrap();
@@ -209,14 +263,37 @@ fn python_control_runs_the_python_export_and_numpy_reads_the_npz() {
                 )
             })
             .collect();
-        same_response(&frequency_response(&point.a, &point.b, &point.c, w), &theirs, &format!("python-control at {w} rad/s"));
+        same_response(
+            &frequency_response(&point.a, &point.b, &point.c, w),
+            &theirs,
+            &format!("python-control at {w} rad/s"),
+        );
     }
     let names = |key: &str| -> Vec<String> {
-        v[key].as_array().unwrap().iter().map(|s| s.as_str().unwrap().to_string()).collect()
+        v[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s.as_str().unwrap().to_string())
+            .collect()
     };
-    assert_eq!(names("states"), export.states.iter().map(|s| s.name.clone()).collect::<Vec<_>>());
+    assert_eq!(
+        names("states"),
+        export
+            .states
+            .iter()
+            .map(|s| s.name.clone())
+            .collect::<Vec<_>>()
+    );
     assert_eq!(names("inputs"), ["F"]);
-    assert_eq!(names("outputs"), export.outputs.iter().map(|s| s.name.clone()).collect::<Vec<_>>());
+    assert_eq!(
+        names("outputs"),
+        export
+            .outputs
+            .iter()
+            .map(|s| s.name.clone())
+            .collect::<Vec<_>>()
+    );
     // the .npz, read by NumPy: every digit of the grid's matrices
     let grid = case_study(Some("a2=0.35:1.15:3"));
     for (k, p) in grid.points.iter().enumerate() {
@@ -249,8 +326,12 @@ fn the_riccati_solver_agrees_with_scipy_and_python_control() {
         "Q": [[2.0, 0.5, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 3.0]],
         "R": [[1.0, 0.2], [0.2, 2.0]],
     }));
-    let dir = scratch("riccati");
-    std::fs::write(dir.join("problems.json"), serde_json::to_string(&problems).unwrap()).unwrap();
+    let dir = scratch("clients-riccati");
+    std::fs::write(
+        dir.join("problems.json"),
+        serde_json::to_string(&problems).unwrap(),
+    )
+    .unwrap();
     std::fs::write(
         dir.join("check.py"),
         "import json, numpy as np, scipy.linalg as sl, control\n\
@@ -263,18 +344,27 @@ fn the_riccati_solver_agrees_with_scipy_and_python_control() {
          print(json.dumps(out))\n",
     )
     .unwrap();
-    let out = run(&python(), "SciPy and python-control (TELESCOPIC_PYTHON)", &["check.py"], &dir);
+    let out = run(
+        &python(),
+        "SciPy and python-control (TELESCOPIC_PYTHON)",
+        &["check.py"],
+        &dir,
+    );
     let theirs: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
     let m = |v: &serde_json::Value| -> DMatrix<f64> {
         let rows: Vec<Vec<f64>> = serde_json::from_value(v.clone()).unwrap();
         DMatrix::from_row_iterator(rows.len(), rows[0].len(), rows.into_iter().flatten())
     };
     for (i, p) in problems.iter().enumerate() {
-        let ours = telescopic::control::riccati::care(&m(&p["A"]), &m(&p["B"]), &m(&p["Q"]), &m(&p["R"]))
-            .unwrap();
+        let ours =
+            telescopic::control::riccati::care(&m(&p["A"]), &m(&p["B"]), &m(&p["Q"]), &m(&p["R"]))
+                .unwrap();
         let x = m(&theirs[i]["X"]);
         let rel = (&ours.x - &x).norm() / x.norm();
-        eprintln!("problem {i}: X differs from SciPy's by {rel:.2e} relative; our residual {:.2e}", ours.residual);
+        eprintln!(
+            "problem {i}: X differs from SciPy's by {rel:.2e} relative; our residual {:.2e}",
+            ours.residual
+        );
         assert!(rel < 1e-8, "problem {i}: X differs from SciPy's by {rel:e}");
         for key in ["K_scipy", "K_control"] {
             let k = m(&theirs[i][key]);
@@ -288,9 +378,14 @@ fn the_riccati_solver_agrees_with_scipy_and_python_control() {
 #[test]
 #[ignore = "needs pdflatex: run ./scripts/test"]
 fn pdflatex_compiles_the_latex_export() {
-    let dir = scratch("latex");
+    let dir = scratch("clients-latex");
     write(&case_study(None), Format::Latex, &dir.join("model.tex"));
-    run("pdflatex", "pdflatex", &["-interaction=nonstopmode", "-halt-on-error", "model.tex"], &dir);
+    run(
+        "pdflatex",
+        "pdflatex",
+        &["-interaction=nonstopmode", "-halt-on-error", "model.tex"],
+        &dir,
+    );
     assert!(dir.join("model.pdf").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -51,9 +51,20 @@ fn lqr_with_shaper_damps_case_study_five_times_within_the_limit_and_the_travel()
         without.final_vehicle,
         100.0 * travel
     );
-    assert!(reduction >= 5.0, "residual vibration reduced only {reduction:.2}x");
-    assert!(with.peak_force <= 300.0 + 1e-9, "drive force {} N", with.peak_force);
-    assert!(travel.abs() <= 0.01, "travel off by {:.3} %", 100.0 * travel);
+    assert!(
+        reduction >= 5.0,
+        "residual vibration reduced only {reduction:.2}x"
+    );
+    assert!(
+        with.peak_force <= 300.0 + 1e-9,
+        "drive force {} N",
+        with.peak_force
+    );
+    assert!(
+        travel.abs() <= 0.01,
+        "travel off by {:.3} %",
+        100.0 * travel
+    );
     // the force column is the saturated law: every sample within the limit
     let force = controlled.trajectory.column("drive_force").unwrap();
     assert!(force.iter().all(|f| f.abs() <= 300.0 + 1e-9));
@@ -77,7 +88,11 @@ fn the_controller_file_carries_a_design_anyone_can_check() {
         let k = matrix(&p.k);
         assert!((&k_modal * matrix(&p.w) - &k).norm() <= 1e-12 * k.norm());
         assert!(p.riccati_residual < 1e-10 && p.closed_loop_abscissa < 0.0);
-        assert!(p.first_mode_hz > 0.4 && p.first_mode_hz < 1.5, "{}", p.first_mode_hz);
+        assert!(
+            p.first_mode_hz > 0.4 && p.first_mode_hz < 1.5,
+            "{}",
+            p.first_mode_hz
+        );
     }
     // the first mode softens as the sections extend
     assert!(controller.schedule[0].first_mode_hz > controller.schedule[4].first_mode_hz);
@@ -90,17 +105,44 @@ fn bad_input_is_refused_with_the_rule() {
     // a scene of another configuration
     let other = scene("adams-clearance", &[]);
     let err = controller.check_fits(&other).unwrap_err().to_string();
-    assert!(err.contains("designed for configuration s2_m4x4_c2_cable_clearance_moving_force"), "{err}");
+    assert!(
+        err.contains("designed for configuration s2_m4x4_c2_cable_clearance_moving_force"),
+        "{err}"
+    );
     let err = simulate_controlled(&other, &controller, &SimulationOptions::default(), &Silent)
         .unwrap_err()
         .to_string();
     assert!(err.contains("--controller"), "{err}");
     // settings out of range
     for (options, needle) in [
-        (DesignOptions { force_limit: 0.0, ..DesignOptions::default() }, "--force-limit"),
-        (DesignOptions { tip_scale: f64::NAN, ..DesignOptions::default() }, "--tip-scale"),
-        (DesignOptions { grid_points: 0, ..DesignOptions::default() }, "--grid-points"),
-        (DesignOptions { design_modes: 99, ..DesignOptions::default() }, "--design-modes"),
+        (
+            DesignOptions {
+                force_limit: 0.0,
+                ..DesignOptions::default()
+            },
+            "--force-limit",
+        ),
+        (
+            DesignOptions {
+                tip_scale: f64::NAN,
+                ..DesignOptions::default()
+            },
+            "--tip-scale",
+        ),
+        (
+            DesignOptions {
+                grid_points: 0,
+                ..DesignOptions::default()
+            },
+            "--grid-points",
+        ),
+        (
+            DesignOptions {
+                design_modes: 99,
+                ..DesignOptions::default()
+            },
+            "--design-modes",
+        ),
     ] {
         let err = design(&case, &options).unwrap_err().to_string();
         assert!(err.contains(needle), "{err}");
@@ -110,7 +152,9 @@ fn bad_input_is_refused_with_the_rule() {
         "case-study",
         &["drive.force={ kind = \"smoothstep\", start = 0, end = 4, from = 0, to = 100 }"],
     );
-    let err = design(&ramp, &DesignOptions::default()).unwrap_err().to_string();
+    let err = design(&ramp, &DesignOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("piecewise-constant"), "{err}");
     // exact stepping cannot run a controlled scene
     let err = simulate_controlled(
@@ -124,9 +168,14 @@ fn bad_input_is_refused_with_the_rule() {
     )
     .unwrap_err()
     .to_string();
-    assert!(err.contains("exact stepping needs a linear time-invariant scene"), "{err}");
+    assert!(
+        err.contains("exact stepping needs a linear time-invariant scene"),
+        "{err}"
+    );
     // a malformed controller file
-    let err = Controller::from_json("{\"format\": \"something else\"}").unwrap_err().to_string();
+    let err = Controller::from_json("{\"format\": \"something else\"}")
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("controller file"), "{err}");
 }
 
@@ -140,7 +189,10 @@ fn the_kalman_variant_runs_within_the_limit_and_its_filter_is_checkable() {
     };
     let controller = design(&scene, &options).unwrap();
     for p in &controller.schedule {
-        let o = p.observer.as_ref().expect("a Kalman filter per design point");
+        let o = p
+            .observer
+            .as_ref()
+            .expect("a Kalman filter per design point");
         // the dual Riccati problem gives the recorded gain
         let dual = care(
             &matrix(&p.a).transpose(),
@@ -158,7 +210,10 @@ fn the_kalman_variant_runs_within_the_limit_and_its_filter_is_checkable() {
     };
     let run = simulate_controlled(&scene, &controller, &sim, &Silent).unwrap();
     let m = metrics(&scene, &run.trajectory, 12.0);
-    eprintln!("lqr+shaper+kalman: residual std {:.5} m, peak force {:.1} N", m.residual_std, m.peak_force);
+    eprintln!(
+        "lqr+shaper+kalman: residual std {:.5} m, peak force {:.1} N",
+        m.residual_std, m.peak_force
+    );
     assert!(m.peak_force <= 300.0 + 1e-9);
     assert!(m.residual_std.is_finite());
     // the filter's stacked system runs with explicit methods only

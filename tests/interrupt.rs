@@ -1,16 +1,13 @@
 //! Ctrl-C (SIGINT) and SIGTERM never leave a partial output file: not at the final path, and
 //! not as the temporary file beside it.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::scratch;
+
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("telescopic-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// A long run: case-study with 1.6 million samples (a CSV of about 200 MB).
 fn long_run(csv: &Path) -> Child {

@@ -50,7 +50,10 @@ fn eigenvalues_of_a_equal_the_modal_analysis_at_several_positions() {
         .unwrap();
         assert_eq!(ours.len(), modes.frequencies_hz.len(), "t = {t}");
         for (a, m) in ours.iter().zip(&modes.frequencies_hz) {
-            assert!((a - m).abs() <= 1e-6 * m, "t = {t}: {a} Hz from A, {m} Hz from modes");
+            assert!(
+                (a - m).abs() <= 1e-6 * m,
+                "t = {t}: {a} Hz from A, {m} Hz from modes"
+            );
         }
     }
 }
@@ -66,7 +69,11 @@ fn zoh_response(export: &LinearExport, force: f64, h: f64, steps: usize) -> Vec<
     let flow = aug.exp();
     let phi = flow.view((0, 0), (n, n)).into_owned();
     let gamma = flow.view((0, n), (n, 1)).into_owned() * force;
-    let tip = export.outputs.iter().position(|s| s.name == "tip_rel").unwrap();
+    let tip = export
+        .outputs
+        .iter()
+        .position(|s| s.name == "tip_rel")
+        .unwrap();
     let c = p.c.row(tip).transpose();
     let mut x = DVector::zeros(n);
     let mut out = vec![0.0];
@@ -89,9 +96,15 @@ fn the_exported_model_driven_by_the_adams_force_equals_the_simulation() {
     let run = simulate_scene(&scene, &SimulationOptions::default(), &Silent).unwrap();
     let sim = run.trajectory.column("tip_rel").unwrap();
     assert_eq!(sim.len(), ours.len());
-    let worst = ours.iter().zip(&sim).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let worst = ours
+        .iter()
+        .zip(&sim)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
     let peak = sim.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    eprintln!("ZOH of the exported model vs simulate on adams-linear: {worst:.2e} m (peak {peak:.3} m)");
+    eprintln!(
+        "ZOH of the exported model vs simulate on adams-linear: {worst:.2e} m (peak {peak:.3} m)"
+    );
     assert!(peak > 0.05, "the force moves the load");
     assert!(worst < 1e-6, "tip_rel differs by {worst:e} m");
 }
@@ -101,8 +114,8 @@ fn the_state_order_is_the_documented_one() {
     let export = linearize(&scene("three-section", &[]), &LinearizeOptions::default()).unwrap();
     let names: Vec<&str> = export.states.iter().map(|s| s.name.as_str()).collect();
     let coordinates = [
-        "u", "q_1_2", "q_1_3", "q_1_4", "r_2", "q_2_2", "q_2_3", "q_2_4", "r_3", "q_3_2",
-        "q_3_3", "q_3_4",
+        "u", "q_1_2", "q_1_3", "q_1_4", "r_2", "q_2_2", "q_2_3", "q_2_4", "r_3", "q_3_2", "q_3_3",
+        "q_3_4",
     ];
     let rates: Vec<String> = coordinates.iter().map(|c| format!("{c}_dot")).collect();
     let expected: Vec<&str> = coordinates
@@ -111,8 +124,16 @@ fn the_state_order_is_the_documented_one() {
         .chain(rates.iter().map(String::as_str))
         .collect();
     assert_eq!(names, expected);
-    let units: Vec<&str> = export.states[..12].iter().map(|s| s.unit.as_str()).collect();
-    assert_eq!(units, ["m", "m", "m", "m", "m", "rad", "m", "m", "m", "rad", "m", "m"]);
+    let units: Vec<&str> = export.states[..12]
+        .iter()
+        .map(|s| s.unit.as_str())
+        .collect();
+    assert_eq!(
+        units,
+        [
+            "m", "m", "m", "m", "m", "rad", "m", "m", "m", "rad", "m", "m"
+        ]
+    );
     let outputs: Vec<&str> = export.outputs.iter().map(|s| s.name.as_str()).collect();
     assert_eq!(
         outputs,
@@ -137,7 +158,13 @@ fn the_state_order_is_the_documented_one() {
         .join("\n");
     let motion = Scene::from_toml_str(&text, "motion.toml".as_ref(), &[]).unwrap();
     let export = linearize(&motion, &LinearizeOptions::default()).unwrap();
-    assert_eq!((export.inputs[0].name.as_str(), export.inputs[0].unit.as_str()), ("a_vehicle", "m/s^2"));
+    assert_eq!(
+        (
+            export.inputs[0].name.as_str(),
+            export.inputs[0].unit.as_str()
+        ),
+        ("a_vehicle", "m/s^2")
+    );
     let p = &export.points[0];
     let n = p.a.nrows() / 2;
     // u'' = input exactly: the row of u_dot is the input alone
@@ -199,7 +226,10 @@ fn bad_operating_points_and_grids_are_refused_with_the_rule() {
     )
     .unwrap_err()
     .to_string();
-    assert!(err.contains("a2 = 1.5 m is outside the valid overlap") && err.contains("[0, 1.35)"), "{err}");
+    assert!(
+        err.contains("a2 = 1.5 m is outside the valid overlap") && err.contains("[0, 1.35)"),
+        "{err}"
+    );
     let err = linearize(
         &scene,
         &LinearizeOptions {
@@ -209,7 +239,10 @@ fn bad_operating_points_and_grids_are_refused_with_the_rule() {
     )
     .unwrap_err()
     .to_string();
-    assert!(err.contains("--grid") && err.contains("outside the valid overlap"), "{err}");
+    assert!(
+        err.contains("--grid") && err.contains("outside the valid overlap"),
+        "{err}"
+    );
     let err = linearize(
         &scene,
         &LinearizeOptions {
@@ -225,8 +258,11 @@ fn bad_operating_points_and_grids_are_refused_with_the_rule() {
     }
     // a model too large for LaTeX says so
     let big = linearize(
-        &telescopic::Scene::load("scenes/three-section.toml".as_ref(), &["sections.modes=6".into()])
-            .unwrap(),
+        &telescopic::Scene::load(
+            "scenes/three-section.toml".as_ref(),
+            &["sections.modes=6".into()],
+        )
+        .unwrap(),
         &LinearizeOptions::default(),
     )
     .unwrap();

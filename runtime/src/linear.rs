@@ -170,7 +170,9 @@ impl<'m> Lpv<'m> {
                     (1, i) => signal(
                         format!("q_1_{i}"),
                         "m",
-                        format!("section 1, shape coordinate {i} (basis phi_1,{i}(x) - phi_1,{i}(0))"),
+                        format!(
+                            "section 1, shape coordinate {i} (basis phi_1,{i}(x) - phi_1,{i}(0))"
+                        ),
                     ),
                     (k, 1) => signal(
                         format!("r_{k}"),
@@ -307,7 +309,8 @@ impl<'m> Lpv<'m> {
         let nc = self.model.layout().contact_count();
         let mut g = DMatrix::zeros(n, nc);
         let mut gdot = DMatrix::zeros(n, nc);
-        self.model.contact_vectors_at(positions, rates, &mut g, &mut gdot);
+        self.model
+            .contact_vectors_at(positions, rates, &mut g, &mut gdot);
         Ok(self.second_order(&g, &gdot))
     }
 
@@ -373,7 +376,8 @@ impl<'m> Lpv<'m> {
             let bp = -(&mpp_inv * m.view((1, 0), (r, 1)));
             b.view_mut((n + 1, 0), (r, 1)).copy_from(&bp);
         } else {
-            a.view_mut((n, 0), (n, n)).copy_from(&(-(&self.minv * &k_e)));
+            a.view_mut((n, 0), (n, n))
+                .copy_from(&(-(&self.minv * &k_e)));
             a.view_mut((n, n), (n, n)).copy_from(&(-(&self.minv * &d)));
             let bz = &self.minv * model.drive_vector();
             b.view_mut((n, 0), (n, 1)).copy_from(&bz);

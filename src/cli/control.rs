@@ -5,7 +5,9 @@ use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::control::DesignOptions;
-use telescopic::linear::{Format, Grid, LinearizeOptions, linearize as run_linearize, parse_positions};
+use telescopic::linear::{
+    Format, Grid, LinearizeOptions, linearize as run_linearize, parse_positions,
+};
 use telescopic::model_choice::ModelChoice;
 use telescopic::output::{check_stdout_open, write_to};
 use telescopic::runtime::ContactMode;
@@ -157,7 +159,9 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         model: args.model,
     };
     let controller = telescopic::control::design(&scene, &options)?;
-    write_to(Some(&args.out), |w| w.write_all(controller.to_json().as_bytes()))?;
+    write_to(Some(&args.out), |w| {
+        w.write_all(controller.to_json().as_bytes())
+    })?;
     eprintln!(
         "{}: controller {} with {} design point(s){}; wrote {}",
         scene.name,

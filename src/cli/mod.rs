@@ -6,6 +6,7 @@ mod control;
 mod modes;
 mod progress;
 mod simulate;
+mod sweep;
 
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -46,6 +47,14 @@ enum Command {
     /// Design a vibration-suppressing controller (gain-scheduled LQR, input shaper, or both)
     /// on the linear models, write it as JSON, and compare the variants on the full model.
     Design(control::DesignArgs),
+    /// A parameter study: every run of a sweep file (grid, list, Latin hypercube) on every
+    /// core, one CSV row each; resumable; shardable over a Slurm job array.
+    Sweep(sweep::SweepArgs),
+    /// Join the shard files of one sweep, checking that every run is there exactly once.
+    SweepMerge(sweep::MergeArgs),
+    /// Chart a sweep's results: a metric against an override, a line per value of another,
+    /// or a heat map.
+    PlotSweep(sweep::PlotArgs),
     /// Evaluation error of the shape functions for modes 1..30: the paper's printed forms
     /// against the cancellation-free ones, both measured in 512-bit arithmetic.
     ShapeErrors(analysis::ShapeErrorsArgs),
@@ -98,6 +107,9 @@ impl Cli {
             Command::ShapeErrors(args) => analysis::shape_errors(&args),
             Command::Linearize(args) => control::linearize(&args),
             Command::Design(args) => control::design(&args),
+            Command::Sweep(args) => sweep::sweep(&args),
+            Command::SweepMerge(args) => sweep::merge(&args),
+            Command::PlotSweep(args) => sweep::plot(&args),
         }
     }
 }

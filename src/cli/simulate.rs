@@ -6,9 +6,9 @@ use super::{SceneArgs, check_chart, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::Scene;
+use telescopic::control::{Controller, drive_stop, metrics, simulate_controlled};
 use telescopic::model_choice::ModelChoice;
 use telescopic::plot::{Curve, plot};
-use telescopic::control::{Controller, drive_stop, metrics, simulate_controlled};
 use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
 
 /// Options of `telescopic simulate`.
@@ -43,7 +43,12 @@ pub struct SimulateArgs {
     pub plot: Option<PathBuf>,
     /// A second scene to simulate with the same method and overlay in the plot (e.g. the
     /// case-study without clearance).
-    #[arg(long, value_name = "SCENE2", requires = "plot", conflicts_with = "controller")]
+    #[arg(
+        long,
+        value_name = "SCENE2",
+        requires = "plot",
+        conflicts_with = "controller"
+    )]
     pub compare: Option<PathBuf>,
     /// Drive the scene with this controller (a file of `telescopic design`) on the full
     /// model; the run without it is made too, for the comparison in the summary and the plot.

@@ -305,7 +305,11 @@ impl<'m> Observed<'m> {
         Ok(Observed {
             inner: Controlled::new(base, controller, start, end)?,
             points,
-            scratch: std::cell::RefCell::new((vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n])),
+            scratch: std::cell::RefCell::new((
+                vec![0.0; 2 * n],
+                vec![0.0; 2 * n],
+                vec![0.0; 2 * n],
+            )),
         })
     }
 

@@ -18,13 +18,13 @@ use super::riccati::care;
 use super::shaper::{ShaperKind, jumps, shape};
 use crate::linear::Grid;
 use crate::model_choice::{ModelChoice, build_model};
-use std::ops::AddAssign;
-use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::fmt;
+use std::ops::AddAssign;
 use std::str::FromStr;
 use telescopic_runtime::nalgebra::DMatrix;
+use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
 use telescopic_runtime::{Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues};
 
 /// Which controller.
@@ -340,8 +340,13 @@ fn kalman(
     let c_modal = &c_meas * &phi_full;
     let q_noise = &design.b * design.b.transpose() * options.force_noise.powi(2);
     let r_noise = DMatrix::identity(2, 2) * options.sensor_noise.powi(2);
-    let dual = care(&design.a.transpose(), &c_modal.transpose(), &q_noise, &r_noise)
-        .map_err(|e| format!("Kalman filter: {e}"))?;
+    let dual = care(
+        &design.a.transpose(),
+        &c_modal.transpose(),
+        &q_noise,
+        &r_noise,
+    )
+    .map_err(|e| format!("Kalman filter: {e}"))?;
     let l_modal = dual.k.transpose();
     let l = &phi_full * &l_modal;
     Ok(ObserverPoint {
@@ -378,13 +383,19 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         ("--force-noise", options.force_noise),
     ] {
         if !(v > 0.0 && v.is_finite()) {
-            return Err(Error::option(name, format!("must be a finite number > 0 (got {v})")));
+            return Err(Error::option(
+                name,
+                format!("must be a finite number > 0 (got {v})"),
+            ));
         }
     }
     if !(1..=MAX_GRID_POINTS).contains(&options.grid_points) {
         return Err(Error::option(
             "--grid-points",
-            format!("must be 1 to {MAX_GRID_POINTS} (got {})", options.grid_points),
+            format!(
+                "must be 1 to {MAX_GRID_POINTS} (got {})",
+                options.grid_points
+            ),
         ));
     }
     let moving: Vec<usize> = scene
@@ -407,7 +418,15 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         Some(&i) => {
             let (lo, hi) = scene.params.positions[i].range(scene.time.start, scene.time.end);
             let count = options.grid_points.max(2);
-            (Some(i + 2), Some(Grid { section: i + 2, from: lo, to: hi, count }))
+            (
+                Some(i + 2),
+                Some(Grid {
+                    section: i + 2,
+                    from: lo,
+                    to: hi,
+                    count,
+                }),
+            )
         }
         None => (None, None),
     };
@@ -418,11 +437,20 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     if !(1..n).contains(&options.design_modes) {
         return Err(Error::option(
             "--design-modes",
-            format!("must be 1 to {} (the model's elastic modes; got {})", n - 1, options.design_modes),
+            format!(
+                "must be 1 to {} (the model's elastic modes; got {})",
+                n - 1,
+                options.design_modes
+            ),
         ));
     }
     let npos = scene.params.positions.len();
-    let here: Vec<f64> = scene.params.positions.iter().map(|p| p.value(scene.time.start)).collect();
+    let here: Vec<f64> = scene
+        .params
+        .positions
+        .iter()
+        .map(|p| p.value(scene.time.start))
+        .collect();
     let points: Vec<Vec<f64>> = match &grid {
         Some(g) => g
             .values()
@@ -435,11 +463,18 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
             .collect(),
         None => vec![here],
     };
-    let tip_row = lpv.outputs().iter().position(|s| s.name == "tip_rel").expect("tip_rel");
+    let tip_row = lpv
+        .outputs()
+        .iter()
+        .position(|s| s.name == "tip_rel")
+        .expect("tip_rel");
     let mut schedule = Vec::new();
     for (j, positions) in points.iter().enumerate() {
         let at = |e: &dyn fmt::Display| {
-            Error::Analysis(format!("grid point {} (positions {positions:?} m): {e}", j + 1))
+            Error::Analysis(format!(
+                "grid point {} (positions {positions:?} m): {e}",
+                j + 1
+            ))
         };
         let full = lpv.at(positions, &vec![0.0; npos]).map_err(|e| at(&e))?;
         let (f1, zeta1) = first_mode(&full.a)?;
@@ -451,9 +486,8 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         let c_tip = full.c.view((tip_row, 0), (1, n)).into_owned() * &design.phi;
         let m2 = design.a.nrows();
         let mut q = DMatrix::zeros(m2, m2);
-        q.view_mut((0, 0), (m2 / 2, m2 / 2)).copy_from(
-            &(c_tip.transpose() * &c_tip / (options.tip_scale * options.tip_scale)),
-        );
+        q.view_mut((0, 0), (m2 / 2, m2 / 2))
+            .copy_from(&(c_tip.transpose() * &c_tip / (options.tip_scale * options.tip_scale)));
         let u_row = design.phi.row(0).into_owned();
         q.view_mut((0, 0), (m2 / 2, m2 / 2)).add_assign(
             &(u_row.transpose() * &u_row / (options.vehicle_scale * options.vehicle_scale)),

@@ -1,6 +1,6 @@
 //! Controller design on the linear models and its test on the full nonlinear model with
 //! clearance: the Riccati solver ([`riccati`]), input shapers ([`shaper`]), the gain-scheduled
-//! LQR and its controller file ([`design`]), the controlled model ([`controlled`]), and the
+//! LQR and its controller file ([`design`](mod@design)), the controlled model ([`controlled`]), and the
 //! figures a design is judged by ([`ControlMetrics`]).
 //!
 //! ```no_run
@@ -26,8 +26,7 @@ pub use shaper::ShaperKind;
 use crate::model_choice::build_model;
 use crate::report::Reporter;
 use crate::simulation::{
-    MethodChoice, Simulation, SimulationOptions, Trajectory, plan, run_trajectory,
-    simulate_scene,
+    MethodChoice, Simulation, SimulationOptions, Trajectory, plan, run_trajectory, simulate_scene,
 };
 use crate::{Error, Result};
 use telescopic_runtime::{Method, Scene, specializations};
@@ -177,7 +176,7 @@ pub struct VariantRow {
 /// `options`, its `kind` aside), each simulated on the full nonlinear model with dopri5.
 ///
 /// # Errors
-/// The errors of [`design`] and of the simulations.
+/// The errors of [`design()`] and of the simulations.
 pub fn compare_variants(
     scene: &Scene,
     options: &DesignOptions,
@@ -206,7 +205,13 @@ pub fn compare_variants(
         ControllerKind::LqrShaperKalman,
     ] {
         reporter.note(&format!("{}: {kind}", scene.name));
-        let controller = design(scene, &DesignOptions { kind, ..options.clone() })?;
+        let controller = design(
+            scene,
+            &DesignOptions {
+                kind,
+                ..options.clone()
+            },
+        )?;
         let run = simulate_controlled(scene, &controller, &sim, reporter)?;
         let m = metrics(scene, &run.trajectory, window);
         rows.push(VariantRow {

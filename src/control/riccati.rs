@@ -152,7 +152,10 @@ pub fn care(
             r.ncols()
         )));
     }
-    if [a, b, q, r].iter().any(|x| !x.iter().all(|v| v.is_finite())) {
+    if [a, b, q, r]
+        .iter()
+        .any(|x| !x.iter().all(|v| v.is_finite()))
+    {
         return Err(RiccatiError::Dimensions("an entry is not finite".into()));
     }
     let symmetric = |x: &DMatrix<f64>| frob(&(x - x.transpose())) <= 1e-12 * frob(x).max(1e-300);
@@ -188,12 +191,14 @@ pub fn care(
     // [W12; W22 + I] X = -[W11 + I; W21], in the least-squares sense
     let mut lhs = DMatrix::zeros(2 * n, n);
     let mut rhs = DMatrix::zeros(2 * n, n);
-    lhs.view_mut((0, 0), (n, n)).copy_from(&w.view((0, n), (n, n)));
+    lhs.view_mut((0, 0), (n, n))
+        .copy_from(&w.view((0, n), (n, n)));
     lhs.view_mut((n, 0), (n, n))
         .copy_from(&(w.view((n, n), (n, n)) + DMatrix::identity(n, n)));
     rhs.view_mut((0, 0), (n, n))
         .copy_from(&(-(w.view((0, 0), (n, n)) + DMatrix::identity(n, n))));
-    rhs.view_mut((n, 0), (n, n)).copy_from(&(-w.view((n, 0), (n, n))));
+    rhs.view_mut((n, 0), (n, n))
+        .copy_from(&(-w.view((n, 0), (n, n))));
     let svd = lhs.svd(true, true);
     let mut x = svd
         .solve(&rhs, 1e-14)
@@ -246,7 +251,12 @@ mod tests {
     #[test]
     fn a_scalar_equation_has_its_closed_form() {
         // a x^2 term: X = r (a + sqrt(a^2 + q / r)) for b = 1
-        for (a, q, r) in [(1.0, 1.0, 1.0), (-2.0, 3.0, 0.5), (0.0, 4.0, 2.0), (10.0, 1e-3, 7.0)] {
+        for (a, q, r) in [
+            (1.0, 1.0, 1.0),
+            (-2.0, 3.0, 0.5),
+            (0.0, 4.0, 2.0),
+            (10.0, 1e-3, 7.0),
+        ] {
             let c = care(
                 &DMatrix::from_element(1, 1, a),
                 &DMatrix::from_element(1, 1, 1.0),
@@ -255,7 +265,11 @@ mod tests {
             )
             .unwrap();
             let x = r * (a + (a * a + q / r).sqrt());
-            assert!((c.x[(0, 0)] - x).abs() <= 1e-12 * x, "a {a} q {q} r {r}: {} vs {x}", c.x);
+            assert!(
+                (c.x[(0, 0)] - x).abs() <= 1e-12 * x,
+                "a {a} q {q} r {r}: {} vs {x}",
+                c.x
+            );
             assert!((c.k[(0, 0)] - x / r).abs() <= 1e-12 * x / r);
             assert!(c.residual < RESIDUAL_LIMIT);
         }
@@ -291,9 +305,17 @@ mod tests {
             ),
             "{err}"
         );
-        let err = care(&a, &b, &DMatrix::identity(2, 2), &DMatrix::from_element(1, 1, -1.0))
-            .unwrap_err();
-        assert!(err.to_string().contains("R must be positive definite"), "{err}");
+        let err = care(
+            &a,
+            &b,
+            &DMatrix::identity(2, 2),
+            &DMatrix::from_element(1, 1, -1.0),
+        )
+        .unwrap_err();
+        assert!(
+            err.to_string().contains("R must be positive definite"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -77,11 +77,9 @@ pub fn jumps(profile: &Profile, start: f64) -> Result<Vec<(f64, f64)>, String> {
             }
         }
         _ => {
-            return Err(
-                "the shaper needs a piecewise-constant drive force (kind = \
+            return Err("the shaper needs a piecewise-constant drive force (kind = \
                  \"piecewise-constant\" or a number)"
-                    .into(),
-            );
+                .into());
         }
     }
     out.retain(|&(_, d)| d != 0.0);
@@ -92,11 +90,7 @@ pub fn jumps(profile: &Profile, start: f64) -> Result<Vec<(f64, f64)>, String> {
 /// dF)` of the shaper for the mode `mode(t)` = `(omega, zeta)` at its time, each train
 /// shifted so that its mean delay is the first train's (a common delay: the rigid travel
 /// stays the same). A piecewise-constant profile, zero before the first jump.
-pub fn shape(
-    jumps: &[(f64, f64)],
-    kind: ShaperKind,
-    mode: impl Fn(f64) -> (f64, f64),
-) -> Profile {
+pub fn shape(jumps: &[(f64, f64)], kind: ShaperKind, mode: impl Fn(f64) -> (f64, f64)) -> Profile {
     let mut shaped: Vec<(f64, f64)> = Vec::new();
     // every train's mean delay is the first one's: a common delay keeps the rigid travel
     // (to first order) whatever the local frequency, and the first train starts at its jump
@@ -172,7 +166,10 @@ mod tests {
             values: vec![100.0, 0.0, -100.0, 0.0],
         });
         let j = jumps(&profile, 0.0).unwrap();
-        assert_eq!(j, vec![(0.0, 100.0), (4.0, -100.0), (8.0, -100.0), (12.0, 100.0)]);
+        assert_eq!(
+            j,
+            vec![(0.0, 100.0), (4.0, -100.0), (8.0, -100.0), (12.0, 100.0)]
+        );
         let shaped = shape(&j, ShaperKind::Zvd, |_| (2.0 * PI, 0.0));
         // the levels between the shaped transitions are the original ones
         assert_eq!(shaped.value(-0.5), 0.0);

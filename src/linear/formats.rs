@@ -207,13 +207,17 @@ impl LinearExport {
                 .collect()
         };
         let matrix = |x: &Value, what: &str| -> Result<DMatrix<f64>> {
-            let rows: Vec<Vec<f64>> = serde_json::from_value(x.clone())
-                .map_err(|e| bad(&format!("`{what}`: {e}")))?;
+            let rows: Vec<Vec<f64>> =
+                serde_json::from_value(x.clone()).map_err(|e| bad(&format!("`{what}`: {e}")))?;
             let ncols = rows.first().map_or(0, Vec::len);
             if rows.iter().any(|r| r.len() != ncols) {
                 return Err(bad(&format!("`{what}` has rows of different lengths")));
             }
-            Ok(DMatrix::from_row_iterator(rows.len(), ncols, rows.into_iter().flatten()))
+            Ok(DMatrix::from_row_iterator(
+                rows.len(),
+                ncols,
+                rows.into_iter().flatten(),
+            ))
         };
         // by name: a JSON object's keys need not keep their order (a_10 sorts before a_2)
         let values = |x: &Value| -> Result<Vec<f64>> {
@@ -273,7 +277,11 @@ impl LinearExport {
         let scene = if self.overrides.is_empty() {
             self.scene_file.clone()
         } else {
-            format!("{} --set {}", self.scene_file, self.overrides.join(" --set "))
+            format!(
+                "{} --set {}",
+                self.scene_file,
+                self.overrides.join(" --set ")
+            )
         };
         [
             format!(
@@ -394,7 +402,10 @@ impl LinearExport {
             }
             Some((param, values)) => {
                 let grid: Vec<String> = values.iter().map(|v| num(*v)).collect();
-                s += &format!("grid_parameter = {param:?}\ngrid = np.array([{}])\nsys = []\n", grid.join(", "));
+                s += &format!(
+                    "grid_parameter = {param:?}\ngrid = np.array([{}])\nsys = []\n",
+                    grid.join(", ")
+                );
                 for p in &self.points {
                     for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
                         s += &format!("{name} = {}\n", arr(m));
@@ -435,7 +446,10 @@ impl LinearExport {
             (shape, data)
         };
         for (name, pick) in [
-            ("A", (|p: &LinearModel| &p.a) as fn(&LinearModel) -> &DMatrix<f64>),
+            (
+                "A",
+                (|p: &LinearModel| &p.a) as fn(&LinearModel) -> &DMatrix<f64>,
+            ),
             ("B", |p| &p.b),
             ("C", |p| &p.c),
             ("D", |p| &p.d),
@@ -445,7 +459,10 @@ impl LinearExport {
         }
         let npos = self.points[0].positions.len();
         for (name, pick) in [
-            ("positions", (|p: &LinearModel| &p.positions) as fn(&LinearModel) -> &Vec<f64>),
+            (
+                "positions",
+                (|p: &LinearModel| &p.positions) as fn(&LinearModel) -> &Vec<f64>,
+            ),
             ("rates", |p| &p.rates),
         ] {
             let data: Vec<f64> = self.points.iter().flat_map(|p| pick(p).clone()).collect();
@@ -472,14 +489,29 @@ impl LinearExport {
         ] {
             let n = names(signals);
             let u: Vec<String> = signals.iter().map(|s| s.unit.clone()).collect();
-            add(name, Array::Text { shape: vec![n.len()], data: &n })?;
+            add(
+                name,
+                Array::Text {
+                    shape: vec![n.len()],
+                    data: &n,
+                },
+            )?;
             add(
                 &format!("{}_units", name.trim_end_matches('s')),
-                Array::Text { shape: vec![u.len()], data: &u },
+                Array::Text {
+                    shape: vec![u.len()],
+                    data: &u,
+                },
             )?;
         }
         if let Some((param, values)) = &self.grid {
-            add("grid", Array::Float { shape: vec![values.len()], data: values })?;
+            add(
+                "grid",
+                Array::Float {
+                    shape: vec![values.len()],
+                    data: values,
+                },
+            )?;
             add(
                 "grid_parameter",
                 Array::Text {
@@ -518,16 +550,29 @@ impl LinearExport {
         let matrix = |m: &DMatrix<f64>| {
             let r: Vec<String> = rows(m)
                 .iter()
-                .map(|row| row.iter().map(|v| entry(*v)).collect::<Vec<_>>().join(" & "))
+                .map(|row| {
+                    row.iter()
+                        .map(|v| entry(*v))
+                        .collect::<Vec<_>>()
+                        .join(" & ")
+                })
                 .collect();
-            format!("\\begin{{bmatrix}}\n{}\n\\end{{bmatrix}}", r.join(" \\\\\n"))
+            format!(
+                "\\begin{{bmatrix}}\n{}\n\\end{{bmatrix}}",
+                r.join(" \\\\\n")
+            )
         };
         let table = |title: &str, signals: &[Signal]| {
             let r: Vec<String> = signals
                 .iter()
                 .enumerate()
                 .map(|(i, s)| {
-                    format!("{} & \\texttt{{{}}} & {} \\\\", i + 1, esc(&s.name), esc(&s.unit))
+                    format!(
+                        "{} & \\texttt{{{}}} & {} \\\\",
+                        i + 1,
+                        esc(&s.name),
+                        esc(&s.unit)
+                    )
                 })
                 .collect();
             format!(

@@ -11,7 +11,19 @@ pub enum Array<'a> {
     /// Little-endian `f64` (`<f8`).
     Float { shape: Vec<usize>, data: &'a [f64] },
     /// Unicode strings (`<U{width}`, UTF-32 code units), one per element.
-    Text { shape: Vec<usize>, data: &'a [String] },
+    Text {
+        shape: Vec<usize>,
+        data: &'a [String],
+    },
+}
+
+/// The character width of a text array's cells: its longest string, at least 1.
+fn text_width(data: &[String]) -> usize {
+    data.iter()
+        .map(|s| s.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(1)
 }
 
 /// Writes `array` as a `.npy` file.
@@ -19,7 +31,7 @@ pub fn write(w: &mut dyn Write, array: &Array) -> std::io::Result<()> {
     let (descr, shape) = match array {
         Array::Float { shape, .. } => ("<f8".to_string(), shape),
         Array::Text { shape, data } => {
-            let width = data.iter().map(|s| s.chars().count()).max().unwrap_or(0).max(1);
+            let width = text_width(data);
             (format!("<U{width}"), shape)
         }
     };
@@ -45,7 +57,7 @@ pub fn write(w: &mut dyn Write, array: &Array) -> std::io::Result<()> {
             }
         }
         Array::Text { data, .. } => {
-            let width = data.iter().map(|s| s.chars().count()).max().unwrap_or(0).max(1);
+            let width = text_width(data);
             for s in *data {
                 let mut n = 0;
                 for c in s.chars() {
@@ -83,6 +95,9 @@ mod tests {
         assert!(header.starts_with("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }"));
         assert!(header.ends_with('\n'));
         assert_eq!(out.len(), 10 + header_len + 6 * 8);
-        assert_eq!(f64::from_le_bytes(out[10 + header_len + 8..][..8].try_into().unwrap()), 2.0);
+        assert_eq!(
+            f64::from_le_bytes(out[10 + header_len + 8..][..8].try_into().unwrap()),
+            2.0
+        );
     }
 }

@@ -1,6 +1,7 @@
 //! Helpers shared by the end-to-end tests of the binary.
 #![allow(dead_code)]
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs the binary from the workspace root.
@@ -10,6 +11,17 @@ pub fn telescopic(args: &[&str]) -> Output {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("the binary runs")
+}
+
+/// Runs the binary and checks it succeeded (the failure shows its stderr).
+pub fn succeeds(args: &[&str]) -> Output {
+    let out = telescopic(args);
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
 }
 
 /// The command failed cleanly: non-zero exit, an error line naming `needles`, no panic.
@@ -25,4 +37,24 @@ pub fn fails_with(args: &[&str], needles: &[&str]) {
     for n in needles {
         assert!(err.contains(n), "{args:?}: stderr lacks `{n}`:\n{err}");
     }
+}
+
+/// A fresh scratch directory `telescopic-NAME-PID` in the temporary directory.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("telescopic-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A sweep result file's column line and rows with the `wall_s` cell (the last) cut off:
+/// what must not depend on how the sweep was run.
+pub fn without_wall(path: &Path) -> (String, Vec<String>) {
+    let table = telescopic::sweep::read_table(path).unwrap();
+    let rows = table
+        .rows
+        .iter()
+        .map(|(_, l)| l.rsplit_once(',').unwrap().0.to_string())
+        .collect();
+    (table.columns, rows)
 }

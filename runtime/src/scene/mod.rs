@@ -137,12 +137,25 @@ impl Scene {
         path: &Path,
         overrides: &[String],
     ) -> Result<Self, SceneError> {
-        let mut table: toml::Table =
-            text.parse()
-                .map_err(|e: toml::de::Error| SceneError::Syntax {
-                    path: path.to_owned(),
-                    message: e.to_string(),
-                })?;
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| SceneError::Syntax {
+                path: path.to_owned(),
+                message: e.to_string(),
+            })?;
+        Self::from_table(table, path, overrides)
+    }
+
+    /// As [`Scene::from_toml_str`], from a parsed TOML table (a sweep applies its overrides to
+    /// one parsed scene many times).
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the field and the rule for every problem found.
+    pub fn from_table(
+        mut table: toml::Table,
+        path: &Path,
+        overrides: &[String],
+    ) -> Result<Self, SceneError> {
         for o in overrides {
             apply_override(&mut table, o)?;
         }

@@ -1,0 +1,457 @@
+//! The sweep file: a base scene, overrides for every run, and the runs: a grid (Cartesian
+//! product), an explicit list, and a Latin-hypercube sample of ranges from a seed. Validated
+//! as strictly as a scene, every run's scene included, before any run starts.
+
+use crate::simulation::{MethodChoice, SimulationOptions, plan};
+use crate::{Error, Result};
+use rand::Rng;
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use serde::Deserialize;
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+use telescopic_runtime::Scene;
+
+/// Most runs of one sweep.
+pub const MAX_RUNS: usize = 10_000_000;
+
+/// Keys that set the run rather than the scene.
+pub const RUN_KEYS: [&str; 4] = ["method", "rtol", "atol", "dt"];
+
+/// `[latin]`: a Latin-hypercube sample.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LatinSpec {
+    /// Number of samples.
+    samples: usize,
+    /// Seed of the generator (ChaCha8), for a reproducible sample.
+    seed: u64,
+    /// `KEY = [low, high]` for every sampled key.
+    ranges: toml::Table,
+}
+
+/// A sweep file as written.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SweepSpec {
+    /// The base scene, relative to the sweep file.
+    scene: String,
+    /// Overrides of every run, `KEY=VALUE` as for `--set`.
+    #[serde(default)]
+    set: Vec<String>,
+    /// `KEY = [values]`: the Cartesian product of every key's values.
+    #[serde(default)]
+    grid: toml::Table,
+    /// Explicit runs: one table of `KEY = value` each.
+    #[serde(default)]
+    runs: Vec<toml::Table>,
+    /// A Latin-hypercube sample.
+    #[serde(default)]
+    latin: Option<LatinSpec>,
+}
+
+/// One run: its index and its values, one per column key (`None`: the run leaves it at the
+/// base).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
+    /// Position in the sweep (0-based; rows are written in this order).
+    pub index: usize,
+    /// One value per [`Sweep::keys`] entry.
+    pub values: Vec<Option<toml::Value>>,
+}
+
+/// A validated sweep.
+#[derive(Debug, Clone)]
+pub struct Sweep {
+    /// The sweep file.
+    pub path: PathBuf,
+    /// The base scene's file.
+    pub scene_path: PathBuf,
+    /// The base scene, parsed, before any override.
+    base: toml::Table,
+    /// Overrides of every run.
+    pub set: Vec<String>,
+    /// The column keys: grid keys (sorted), then those of the explicit runs, then the
+    /// sampled ones.
+    pub keys: Vec<String>,
+    /// Every run, by index.
+    pub runs: Vec<Run>,
+    /// A hash of the sweep file and the base scene (16 hex digits): shards of one sweep
+    /// carry the same.
+    pub hash: String,
+}
+
+fn invalid(path: &Path, what: String) -> Error {
+    Error::option("sweep file", format!("{}: {what}", path.display()))
+}
+
+/// A value as TOML text, floats short (`0.005`, `10.0`, `8.3e-11`, `1e15`) and still floats.
+pub fn value_text(value: &toml::Value) -> String {
+    match value {
+        toml::Value::Float(f) if f.is_finite() && *f != 0.0 && !(1e-4..1e7).contains(&f.abs()) => {
+            format!("{f:e}")
+        }
+        toml::Value::Float(f) if f.is_finite() => format!("{f:?}"),
+        v => v.to_string(),
+    }
+}
+
+/// A value as `--set` reads it.
+pub fn override_text(key: &str, value: &toml::Value) -> String {
+    format!("{key}={}", value_text(value))
+}
+
+impl Sweep {
+    /// Reads and validates a sweep file: its own rules, then every run's scene and settings.
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the file, the key and the rule, or the run and its problem;
+    /// [`Error::Scene`] for an unreadable or invalid base scene.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
+        let spec: SweepSpec = {
+            let de = toml::Deserializer::parse(&text)
+                .map_err(|e| invalid(path, format!("not valid TOML: {e}")))?;
+            serde_path_to_error::deserialize(de)
+                .map_err(|e| invalid(path, format!("field `{}`: {}", e.path(), e.inner())))?
+        };
+        let scene_path = path.parent().unwrap_or(Path::new(".")).join(&spec.scene);
+        let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
+            invalid(
+                path,
+                format!(
+                    "`scene` = {:?}: cannot read {}: {e}",
+                    spec.scene,
+                    scene_path.display()
+                ),
+            )
+        })?;
+        let base: toml::Table = scene_text.parse().map_err(|e: toml::de::Error| {
+            invalid(
+                path,
+                format!("the scene {} is not valid TOML: {e}", scene_path.display()),
+            )
+        })?;
+        let mut keys: Vec<String> = Vec::new();
+        let mut runs: Vec<Run> = Vec::new();
+        // the grid: keys in sorted order, the last varying fastest
+        let mut axes: Vec<(String, Vec<toml::Value>)> = Vec::new();
+        for (key, values) in &spec.grid {
+            let list = values.as_array().ok_or_else(|| {
+                invalid(path, format!("[grid] `{key}`: must be a list of values"))
+            })?;
+            if list.is_empty() {
+                return Err(invalid(path, format!("[grid] `{key}`: the list is empty")));
+            }
+            axes.push((key.clone(), list.clone()));
+        }
+        let grid_runs = axes
+            .iter()
+            .try_fold(1usize, |n, (_, v)| n.checked_mul(v.len()))
+            .filter(|&n| n <= MAX_RUNS)
+            .ok_or_else(|| invalid(path, format!("[grid] makes more than {MAX_RUNS} runs")))?;
+        keys.extend(axes.iter().map(|(k, _)| k.clone()));
+        if !axes.is_empty() {
+            for i in 0..grid_runs {
+                let mut rest = i;
+                let mut values = vec![None; axes.len()];
+                for (a, (_, list)) in axes.iter().enumerate().rev() {
+                    values[a] = Some(list[rest % list.len()].clone());
+                    rest /= list.len();
+                }
+                runs.push(Run {
+                    index: runs.len(),
+                    values,
+                });
+            }
+        }
+        // explicit runs
+        for table in &spec.runs {
+            for key in table.keys() {
+                if !keys.contains(key) {
+                    keys.push(key.clone());
+                }
+            }
+        }
+        for (r, table) in spec.runs.iter().enumerate() {
+            if table.is_empty() {
+                return Err(invalid(
+                    path,
+                    format!("[[runs]] entry {}: sets nothing", r + 1),
+                ));
+            }
+            let values = keys.iter().map(|k| table.get(k).cloned()).collect();
+            runs.push(Run {
+                index: runs.len(),
+                values,
+            });
+        }
+        // Latin hypercube: every range cut into `samples` strata, one sample per stratum,
+        // strata paired by a random permutation per key
+        if let Some(latin) = &spec.latin {
+            if !(1..=MAX_RUNS).contains(&latin.samples) {
+                return Err(invalid(
+                    path,
+                    format!(
+                        "[latin] `samples` must be 1 to {MAX_RUNS} (got {})",
+                        latin.samples
+                    ),
+                ));
+            }
+            if latin.ranges.is_empty() {
+                return Err(invalid(path, "[latin] `ranges` is empty".into()));
+            }
+            let first = keys.len();
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(latin.seed);
+            let mut columns: Vec<Vec<f64>> = Vec::new();
+            for (key, range) in &latin.ranges {
+                let bounds: Option<(f64, f64)> =
+                    range.as_array().and_then(|a| match a.as_slice() {
+                        [lo, hi] => Some((number(lo)?, number(hi)?)),
+                        _ => None,
+                    });
+                let Some((lo, hi)) =
+                    bounds.filter(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo < hi)
+                else {
+                    return Err(invalid(
+                        path,
+                        format!("[latin.ranges] `{key}`: must be [low, high] with low < high"),
+                    ));
+                };
+                if keys.contains(key) {
+                    return Err(invalid(
+                        path,
+                        format!("[latin.ranges] `{key}`: already varied elsewhere"),
+                    ));
+                }
+                keys.push(key.clone());
+                let n = latin.samples;
+                let mut strata: Vec<usize> = (0..n).collect();
+                strata.shuffle(&mut rng);
+                columns.push(
+                    strata
+                        .iter()
+                        .map(|&s| lo + (hi - lo) * (s as f64 + rng.random::<f64>()) / n as f64)
+                        .collect(),
+                );
+            }
+            for i in 0..latin.samples {
+                let mut values = vec![None; keys.len()];
+                for (c, column) in columns.iter().enumerate() {
+                    values[first + c] = Some(toml::Value::Float(column[i]));
+                }
+                runs.push(Run {
+                    index: runs.len(),
+                    values,
+                });
+            }
+        }
+        // explicit runs and grid runs share the column list: pad earlier runs
+        for run in &mut runs {
+            run.values.resize(keys.len(), None);
+        }
+        if runs.is_empty() {
+            return Err(invalid(
+                path,
+                "no runs: give [grid], [[runs]] or [latin]".into(),
+            ));
+        }
+        if runs.len() > MAX_RUNS {
+            return Err(invalid(
+                path,
+                format!("{} runs, more than {MAX_RUNS}", runs.len()),
+            ));
+        }
+        let mut hasher = Sha256::new();
+        hasher.update(text.as_bytes());
+        hasher.update([0u8]);
+        hasher.update(scene_text.as_bytes());
+        let digest = hasher.finalize();
+        let hash: String = digest[..8].iter().map(|b| format!("{b:02x}")).collect();
+        let sweep = Sweep {
+            path: path.to_owned(),
+            scene_path,
+            base,
+            set: spec.set,
+            keys,
+            runs,
+            hash,
+        };
+        sweep.validate()?;
+        Ok(sweep)
+    }
+
+    /// The scene of a run, and its simulation options.
+    ///
+    /// # Errors
+    /// [`Error::Scene`] or [`Error::Option`] for the run's values.
+    pub fn scene_of(&self, run: &Run) -> Result<(Scene, SimulationOptions)> {
+        let mut overrides = self.set.clone();
+        let mut options = SimulationOptions::default();
+        for (key, value) in self.keys.iter().zip(&run.values) {
+            let Some(value) = value else { continue };
+            let option = |rule: String| Error::option(&format!("`{key}`"), rule);
+            match key.as_str() {
+                "method" => {
+                    let name = value
+                        .as_str()
+                        .ok_or_else(|| option("a method name is a string".into()))?;
+                    options.method = name.parse::<MethodChoice>().map_err(option)?;
+                }
+                "rtol" | "atol" | "dt" => {
+                    let v = number(value).ok_or_else(|| option("must be a number".into()))?;
+                    match key.as_str() {
+                        "rtol" => options.rtol = Some(v),
+                        "atol" => options.atol = Some(v),
+                        _ => options.dt = Some(v),
+                    }
+                }
+                _ => overrides.push(override_text(key, value)),
+            }
+        }
+        let scene = Scene::from_table(self.base.clone(), &self.scene_path, &overrides)?;
+        Ok((scene, options))
+    }
+
+    /// Checks every run's scene and settings, all of them, before any run: first each key
+    /// with each of its values alone (so a misspelt key or a bad value is named once), then
+    /// every run's combination.
+    fn validate(&self) -> Result<()> {
+        use rayon::prelude::*;
+        let check = |run: &Run| {
+            self.scene_of(run)
+                .and_then(|(scene, options)| plan(&scene, &options).map(|_| ()))
+        };
+        let mut alone: Vec<Run> = Vec::new();
+        for k in 0..self.keys.len() {
+            let mut seen: Vec<&toml::Value> = Vec::new();
+            for value in self.runs.iter().filter_map(|r| r.values[k].as_ref()) {
+                if !seen.contains(&value) {
+                    seen.push(value);
+                    let mut values = vec![None; self.keys.len()];
+                    values[k] = Some(value.clone());
+                    alone.push(Run { index: k, values });
+                }
+            }
+        }
+        let mut problems: Vec<(usize, String)> = alone
+            .par_iter()
+            .filter_map(|run| {
+                check(run).err().map(|e| {
+                    (
+                        run.index,
+                        format!("{}: {}", self.describe(run), indented(&e)),
+                    )
+                })
+            })
+            .collect();
+        // one problem per key is enough to name it
+        problems.dedup_by_key(|(k, _)| *k);
+        if !problems.is_empty() {
+            return Err(invalid(
+                &self.path,
+                format!(
+                    "{} of {} keys have a value the base scene does not take:\n{}",
+                    problems.len(),
+                    self.keys.len(),
+                    problems
+                        .iter()
+                        .map(|(_, p)| format!("  - {p}"))
+                        .collect::<Vec<_>>()
+                        .join("\n")
+                ),
+            ));
+        }
+        let problems: Vec<String> = self
+            .runs
+            .par_iter()
+            .filter_map(|run| {
+                check(run).err().map(|e| {
+                    format!(
+                        "run {} ({}): {}",
+                        run.index,
+                        self.describe(run),
+                        indented(&e)
+                    )
+                })
+            })
+            .collect();
+        if problems.is_empty() {
+            return Ok(());
+        }
+        let shown: Vec<&String> = problems.iter().take(5).collect();
+        Err(invalid(
+            &self.path,
+            format!(
+                "{} of {} runs are invalid, e.g.\n{}",
+                problems.len(),
+                self.runs.len(),
+                shown
+                    .iter()
+                    .map(|p| format!("  - {p}"))
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            ),
+        ))
+    }
+
+    /// The run's values as `KEY=VALUE` text.
+    pub fn describe(&self, run: &Run) -> String {
+        let parts: Vec<String> = self
+            .keys
+            .iter()
+            .zip(&run.values)
+            .filter_map(|(k, v)| v.as_ref().map(|v| override_text(k, v)))
+            .collect();
+        if parts.is_empty() {
+            "the base scene".into()
+        } else {
+            parts.join(", ")
+        }
+    }
+}
+
+/// An error's text with its later lines indented under a list item.
+fn indented(e: &Error) -> String {
+    e.to_string().trim_end().replace('\n', "\n    ")
+}
+
+/// A TOML number as `f64`.
+fn number(v: &toml::Value) -> Option<f64> {
+    match v {
+        toml::Value::Float(f) => Some(*f),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn value_text_reads_back_as_the_same_value() {
+        for f in [
+            0.0,
+            0.005,
+            10.0,
+            17.897,
+            1e-4,
+            9.99e6,
+            1e7,
+            8.3e-11,
+            1e15,
+            1e300,
+            5e-324,
+            -1.0 / 3.0,
+        ] {
+            let text = value_text(&toml::Value::Float(f));
+            let back: toml::Table = format!("x = {text}").parse().unwrap();
+            assert_eq!(back["x"], toml::Value::Float(f), "{f} written as {text}");
+        }
+        assert_eq!(value_text(&toml::Value::Float(0.005)), "0.005");
+        assert_eq!(value_text(&toml::Value::Float(1e15)), "1e15");
+        assert_eq!(value_text(&toml::Value::String("rk4".into())), "\"rk4\"");
+    }
+}

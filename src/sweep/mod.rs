@@ -1,0 +1,28 @@
+//! Parameter studies: a sweep file's runs on every core (rayon), one CSV row per run with
+//! the summary metrics, resumable, and shardable over a cluster's job array with no
+//! coordinator (`index % N == I`), with a merge that checks the shards belong together.
+//!
+//! ```no_run
+//! use telescopic::sweep::{Shard, Sweep, SweepOptions, run_sweep};
+//! use telescopic::Silent;
+//!
+//! let sweep = Sweep::load("examples/sweeps/clearance.toml".as_ref())?;
+//! let done = run_sweep(&sweep, &SweepOptions {
+//!     out: "results.csv".into(),
+//!     jobs: 2,
+//!     shard: Shard::whole(),
+//!     resume: false,
+//! }, &Silent)?;
+//! println!("{} runs, {} failed", done.written, done.failed);
+//! # Ok::<(), telescopic::Error>(())
+//! ```
+
+mod chart;
+mod file;
+mod merge;
+mod run;
+
+pub use chart::{SweepChart, chart};
+pub use file::{MAX_RUNS, RUN_KEYS, Run, Sweep, override_text, value_text};
+pub use merge::{SweepTable, merge_shards, read_table};
+pub use run::{METRIC_COLUMNS, Shard, SweepOptions, SweepOutcome, run_sweep};

@@ -1,0 +1,498 @@
+//! Running a sweep: the shard's runs in parallel, each a row appended whole to a work file
+//! (`<out>.partial`) as it finishes; when every row of the shard is there, the rows are
+//! sorted by index and the file renamed into place, so `<out>` is only ever complete.
+//! `--resume` continues a work file (a torn last line, from a killed process, is dropped).
+
+use super::file::{Run, Sweep};
+use crate::control::{drive_stop, metrics};
+use crate::model_choice::build_model;
+use crate::output::csv_number;
+use crate::report::{Reporter, Silent};
+use crate::simulation::{plan, run_trajectory};
+use crate::{Error, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::Mutex;
+use std::time::Instant;
+use telescopic_runtime::{SimError, modal_analysis};
+
+/// The metric columns after the override columns, with their meaning (docs/sweeps.md).
+pub const METRIC_COLUMNS: [&str; 14] = [
+    "tip_rel_max",
+    "tip_rel_rms",
+    "contact_force_max",
+    "contact_switches",
+    "residual_std",
+    "f1_hz",
+    "steps",
+    "rejected",
+    "rhs_evals",
+    "jacobian_evals",
+    "factorizations",
+    "status",
+    "error",
+    "wall_s",
+];
+
+/// Which runs of a sweep this process makes: those with `index % count == index`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard (0-based).
+    pub index: usize,
+    /// Number of shards.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Every run.
+    pub fn whole() -> Self {
+        Shard { index: 0, count: 1 }
+    }
+
+    /// The shard of a job array: Slurm's `SLURM_ARRAY_TASK_ID` (less
+    /// `SLURM_ARRAY_TASK_MIN`, over `SLURM_ARRAY_TASK_STEP`) of `SLURM_ARRAY_TASK_COUNT`,
+    /// else Kubernetes'
+    /// `JOB_COMPLETION_INDEX` of `count` (which Kubernetes does not export).
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the missing or bad variable.
+    pub fn from_env(count: Option<usize>) -> Result<Self> {
+        let var = |name: &str| std::env::var(name).ok();
+        let parse = |name: &str, v: String| {
+            v.trim().parse::<usize>().map_err(|_| {
+                Error::option(
+                    "--shard auto",
+                    format!("{name}={v:?} is not a whole number"),
+                )
+            })
+        };
+        let shard = if let Some(id) = var("SLURM_ARRAY_TASK_ID") {
+            let id = parse("SLURM_ARRAY_TASK_ID", id)?;
+            let min = var("SLURM_ARRAY_TASK_MIN")
+                .map(|v| parse("SLURM_ARRAY_TASK_MIN", v))
+                .transpose()?
+                .unwrap_or(0);
+            let total = match var("SLURM_ARRAY_TASK_COUNT") {
+                Some(v) => parse("SLURM_ARRAY_TASK_COUNT", v)?,
+                None => count.ok_or_else(|| {
+                    Error::option(
+                        "--shard auto",
+                        "SLURM_ARRAY_TASK_COUNT is not set; give --shard-count",
+                    )
+                })?,
+            };
+            let step = var("SLURM_ARRAY_TASK_STEP")
+                .map(|v| parse("SLURM_ARRAY_TASK_STEP", v))
+                .transpose()?
+                .unwrap_or(1)
+                .max(1);
+            let offset = id.checked_sub(min).filter(|o| o % step == 0);
+            let shard = Shard {
+                index: offset.map_or(usize::MAX, |o| o / step),
+                count: total,
+            };
+            if shard.index >= total {
+                return Err(Error::option(
+                    "--shard auto",
+                    format!(
+                        "array task {id} (min {min}, step {step}, count {total}) is not one of an \
+                         evenly spaced range; submit with --array=0-{} (optionally %LIMIT)",
+                        total.saturating_sub(1)
+                    ),
+                ));
+            }
+            shard
+        } else if let Some(id) = var("JOB_COMPLETION_INDEX") {
+            let total = count.ok_or_else(|| {
+                Error::option(
+                    "--shard auto",
+                    "JOB_COMPLETION_INDEX is set but not the count: give --shard-count (the job's completions)",
+                )
+            })?;
+            Shard {
+                index: parse("JOB_COMPLETION_INDEX", id)?,
+                count: total,
+            }
+        } else {
+            return Err(Error::option(
+                "--shard auto",
+                "neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a \
+                 Kubernetes indexed job) is set",
+            ));
+        };
+        shard.check("--shard auto")?;
+        Ok(shard)
+    }
+
+    fn check(&self, option: &str) -> Result<()> {
+        if self.count == 0 || self.index >= self.count {
+            return Err(Error::option(
+                option,
+                format!("shard {} of {}: need 0 <= I < N", self.index, self.count),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether run `index` belongs to this shard.
+    pub fn owns(&self, index: usize) -> bool {
+        index % self.count == self.index
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let (i, n) = s
+            .split_once('/')
+            .ok_or_else(|| "expected I/N (e.g. 0/4) or auto".to_string())?;
+        let parse = |v: &str| {
+            v.trim()
+                .parse::<usize>()
+                .map_err(|_| format!("`{v}` is not a whole number"))
+        };
+        let shard = Shard {
+            index: parse(i)?,
+            count: parse(n)?,
+        };
+        shard.check("--shard").map_err(|e| e.to_string())?;
+        Ok(shard)
+    }
+}
+
+/// Options of [`run_sweep`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepOptions {
+    /// The result file.
+    pub out: PathBuf,
+    /// Runs at once (threads), 1 or more.
+    pub jobs: usize,
+    /// Which runs.
+    pub shard: Shard,
+    /// Continue `<out>.partial` (or find `<out>` complete) instead of starting afresh.
+    pub resume: bool,
+}
+
+/// What a sweep did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepOutcome {
+    /// Runs of the shard.
+    pub total: usize,
+    /// Rows written by this call.
+    pub written: usize,
+    /// Rows found in a work file and kept (`--resume`).
+    pub resumed: usize,
+    /// Rows of this call whose run failed (recorded with their error).
+    pub failed: usize,
+    /// Wall time of this call (s).
+    pub wall: f64,
+}
+
+/// The first line of a result file: which sweep, how many runs, which shard.
+pub(super) fn header_line(sweep: &Sweep, shard: Shard) -> String {
+    format!(
+        "# telescopic sweep {}; sweep {}; runs {}; shard {}/{}; file {}; scene {}",
+        env!("CARGO_PKG_VERSION"),
+        sweep.hash,
+        sweep.runs.len(),
+        shard.index,
+        shard.count,
+        sweep.path.display(),
+        sweep.scene_path.display()
+    )
+}
+
+/// The column line of a result file.
+pub(super) fn column_line(sweep: &Sweep) -> String {
+    let mut cols = vec!["index".to_string()];
+    cols.extend(sweep.keys.iter().map(|k| csv_text(k)));
+    cols.extend(METRIC_COLUMNS.iter().map(|c| c.to_string()));
+    cols.join(",")
+}
+
+/// A CSV cell: quoted when it holds a comma, a quote or a line break.
+pub(super) fn csv_text(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\"").replace(['\n', '\r'], " "))
+    } else {
+        s.to_string()
+    }
+}
+
+/// The error kind in the `status` column.
+fn status_of(e: &Error) -> &'static str {
+    match e {
+        Error::Scene(_) => "invalid",
+        Error::Option { .. } => "option",
+        Error::Model(_) => "model",
+        Error::Unaffordable { .. } => "unaffordable",
+        Error::Simulation { error, .. } => match error {
+            SimError::Diverged { .. } => "diverged",
+            SimError::StepUnderflow { .. } => "step-underflow",
+            SimError::NewtonFailure { .. } => "newton",
+            SimError::PositionOutOfRange { .. } => "position",
+            SimError::TooManySteps { .. } => "step-limit",
+            SimError::Settings(_) => "settings",
+        },
+        Error::NonFiniteOutput { .. } => "non-finite",
+        Error::Eigen { .. } => "eigen",
+        Error::Panicked(_) => "panic",
+        _ => "error",
+    }
+}
+
+/// One run, as its CSV row.
+fn row(sweep: &Sweep, run: &Run) -> (String, bool) {
+    let start = Instant::now();
+    let measure = || -> Result<(Vec<String>, Option<String>)> {
+        let (scene, options) = sweep.scene_of(run)?;
+        let planned = plan(&scene, &options)?;
+        let chosen = build_model(&scene.params, options.model)?;
+        let model = chosen.model.as_ref();
+        crate::budget::check_run(&scene, model, planned.method, &planned.settings)?;
+        let traj = run_trajectory(&scene, model, planned.method, &planned.settings, &Silent)?;
+        let tip = traj.column("tip_rel").expect("tip_rel");
+        let tip_max = tip.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let tip_rms = (tip.iter().map(|v| v * v).sum::<f64>() / tip.len() as f64).sqrt();
+        let force_max = traj
+            .names
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| n.starts_with("f_"))
+            .flat_map(|(i, _)| traj.rows.iter().map(move |r| r[i + 1].abs()))
+            .fold(0.0, f64::max);
+        let residual = metrics(&scene, &traj, drive_stop(&scene)).residual_std;
+        // f1 at the final position; a failure here leaves the run's other figures standing
+        let (f1, note) = match modal_analysis(model, scene.time.end) {
+            Ok(m) => (m.frequencies_hz.first().copied().unwrap_or(f64::NAN), None),
+            Err(e) => (f64::NAN, Some(format!("f1: {e}"))),
+        };
+        let s = &traj.stats;
+        let cells = [tip_max, tip_rms, force_max]
+            .iter()
+            .map(|v| csv_number(*v))
+            .chain([s.switches.to_string()])
+            .chain([residual, f1].iter().map(|v| {
+                if v.is_finite() {
+                    csv_number(*v)
+                } else {
+                    String::new()
+                }
+            }))
+            .chain(
+                [
+                    s.steps,
+                    s.rejected,
+                    s.rhs_evals,
+                    s.jacobian_evals,
+                    s.factorizations,
+                ]
+                .iter()
+                .map(u64::to_string),
+            )
+            .collect();
+        Ok((cells, note))
+    };
+    // a panic in one run (a bug) is that run's error, not the end of the sweep
+    let outcome =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(measure)).unwrap_or_else(|payload| {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(Error::Panicked(what))
+        });
+    let mut cells = vec![run.index.to_string()];
+    cells.extend(run.values.iter().map(|v| match v {
+        Some(toml::Value::String(s)) => csv_text(s),
+        Some(v) => csv_text(&super::file::value_text(v)),
+        None => String::new(),
+    }));
+    let failed = outcome.is_err();
+    match outcome {
+        Ok((metrics, note)) => {
+            cells.extend(metrics);
+            cells.push("ok".into());
+            cells.push(note.map(|n| csv_text(&n)).unwrap_or_default());
+        }
+        Err(e) => {
+            cells.extend(std::iter::repeat_n(String::new(), METRIC_COLUMNS.len() - 3));
+            cells.push(status_of(&e).into());
+            cells.push(csv_text(&e.to_string()));
+        }
+    }
+    cells.push(format!("{:.6}", start.elapsed().as_secs_f64()));
+    (cells.join(",") + "\n", failed)
+}
+
+/// The work file beside `out`.
+fn partial_path(out: &Path) -> PathBuf {
+    let mut name = out
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_default();
+    name.push(".partial");
+    out.with_file_name(name)
+}
+
+/// The indices of the complete rows of a work file, after checking its header; a torn last
+/// line is cut off.
+fn resume_from(path: &Path, header: &str, columns: &str) -> Result<Vec<usize>> {
+    let write_error = |error| Error::Write {
+        path: path.to_owned(),
+        error,
+    };
+    let text = std::fs::read_to_string(path).map_err(write_error)?;
+    let mut lines = text.split_inclusive('\n');
+    let (h, c) = (lines.next().unwrap_or(""), lines.next().unwrap_or(""));
+    if h.trim_end() != header || c.trim_end() != columns {
+        return Err(Error::option(
+            "--resume",
+            format!(
+                "{} belongs to another sweep or shard (its header: {:?}); remove it or drop --resume",
+                path.display(),
+                h.trim_end()
+            ),
+        ));
+    }
+    let mut kept = h.len() + c.len();
+    let mut done = Vec::new();
+    for line in lines {
+        if !line.ends_with('\n') {
+            break;
+        }
+        let index = line.split(',').next().and_then(|i| i.parse::<usize>().ok());
+        match index {
+            Some(i) => done.push(i),
+            None => break,
+        }
+        kept += line.len();
+    }
+    if kept < text.len() {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(write_error)?;
+        file.set_len(kept as u64).map_err(write_error)?;
+    }
+    Ok(done)
+}
+
+/// Runs `sweep` (the shard's runs) with `options`, reporting the count of finished runs.
+///
+/// # Errors
+/// [`Error::Option`] for bad options or a work file of another sweep; [`Error::Write`];
+/// [`Error::Interrupted`] when stopped by [`crate::interrupt`] (every finished row kept).
+pub fn run_sweep(
+    sweep: &Sweep,
+    options: &SweepOptions,
+    reporter: &dyn Reporter,
+) -> Result<SweepOutcome> {
+    use rayon::prelude::*;
+    let started = Instant::now();
+    if options.jobs == 0 {
+        return Err(Error::option("--jobs", "must be at least 1"));
+    }
+    let header = header_line(sweep, options.shard);
+    let columns = column_line(sweep);
+    let mine: Vec<&Run> = sweep
+        .runs
+        .iter()
+        .filter(|r| options.shard.owns(r.index))
+        .collect();
+    let partial = partial_path(&options.out);
+    let write_error = |path: &Path, error| Error::Write {
+        path: path.to_owned(),
+        error,
+    };
+    // a complete file of this sweep and shard: nothing to do
+    if options.resume && !partial.exists() && options.out.exists() {
+        let table = super::merge::read_table(&options.out)?;
+        if table.header == header && table.rows.len() == mine.len() {
+            return Ok(SweepOutcome {
+                total: mine.len(),
+                written: 0,
+                resumed: mine.len(),
+                failed: 0,
+                wall: 0.0,
+            });
+        }
+    }
+    let done: Vec<usize> = if options.resume && partial.exists() {
+        resume_from(&partial, &header, &columns)?
+    } else {
+        std::fs::write(&partial, format!("{header}\n{columns}\n"))
+            .map_err(|e| write_error(&partial, e))?;
+        Vec::new()
+    };
+    let finished_before: std::collections::HashSet<usize> = done.iter().copied().collect();
+    let pending: Vec<&Run> = mine
+        .iter()
+        .copied()
+        .filter(|r| !finished_before.contains(&r.index))
+        .collect();
+    let file = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&partial)
+        .map_err(|e| write_error(&partial, e))?;
+    let writer = Mutex::new(file);
+    let counts = Mutex::new((done.len(), 0usize, 0usize)); // (finished, written, failed)
+    let write_failure: Mutex<Option<std::io::Error>> = Mutex::new(None);
+    let total = mine.len();
+    reporter.runs(done.len(), total);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.jobs)
+        .build()
+        .map_err(|e| Error::option("--jobs", e.to_string()))?;
+    pool.install(|| {
+        pending.par_iter().for_each(|run| {
+            if crate::interrupt::requested() {
+                return;
+            }
+            let (line, failed) = row(sweep, run);
+            // one write of a whole line, then flushed: a kill leaves whole rows or a torn
+            // last one, which --resume cuts off
+            let result = {
+                let mut f = writer.lock().unwrap_or_else(|e| e.into_inner());
+                f.write_all(line.as_bytes()).and_then(|()| f.flush())
+            };
+            if let Err(e) = result {
+                *write_failure.lock().unwrap_or_else(|e| e.into_inner()) = Some(e);
+                return;
+            }
+            let mut c = counts.lock().unwrap_or_else(|e| e.into_inner());
+            c.0 += 1;
+            c.1 += 1;
+            c.2 += usize::from(failed);
+            reporter.runs(c.0, total);
+        })
+    });
+    if let Some(e) = write_failure
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+    {
+        return Err(write_error(&partial, e));
+    }
+    let (finished, written, failed) = counts.into_inner().unwrap_or_else(|e| e.into_inner());
+    if finished < total {
+        return Err(Error::Interrupted(format!(
+            "{finished} of {total} runs done, kept in {}; run again with --resume to finish",
+            partial.display()
+        )));
+    }
+    // every row is there: sort by index into the result file, atomically
+    let mut table = super::merge::read_table(&partial)?;
+    table.rows.sort_by_key(|(i, _)| *i);
+    crate::output::write_atomically(&options.out, |w| table.write(w))?;
+    std::fs::remove_file(&partial).map_err(|e| write_error(&partial, e))?;
+    Ok(SweepOutcome {
+        total,
+        written,
+        resumed: done.len(),
+        failed,
+        wall: started.elapsed().as_secs_f64(),
+    })
+}
