@@ -26,7 +26,12 @@ pub fn succeeds(args: &[&str]) -> Output {
 
 /// The command failed cleanly: non-zero exit, an error line naming `needles`, no panic.
 pub fn fails_with(args: &[&str], needles: &[&str]) {
-    let out = telescopic(args);
+    failed_cleanly(args, &telescopic(args), needles);
+}
+
+/// `out` (of a run with `args`) is a clean failure: non-zero exit, nothing on stdout, no
+/// panic, stderr naming every needle.
+pub fn failed_cleanly(args: &[&str], out: &Output, needles: &[&str]) {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{args:?} should fail");
     assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
