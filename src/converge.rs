@@ -15,7 +15,7 @@
 
 use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
 use crate::report::Reporter;
-use crate::simulation::run_trajectory;
+use crate::simulation::{peak_and_rms, run_trajectory};
 use crate::{Error, Result};
 use plotters::prelude::*;
 use std::io::Write;
@@ -142,15 +142,8 @@ fn trial(scene: &Scene, modes: usize, contacts: usize, reporter: &dyn Reporter) 
     let settings = telescopic_runtime::Settings::default();
     crate::budget::check_run(&scene, &model, method, &settings).map_err(in_trial)?;
     let traj = run_trajectory(&scene, &model, method, &settings, reporter).map_err(in_trial)?;
-    let col = traj
-        .names
-        .iter()
-        .position(|n| n == "tip_rel")
-        .expect("every model has tip_rel")
-        + 1;
-    let tip: Vec<f64> = traj.rows.iter().map(|r| r[col]).collect();
-    let tip_peak = tip.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let tip_rms = (tip.iter().map(|v| v * v).sum::<f64>() / tip.len() as f64).sqrt();
+    let tip = traj.column("tip_rel").expect("every model has tip_rel");
+    let (tip_peak, tip_rms) = peak_and_rms(&tip);
     Ok(Trial {
         modes,
         contacts,

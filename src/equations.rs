@@ -3,8 +3,6 @@
 
 use crate::Result;
 use crate::model_choice::no_generated_model;
-use std::fmt;
-use std::str::FromStr;
 use telescopic_runtime::{Scene, configuration_key};
 
 /// A rendering of the equations.
@@ -21,39 +19,13 @@ pub enum EquationFormat {
     Json,
 }
 
-impl EquationFormat {
-    /// The name the generated lookup takes.
-    pub fn name(self) -> &'static str {
-        match self {
-            EquationFormat::Text => "text",
-            EquationFormat::Latex => "latex",
-            EquationFormat::Rust => "rust",
-            EquationFormat::Json => "json",
-        }
-    }
-}
-
-impl FromStr for EquationFormat {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "text" => Ok(EquationFormat::Text),
-            "latex" => Ok(EquationFormat::Latex),
-            "rust" => Ok(EquationFormat::Rust),
-            "json" => Ok(EquationFormat::Json),
-            _ => Err(format!(
-                "`{s}` is not a format; use text, latex, rust or json"
-            )),
-        }
-    }
-}
-
-impl fmt::Display for EquationFormat {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+// the names are also those the generated lookup takes
+crate::named::named_enum!(EquationFormat, "a format", {
+    Text => "text",
+    Latex => "latex",
+    Rust => "rust",
+    Json => "json",
+});
 
 /// The equations of `scene`'s generated model in `format`.
 ///

@@ -2,8 +2,6 @@
 //! configuration when `telescopic-generated` has one, else the quadrature-assembled model.
 
 use crate::{Error, Result};
-use std::fmt;
-use std::str::FromStr;
 use telescopic_runtime::{
     AssembledModel, Model, ModelParams, configuration_key, models_toml_entry,
 };
@@ -20,30 +18,11 @@ pub enum ModelChoice {
     Assembled,
 }
 
-impl FromStr for ModelChoice {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "auto" => Ok(ModelChoice::Auto),
-            "generated" => Ok(ModelChoice::Generated),
-            "assembled" => Ok(ModelChoice::Assembled),
-            _ => Err(format!(
-                "`{s}` is not a model choice; use auto, generated or assembled"
-            )),
-        }
-    }
-}
-
-impl fmt::Display for ModelChoice {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            ModelChoice::Auto => "auto",
-            ModelChoice::Generated => "generated",
-            ModelChoice::Assembled => "assembled",
-        })
-    }
-}
+crate::named::named_enum!(ModelChoice, "a model choice", {
+    Auto => "auto",
+    Generated => "generated",
+    Assembled => "assembled",
+});
 
 /// A prepared model and what it is.
 pub struct ChosenModel {

@@ -201,6 +201,16 @@ impl Trajectory {
     }
 }
 
+/// Largest magnitude and root mean square of `values` (both 0 for none).
+pub fn peak_and_rms(values: &[f64]) -> (f64, f64) {
+    if values.is_empty() {
+        return (0.0, 0.0);
+    }
+    let peak = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let rms = (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt();
+    (peak, rms)
+}
+
 /// A finished simulation: what ran and every sample.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Simulation {

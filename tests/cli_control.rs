@@ -134,3 +134,72 @@ fn design_then_simulate_with_the_controller() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn malformed_controller_files_are_refused_before_the_run() {
+    // each used to panic (index out of range) inside the run instead of failing cleanly
+    let good: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("docs/case-study-controller.json").unwrap())
+            .unwrap();
+    let dir = scratch("cli-control-malformed");
+    let empty_filter = serde_json::json!({
+        "C_modal": [], "Q_noise": [], "R_noise": [], "L_modal": [], "L": [],
+        "A_full": [], "B_full": [], "C_meas": []
+    });
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: Vec<(&str, Edit, &[&str])> = vec![
+        (
+            "positions",
+            Box::new(|c| {
+                for p in c["schedule"].as_array_mut().unwrap() {
+                    p["positions"] = serde_json::json!([]);
+                }
+            }),
+            &[
+                "--controller",
+                "a design point has 0 position(s), the scene has 1",
+            ],
+        ),
+        (
+            "order",
+            Box::new(|c| c["schedule"].as_array_mut().unwrap().reverse()),
+            &["--controller", "not in ascending order of a_2"],
+        ),
+        (
+            "gain",
+            Box::new(|c| {
+                c["schedule"][0]["K"][0].as_array_mut().unwrap().pop();
+            }),
+            &["--controller", "a gain K has the wrong size"],
+        ),
+        (
+            "filter",
+            Box::new(move |c| {
+                c["kind"] = "lqr+shaper+kalman".into();
+                for p in c["schedule"].as_array_mut().unwrap() {
+                    p["observer"] = empty_filter.clone();
+                }
+            }),
+            &[
+                "--controller",
+                "Kalman filter: A_full is 0 x 0, expected 16 x 16",
+            ],
+        ),
+    ];
+    for (name, edit, needles) in cases {
+        let mut c = good.clone();
+        edit(&mut c);
+        let path = dir.join(format!("{name}.json"));
+        std::fs::write(&path, c.to_string()).unwrap();
+        fails_with(
+            &[
+                "simulate",
+                "scenes/case-study.toml",
+                "--controller",
+                path.to_str().unwrap(),
+            ],
+            needles,
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -93,9 +93,8 @@ pub struct LinearModel {
 pub enum LinearError {
     /// A position is outside the overlap's valid range.
     #[error(
-        "position a_{section} = {value} m is outside the valid overlap: it must lie in \
-         [{min}, {max}) m, where the overlap of sections {} and {section} stays in (0, min(l_{}, \
-         l_{section})]",
+        "a{section} = {value} m is outside the valid overlap: it must lie in [{min}, {max}) m, \
+         where the overlap of sections {} and {section} stays in (0, min(l_{}, l_{section})]",
         section - 1,
         section - 1
     )]
@@ -123,7 +122,8 @@ pub struct Lpv<'m> {
     model: &'m dyn Model,
     contacts: ContactMode,
     minv: DMatrix<f64>,
-    motion: bool,
+    /// For a prescribed motion, `M_pp^-1` of the coordinates other than the vehicle's.
+    motion: Option<DMatrix<f64>>,
     states: Vec<Signal>,
     inputs: Vec<Signal>,
     outputs: Vec<Signal>,
@@ -138,12 +138,22 @@ impl<'m> Lpv<'m> {
     /// [`LinearError::Eigen`] when the mass matrix is not positive definite.
     pub fn new(model: &'m dyn Model, contacts: ContactMode) -> Result<Self, LinearError> {
         let n = model.dof();
-        let m = model.mass_matrix().clone();
+        let m = model.mass_matrix();
         let minv = m
+            .clone()
             .cholesky()
             .ok_or(EigenError::MassNotPositiveDefinite)?
             .inverse();
-        let motion = matches!(model.params().drive, Drive::Motion(_));
+        let motion = match model.params().drive {
+            Drive::Motion(_) => Some(
+                m.view((1, 1), (n - 1, n - 1))
+                    .into_owned()
+                    .cholesky()
+                    .ok_or(EigenError::MassNotPositiveDefinite)?
+                    .inverse(),
+            ),
+            Drive::Force(_) => None,
+        };
         let layout = model.layout();
         let params = model.params();
         let sections = params.sections.len();
@@ -203,7 +213,7 @@ impl<'m> Lpv<'m> {
             })
             .collect();
         states.extend(rates);
-        let inputs = vec![if motion {
+        let inputs = vec![if motion.is_some() {
             signal(
                 "a_vehicle".into(),
                 "m/s^2",
@@ -304,23 +314,33 @@ impl<'m> Lpv<'m> {
         positions: &[f64],
         rates: &[f64],
     ) -> Result<(DMatrix<f64>, DMatrix<f64>), LinearError> {
-        self.at(positions, rates)?;
-        let n = self.model.dof();
-        let nc = self.model.layout().contact_count();
-        let mut g = DMatrix::zeros(n, nc);
-        let mut gdot = DMatrix::zeros(n, nc);
-        self.model
-            .contact_vectors_at(positions, rates, &mut g, &mut gdot);
+        let (g, gdot) = self.contact_vectors(positions, rates)?;
         Ok(self.second_order(&g, &gdot))
     }
 
-    /// `A`, `B`, `C`, `D` at positions `a_2..a_n` (m) moving at `rates` (m/s).
+    /// The contact vectors `g`, `gdot` at positions `a_2..a_n` (m) moving at `rates` (m/s),
+    /// after checking both.
+    fn contact_vectors(
+        &self,
+        positions: &[f64],
+        rates: &[f64],
+    ) -> Result<(DMatrix<f64>, DMatrix<f64>), LinearError> {
+        self.check_point(positions, rates)?;
+        let model = self.model;
+        let (n, nc) = (model.dof(), model.layout().contact_count());
+        let mut g = DMatrix::zeros(n, nc);
+        let mut gdot = DMatrix::zeros(n, nc);
+        model.contact_vectors_at(positions, rates, &mut g, &mut gdot);
+        Ok((g, gdot))
+    }
+
+    /// Checks an operating point: positions `a_2..a_n` (m) inside the valid overlaps, finite
+    /// speeds (m/s), one of each per telescopic position.
     ///
     /// # Errors
-    /// [`LinearError`] for positions outside the valid overlap, or of the wrong count.
-    pub fn at(&self, positions: &[f64], rates: &[f64]) -> Result<LinearModel, LinearError> {
+    /// As [`Lpv::at`].
+    pub fn check_point(&self, positions: &[f64], rates: &[f64]) -> Result<(), LinearError> {
         let model = self.model;
-        let n = model.dof();
         let npos = model.params().sections.len() - 1;
         if positions.len() != npos || rates.len() != npos {
             return Err(LinearError::Input(format!(
@@ -347,10 +367,18 @@ impl<'m> Lpv<'m> {
                 )));
             }
         }
+        Ok(())
+    }
+
+    /// `A`, `B`, `C`, `D` at positions `a_2..a_n` (m) moving at `rates` (m/s).
+    ///
+    /// # Errors
+    /// [`LinearError`] for positions outside the valid overlap, or of the wrong count.
+    pub fn at(&self, positions: &[f64], rates: &[f64]) -> Result<LinearModel, LinearError> {
+        let model = self.model;
+        let n = model.dof();
         let nc = model.layout().contact_count();
-        let mut g = DMatrix::zeros(n, nc);
-        let mut gdot = DMatrix::zeros(n, nc);
-        model.contact_vectors_at(positions, rates, &mut g, &mut gdot);
+        let (g, gdot) = self.contact_vectors(positions, rates)?;
         let law = &model.params().contact;
         let (k_e, d) = self.second_order(&g, &gdot);
         let mut a = DMatrix::zeros(2 * n, 2 * n);
@@ -358,22 +386,16 @@ impl<'m> Lpv<'m> {
         for i in 0..n {
             a[(i, n + i)] = 1.0;
         }
-        if self.motion {
+        if let Some(mpp_inv) = &self.motion {
             // u'' is the input; the other coordinates follow M_pp p'' = -M_p0 u'' - ...
             let r = n - 1;
             let m = model.mass_matrix();
-            let mpp_inv = m
-                .view((1, 1), (r, r))
-                .into_owned()
-                .cholesky()
-                .ok_or(EigenError::MassNotPositiveDefinite)?
-                .inverse();
-            let kz = -(&mpp_inv * k_e.view((1, 0), (r, n)));
-            let dz = -(&mpp_inv * d.view((1, 0), (r, n)));
+            let kz = -(mpp_inv * k_e.view((1, 0), (r, n)));
+            let dz = -(mpp_inv * d.view((1, 0), (r, n)));
             a.view_mut((n + 1, 0), (r, n)).copy_from(&kz);
             a.view_mut((n + 1, n), (r, n)).copy_from(&dz);
             b[(n, 0)] = 1.0;
-            let bp = -(&mpp_inv * m.view((1, 0), (r, 1)));
+            let bp = -(mpp_inv * m.view((1, 0), (r, 1)));
             b.view_mut((n + 1, 0), (r, 1)).copy_from(&bp);
         } else {
             a.view_mut((n, 0), (n, n))

@@ -3,7 +3,8 @@
 //! integrator, the contact events and the outputs work unchanged. The output gains a
 //! `drive_force` column: the total force the drive applies.
 
-use super::design::{Controller, interpolate_index};
+use super::design::{Controller, schedule_weights};
+use crate::rows::from_rows;
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
 use telescopic_runtime::{ContactState, ContactTable, Drive, Layout, Model, ModelParams, Profile};
@@ -63,7 +64,7 @@ pub struct ControlLaw {
     /// One gain row per schedule point (empty without LQR).
     gains: Vec<Vec<f64>>,
     schedule: Vec<super::design::SchedulePoint>,
-    /// `(index into the scene's positions, k)` of the scheduled position.
+    /// Section `k` of the scheduled position `a_k`.
     parameter: Option<usize>,
     positions: Vec<Profile>,
     limit: f64,
@@ -71,11 +72,8 @@ pub struct ControlLaw {
 
 impl ControlLaw {
     /// The law of `controller` on `params` over `[start, end]` s.
-    pub fn new(controller: &Controller, params: &ModelParams, start: f64, end: f64) -> Self {
-        let parameter = controller
-            .schedule_parameter
-            .as_ref()
-            .and_then(|n| n.trim_start_matches("a_").parse::<usize>().ok());
+    pub(crate) fn new(controller: &Controller, params: &ModelParams, start: f64, end: f64) -> Self {
+        let parameter = controller.scheduled_section();
         ControlLaw {
             feedforward: controller.feedforward.clone(),
             reference: Reference::new(
@@ -85,11 +83,12 @@ impl ControlLaw {
                 end,
                 1e-3,
             ),
-            gains: controller
-                .schedule
-                .iter()
-                .filter_map(|p| p.k.first().cloned())
-                .collect(),
+            // one row each, of the state's size (Controller::check_fits)
+            gains: if controller.kind.has_lqr() {
+                controller.schedule.iter().map(|p| p.k[0].clone()).collect()
+            } else {
+                Vec::new()
+            },
             schedule: controller.schedule.clone(),
             parameter,
             positions: params.positions.clone(),
@@ -99,10 +98,7 @@ impl ControlLaw {
 
     /// The scheduled gains around time `t`: `(i, j, w)`.
     fn weights(&self, t: f64) -> (usize, usize, f64) {
-        match self.parameter {
-            Some(k) => interpolate_index(&self.schedule, k, self.positions[k - 2].value(t)),
-            None => (0, 0, 0.0),
-        }
+        schedule_weights(&self.schedule, self.parameter, &self.positions, t)
     }
 
     /// The total drive force (N) at `t`, state `y`, and whether it saturated.
@@ -158,8 +154,10 @@ impl<'m> Controlled<'m> {
     /// Wraps `base` with `controller` over `[start, end]` s.
     ///
     /// # Errors
-    /// [`Error::Model`] when the mass matrix cannot be factored.
+    /// [`Error::Option`] when the controller does not fit the model (see
+    /// [`Controller::check_fits`]); [`Error::Model`] when the mass matrix cannot be factored.
     pub fn new(base: &'m dyn Model, controller: &Controller, start: f64, end: f64) -> Result<Self> {
+        controller.check_params(base.params())?;
         let response = base
             .mass_matrix()
             .clone()
@@ -278,32 +276,32 @@ impl<'m> Observed<'m> {
     /// Wraps `base` with `controller`, whose design points must carry Kalman filters.
     ///
     /// # Errors
-    /// [`Error::Model`] for a mass matrix that cannot be factored, [`Error::Option`] for a
-    /// controller without filters.
+    /// As [`Controlled::new`]; [`Error::Option`] for a controller without filters or with
+    /// filter matrices of the wrong size.
     pub fn new(base: &'m dyn Model, controller: &Controller, start: f64, end: f64) -> Result<Self> {
-        let matrix = |rows: &[Vec<f64>]| {
-            DMatrix::from_row_iterator(rows.len(), rows[0].len(), rows.iter().flatten().copied())
+        let inner = Controlled::new(base, controller, start, end)?;
+        let n = base.dof();
+        let matrix = |rows: &[Vec<f64>], name: &str, shape: (usize, usize)| {
+            from_rows(rows, Some(shape))
+                .map_err(|e| Error::option("--controller", format!("Kalman filter: {name} {e}")))
         };
         let points = controller
             .schedule
             .iter()
             .map(|p| {
-                p.observer
-                    .as_ref()
-                    .map(|o| ObserverMatrices {
-                        a: matrix(&o.a_full),
-                        b: matrix(&o.b_full),
-                        l: matrix(&o.l),
-                        c: matrix(&o.c_meas),
-                    })
-                    .ok_or_else(|| {
-                        Error::option("--controller", "the controller has no Kalman filter")
-                    })
+                let o = p.observer.as_ref().ok_or_else(|| {
+                    Error::option("--controller", "the controller has no Kalman filter")
+                })?;
+                Ok(ObserverMatrices {
+                    a: matrix(&o.a_full, "A_full", (2 * n, 2 * n))?,
+                    b: matrix(&o.b_full, "B_full", (2 * n, 1))?,
+                    l: matrix(&o.l, "L", (2 * n, 2))?,
+                    c: matrix(&o.c_meas, "C_meas", (2, 2 * n))?,
+                })
             })
             .collect::<Result<Vec<_>>>()?;
-        let n = base.dof();
         Ok(Observed {
-            inner: Controlled::new(base, controller, start, end)?,
+            inner,
             points,
             scratch: std::cell::RefCell::new((
                 vec![0.0; 2 * n],

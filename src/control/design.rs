@@ -18,14 +18,16 @@ use super::riccati::care;
 use super::shaper::{ShaperKind, jumps, shape};
 use crate::linear::Grid;
 use crate::model_choice::{ModelChoice, build_model};
+use crate::rows::to_rows;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::ops::AddAssign;
-use std::str::FromStr;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
-use telescopic_runtime::{Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues};
+use telescopic_runtime::{
+    Drive, ModelParams, Profile, Scene, ShapedProfile, configuration_key, eigenvalues,
+};
 
 /// Which controller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -63,32 +65,12 @@ impl ControllerKind {
     }
 }
 
-impl FromStr for ControllerKind {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "lqr" => Ok(ControllerKind::Lqr),
-            "shaper" => Ok(ControllerKind::Shaper),
-            "lqr+shaper" => Ok(ControllerKind::LqrShaper),
-            "lqr+shaper+kalman" => Ok(ControllerKind::LqrShaperKalman),
-            _ => Err(format!(
-                "`{s}` is not a controller; use lqr, shaper, lqr+shaper or lqr+shaper+kalman"
-            )),
-        }
-    }
-}
-
-impl fmt::Display for ControllerKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            ControllerKind::Lqr => "lqr",
-            ControllerKind::Shaper => "shaper",
-            ControllerKind::LqrShaper => "lqr+shaper",
-            ControllerKind::LqrShaperKalman => "lqr+shaper+kalman",
-        })
-    }
-}
+crate::named::named_enum!(ControllerKind, "a controller", {
+    Lqr => "lqr",
+    Shaper => "shaper",
+    LqrShaper => "lqr+shaper",
+    LqrShaperKalman => "lqr+shaper+kalman",
+});
 
 /// Settings of [`design`]; the defaults are Bryson's rule with the scales below.
 #[derive(Debug, Clone, PartialEq)]
@@ -250,12 +232,6 @@ pub struct Controller {
     pub feedforward: Profile,
 }
 
-fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
-    (0..m.nrows())
-        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
-        .collect()
-}
-
 /// The first elastic mode of `A`: frequency (Hz) and damping ratio, from the eigenvalue pair
 /// of least magnitude with a non-zero imaginary part.
 fn first_mode(a: &DMatrix<f64>) -> Result<(f64, f64)> {
@@ -350,14 +326,14 @@ fn kalman(
     let l_modal = dual.k.transpose();
     let l = &phi_full * &l_modal;
     Ok(ObserverPoint {
-        c_modal: rows(&c_modal),
-        q_noise: rows(&q_noise),
-        r_noise: rows(&r_noise),
-        l_modal: rows(&l_modal),
-        l: rows(&l),
-        a_full: rows(&full.a),
-        b_full: rows(&full.b),
-        c_meas: rows(&c_meas),
+        c_modal: to_rows(&c_modal),
+        q_noise: to_rows(&q_noise),
+        r_noise: to_rows(&r_noise),
+        l_modal: to_rows(&l_modal),
+        l: to_rows(&l),
+        a_full: to_rows(&full.a),
+        b_full: to_rows(&full.b),
+        c_meas: to_rows(&c_meas),
     })
 }
 
@@ -497,8 +473,8 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
             let solution = care(&design.a, &design.b, &q, &r).map_err(|e| at(&e))?;
             let k_full = &solution.k * &design.w;
             (
-                rows(&solution.k),
-                rows(&k_full),
+                to_rows(&solution.k),
+                to_rows(&k_full),
                 solution.residual,
                 solution.closed_loop_abscissa,
             )
@@ -513,12 +489,12 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         schedule.push(SchedulePoint {
             observer,
             positions: positions.clone(),
-            a: rows(&design.a),
-            b: rows(&design.b),
-            q: rows(&q),
-            r: rows(&r),
+            a: to_rows(&design.a),
+            b: to_rows(&design.b),
+            q: to_rows(&q),
+            r: to_rows(&r),
             k_modal,
-            w: rows(&design.w),
+            w: to_rows(&design.w),
             k: k_full,
             first_mode_hz: f1,
             first_mode_damping: zeta1,
@@ -530,11 +506,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     let feedforward = if options.kind.has_shaper() {
         let j = jumps(force, scene.time.start).map_err(|e| Error::option("--controller", e))?;
         let at = |t: f64| -> (f64, f64) {
-            let point = match parameter {
-                Some(k) => interpolate_index(&schedule, k, scene.params.positions[k - 2].value(t)),
-                None => (0, 0, 0.0),
-            };
-            let (a, b, w) = point;
+            let (a, b, w) = schedule_weights(&schedule, parameter, &scene.params.positions, t);
             let lerp = |x: f64, y: f64| x + w * (y - x);
             let (pa, pb) = (&schedule[a], &schedule[b]);
             (
@@ -563,6 +535,21 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         shaper: options.kind.has_shaper().then_some(options.shaper),
         feedforward,
     })
+}
+
+/// The two schedule points around time `t` and the weight of the second, `(i, j, w)`, for a
+/// schedule over `a_k` (`section = Some(k)`; `positions` are the scene's `a_2..a_n`), or the
+/// one point of a schedule at fixed positions (`None`).
+pub fn schedule_weights(
+    schedule: &[SchedulePoint],
+    section: Option<usize>,
+    positions: &[Profile],
+    t: f64,
+) -> (usize, usize, f64) {
+    match section {
+        Some(k) => interpolate_index(schedule, k, positions[k - 2].value(t)),
+        None => (0, 0, 0.0),
+    }
 }
 
 /// The two schedule points around position value `a` of `a_k` and the weight of the second:
@@ -602,13 +589,25 @@ impl Controller {
         Ok(c)
     }
 
+    /// Section `k` of the scheduled position `a_k`, if the schedule runs over one.
+    pub fn scheduled_section(&self) -> Option<usize> {
+        self.schedule_parameter
+            .as_ref()
+            .and_then(|name| name.strip_prefix("a_")?.parse().ok())
+    }
+
     /// Checks that the controller fits `scene`: the same configuration and states, a force
-    /// drive.
+    /// drive, and a schedule of the scene's positions with gains of the state's size.
     ///
     /// # Errors
     /// [`Error::Option`] naming the mismatch.
     pub fn check_fits(&self, scene: &Scene) -> Result<()> {
-        let key = configuration_key(&scene.params);
+        self.check_params(&scene.params)
+    }
+
+    /// [`Controller::check_fits`] on the scene's parameters.
+    pub(crate) fn check_params(&self, params: &ModelParams) -> Result<()> {
+        let key = configuration_key(params);
         if key != self.configuration {
             return Err(Error::option(
                 "--controller",
@@ -619,7 +618,7 @@ impl Controller {
                 ),
             ));
         }
-        let dof = scene.params.modes().iter().sum::<usize>();
+        let dof = params.modes().iter().sum::<usize>();
         if self.states.len() != 2 * dof || self.schedule.is_empty() {
             return Err(Error::option(
                 "--controller",
@@ -640,18 +639,40 @@ impl Controller {
         {
             return Err(Error::option("--controller", "a gain K has the wrong size"));
         }
-        if !matches!(scene.params.drive, Drive::Force(_)) {
+        if !matches!(params.drive, Drive::Force(_)) {
             return Err(Error::option(
                 "--controller",
                 "the scene has a prescribed motion; a controller drives a force",
             ));
         }
+        let npos = params.positions.len();
+        if let Some(p) = self.schedule.iter().find(|p| p.positions.len() != npos) {
+            return Err(Error::option(
+                "--controller",
+                format!(
+                    "a design point has {} position(s), the scene has {npos} (a_2..a_n)",
+                    p.positions.len()
+                ),
+            ));
+        }
         if let Some(name) = &self.schedule_parameter {
-            let k: usize = name.trim_start_matches("a_").parse().unwrap_or(0);
-            if k < 2 || k > scene.params.sections.len() {
+            let Some(k) = self
+                .scheduled_section()
+                .filter(|k| (2..=npos + 1).contains(k))
+            else {
                 return Err(Error::option(
                     "--controller",
                     format!("the schedule runs over {name}, which the scene does not have"),
+                ));
+            };
+            let ascending = self
+                .schedule
+                .windows(2)
+                .all(|w| w[0].positions[k - 2] < w[1].positions[k - 2]);
+            if !ascending {
+                return Err(Error::option(
+                    "--controller",
+                    format!("the design points are not in ascending order of {name}"),
                 ));
             }
         }

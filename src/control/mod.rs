@@ -71,9 +71,7 @@ pub fn simulate_controlled(
     let base = chosen.model.as_ref();
     let (start, end) = (scene.time.start, scene.time.end);
     let trajectory = if controller.kind.has_observer() {
-        if method.step_control() != telescopic_runtime::integrate::StepControl::Adaptive
-            || !matches!(method, Method::Dopri5 | Method::Dop853)
-        {
+        if !matches!(method, Method::Dopri5 | Method::Dop853) {
             return Err(Error::option(
                 "--method",
                 "a controller with a Kalman filter runs with dopri5 or dop853",
@@ -152,7 +150,10 @@ pub fn metrics(scene: &Scene, trajectory: &Trajectory, window_start: f64) -> Con
         window_start,
         residual_std: var.sqrt(),
         peak_force,
-        final_vehicle: trajectory.rows.last().map_or(0.0, |r| r[1]),
+        final_vehicle: trajectory
+            .column("vehicle")
+            .and_then(|v| v.last().copied())
+            .unwrap_or(0.0),
     }
 }
 

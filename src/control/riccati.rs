@@ -65,17 +65,13 @@ pub struct Care {
     pub closed_loop_abscissa: f64,
 }
 
-fn frob(m: &DMatrix<f64>) -> f64 {
-    m.norm()
-}
-
 /// Relative residual of `X` in `A'X + XA - XGX + Q = 0`.
 fn residual(a: &DMatrix<f64>, g: &DMatrix<f64>, q: &DMatrix<f64>, x: &DMatrix<f64>) -> f64 {
     let atx = a.transpose() * x;
     let xa = x * a;
     let xgx = x * g * x;
     let r = &atx + &xa - &xgx + q;
-    frob(&r) / (frob(&atx) + frob(&xa) + frob(&xgx) + frob(q)).max(f64::MIN_POSITIVE)
+    r.norm() / (atx.norm() + xa.norm() + xgx.norm() + q.norm()).max(f64::MIN_POSITIVE)
 }
 
 /// The matrix sign function by Newton's iteration with determinant scaling. It stops when
@@ -100,9 +96,9 @@ fn sign(mut z: DMatrix<f64>) -> Result<DMatrix<f64>, RiccatiError> {
         }
         let c = (-log_det / n).exp();
         let next = 0.5 * (&z * c + inv / c);
-        let change = frob(&(&next - &z));
+        let change = (&next - &z).norm();
         z = next;
-        let size = frob(&z);
+        let size = z.norm();
         if change <= 1e-13 * size || (change <= 1e-6 * size && change >= previous) {
             return Ok(z);
         }
@@ -158,7 +154,7 @@ pub fn care(
     {
         return Err(RiccatiError::Dimensions("an entry is not finite".into()));
     }
-    let symmetric = |x: &DMatrix<f64>| frob(&(x - x.transpose())) <= 1e-12 * frob(x).max(1e-300);
+    let symmetric = |x: &DMatrix<f64>| (x - x.transpose()).norm() <= 1e-12 * x.norm().max(1e-300);
     if !symmetric(q) || !symmetric(r) {
         return Err(RiccatiError::Weights("Q and R must be symmetric".into()));
     }
@@ -170,7 +166,7 @@ pub fn care(
         .ok_or_else(|| RiccatiError::Numerics("eigenvalues of Q did not converge".into()))?
         .eigenvalues
         .min();
-    if q_min < -1e-12 * frob(q) {
+    if q_min < -1e-12 * q.norm() {
         return Err(RiccatiError::Weights(format!(
             "Q must be positive semidefinite (smallest eigenvalue {q_min:.3e})"
         )));

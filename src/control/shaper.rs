@@ -5,8 +5,6 @@
 //! is shaped with the frequency and damping at the positions of its time.
 
 use std::f64::consts::PI;
-use std::fmt;
-use std::str::FromStr;
 use telescopic_runtime::{Profile, ShapedProfile};
 
 /// The shaper's kind.
@@ -20,26 +18,10 @@ pub enum ShaperKind {
     Zvd,
 }
 
-impl FromStr for ShaperKind {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "zv" => Ok(ShaperKind::Zv),
-            "zvd" => Ok(ShaperKind::Zvd),
-            _ => Err(format!("`{s}` is not a shaper; use zv or zvd")),
-        }
-    }
-}
-
-impl fmt::Display for ShaperKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            ShaperKind::Zv => "zv",
-            ShaperKind::Zvd => "zvd",
-        })
-    }
-}
+crate::named::named_enum!(ShaperKind, "a shaper", {
+    Zv => "zv",
+    Zvd => "zvd",
+});
 
 /// Amplitudes and delays (s) of the shaper's impulses for a mode of natural frequency
 /// `omega` (rad/s) and damping ratio `zeta` (0 <= zeta < 1).

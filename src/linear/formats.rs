@@ -3,11 +3,10 @@
 
 use super::LinearExport;
 use super::npy::{self, Array};
+use crate::rows::{from_rows, to_rows};
 use crate::{Error, Result};
 use serde_json::{Value, json};
-use std::fmt;
 use std::io::Write;
-use std::str::FromStr;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactMode, LinearModel, Signal};
 
@@ -33,34 +32,13 @@ pub enum Format {
     Latex,
 }
 
-impl FromStr for Format {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "json" => Ok(Format::Json),
-            "matlab" => Ok(Format::Matlab),
-            "npz" => Ok(Format::Npz),
-            "python" => Ok(Format::Python),
-            "latex" => Ok(Format::Latex),
-            _ => Err(format!(
-                "`{s}` is not a format; use json, matlab, npz, python or latex"
-            )),
-        }
-    }
-}
-
-impl fmt::Display for Format {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Format::Json => "json",
-            Format::Matlab => "matlab",
-            Format::Npz => "npz",
-            Format::Python => "python",
-            Format::Latex => "latex",
-        })
-    }
-}
+crate::named::named_enum!(Format, "a format", {
+    Json => "json",
+    Matlab => "matlab",
+    Npz => "npz",
+    Python => "python",
+    Latex => "latex",
+});
 
 /// A number with every digit needed to read it back exactly.
 fn num(v: f64) -> String {
@@ -69,13 +47,6 @@ fn num(v: f64) -> String {
     } else {
         format!("{v:e}")
     }
-}
-
-/// Rows of a matrix, row-major.
-fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
-    (0..m.nrows())
-        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
-        .collect()
 }
 
 fn names(signals: &[Signal]) -> Vec<String> {
@@ -152,7 +123,7 @@ impl LinearExport {
                 json!({
                     "positions": named(&p.positions),
                     "rates": named(&p.rates),
-                    "A": rows(&p.a), "B": rows(&p.b), "C": rows(&p.c), "D": rows(&p.d),
+                    "A": to_rows(&p.a), "B": to_rows(&p.b), "C": to_rows(&p.c), "D": to_rows(&p.d),
                 })
             })
             .collect();
@@ -209,15 +180,7 @@ impl LinearExport {
         let matrix = |x: &Value, what: &str| -> Result<DMatrix<f64>> {
             let rows: Vec<Vec<f64>> =
                 serde_json::from_value(x.clone()).map_err(|e| bad(&format!("`{what}`: {e}")))?;
-            let ncols = rows.first().map_or(0, Vec::len);
-            if rows.iter().any(|r| r.len() != ncols) {
-                return Err(bad(&format!("`{what}` has rows of different lengths")));
-            }
-            Ok(DMatrix::from_row_iterator(
-                rows.len(),
-                ncols,
-                rows.into_iter().flatten(),
-            ))
+            from_rows(&rows, None).map_err(|e| bad(&format!("`{what}` {e}")))
         };
         // by name: a JSON object's keys need not keep their order (a_10 sorts before a_2)
         let values = |x: &Value| -> Result<Vec<f64>> {
@@ -320,7 +283,7 @@ impl LinearExport {
             format!("{{{}}}", q.join(", "))
         };
         let mat = |m: &DMatrix<f64>| {
-            let r: Vec<String> = rows(m)
+            let r: Vec<String> = to_rows(m)
                 .iter()
                 .map(|row| row.iter().map(|v| num(*v)).collect::<Vec<_>>().join(" "))
                 .collect();
@@ -374,7 +337,7 @@ impl LinearExport {
             format!("[{}]", q.join(", "))
         };
         let arr = |m: &DMatrix<f64>| {
-            let r: Vec<String> = rows(m)
+            let r: Vec<String> = to_rows(m)
                 .iter()
                 .map(|row| {
                     format!(
@@ -441,7 +404,7 @@ impl LinearExport {
             let data: Vec<f64> = self
                 .points
                 .iter()
-                .flat_map(|p| rows(pick(p)).into_iter().flatten())
+                .flat_map(|p| to_rows(pick(p)).into_iter().flatten())
                 .collect();
             (shape, data)
         };
@@ -548,7 +511,7 @@ impl LinearExport {
             }
         };
         let matrix = |m: &DMatrix<f64>| {
-            let r: Vec<String> = rows(m)
+            let r: Vec<String> = to_rows(m)
                 .iter()
                 .map(|row| {
                     row.iter()

@@ -203,33 +203,19 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         }
         operating_point = "positions given (--positions), at rest".to_string();
     }
-    let in_range = |option: &str, k: usize, v: f64| {
-        let (min, max) = lpv.position_range(k - 2);
-        if v >= min && v < max {
-            Ok(())
-        } else {
-            Err(Error::option(
-                option,
-                format!(
-                    "a{k} = {v} m is outside the valid overlap: it must lie in [{min}, {max}) m"
-                ),
-            ))
-        }
-    };
-    for (i, &v) in positions.iter().enumerate() {
-        in_range("--positions", i + 2, v)?;
-    }
     let (grid, points) = match &options.grid {
-        None => (None, vec![at(&lpv, &positions, &rates)?]),
+        None => (None, vec![at(&lpv, &positions, &rates, "--positions")?]),
         Some(g) => {
             check("--grid", g.section)?;
+            // the other positions must be valid too, whatever the grid's values
+            lpv.check_point(&positions, &rates)
+                .map_err(|e| Error::option("--positions", e.to_string()))?;
             let values = g.values();
             let mut points = Vec::with_capacity(values.len());
             for &v in &values {
-                in_range("--grid", g.section, v)?;
                 let mut p = positions.clone();
                 p[g.section - 2] = v;
-                points.push(at(&lpv, &p, &vec![0.0; npos])?);
+                points.push(at(&lpv, &p, &vec![0.0; npos], "--grid")?);
             }
             let others = if npos > 1 {
                 format!("; the other positions: {operating_point}")
@@ -259,7 +245,8 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
     })
 }
 
-fn at(lpv: &Lpv, positions: &[f64], rates: &[f64]) -> Result<LinearModel> {
+/// The linear model at one operating point; a bad point is an error of `option`.
+fn at(lpv: &Lpv, positions: &[f64], rates: &[f64], option: &str) -> Result<LinearModel> {
     lpv.at(positions, rates)
-        .map_err(|e| Error::option("--positions", e.to_string()))
+        .map_err(|e| Error::option(option, e.to_string()))
 }

@@ -325,10 +325,11 @@ impl Sweep {
         };
         let mut alone: Vec<Run> = Vec::new();
         for k in 0..self.keys.len() {
-            let mut seen: Vec<&toml::Value> = Vec::new();
+            // by text (a TOML value has no hash): linear in the runs, also for a large
+            // Latin-hypercube sample whose values all differ
+            let mut seen = std::collections::HashSet::new();
             for value in self.runs.iter().filter_map(|r| r.values[k].as_ref()) {
-                if !seen.contains(&value) {
-                    seen.push(value);
+                if seen.insert(value_text(value)) {
                     let mut values = vec![None; self.keys.len()];
                     values[k] = Some(value.clone());
                     alone.push(Run { index: k, values });

@@ -1,6 +1,7 @@
 //! Result files: reading them, and merging the shards of one sweep into one file after
 //! checking that they belong together and that every run is there exactly once.
 
+use super::run::Shard;
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;
@@ -132,8 +133,8 @@ pub fn merge_shards(paths: &[&Path]) -> Result<SweepTable> {
     })?;
     let shard_count = |t: &SweepTable| {
         t.header_field("shard")
-            .and_then(|s| s.split_once('/'))
-            .and_then(|(i, n)| Some((i.parse::<usize>().ok()?, n.parse::<usize>().ok()?)))
+            .and_then(|s| s.parse::<Shard>().ok())
+            .map(|s| (s.index, s.count))
     };
     let mut seen_shards = Vec::new();
     for (t, p) in tables.iter().zip(paths) {

@@ -8,7 +8,7 @@ use crate::control::{drive_stop, metrics};
 use crate::model_choice::build_model;
 use crate::output::csv_number;
 use crate::report::{Reporter, Silent};
-use crate::simulation::{plan, run_trajectory};
+use crate::simulation::{peak_and_rms, plan, run_trajectory};
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -35,7 +35,7 @@ pub const METRIC_COLUMNS: [&str; 14] = [
     "wall_s",
 ];
 
-/// Which runs of a sweep this process makes: those with `index % count == index`.
+/// Which runs of a sweep this process makes: run `i` when `i % count == index`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
     /// This shard (0-based).
@@ -253,9 +253,7 @@ fn row(sweep: &Sweep, run: &Run) -> (String, bool) {
         let model = chosen.model.as_ref();
         crate::budget::check_run(&scene, model, planned.method, &planned.settings)?;
         let traj = run_trajectory(&scene, model, planned.method, &planned.settings, &Silent)?;
-        let tip = traj.column("tip_rel").expect("tip_rel");
-        let tip_max = tip.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let tip_rms = (tip.iter().map(|v| v * v).sum::<f64>() / tip.len() as f64).sqrt();
+        let (tip_max, tip_rms) = peak_and_rms(&traj.column("tip_rel").expect("tip_rel"));
         let force_max = traj
             .names
             .iter()
@@ -449,7 +447,9 @@ pub fn run_sweep(
         .map_err(|e| Error::option("--jobs", e.to_string()))?;
     pool.install(|| {
         pending.par_iter().for_each(|run| {
-            if crate::interrupt::requested() {
+            // after an interrupt or a failed write, no new run starts
+            let write_failed = || write_failure.lock().map_or(true, |f| f.is_some());
+            if crate::interrupt::requested() || write_failed() {
                 return;
             }
             let (line, failed) = row(sweep, run);
