@@ -13,14 +13,16 @@
 //! Every model is the quadrature-assembled one, so costs compare like with like (a generated
 //! model exists only for the configurations in generated/models.toml).
 
+use crate::metrics::peak_and_rms;
+use crate::models::ChosenModel;
 use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
 use crate::report::Reporter;
-use crate::simulation::{peak_and_rms, run_trajectory};
+use crate::run::PreparedRun;
 use crate::{Error, Result};
 use plotters::prelude::*;
 use std::io::Write;
 use telescopic_runtime::scene::limits::MAX_CONTACT_POINTS;
-use telescopic_runtime::{AssembledModel, MAX_MODES, Model, Scene, auto_method, modal_analysis};
+use telescopic_runtime::{MAX_MODES, Scene, Settings, auto_method, modal_analysis};
 
 /// Options of [`converge`].
 #[derive(Debug, Clone, PartialEq)]
@@ -130,18 +132,17 @@ fn trial(scene: &Scene, modes: usize, contacts: usize, reporter: &dyn Reporter) 
         what: what.clone(),
         error: Box::new(error),
     };
-    let model =
-        AssembledModel::new(&scene.params).map_err(|e| in_trial(Error::Model(e.to_string())))?;
-    let modal = modal_analysis(&model, scene.time.start).map_err(|error| {
+    let chosen = ChosenModel::assembled(&scene.params).map_err(in_trial)?;
+    let (method, _) = auto_method(&scene.params);
+    let run = PreparedRun::with_model(&scene, chosen, method, Settings::default());
+    let model = run.model();
+    let modal = modal_analysis(model, scene.time.start).map_err(|error| {
         in_trial(Error::Eigen {
             scene: scene.name.clone(),
             error,
         })
     })?;
-    let (method, _) = auto_method(&scene.params);
-    let settings = telescopic_runtime::Settings::default();
-    crate::budget::check_run(&scene, &model, method, &settings).map_err(in_trial)?;
-    let traj = run_trajectory(&scene, &model, method, &settings, reporter).map_err(in_trial)?;
+    let traj = run.integrate(reporter).map_err(in_trial)?;
     let tip = traj.column("tip_rel").expect("every model has tip_rel");
     let (tip_peak, tip_rms) = peak_and_rms(&tip);
     Ok(Trial {
@@ -177,13 +178,13 @@ pub fn converge(
 ) -> Result<Convergence> {
     if !(options.tol > 0.0 && options.tol < 1.0) {
         return Err(Error::option(
-            "--tol",
+            "ConvergeOptions::tol",
             format!("must be a relative change in (0, 1) (got {})", options.tol),
         ));
     }
     if !(2..=MAX_MODES).contains(&options.max_modes) {
         return Err(Error::option(
-            "--max-modes",
+            "ConvergeOptions::max_modes",
             format!(
                 "must be 2 to {MAX_MODES} (got {}); the shape functions are checked up to mode \
                  {MAX_MODES}",
@@ -193,7 +194,7 @@ pub fn converge(
     }
     if !(3..=MAX_CONTACT_POINTS).contains(&options.max_contacts) {
         return Err(Error::option(
-            "--max-contacts",
+            "ConvergeOptions::max_contacts",
             format!(
                 "must be 3 to {MAX_CONTACT_POINTS} (got {}): contacts are raised from 2 to at \
                  most the scene limit",
@@ -218,7 +219,7 @@ pub fn converge(
     let Some(chosen) = first_converged(&by_modes, options.tol, pointwise) else {
         return Err(Error::Analysis(format!(
             "no model up to {} modes per section changes by less than {} to the next; raise \
-             --max-modes or --tol",
+             ConvergeOptions::max_modes or ConvergeOptions::tol",
             options.max_modes, options.tol
         )));
     };

@@ -2,8 +2,8 @@
 //! (the library never runs Symbolica).
 
 use crate::Result;
-use crate::model_choice::no_generated_model;
-use telescopic_runtime::{Scene, configuration_key};
+use crate::models::ModelRegistry;
+use telescopic_runtime::Scene;
 
 /// A rendering of the equations.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -27,12 +27,15 @@ crate::named::named_enum!(EquationFormat, "a format", {
     Json => "json",
 });
 
-/// The equations of `scene`'s generated model in `format`.
+/// The equations of `scene`'s generated model in `format`, from the first set of `models`
+/// that holds its configuration.
 ///
 /// # Errors
 /// [`crate::Error::Model`] when the scene's configuration was not generated (with the entry to add).
-pub fn equations(scene: &Scene, format: EquationFormat) -> Result<&'static str> {
-    let key = configuration_key(&scene.params);
-    telescopic_generated::rendering(&key, format.name())
-        .ok_or_else(|| no_generated_model(&scene.params, "no derived equations to show"))
+pub fn equations(
+    scene: &Scene,
+    format: EquationFormat,
+    models: &ModelRegistry,
+) -> Result<&'static str> {
+    models.rendering(&scene.params, format.name())
 }

@@ -7,7 +7,8 @@
 //!
 //! The path of a scene: a TOML scene file ([`Scene`], see `docs/scenes.md`) gives the
 //! parameters; they select a model, the generated one of their configuration when
-//! `telescopic-generated` has it ([`model_choice`]); the runtime integrates it with the
+//! `telescopic-generated` or a registered downstream set has it ([`models`]); one
+//! prepared-run path integrates it ([`run`]); the runtime integrates it with the
 //! clearance contact law ([`simulation`]); the analyses ([`modes`], [`stability`],
 //! [`work_precision`], [`converge`], [`shape_errors`]), linear models and controllers
 //! ([`linear`], [`control`]), parameter studies ([`sweep`]) and outputs ([`output`],
@@ -51,13 +52,15 @@ pub mod equations;
 mod error;
 pub mod interrupt;
 pub mod linear;
-pub mod model_choice;
+pub mod metrics;
+pub mod models;
 pub mod modes;
 mod named;
 pub mod output;
 pub mod plot;
 pub mod report;
 mod rows;
+pub mod run;
 pub mod shape_errors;
 pub mod simulation;
 pub mod stability;

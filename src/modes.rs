@@ -13,7 +13,7 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
-use crate::model_choice::{ModelChoice, build_model};
+use crate::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -30,6 +30,8 @@ pub struct ModesOptions {
     pub shapes: Option<usize>,
     /// Which model computes the matrices.
     pub model: ModelChoice,
+    /// Where generated models come from (default: the committed ones).
+    pub models: ModelRegistry,
 }
 
 /// Most points per section of a sampled mode shape.
@@ -96,7 +98,7 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
     let t = options.at.unwrap_or(scene.time.start);
     if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
         return Err(Error::option(
-            "--at",
+            "ModesOptions::at",
             format!(
                 "{t}: must lie in the scene's time span [{}, {}] s",
                 scene.time.start, scene.time.end
@@ -107,14 +109,14 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         && !(2..=MAX_SHAPE_POINTS).contains(&points)
     {
         return Err(Error::option(
-            "--shapes",
+            "ModesOptions::shapes",
             format!(
                 "must be 2 to {MAX_SHAPE_POINTS} points per section (got {points}); more add \
                  nothing a plot or table can show"
             ),
         ));
     }
-    let chosen = build_model(&scene.params, options.model)?;
+    let chosen = options.models.build(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
     let modal = modal_analysis(model, t).map_err(|error| Error::Eigen {
         scene: scene.name.clone(),

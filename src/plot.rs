@@ -8,21 +8,62 @@ use crate::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
 
+/// What a run is in a figure; each role has one colour in every figure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// The scene as given, without control (blue).
+    Scene,
+    /// A second scene compared with it, e.g. without clearance (red).
+    Compared,
+    /// The scene with a controller (green).
+    Controlled,
+}
+
+impl Role {
+    /// The role's colour.
+    pub fn color(self) -> RGBColor {
+        match self {
+            Role::Scene => COLORS[0],
+            Role::Compared => COLORS[1],
+            Role::Controlled => COLORS[2],
+        }
+    }
+}
+
 /// One scene's run, as plotted.
 pub struct Curve<'a> {
-    /// Legend label (the scene's name).
-    pub label: &'a str,
+    /// Legend label: what differs between the curves (`l_S = 10 mm`, `without control`).
+    pub label: String,
     /// The run.
     pub traj: &'a Trajectory,
     /// Half the clearance `l_S/2` (m), for the band edges in gap panels.
     pub half_band: f64,
+    /// What the run is (sets its colour).
+    pub role: Role,
 }
 
-/// A panel: output column, axis label, paper figure.
+/// Marks drawn over the panels: the drive's force limit and the residual-vibration window.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Marks {
+    /// `|F| <= limit` (N), drawn on the drive-force panel.
+    pub force_limit: Option<f64>,
+    /// `[start, end]` (s) over which the residual vibration is measured.
+    pub residual_window: Option<(f64, f64)>,
+}
+
+/// The label of a run by its clearance, e.g. `case-study, l_S = 10 mm`.
+pub fn clearance_label(scene: &telescopic_runtime::Scene) -> String {
+    let mm = 2000.0 * scene.params.contact.half_band();
+    format!("{}, l_S = {} mm", scene.name, crate::output::csv_number(mm))
+}
+
+/// A panel: output column, axis label, paper figure, and the factor from SI to the axis's
+/// unit.
 struct Panel {
     column: String,
     axis: String,
     title: String,
+    scale: f64,
 }
 
 /// The panels for a scene: `tip_rel` alone for the adams scenes, else the five of Figs. 8-12.
@@ -31,6 +72,14 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
         column: column.to_string(),
         axis: axis.to_string(),
         title: title.to_string(),
+        scale: 1.0,
+    };
+    // gaps read in millimetres
+    let gap_panel = |column: &str, title: &str| Panel {
+        column: column.to_string(),
+        axis: format!("{column} [mm]"),
+        title: title.to_string(),
+        scale: 1e3,
     };
     if scene_name.starts_with("adams") {
         return vec![panel(
@@ -61,16 +110,8 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
     }
     let gaps: Vec<&String> = names.iter().filter(|n| n.starts_with("xi_2_")).collect();
     if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
-        out.push(panel(
-            first,
-            &format!("{first} [m]"),
-            "gap at the lower contact (Fig. 11)",
-        ));
-        out.push(panel(
-            last,
-            &format!("{last} [m]"),
-            "gap at the upper contact (Fig. 12)",
-        ));
+        out.push(gap_panel(first, "gap at the lower contact (Fig. 11)"));
+        out.push(gap_panel(last, "gap at the upper contact (Fig. 12)"));
     }
     out
 }
@@ -130,6 +171,7 @@ pub fn save<F: Figure>(figure: &F, path: &Path) -> Result<()> {
 struct PaperFigure<'a> {
     panels: Vec<Panel>,
     curves: &'a [Curve<'a>],
+    marks: Marks,
 }
 
 impl Figure for PaperFigure<'_> {
@@ -144,7 +186,7 @@ impl Figure for PaperFigure<'_> {
         root.fill(&WHITE).map_err(plot_error)?;
         let areas = root.split_evenly((self.panels.len(), 1));
         for (panel, area) in self.panels.iter().zip(&areas) {
-            draw_panel(area, panel, self.curves)?;
+            draw_panel(area, panel, self.curves, &self.marks)?;
         }
         root.present().map_err(plot_error)
     }
@@ -152,10 +194,11 @@ impl Figure for PaperFigure<'_> {
 
 /// Draws the panels of `curves[0]`'s scene to an SVG or PNG file at `path` (by extension;
 /// written completely or not at all).
-pub fn plot(scene_name: &str, curves: &[Curve], path: &Path) -> Result<()> {
+pub fn plot(scene_name: &str, curves: &[Curve], marks: &Marks, path: &Path) -> Result<()> {
     let figure = PaperFigure {
         panels: panels(scene_name, &curves[0].traj.names),
         curves,
+        marks: *marks,
     };
     save(&figure, path)
 }
@@ -374,17 +417,91 @@ pub fn log_panel<DB: DrawingBackend>(
         .map_err(plot_error)
 }
 
+/// Height of the legend strip above each panel (pixels).
+const LEGEND_STRIP: u32 = 26;
+
+/// How a legend entry is drawn.
+#[derive(Clone, Copy)]
+enum Swatch {
+    Line(RGBColor),
+    Dashed(RGBColor),
+    Band(RGBColor),
+}
+
+/// A legend drawn in its own strip above the plot, so that it never covers data.
+fn legend_strip<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    entries: &[(String, Swatch)],
+) -> Result<()> {
+    let font: TextStyle = ("sans-serif", 13).into_font().into();
+    let (mut x, y) = (90i32, (LEGEND_STRIP / 2) as i32);
+    for (label, swatch) in entries {
+        match *swatch {
+            Swatch::Line(c) => {
+                area.draw(&PathElement::new([(x, y), (x + 22, y)], c.stroke_width(2)))
+            }
+            Swatch::Dashed(c) => area
+                .draw(&PathElement::new([(x, y), (x + 6, y)], c.stroke_width(2)))
+                .and_then(|_| {
+                    area.draw(&PathElement::new(
+                        [(x + 10, y), (x + 16, y)],
+                        c.stroke_width(2),
+                    ))
+                })
+                .and_then(|_| {
+                    area.draw(&PathElement::new(
+                        [(x + 20, y), (x + 22, y)],
+                        c.stroke_width(2),
+                    ))
+                }),
+            Swatch::Band(c) => area.draw(&Rectangle::new(
+                [(x, y - 6), (x + 22, y + 6)],
+                c.mix(0.25).filled(),
+            )),
+        }
+        .map_err(plot_error)?;
+        area.draw_text(label, &font, (x + 28, y - 7))
+            .map_err(plot_error)?;
+        let (w, _) = area.estimate_text_size(label, &font).map_err(plot_error)?;
+        x += 28 + w as i32 + 24;
+    }
+    Ok(())
+}
+
+/// Colour of the band edges `+-l_S/2` (dashed; distinct from the grey grid).
+const BAND_EDGE: RGBColor = RGBColor(230, 120, 0);
+/// Colour of the force limit (dashed).
+const LIMIT: RGBColor = RGBColor(120, 0, 120);
+/// Colour of the residual window's shading.
+const WINDOW: RGBColor = RGBColor(120, 120, 120);
+
+/// A dashed horizontal line at `y` from `t0` to `t1`.
+fn dashed(
+    t0: f64,
+    t1: f64,
+    y: f64,
+    color: RGBColor,
+) -> DashedLineSeries<std::vec::IntoIter<(f64, f64)>, u32> {
+    DashedLineSeries::new(vec![(t0, y), (t1, y)], 8u32, 5u32, color.stroke_width(1))
+}
+
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     panel: &Panel,
     curves: &[Curve],
+    marks: &Marks,
 ) -> Result<()> {
     let series: Vec<(usize, Vec<(f64, f64)>)> = curves
         .iter()
         .enumerate()
         .filter_map(|(i, c)| {
             let col = c.traj.names.iter().position(|n| *n == panel.column)? + 1;
-            let points: Vec<(f64, f64)> = c.traj.rows.iter().map(|r| (r[0], r[col])).collect();
+            let points: Vec<(f64, f64)> = c
+                .traj
+                .rows
+                .iter()
+                .map(|r| (r[0], panel.scale * r[col]))
+                .collect();
             Some((i, decimate(points, 2000)))
         })
         .collect();
@@ -398,20 +515,51 @@ fn draw_panel<DB: DrawingBackend>(
         }
     }
     let is_gap = panel.column.starts_with("xi_");
+    let band = panel.scale * curves[0].half_band;
     if is_gap {
-        for c in curves {
-            y0 = y0.min(-c.half_band);
-            y1 = y1.max(c.half_band);
-        }
+        y0 = y0.min(-band);
+        y1 = y1.max(band);
     }
+    let limit = marks.force_limit.filter(|_| panel.column == "drive_force");
+    if let Some(l) = limit {
+        y0 = y0.min(-l);
+        y1 = y1.max(l);
+    }
+    let mut legend: Vec<(String, Swatch)> = series
+        .iter()
+        .map(|(i, _)| {
+            (
+                curves[*i].label.clone(),
+                Swatch::Line(curves[*i].role.color()),
+            )
+        })
+        .collect();
+    if is_gap && band > 0.0 {
+        let edge = tick_label(band, band);
+        legend.push((
+            format!("band edges ±l_S/2 = ±{edge} mm"),
+            Swatch::Dashed(BAND_EDGE),
+        ));
+    }
+    if let Some(l) = limit {
+        legend.push((format!("force limit ±{l} N"), Swatch::Dashed(LIMIT)));
+    }
+    if marks.residual_window.is_some() {
+        legend.push(("residual window".into(), Swatch::Band(WINDOW)));
+    }
+    let (strip, plot_area) = area.split_vertically(LEGEND_STRIP + 24);
     let pad = 0.05 * (y1 - y0).max(1e-12);
-    let mut chart = ChartBuilder::on(area)
-        .caption(&panel.title, ("sans-serif", 18))
+    let mut chart = ChartBuilder::on(&plot_area)
         .margin(10)
+        .margin_top(0)
         .x_label_area_size(40)
         .y_label_area_size(80)
         .build_cartesian_2d(t0..t1, (y0 - pad)..(y1 + pad))
         .map_err(plot_error)?;
+    let legend_area = strip
+        .titled(&panel.title, ("sans-serif", 18))
+        .map_err(plot_error)?;
+    legend_strip(&legend_area, &legend)?;
     chart
         .configure_mesh()
         .x_desc("t [s]")
@@ -419,21 +567,33 @@ fn draw_panel<DB: DrawingBackend>(
         .y_label_formatter(&|v| tick_label(*v, y1 - y0))
         .draw()
         .map_err(plot_error)?;
-    if is_gap {
-        let h = curves[0].half_band;
-        for edge in [-h, h] {
+    if let Some((w0, w1)) = marks.residual_window {
+        chart
+            .draw_series([Rectangle::new(
+                [(w0.max(t0), y0 - pad), (w1.min(t1), y1 + pad)],
+                WINDOW.mix(0.12).filled(),
+            )])
+            .map_err(plot_error)?;
+    }
+    if is_gap && band > 0.0 {
+        for edge in [-band, band] {
             chart
-                .draw_series(LineSeries::new([(t0, edge), (t1, edge)], BLACK.mix(0.4)))
+                .draw_series(dashed(t0, t1, edge, BAND_EDGE))
+                .map_err(plot_error)?;
+        }
+    }
+    if let Some(l) = limit {
+        for edge in [-l, l] {
+            chart
+                .draw_series(dashed(t0, t1, edge, LIMIT))
                 .map_err(plot_error)?;
         }
     }
     for (i, points) in series {
-        let color = COLORS[i % COLORS.len()];
+        let color = curves[i].role.color();
         chart
             .draw_series(LineSeries::new(points, color.stroke_width(1)))
-            .map_err(plot_error)?
-            .label(curves[i].label)
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
+            .map_err(plot_error)?;
     }
-    upper_left_legend(&mut chart)
+    Ok(())
 }

@@ -51,7 +51,7 @@ pub struct ShapeErrors {
 pub fn shape_errors(options: &ShapeErrorsOptions) -> Result<ShapeErrors> {
     if !(options.length > 0.0 && options.length.is_finite()) {
         return Err(Error::option(
-            "--length",
+            "ShapeErrorsOptions::length",
             format!(
                 "must be a positive number of metres (got {})",
                 options.length
@@ -60,7 +60,7 @@ pub fn shape_errors(options: &ShapeErrorsOptions) -> Result<ShapeErrors> {
     }
     if !(2..=MAX_POINTS).contains(&options.points) {
         return Err(Error::option(
-            "--points",
+            "ShapeErrorsOptions::points",
             format!(
                 "must be 2 to {MAX_POINTS} (got {}); each point costs 512-bit evaluations of \
                  57 shape functions (1000 take about 50 s)",

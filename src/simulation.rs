@@ -13,18 +13,16 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
-use crate::model_choice::{ModelChoice, build_model};
+use crate::models::{ModelChoice, ModelRegistry};
 use crate::report::Reporter;
+use crate::run::PreparedRun;
 use crate::{Error, Result};
 use std::fmt;
 use std::io::Write;
 use std::path::Path;
 use std::str::FromStr;
 use telescopic_runtime::integrate::StepControl;
-use telescopic_runtime::{
-    Method, Model, RunStats, Scene, Settings, auto_plan, model::rest_state, simulate,
-    specializations,
-};
+use telescopic_runtime::{Method, RunStats, Scene, Settings, auto_plan};
 
 /// The method of a run: `auto` (chosen on the scene) or one named method.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -72,6 +70,8 @@ pub struct SimulationOptions {
     pub step_cap: bool,
     /// Which model computes the right-hand side (default `auto`).
     pub model: ModelChoice,
+    /// Where generated models come from (default: the committed ones).
+    pub models: ModelRegistry,
 }
 
 impl Default for SimulationOptions {
@@ -83,6 +83,7 @@ impl Default for SimulationOptions {
             dt: None,
             step_cap: true,
             model: ModelChoice::Auto,
+            models: ModelRegistry::default(),
         }
     }
 }
@@ -125,9 +126,9 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
         || !settings.atol.is_finite()
     {
         return Err(Error::option(
-            "--rtol/--atol",
+            "SimulationOptions::rtol/atol",
             format!(
-                "tolerances must be positive with rtol < 1 (got --rtol {}, --atol {})",
+                "tolerances must be positive with rtol < 1 (got rtol {}, atol {})",
                 settings.rtol, settings.atol
             ),
         ));
@@ -136,14 +137,14 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
         && !(dt > 0.0 && dt.is_finite())
     {
         return Err(Error::option(
-            "--dt",
+            "SimulationOptions::dt",
             format!("must be a finite number of seconds > 0 (got {dt})"),
         ));
     }
     if method.step_control() == StepControl::Fixed && settings.dt.is_none() {
         return Err(Error::option(
-            "--dt",
-            format!("method {method} takes a fixed step: give --dt (see `telescopic stability`)"),
+            "SimulationOptions::dt",
+            format!("method {method} takes a fixed step: give a step (see the stability analysis)"),
         ));
     }
     Ok(Plan {
@@ -199,16 +200,6 @@ impl Trajectory {
         }
         Ok(())
     }
-}
-
-/// Largest magnitude and root mean square of `values` (both 0 for none).
-pub fn peak_and_rms(values: &[f64]) -> (f64, f64) {
-    if values.is_empty() {
-        return (0.0, 0.0);
-    }
-    let peak = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let rms = (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt();
-    (peak, rms)
 }
 
 /// A finished simulation: what ran and every sample.
@@ -287,80 +278,9 @@ pub fn simulate_scene(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<Simulation> {
-    let plan = plan(scene, options)?;
-    let chosen = build_model(&scene.params, options.model)?;
-    if let Some(note) = &chosen.note {
-        reporter.note(note);
-    }
-    let model = chosen.model.as_ref();
-    crate::budget::check_run(scene, model, plan.method, &plan.settings)?;
-    let trajectory = run_trajectory(scene, model, plan.method, &plan.settings, reporter)?;
-    Ok(Simulation {
-        scene: scene.name.clone(),
-        span: (scene.time.start, scene.time.end),
-        model: chosen.description,
-        specializations: specializations(model, &scene.time, plan.method, plan.settings.exact_from),
-        plan,
-        trajectory,
-    })
-}
-
-/// Integrates `scene` on `model` from rest with `method` and `settings`, collecting every
-/// output sample. The building block of [`simulate_scene`] and the multi-run analyses; it
-/// does not check the work budget.
-///
-/// # Errors
-/// [`Error::Simulation`] for a failed run, [`Error::NonFiniteOutput`] for an output that is
-/// not finite.
-pub fn run_trajectory(
-    scene: &Scene,
-    model: &dyn Model,
-    method: Method,
-    settings: &Settings,
-    reporter: &dyn Reporter,
-) -> Result<Trajectory> {
-    let names = model.output_names();
-    let mut rows: Vec<Vec<f64>> = Vec::with_capacity(crate::budget::sample_count(&scene.time));
-    let mut out = vec![0.0; names.len()];
-    let mut bad_output: Option<(f64, String)> = None;
-    let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
-        model.outputs(t, y, ydot, &mut out);
-        if bad_output.is_none()
-            && let Some(i) = out.iter().position(|v| !v.is_finite())
-        {
-            bad_output = Some((t, names[i].clone()));
-        }
-        let mut row = Vec::with_capacity(out.len() + 1);
-        row.push(t);
-        row.extend_from_slice(&out);
-        rows.push(row);
-    };
-    let span = scene.time;
-    let mut tick = |t: f64| reporter.progress((t - span.start) / (span.end - span.start));
-    reporter.start(&format!("simulating {}", scene.name));
-    let y0 = rest_state(model, span.start);
-    let result = simulate(
-        model,
-        &y0,
-        &span,
-        method,
-        settings,
-        &mut observe,
-        Some(&mut tick),
-    );
-    reporter.finish();
-    let stats = result.map_err(|error| Error::Simulation {
-        scene: scene.name.clone(),
-        error,
-    })?;
-    if let Some((t, name)) = bad_output {
-        return Err(Error::NonFiniteOutput {
-            name,
-            t,
-            method: method.name(),
-        });
-    }
-    Ok(Trajectory { names, rows, stats })
+    let run = PreparedRun::new(scene, options, reporter)?;
+    let trajectory = run.integrate(reporter)?;
+    Ok(run.into_simulation(trajectory))
 }
 
 /// Writes the CSV of `trajectory` to `path` (atomically) or to standard output.

@@ -2,7 +2,7 @@
 //! largest stable step of each fixed-step explicit method, from the textbook limits and
 //! from the spectral radius of each method's step on the model itself.
 
-use crate::model_choice::{ModelChoice, build_model};
+use crate::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use telescopic_runtime::integrate::stability::{
     RK4_IMAGINARY_AXIS, RK4_REAL_AXIS, STEP_CAP_SAFETY, StabilityReport, VERLET_LIMIT,
@@ -33,8 +33,12 @@ pub struct Stability {
 ///
 /// # Errors
 /// [`Error::Model`] or [`Error::Analysis`] when the model or its modal analysis fails.
-pub fn stability_analysis(scene: &Scene, choice: ModelChoice) -> Result<Stability> {
-    let chosen = build_model(&scene.params, choice)?;
+pub fn stability_analysis(
+    scene: &Scene,
+    choice: ModelChoice,
+    models: &ModelRegistry,
+) -> Result<Stability> {
+    let chosen = models.build(&scene.params, choice)?;
     let model = chosen.model.as_ref();
     let times = linearization_times(model, &scene.time);
     let mut reports = Vec::new();

@@ -7,10 +7,11 @@
 //! span, on statistics that converge even where the motion does not: per-second peak and RMS
 //! of `tip_rel`, and the number of contact switches. Wall time is the median of repeated runs.
 
-use crate::model_choice::{ModelChoice, build_model};
+use crate::models::{ModelChoice, ModelRegistry};
 use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
 use crate::report::Reporter;
-use crate::simulation::{Trajectory, run_trajectory};
+use crate::run::PreparedRun;
+use crate::simulation::Trajectory;
 use crate::{Error, Result};
 use plotters::prelude::*;
 use std::io::Write;
@@ -33,6 +34,8 @@ pub struct WorkPrecisionOptions {
     pub repeat: usize,
     /// Which model computes the right-hand side.
     pub model: ModelChoice,
+    /// Where generated models come from (default: the committed ones).
+    pub models: ModelRegistry,
 }
 
 impl Default for WorkPrecisionOptions {
@@ -41,6 +44,7 @@ impl Default for WorkPrecisionOptions {
             methods: DEFAULT_METHODS.split(',').map(String::from).collect(),
             repeat: 3,
             model: ModelChoice::Auto,
+            models: ModelRegistry::default(),
         }
     }
 }
@@ -222,7 +226,7 @@ pub fn work_precision(
 ) -> Result<WorkPrecision> {
     if !(1..=MAX_REPEAT).contains(&options.repeat) {
         return Err(Error::option(
-            "--repeat",
+            "WorkPrecisionOptions::repeat",
             format!(
                 "must be 1 to {MAX_REPEAT} (got {}); the median of a few timed runs is \
                  already stable",
@@ -242,25 +246,26 @@ pub fn work_precision(
             }
             name => Method::from_name(name)
                 .map(|method| (method.name(), method, None))
-                .map_err(|e| Error::option("--methods", e)),
+                .map_err(|e| Error::option("WorkPrecisionOptions::methods", e)),
         })
         .collect::<Result<_>>()?;
-    let chosen = build_model(&scene.params, args.model)?;
+    let chosen = args.models.build(&scene.params, args.model)?;
     if let Some(note) = &chosen.note {
         reporter.note(note);
     }
-    let model = chosen.model;
     reporter.note(&format!(
         "{} on the {}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
         scene.name, chosen.description
     ));
-    // every run, the references included, within the work budget
-    let run = |method, settings: &Settings| {
-        crate::budget::check_run(scene, model.as_ref(), method, settings)?;
-        run_trajectory(scene, model.as_ref(), method, settings, reporter)
+    // every run, the references included, on one prepared run (within the work budget)
+    let mut prepared = PreparedRun::with_model(scene, chosen, Method::Dop853, Settings::default());
+    let run = |prepared: &mut PreparedRun, method, settings: &Settings| {
+        prepared.plan.method = method;
+        prepared.plan.settings = settings.clone();
+        prepared.integrate(reporter)
     };
-    let reference = run(Method::Dop853, &tolerance(1e-12))?;
-    let second = run(Method::Dopri5, &tolerance(1e-10))?;
+    let reference = run(&mut prepared, Method::Dop853, &tolerance(1e-12))?;
+    let second = run(&mut prepared, Method::Dopri5, &tolerance(1e-10))?;
     let tip = column(&reference, "tip_rel").expect("tip_rel");
     let end = scene.time.end;
     let horizon = reference
@@ -295,12 +300,12 @@ pub fn work_precision(
             reporter.note(&format!("exact: skipped ({why})"));
             continue;
         }
-        for (setting, mut settings) in sweep(method, model.as_ref(), scene)? {
+        for (setting, mut settings) in sweep(method, prepared.model(), scene)? {
             settings.exact_from = exact_from;
             let mut walls = Vec::new();
             let mut last = None;
             for _ in 0..args.repeat {
-                match run(method, &settings) {
+                match run(&mut prepared, method, &settings) {
                     Ok(t) => {
                         walls.push(t.stats.wall.as_secs_f64());
                         last = Some(Ok(t));

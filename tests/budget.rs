@@ -2,7 +2,7 @@
 //! scenes, and the refusal, before any work, of runs whose predicted work is absurd.
 
 use telescopic::budget::estimate_steps;
-use telescopic::model_choice::{ModelChoice, build_model};
+use telescopic::models::{ModelChoice, ModelRegistry};
 use telescopic::simulation::{MethodChoice, SimulationOptions, plan, simulate_scene};
 use telescopic::{Error, Scene, Silent};
 use telescopic_runtime::Method;
@@ -33,7 +33,10 @@ fn the_predicted_steps_are_within_a_factor_3_of_real_runs() {
             ..SimulationOptions::default()
         };
         let planned = plan(&scene, &options).unwrap();
-        let model = build_model(&scene.params, ModelChoice::Auto).unwrap().model;
+        let model = ModelRegistry::default()
+            .build(&scene.params, ModelChoice::Auto)
+            .unwrap()
+            .model;
         let predicted = estimate_steps(&scene, model.as_ref(), method, &planned.settings)
             .unwrap()
             .expect("explicit methods and exact stepping have a prediction")
@@ -58,7 +61,7 @@ fn absurd_runs_are_refused_before_they_start_with_the_estimate_and_the_cause() {
                 "would need about",
                 "steps over 16 s",
                 "more than the step limit",
-                "--method esdirk",
+                "SimulationOptions::method esdirk",
             ],
         ),
         (
@@ -111,7 +114,7 @@ fn absurd_runs_are_refused_before_they_start_with_the_estimate_and_the_cause() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("needs about 5.00e8 steps") && err.contains("raise --dt"),
+        err.contains("needs about 5.00e8 steps") && err.contains("raise SimulationOptions::dt"),
         "{err}"
     );
 }

@@ -5,8 +5,9 @@
 
 use telescopic::control::riccati::care;
 use telescopic::control::{
-    Controller, ControllerKind, DesignOptions, design, drive_stop, metrics, simulate_controlled,
+    Controller, ControllerKind, DesignOptions, compare_with_open_loop, design, simulate_controlled,
 };
+use telescopic::metrics::{drive_stop, metrics};
 use telescopic::runtime::Method;
 use telescopic::runtime::nalgebra::DMatrix;
 use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene};
@@ -39,6 +40,13 @@ fn lqr_with_shaper_damps_case_study_five_times_within_the_limit_and_the_travel()
     let open = simulate_scene(&scene, &sim, &Silent).unwrap();
     let with = metrics(&scene, &controlled.trajectory, 12.0);
     let without = metrics(&scene, &open.trajectory, 12.0);
+    // one run path, one number: `simulate --controller` (defaults, method auto) compares
+    // with the same open loop as the design's table (dopri5), not with auto's exact hand-over
+    let comparison =
+        compare_with_open_loop(&scene, &controller, &SimulationOptions::default(), &Silent)
+            .unwrap();
+    assert_eq!(comparison.without, without);
+    assert_eq!(comparison.with, with);
     let reduction = without.residual_std / with.residual_std;
     let travel = with.final_vehicle / without.final_vehicle - 1.0;
     eprintln!(
@@ -112,7 +120,7 @@ fn bad_input_is_refused_with_the_rule() {
     let err = simulate_controlled(&other, &controller, &SimulationOptions::default(), &Silent)
         .unwrap_err()
         .to_string();
-    assert!(err.contains("--controller"), "{err}");
+    assert!(err.starts_with("controller: "), "{err}");
     // settings out of range
     for (options, needle) in [
         (
@@ -120,28 +128,28 @@ fn bad_input_is_refused_with_the_rule() {
                 force_limit: 0.0,
                 ..DesignOptions::default()
             },
-            "--force-limit",
+            "DesignOptions::force_limit",
         ),
         (
             DesignOptions {
                 tip_scale: f64::NAN,
                 ..DesignOptions::default()
             },
-            "--tip-scale",
+            "DesignOptions::tip_scale",
         ),
         (
             DesignOptions {
                 grid_points: 0,
                 ..DesignOptions::default()
             },
-            "--grid-points",
+            "DesignOptions::grid_points",
         ),
         (
             DesignOptions {
                 design_modes: 99,
                 ..DesignOptions::default()
             },
-            "--design-modes",
+            "DesignOptions::design_modes",
         ),
     ] {
         let err = design(&case, &options).unwrap_err().to_string();

@@ -240,7 +240,7 @@ fn bad_operating_points_and_grids_are_refused_with_the_rule() {
     .unwrap_err()
     .to_string();
     assert!(
-        err.contains("--grid") && err.contains("outside the valid overlap"),
+        err.contains("LinearizeOptions::grid") && err.contains("outside the valid overlap"),
         "{err}"
     );
     let err = linearize(

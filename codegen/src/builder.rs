@@ -46,9 +46,16 @@ impl fmt::Display for Origin {
     }
 }
 
+impl std::fmt::Debug for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Display::fmt(self, f)
+    }
+}
+
 /// Why a [`Builder`] failed. Every message names the configuration (its key and where it was
-/// given) or the file concerned.
-#[derive(Debug, thiserror::Error)]
+/// given) or the file concerned. Its `Debug` form is the message too, so that a `build.rs`
+/// whose `main` returns `Result<(), BuildError>` shows the message, not the variant.
+#[derive(thiserror::Error)]
 pub enum BuildError {
     /// Neither [`Builder::model`] nor [`Builder::models_file`] gave a configuration.
     #[error("no configurations to generate: call Builder::model or Builder::models_file")]
@@ -313,12 +320,15 @@ impl Builder {
     }
 
     /// Generates into the output directory (default `OUT_DIR`), rewriting only files whose
-    /// content changed, and prints `cargo:rerun-if-changed` for each models file. For
-    /// `build.rs`.
+    /// content changed, and prints `cargo:rerun-if-changed` for `build.rs` and each models
+    /// file, so the script reruns only when they change. For `build.rs`.
     ///
     /// # Errors
     /// [`BuildError`]; [`BuildError::NoOutDir`] without `out_dir` outside a build script.
     pub fn compile(&self) -> Result<Written, BuildError> {
+        // the configurations given with `model` live in build.rs: without this line cargo
+        // would rerun the script (and Symbolica) after any change to the package
+        println!("cargo:rerun-if-changed=build.rs");
         let dir = match &self.out_dir {
             Some(d) => d.clone(),
             None => std::env::var_os("OUT_DIR")

@@ -41,19 +41,23 @@
 
 #![warn(missing_docs)]
 
-pub mod builder;
-pub mod config;
-pub mod derive;
-pub mod emit;
-pub mod exact;
-pub mod expr;
-pub mod precise;
-pub mod render;
-pub mod symbolic;
+// The public surface is this facade: `generate`, the `Builder` and its error, the
+// configuration and the derivation; the stages behind it are private.
+mod builder;
+mod config;
+mod derive;
+mod emit;
+mod exact;
+mod expr;
+mod precise;
+mod render;
+mod symbolic;
 
 pub use builder::{BuildError, Builder, GeneratedFile, Origin, Written};
 pub use config::{DriveKind, ForceFlow, ModelConfig, ModelList, Positions};
-pub use derive::{Derivation, derive};
+pub use derive::{BasisFunction, Constant, Derivation, derive};
+pub use expr::Expr;
+pub use symbolic::lock_path;
 
 /// Version of the generator, written into every emitted file.
 pub const GENERATOR_VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -219,3 +219,24 @@ fn errors_name_the_configuration_where_it_was_given_and_the_rule() {
     assert_eq!(names(&dir), ["models.toml"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A `build.rs` whose `main` returns `Result<(), BuildError>` prints the error's `Debug`
+/// form: it is the message, naming the configuration and the rule, not the variant.
+#[test]
+fn the_debug_form_of_an_error_is_its_message() {
+    let err = Builder::new()
+        .model(ModelConfig {
+            modes: vec![0, 3],
+            contacts: 2,
+            force_flow: ForceFlow::Cable,
+            clearance: true,
+            positions: Positions::Fixed,
+            drive: DriveKind::Force,
+        })
+        .configurations()
+        .unwrap_err();
+    let debug = format!("{err:?}");
+    assert_eq!(debug, err.to_string());
+    assert!(debug.contains("modes: each in 1..=30"), "{debug}");
+    assert!(!debug.contains("Invalid {"), "{debug}");
+}

@@ -85,7 +85,7 @@ fn without_a_shared_lock_one_of_two_processes_aborts() {
         .create(true)
         .truncate(false)
         .write(true)
-        .open(telescopic_codegen::symbolic::lock_path())
+        .open(telescopic_codegen::lock_path())
         .unwrap();
     guard.lock().unwrap();
     let (mut a, mut b) = (spawn("a"), spawn("b"));

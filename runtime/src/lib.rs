@@ -40,7 +40,7 @@ pub mod shape_reference;
 pub mod specialize;
 
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
-pub use configuration::{configuration_key, models_toml_entry};
+pub use configuration::{DriveKind, ModelConfig, Positions, configuration_key, models_toml_entry};
 pub use contact::{ContactForce, ContactLaw, ContactState};
 pub use contact_table::ContactTable;
 pub use eigen::{

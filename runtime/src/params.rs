@@ -5,7 +5,9 @@ use crate::profile::Profile;
 use serde::{Deserialize, Serialize};
 
 /// How gravity loads the sections axially (docs/model.md section 2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum ForceFlow {
     /// Each section stands on its foot and carries the sections above (the paper's eq. 3):

@@ -439,7 +439,7 @@ fn method_names_round_trip_and_bad_names_are_listed() {
         Method::Rk4,
         &Settings::default(),
     ));
-    assert!(err.to_string().contains("give --dt"), "{err}");
+    assert!(err.to_string().contains("give Settings::dt"), "{err}");
 }
 
 #[test]

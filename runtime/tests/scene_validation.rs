@@ -350,7 +350,7 @@ fn all_broken_rules_are_reported_at_once() {
         .collect();
     assert_eq!(fields, ["sections.modes", "time.end", "contact.points"]);
     assert!(
-        err.to_string().contains("with --set contact.points=1"),
+        err.to_string().contains("with overrides contact.points=1"),
         "the message says the values came from overrides"
     );
 }

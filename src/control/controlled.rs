@@ -283,14 +283,14 @@ impl<'m> Observed<'m> {
         let n = base.dof();
         let matrix = |rows: &[Vec<f64>], name: &str, shape: (usize, usize)| {
             from_rows(rows, Some(shape))
-                .map_err(|e| Error::option("--controller", format!("Kalman filter: {name} {e}")))
+                .map_err(|e| Error::option("controller", format!("Kalman filter: {name} {e}")))
         };
         let points = controller
             .schedule
             .iter()
             .map(|p| {
                 let o = p.observer.as_ref().ok_or_else(|| {
-                    Error::option("--controller", "the controller has no Kalman filter")
+                    Error::option("controller", "the controller has no Kalman filter")
                 })?;
                 Ok(ObserverMatrices {
                     a: matrix(&o.a_full, "A_full", (2 * n, 2 * n))?,

@@ -17,7 +17,7 @@
 use super::riccati::care;
 use super::shaper::{ShaperKind, jumps, shape};
 use crate::linear::Grid;
-use crate::model_choice::{ModelChoice, build_model};
+use crate::models::{ModelChoice, ModelRegistry};
 use crate::rows::to_rows;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -100,6 +100,8 @@ pub struct DesignOptions {
     pub force_noise: f64,
     /// Which model's matrices.
     pub model: ModelChoice,
+    /// Where generated models come from (default: the committed ones).
+    pub models: ModelRegistry,
 }
 
 impl Default for DesignOptions {
@@ -115,6 +117,7 @@ impl Default for DesignOptions {
             sensor_noise: 1e-3,
             force_noise: 30.0,
             model: ModelChoice::Auto,
+            models: ModelRegistry::default(),
         }
     }
 }
@@ -347,16 +350,16 @@ fn kalman(
 pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     let Drive::Force(force) = &scene.params.drive else {
         return Err(Error::option(
-            "--controller",
+            "DesignOptions::kind",
             "the design needs a force-driven scene (the drive force is the input)",
         ));
     };
     for (name, v) in [
-        ("--force-limit", options.force_limit),
-        ("--tip-scale", options.tip_scale),
-        ("--vehicle-scale", options.vehicle_scale),
-        ("--sensor-noise", options.sensor_noise),
-        ("--force-noise", options.force_noise),
+        ("DesignOptions::force_limit", options.force_limit),
+        ("DesignOptions::tip_scale", options.tip_scale),
+        ("DesignOptions::vehicle_scale", options.vehicle_scale),
+        ("DesignOptions::sensor_noise", options.sensor_noise),
+        ("DesignOptions::force_noise", options.force_noise),
     ] {
         if !(v > 0.0 && v.is_finite()) {
             return Err(Error::option(
@@ -367,7 +370,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     }
     if !(1..=MAX_GRID_POINTS).contains(&options.grid_points) {
         return Err(Error::option(
-            "--grid-points",
+            "DesignOptions::grid_points",
             format!(
                 "must be 1 to {MAX_GRID_POINTS} (got {})",
                 options.grid_points
@@ -384,9 +387,9 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         .collect();
     if moving.len() > 1 {
         return Err(Error::option(
-            "--controller",
+            "DesignOptions::kind",
             "gain scheduling over more than one moving telescopic position is not supported; \
-             design at fixed positions (--set telescope.positions=[...])",
+             design at fixed positions (telescope.positions = [...])",
         ));
     }
     // the schedule: the moving position over its range in the span, else one point
@@ -406,13 +409,13 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         }
         None => (None, None),
     };
-    let chosen = build_model(&scene.params, options.model)?;
+    let chosen = options.models.build(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
     let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
     let n = model.dof();
     if !(1..n).contains(&options.design_modes) {
         return Err(Error::option(
-            "--design-modes",
+            "DesignOptions::design_modes",
             format!(
                 "must be 1 to {} (the model's elastic modes; got {})",
                 n - 1,
@@ -504,7 +507,8 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     }
     let states: Vec<String> = lpv.states().iter().map(|s| s.name.clone()).collect();
     let feedforward = if options.kind.has_shaper() {
-        let j = jumps(force, scene.time.start).map_err(|e| Error::option("--controller", e))?;
+        let j =
+            jumps(force, scene.time.start).map_err(|e| Error::option("DesignOptions::kind", e))?;
         let at = |t: f64| -> (f64, f64) {
             let (a, b, w) = schedule_weights(&schedule, parameter, &scene.params.positions, t);
             let lerp = |x: f64, y: f64| x + w * (y - x);
@@ -610,7 +614,7 @@ impl Controller {
         let key = configuration_key(params);
         if key != self.configuration {
             return Err(Error::option(
-                "--controller",
+                "controller",
                 format!(
                     "the controller was designed for configuration {} (scene {}), the scene is \
                      {key}",
@@ -621,7 +625,7 @@ impl Controller {
         let dof = params.modes().iter().sum::<usize>();
         if self.states.len() != 2 * dof || self.schedule.is_empty() {
             return Err(Error::option(
-                "--controller",
+                "controller",
                 format!(
                     "the controller has {} states and {} design points; the scene's model has \
                      {} states",
@@ -637,18 +641,18 @@ impl Controller {
                 .iter()
                 .any(|p| p.k.len() != 1 || p.k[0].len() != 2 * dof)
         {
-            return Err(Error::option("--controller", "a gain K has the wrong size"));
+            return Err(Error::option("controller", "a gain K has the wrong size"));
         }
         if !matches!(params.drive, Drive::Force(_)) {
             return Err(Error::option(
-                "--controller",
+                "controller",
                 "the scene has a prescribed motion; a controller drives a force",
             ));
         }
         let npos = params.positions.len();
         if let Some(p) = self.schedule.iter().find(|p| p.positions.len() != npos) {
             return Err(Error::option(
-                "--controller",
+                "controller",
                 format!(
                     "a design point has {} position(s), the scene has {npos} (a_2..a_n)",
                     p.positions.len()
@@ -661,7 +665,7 @@ impl Controller {
                 .filter(|k| (2..=npos + 1).contains(k))
             else {
                 return Err(Error::option(
-                    "--controller",
+                    "controller",
                     format!("the schedule runs over {name}, which the scene does not have"),
                 ));
             };
@@ -671,7 +675,7 @@ impl Controller {
                 .all(|w| w[0].positions[k - 2] < w[1].positions[k - 2]);
             if !ascending {
                 return Err(Error::option(
-                    "--controller",
+                    "controller",
                     format!("the design points are not in ascending order of {name}"),
                 ));
             }

@@ -1,7 +1,7 @@
 //! Controller design on the linear models and its test on the full nonlinear model with
 //! clearance: the Riccati solver ([`riccati`]), input shapers ([`shaper`]), the gain-scheduled
 //! LQR and its controller file ([`design`](mod@design)), the controlled model ([`controlled`]), and the
-//! figures a design is judged by ([`ControlMetrics`]).
+//! figures a design is judged by ([`crate::metrics`]).
 //!
 //! ```no_run
 //! use telescopic::control::{DesignOptions, compare_variants};
@@ -23,13 +23,35 @@ pub use controlled::{ControlLaw, Controlled, Observed};
 pub use design::{Controller, ControllerKind, DesignOptions, design};
 pub use shaper::ShaperKind;
 
-use crate::model_choice::build_model;
+use crate::metrics::{RunMetrics, drive_stop, metrics};
 use crate::report::Reporter;
-use crate::simulation::{
-    MethodChoice, Simulation, SimulationOptions, Trajectory, plan, run_trajectory, simulate_scene,
-};
+use crate::run::PreparedRun;
+use crate::simulation::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
 use crate::{Error, Result};
-use telescopic_runtime::{Method, Scene, specializations};
+use telescopic_runtime::{Method, Scene};
+
+/// The method a controlled run takes for `options`: `auto` is dopri5 (the feedback and the
+/// saturation make the scene neither linear nor time-invariant); `exact` is refused.
+fn controlled_method(options: &SimulationOptions) -> Result<Method> {
+    match options.method {
+        MethodChoice::Auto => Ok(Method::Dopri5),
+        MethodChoice::Method(Method::Exact) => Err(Error::option(
+            "SimulationOptions::method",
+            "exact stepping needs a linear time-invariant scene; with a controller, take \
+             dopri5 or another integrator",
+        )),
+        MethodChoice::Method(m) => Ok(m),
+    }
+}
+
+/// `options` with `auto` resolved as a controlled run resolves it: the open loop a
+/// controller is compared with runs on the same method and settings as the controlled run.
+pub fn comparison_options(options: &SimulationOptions) -> Result<SimulationOptions> {
+    Ok(SimulationOptions {
+        method: MethodChoice::Method(controlled_method(options)?),
+        ..options.clone()
+    })
+}
 
 /// Simulates `scene` with `controller` driving it, on the full nonlinear model. `auto`
 /// (the default method) is dopri5 here: the feedback and the saturation make the scene
@@ -45,116 +67,90 @@ pub fn simulate_controlled(
     reporter: &dyn Reporter,
 ) -> Result<Simulation> {
     controller.check_fits(scene)?;
-    let method = match options.method {
-        MethodChoice::Auto => Method::Dopri5,
-        MethodChoice::Method(Method::Exact) => {
-            return Err(Error::option(
-                "--method",
-                "exact stepping needs a linear time-invariant scene; with a controller, take \
-                 dopri5 or another integrator",
-            ));
-        }
-        MethodChoice::Method(m) => m,
-    };
-    let mut resolved = plan(
-        scene,
-        &SimulationOptions {
-            method: MethodChoice::Method(method),
-            ..options.clone()
-        },
-    )?;
-    resolved.how = format!("controller {}; ", controller.kind);
-    let chosen = build_model(&scene.params, options.model)?;
-    if let Some(note) = &chosen.note {
-        reporter.note(note);
-    }
-    let base = chosen.model.as_ref();
+    let method = controlled_method(options)?;
+    let mut run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
+    run.plan.how = format!("controller {}; ", controller.kind);
+    let base = run.model();
     let (start, end) = (scene.time.start, scene.time.end);
     let trajectory = if controller.kind.has_observer() {
         if !matches!(method, Method::Dopri5 | Method::Dop853) {
             return Err(Error::option(
-                "--method",
+                "SimulationOptions::method",
                 "a controller with a Kalman filter runs with dopri5 or dop853",
             ));
         }
-        let model = Observed::new(base, controller, start, end)?;
         // the filter adds no stiffness of its own: the budget is the structure's
-        crate::budget::check_run(scene, base, method, &resolved.settings)?;
-        run_trajectory(scene, &model, method, &resolved.settings, reporter)?
+        let model = Observed::new(base, controller, start, end)?;
+        run.integrate_on(&model, base, reporter)?
     } else {
         let model = Controlled::new(base, controller, start, end)?;
-        crate::budget::check_run(scene, &model, method, &resolved.settings)?;
-        run_trajectory(scene, &model, method, &resolved.settings, reporter)?
+        run.integrate_on(&model, &model, reporter)?
     };
-    let specials = specializations(base, &scene.time, method, None);
-    Ok(Simulation {
-        scene: scene.name.clone(),
-        span: (scene.time.start, scene.time.end),
-        model: chosen.description,
-        // a controlled scene is not linear time-invariant: exact stepping never applies
-        specializations: specials
-            .into_iter()
-            .filter(|s| !s.contains("exact stepping"))
-            .collect(),
-        plan: resolved,
-        trajectory,
-    })
+    let mut simulation = run.into_simulation(trajectory);
+    // a controlled scene is not linear time-invariant: exact stepping never applies
+    simulation
+        .specializations
+        .retain(|s| !s.contains("exact stepping"));
+    Ok(simulation)
 }
 
-/// The figures a controller is judged by.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ControlMetrics {
-    /// Start of the residual-vibration window (s): the drive's last change.
-    pub window_start: f64,
-    /// Standard deviation of `tip_rel` over the window (m): the oscillation about its mean.
-    pub residual_std: f64,
-    /// Largest |drive force| (N).
-    pub peak_force: f64,
-    /// Final vehicle position (m).
-    pub final_vehicle: f64,
+/// A controlled run beside its open loop, on the same method, settings and window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ControlComparison {
+    /// The run with the controller.
+    pub controlled: Simulation,
+    /// The same scene without it.
+    pub open_loop: Simulation,
+    /// The controlled run's figures.
+    pub with: RunMetrics,
+    /// The open loop's figures.
+    pub without: RunMetrics,
 }
 
-/// When the scene's drive makes its last change (s): its last breakpoint inside the span,
-/// else the start.
-pub fn drive_stop(scene: &Scene) -> f64 {
-    scene
-        .params
-        .drive_profile()
-        .breakpoints()
-        .into_iter()
-        .filter(|&b| b > scene.time.start && b < scene.time.end)
-        .fold(scene.time.start, f64::max)
-}
-
-/// The metrics of a run over the window `[window_start, end]`; the drive force is the
-/// `drive_force` column when the run has one, else the scene's drive profile.
-pub fn metrics(scene: &Scene, trajectory: &Trajectory, window_start: f64) -> ControlMetrics {
-    let t = trajectory.column("t").expect("t");
-    let tip = trajectory.column("tip_rel").expect("tip_rel");
-    let window: Vec<f64> = t
-        .iter()
-        .zip(&tip)
-        .filter(|(t, _)| **t >= window_start)
-        .map(|(_, v)| *v)
-        .collect();
-    let mean = window.iter().sum::<f64>() / window.len().max(1) as f64;
-    let var = window.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / window.len().max(1) as f64;
-    let peak_force = match trajectory.column("drive_force") {
-        Some(f) => f.iter().fold(0.0f64, |m, v| m.max(v.abs())),
-        None => t
-            .iter()
-            .map(|&t| scene.params.drive_profile().value(t).abs())
-            .fold(0.0, f64::max),
-    };
-    ControlMetrics {
-        window_start,
-        residual_std: var.sqrt(),
-        peak_force,
-        final_vehicle: trajectory
-            .column("vehicle")
-            .and_then(|v| v.last().copied())
-            .unwrap_or(0.0),
+impl ControlComparison {
+    /// One paragraph: residual vibration, peak force and travel, with and without control.
+    pub fn summary(&self, controller: &Controller) -> String {
+        let (with, without) = (&self.with, &self.without);
+        format!(
+            "controller {}: residual tip vibration (standard deviation of tip_rel from t = \
+             {} s) {:.5} m with control, {:.5} m without ({:.1}x less); peak drive force \
+             {:.1} N with (limit {} N), {:.1} N without; final vehicle position {:.4} m with, \
+             {:.4} m without ({:+.3} %)",
+            controller.kind,
+            with.window_start,
+            with.residual_std,
+            without.residual_std,
+            without.residual_std / with.residual_std,
+            with.peak_force,
+            controller.force_limit_n,
+            without.peak_force,
+            with.final_vehicle,
+            without.final_vehicle,
+            100.0 * (with.final_vehicle / without.final_vehicle - 1.0)
+        )
     }
+}
+
+/// Simulates `scene` with `controller` and without it, with the same method and settings,
+/// and measures both over the window after the drive stops.
+///
+/// # Errors
+/// The errors of [`simulate_controlled`] and of the open-loop simulation.
+pub fn compare_with_open_loop(
+    scene: &Scene,
+    controller: &Controller,
+    options: &SimulationOptions,
+    reporter: &dyn Reporter,
+) -> Result<ControlComparison> {
+    let controlled = simulate_controlled(scene, controller, options, reporter)?;
+    let open_loop = simulate_scene(scene, &comparison_options(options)?, reporter)?;
+    let window = drive_stop(scene);
+    Ok(ControlComparison {
+        with: metrics(scene, &controlled.trajectory, window),
+        without: metrics(scene, &open_loop.trajectory, window),
+        controlled,
+        open_loop,
+    })
 }
 
 /// One row of the variants table.
@@ -163,7 +159,7 @@ pub struct VariantRow {
     /// `open loop`, `shaper`, `lqr` or `lqr+shaper`.
     pub variant: String,
     /// Its figures.
-    pub metrics: ControlMetrics,
+    pub metrics: RunMetrics,
     /// Residual vibration relative to the open loop's.
     pub reduction: f64,
     /// Final vehicle position relative to the open loop's travel.
@@ -183,11 +179,11 @@ pub fn compare_variants(
     options: &DesignOptions,
     reporter: &dyn Reporter,
 ) -> Result<Vec<VariantRow>> {
-    let sim = SimulationOptions {
-        method: MethodChoice::Method(Method::Dopri5),
+    let sim = comparison_options(&SimulationOptions {
         model: options.model,
+        models: options.models.clone(),
         ..SimulationOptions::default()
-    };
+    })?;
     let window = drive_stop(scene);
     reporter.note(&format!("{}: open loop", scene.name));
     let open = simulate_scene(scene, &sim, reporter)?;

@@ -76,7 +76,7 @@ impl LinearExport {
     pub fn check_format(&self, format: Format) -> Result<()> {
         if format == Format::Latex && self.states.len() > MAX_LATEX_STATES {
             return Err(Error::option(
-                "--format latex",
+                "LinearExport format latex",
                 format!(
                     "is for small models: at most {MAX_LATEX_STATES} states, this one has {}; \
                      use json, matlab, npz or python",

@@ -20,7 +20,7 @@ mod npy;
 
 pub use formats::{Format, MAX_LATEX_STATES};
 
-use crate::model_choice::{ModelChoice, build_model};
+use crate::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use std::str::FromStr;
 use telescopic_runtime::{ContactMode, LinearModel, Lpv, Scene, Signal, configuration_key};
@@ -128,6 +128,8 @@ pub struct LinearizeOptions {
     pub grid: Option<Grid>,
     /// Which model's matrices.
     pub model: ModelChoice,
+    /// Where generated models come from (default: the committed ones).
+    pub models: ModelRegistry,
 }
 
 /// A linear model, or a grid of them, with everything needed to read it elsewhere.
@@ -165,14 +167,14 @@ pub struct LinearExport {
 /// [`Error::Option`] for positions, times or grids outside the scene or the valid overlap;
 /// [`Error::Model`] when no model can be had.
 pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExport> {
-    let chosen = build_model(&scene.params, options.model)?;
+    let chosen = options.models.build(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
     let lpv = Lpv::new(model, options.contacts).map_err(|e| Error::Model(e.to_string()))?;
     let npos = scene.params.sections.len() - 1;
     let t = options.at_time.unwrap_or(scene.time.start);
     if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
         return Err(Error::option(
-            "--at-time",
+            "LinearizeOptions::at_time",
             format!(
                 "{t}: must lie in the scene's time span [{}, {}] s",
                 scene.time.start, scene.time.end
@@ -197,25 +199,28 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
     };
     if !options.positions.is_empty() {
         for &(k, v) in &options.positions {
-            check("--positions", k)?;
+            check("LinearizeOptions::positions", k)?;
             positions[k - 2] = v;
             rates[k - 2] = 0.0;
         }
-        operating_point = "positions given (--positions), at rest".to_string();
+        operating_point = "positions given, at rest".to_string();
     }
     let (grid, points) = match &options.grid {
-        None => (None, vec![at(&lpv, &positions, &rates, "--positions")?]),
+        None => (
+            None,
+            vec![at(&lpv, &positions, &rates, "LinearizeOptions::positions")?],
+        ),
         Some(g) => {
-            check("--grid", g.section)?;
+            check("LinearizeOptions::grid", g.section)?;
             // the other positions must be valid too, whatever the grid's values
             lpv.check_point(&positions, &rates)
-                .map_err(|e| Error::option("--positions", e.to_string()))?;
+                .map_err(|e| Error::option("LinearizeOptions::positions", e.to_string()))?;
             let values = g.values();
             let mut points = Vec::with_capacity(values.len());
             for &v in &values {
                 let mut p = positions.clone();
                 p[g.section - 2] = v;
-                points.push(at(&lpv, &p, &vec![0.0; npos], "--grid")?);
+                points.push(at(&lpv, &p, &vec![0.0; npos], "LinearizeOptions::grid")?);
             }
             let others = if npos > 1 {
                 format!("; the other positions: {operating_point}")

@@ -42,9 +42,9 @@ pub fn chart(
             )
         })
     };
-    let (ix, iy) = (find(x, "--x")?, find(y, "--y")?);
-    let ic = color.map(|c| find(c, "--color")).transpose()?;
-    let status = find("status", "--y")?;
+    let (ix, iy) = (find(x, "SweepChart x")?, find(y, "SweepChart y")?);
+    let ic = color.map(|c| find(c, "SweepChart color")).transpose()?;
+    let status = find("status", "SweepChart y")?;
     let mut groups: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for (_, line) in &table.rows {
         let cells = split_csv(line);
@@ -70,17 +70,14 @@ pub fn chart(
     }
     if groups.is_empty() {
         return Err(Error::option(
-            "--y",
+            "SweepChart y",
             format!("no successful run has numbers in both `{x}` and `{y}`"),
         ));
     }
     if heatmap && groups.iter().any(|(l, _)| l.parse::<f64>().is_err()) {
         return Err(Error::option(
-            "--heatmap",
-            format!(
-                "the --color column `{}` is not numeric",
-                color.unwrap_or("")
-            ),
+            "SweepChart heatmap",
+            format!("the color column `{}` is not numeric", color.unwrap_or("")),
         ));
     }
     for (_, points) in &mut groups {
@@ -128,12 +125,47 @@ pub fn unit_of(column: &str) -> Option<&'static str> {
 /// A column's name with its unit, for an axis.
 fn axis_label(column: &str) -> String {
     match unit_of(column) {
-        Some(unit) => format!("{column} ({unit})"),
+        Some(unit) => format!("{column} [{unit}]"),
         None => column.to_string(),
     }
 }
 
-/// A colour from blue (0) to red (1) through white.
+/// A sequential colour from light (0) to dark (1), for a metric that is never negative
+/// (viridis' stops, reversed: small values pale, large ones dark).
+fn sequential(v: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (253.0, 231.0, 37.0),
+        (94.0, 201.0, 98.0),
+        (33.0, 145.0, 140.0),
+        (59.0, 82.0, 139.0),
+        (68.0, 1.0, 84.0),
+    ];
+    let x = v.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let t = x - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let mix = |p: f64, q: f64| (p + (q - p) * t).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// The padded axis range of `[lo, hi]`, kept on the data's side of zero: a positive
+/// quantity's axis does not run into negative values.
+fn padded(lo: f64, hi: f64) -> (f64, f64) {
+    let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1e-300));
+    let below = if lo >= 0.0 {
+        (lo - pad).max(0.0)
+    } else {
+        lo - pad
+    };
+    let above = if hi <= 0.0 {
+        (hi + pad).min(0.0)
+    } else {
+        hi + pad
+    };
+    (below, above)
+}
+
+/// A colour from blue (0) to red (1) through white, for a metric of either sign.
 fn ramp(v: f64) -> RGBColor {
     let v = v.clamp(0.0, 1.0);
     let mix = |a: f64, b: f64, t: f64| (a + (b - a) * t).round() as u8;
@@ -213,7 +245,9 @@ impl SweepChart {
             .y_label_formatter(&|v| tick_label(*v, kb - ka))
             .draw()
             .map_err(plot_error)?;
-        let shade = |y: f64| ramp((y - y0) / (y1 - y0).max(1e-300));
+        // a positive metric on a sequential scale; one of either sign on a diverging one
+        let scale: fn(f64) -> RGBColor = if y0 >= 0.0 { sequential } else { ramp };
+        let shade = |y: f64| scale((y - y0) / (y1 - y0).max(1e-300));
         // values in the cells only where there is room for them
         let cell_px = left.dim_in_pixel().0 as usize / xs.len().max(1);
         let label_cells = cell_px >= 70 && ks.len() <= 20;
@@ -247,7 +281,7 @@ impl SweepChart {
             let b = bottom - (bottom - top) * (i + 1) / steps;
             bar.draw(&Rectangle::new(
                 [(20, b), (50, a)],
-                ramp((i as f64 + 0.5) / steps as f64).filled(),
+                scale((i as f64 + 0.5) / steps as f64).filled(),
             ))
             .map_err(plot_error)?;
         }
@@ -291,13 +325,12 @@ impl Figure for SweepChart {
         let all = || self.series.iter().flat_map(|(_, p)| p.iter());
         let (x0, x1) = all().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
         let (y0, y1) = all().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
-        let xpad = 0.05 * (x1 - x0).max(1e-12);
-        let ypad = 0.05 * (y1 - y0).max(1e-12);
+        let ((xa, xb), (ya, yb)) = (padded(x0, x1), padded(y0, y1));
         let mut chart = ChartBuilder::on(&root)
             .margin(20)
             .x_label_area_size(45)
             .y_label_area_size(90)
-            .build_cartesian_2d((x0 - xpad)..(x1 + xpad), (y0 - ypad)..(y1 + ypad))
+            .build_cartesian_2d(xa..xb, ya..yb)
             .map_err(plot_error)?;
         chart
             .configure_mesh()

@@ -108,144 +108,14 @@ impl Sweep {
     /// [`Error::Option`] naming the file, the key and the rule, or the run and its problem;
     /// [`Error::Scene`] for an unreadable or invalid base scene.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
-        let spec: SweepSpec = {
-            let de = toml::Deserializer::parse(&text)
-                .map_err(|e| invalid(path, format!("not valid TOML: {e}")))?;
-            serde_path_to_error::deserialize(de)
-                .map_err(|e| invalid(path, format!("field `{}`: {}", e.path(), e.inner())))?
-        };
-        let scene_path = path.parent().unwrap_or(Path::new(".")).join(&spec.scene);
-        let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
-            invalid(
-                path,
-                format!(
-                    "`scene` = {:?}: cannot read {}: {e}",
-                    spec.scene,
-                    scene_path.display()
-                ),
-            )
-        })?;
-        let base: toml::Table = scene_text.parse().map_err(|e: toml::de::Error| {
-            invalid(
-                path,
-                format!("the scene {} is not valid TOML: {e}", scene_path.display()),
-            )
-        })?;
+        let (text, spec) = read_spec(path)?;
+        let (scene_path, scene_text, base) = read_base_scene(path, &spec)?;
         let mut keys: Vec<String> = Vec::new();
         let mut runs: Vec<Run> = Vec::new();
-        // the grid: keys in sorted order, the last varying fastest
-        let mut axes: Vec<(String, Vec<toml::Value>)> = Vec::new();
-        for (key, values) in &spec.grid {
-            let list = values.as_array().ok_or_else(|| {
-                invalid(path, format!("[grid] `{key}`: must be a list of values"))
-            })?;
-            if list.is_empty() {
-                return Err(invalid(path, format!("[grid] `{key}`: the list is empty")));
-            }
-            axes.push((key.clone(), list.clone()));
-        }
-        let grid_runs = axes
-            .iter()
-            .try_fold(1usize, |n, (_, v)| n.checked_mul(v.len()))
-            .filter(|&n| n <= MAX_RUNS)
-            .ok_or_else(|| invalid(path, format!("[grid] makes more than {MAX_RUNS} runs")))?;
-        keys.extend(axes.iter().map(|(k, _)| k.clone()));
-        if !axes.is_empty() {
-            for i in 0..grid_runs {
-                let mut rest = i;
-                let mut values = vec![None; axes.len()];
-                for (a, (_, list)) in axes.iter().enumerate().rev() {
-                    values[a] = Some(list[rest % list.len()].clone());
-                    rest /= list.len();
-                }
-                runs.push(Run {
-                    index: runs.len(),
-                    values,
-                });
-            }
-        }
-        // explicit runs
-        for table in &spec.runs {
-            for key in table.keys() {
-                if !keys.contains(key) {
-                    keys.push(key.clone());
-                }
-            }
-        }
-        for (r, table) in spec.runs.iter().enumerate() {
-            if table.is_empty() {
-                return Err(invalid(
-                    path,
-                    format!("[[runs]] entry {}: sets nothing", r + 1),
-                ));
-            }
-            let values = keys.iter().map(|k| table.get(k).cloned()).collect();
-            runs.push(Run {
-                index: runs.len(),
-                values,
-            });
-        }
-        // Latin hypercube: every range cut into `samples` strata, one sample per stratum,
-        // strata paired by a random permutation per key
+        grid_runs(path, &spec, &mut keys, &mut runs)?;
+        explicit_runs(path, &spec, &mut keys, &mut runs)?;
         if let Some(latin) = &spec.latin {
-            if !(1..=MAX_RUNS).contains(&latin.samples) {
-                return Err(invalid(
-                    path,
-                    format!(
-                        "[latin] `samples` must be 1 to {MAX_RUNS} (got {})",
-                        latin.samples
-                    ),
-                ));
-            }
-            if latin.ranges.is_empty() {
-                return Err(invalid(path, "[latin] `ranges` is empty".into()));
-            }
-            let first = keys.len();
-            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(latin.seed);
-            let mut columns: Vec<Vec<f64>> = Vec::new();
-            for (key, range) in &latin.ranges {
-                let bounds: Option<(f64, f64)> =
-                    range.as_array().and_then(|a| match a.as_slice() {
-                        [lo, hi] => Some((number(lo)?, number(hi)?)),
-                        _ => None,
-                    });
-                let Some((lo, hi)) =
-                    bounds.filter(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo < hi)
-                else {
-                    return Err(invalid(
-                        path,
-                        format!("[latin.ranges] `{key}`: must be [low, high] with low < high"),
-                    ));
-                };
-                if keys.contains(key) {
-                    return Err(invalid(
-                        path,
-                        format!("[latin.ranges] `{key}`: already varied elsewhere"),
-                    ));
-                }
-                keys.push(key.clone());
-                let n = latin.samples;
-                let mut strata: Vec<usize> = (0..n).collect();
-                strata.shuffle(&mut rng);
-                columns.push(
-                    strata
-                        .iter()
-                        .map(|&s| lo + (hi - lo) * (s as f64 + rng.random::<f64>()) / n as f64)
-                        .collect(),
-                );
-            }
-            for i in 0..latin.samples {
-                let mut values = vec![None; keys.len()];
-                for (c, column) in columns.iter().enumerate() {
-                    values[first + c] = Some(toml::Value::Float(column[i]));
-                }
-                runs.push(Run {
-                    index: runs.len(),
-                    values,
-                });
-            }
+            latin_runs(path, latin, &mut keys, &mut runs)?;
         }
         // explicit runs and grid runs share the column list: pad earlier runs
         for run in &mut runs {
@@ -425,6 +295,178 @@ fn number(v: &toml::Value) -> Option<f64> {
         toml::Value::Integer(i) => Some(*i as f64),
         _ => None,
     }
+}
+
+/// The sweep file's text and its parsed fields.
+fn read_spec(path: &Path) -> Result<(String, SweepSpec)> {
+    let text =
+        std::fs::read_to_string(path).map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
+    let spec: SweepSpec = {
+        let de = toml::Deserializer::parse(&text)
+            .map_err(|e| invalid(path, format!("not valid TOML: {e}")))?;
+        serde_path_to_error::deserialize(de)
+            .map_err(|e| invalid(path, format!("field `{}`: {}", e.path(), e.inner())))?
+    };
+    Ok((text, spec))
+}
+
+/// The base scene named by the sweep file: its path, text and TOML table.
+fn read_base_scene(path: &Path, spec: &SweepSpec) -> Result<(PathBuf, String, toml::Table)> {
+    let scene_path = path.parent().unwrap_or(Path::new(".")).join(&spec.scene);
+    let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
+        invalid(
+            path,
+            format!(
+                "`scene` = {:?}: cannot read {}: {e}",
+                spec.scene,
+                scene_path.display()
+            ),
+        )
+    })?;
+    let base: toml::Table = scene_text.parse().map_err(|e: toml::de::Error| {
+        invalid(
+            path,
+            format!("the scene {} is not valid TOML: {e}", scene_path.display()),
+        )
+    })?;
+    Ok((scene_path, scene_text, base))
+}
+
+/// The runs of `[grid]`: keys in sorted order, the last varying fastest.
+fn grid_runs(
+    path: &Path,
+    spec: &SweepSpec,
+    keys: &mut Vec<String>,
+    runs: &mut Vec<Run>,
+) -> Result<()> {
+    // the grid: keys in sorted order, the last varying fastest
+    let mut axes: Vec<(String, Vec<toml::Value>)> = Vec::new();
+    for (key, values) in &spec.grid {
+        let list = values
+            .as_array()
+            .ok_or_else(|| invalid(path, format!("[grid] `{key}`: must be a list of values")))?;
+        if list.is_empty() {
+            return Err(invalid(path, format!("[grid] `{key}`: the list is empty")));
+        }
+        axes.push((key.clone(), list.clone()));
+    }
+    let grid_runs = axes
+        .iter()
+        .try_fold(1usize, |n, (_, v)| n.checked_mul(v.len()))
+        .filter(|&n| n <= MAX_RUNS)
+        .ok_or_else(|| invalid(path, format!("[grid] makes more than {MAX_RUNS} runs")))?;
+    keys.extend(axes.iter().map(|(k, _)| k.clone()));
+    if !axes.is_empty() {
+        for i in 0..grid_runs {
+            let mut rest = i;
+            let mut values = vec![None; axes.len()];
+            for (a, (_, list)) in axes.iter().enumerate().rev() {
+                values[a] = Some(list[rest % list.len()].clone());
+                rest /= list.len();
+            }
+            runs.push(Run {
+                index: runs.len(),
+                values,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The `[[runs]]` entries, each setting some of the keys.
+fn explicit_runs(
+    path: &Path,
+    spec: &SweepSpec,
+    keys: &mut Vec<String>,
+    runs: &mut Vec<Run>,
+) -> Result<()> {
+    for table in &spec.runs {
+        for key in table.keys() {
+            if !keys.contains(key) {
+                keys.push(key.clone());
+            }
+        }
+    }
+    for (r, table) in spec.runs.iter().enumerate() {
+        if table.is_empty() {
+            return Err(invalid(
+                path,
+                format!("[[runs]] entry {}: sets nothing", r + 1),
+            ));
+        }
+        let values = keys.iter().map(|k| table.get(k).cloned()).collect();
+        runs.push(Run {
+            index: runs.len(),
+            values,
+        });
+    }
+    Ok(())
+}
+
+/// The `[latin]` samples: every range cut into `samples` strata, one sample per stratum,
+/// strata paired by a random permutation per key.
+fn latin_runs(
+    path: &Path,
+    latin: &LatinSpec,
+    keys: &mut Vec<String>,
+    runs: &mut Vec<Run>,
+) -> Result<()> {
+    if !(1..=MAX_RUNS).contains(&latin.samples) {
+        return Err(invalid(
+            path,
+            format!(
+                "[latin] `samples` must be 1 to {MAX_RUNS} (got {})",
+                latin.samples
+            ),
+        ));
+    }
+    if latin.ranges.is_empty() {
+        return Err(invalid(path, "[latin] `ranges` is empty".into()));
+    }
+    let first = keys.len();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(latin.seed);
+    let mut columns: Vec<Vec<f64>> = Vec::new();
+    for (key, range) in &latin.ranges {
+        let bounds: Option<(f64, f64)> = range.as_array().and_then(|a| match a.as_slice() {
+            [lo, hi] => Some((number(lo)?, number(hi)?)),
+            _ => None,
+        });
+        let Some((lo, hi)) = bounds.filter(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo < hi)
+        else {
+            return Err(invalid(
+                path,
+                format!("[latin.ranges] `{key}`: must be [low, high] with low < high"),
+            ));
+        };
+        if keys.contains(key) {
+            return Err(invalid(
+                path,
+                format!("[latin.ranges] `{key}`: already varied elsewhere"),
+            ));
+        }
+        keys.push(key.clone());
+        let n = latin.samples;
+        let mut strata: Vec<usize> = (0..n).collect();
+        strata.shuffle(&mut rng);
+        columns.push(
+            strata
+                .iter()
+                .map(|&s| lo + (hi - lo) * (s as f64 + rng.random::<f64>()) / n as f64)
+                .collect(),
+        );
+    }
+    for i in 0..latin.samples {
+        let mut values = vec![None; keys.len()];
+        for (c, column) in columns.iter().enumerate() {
+            values[first + c] = Some(toml::Value::Float(column[i]));
+        }
+        runs.push(Run {
+            index: runs.len(),
+            values,
+        });
+    }
+
+    Ok(())
 }
 
 #[cfg(test)]

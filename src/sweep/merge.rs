@@ -1,7 +1,7 @@
 //! Result files: reading them, and merging the shards of one sweep into one file after
 //! checking that they belong together and that every run is there exactly once.
 
-use super::run::Shard;
+use super::shard::Shard;
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;

@@ -21,8 +21,10 @@ mod chart;
 mod file;
 mod merge;
 mod run;
+mod shard;
 
 pub use chart::{SweepChart, chart};
 pub use file::{MAX_RUNS, RUN_KEYS, Run, Sweep, override_text, value_text};
 pub use merge::{SweepTable, merge_shards, read_table};
-pub use run::{METRIC_COLUMNS, Shard, SweepOptions, SweepOutcome, run_sweep};
+pub use run::{METRIC_COLUMNS, SweepOptions, SweepOutcome, run_sweep};
+pub use shard::Shard;

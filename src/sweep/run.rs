@@ -4,15 +4,14 @@
 //! `--resume` continues a work file (a torn last line, from a killed process, is dropped).
 
 use super::file::{Run, Sweep};
-use crate::control::{drive_stop, metrics};
-use crate::model_choice::build_model;
+use super::shard::Shard;
+use crate::metrics::{drive_stop, metrics, peak_and_rms};
 use crate::output::csv_number;
 use crate::report::{Reporter, Silent};
-use crate::simulation::{peak_and_rms, plan, run_trajectory};
+use crate::run::PreparedRun;
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 use std::sync::Mutex;
 use std::time::Instant;
 use telescopic_runtime::{SimError, modal_analysis};
@@ -34,133 +33,6 @@ pub const METRIC_COLUMNS: [&str; 14] = [
     "error",
     "wall_s",
 ];
-
-/// Which runs of a sweep this process makes: run `i` when `i % count == index`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Shard {
-    /// This shard (0-based).
-    pub index: usize,
-    /// Number of shards.
-    pub count: usize,
-}
-
-impl Shard {
-    /// Every run.
-    pub fn whole() -> Self {
-        Shard { index: 0, count: 1 }
-    }
-
-    /// The shard of a job array: Slurm's `SLURM_ARRAY_TASK_ID` (less
-    /// `SLURM_ARRAY_TASK_MIN`, over `SLURM_ARRAY_TASK_STEP`) of `SLURM_ARRAY_TASK_COUNT`,
-    /// else Kubernetes'
-    /// `JOB_COMPLETION_INDEX` of `count` (which Kubernetes does not export).
-    ///
-    /// # Errors
-    /// [`Error::Option`] naming the missing or bad variable.
-    pub fn from_env(count: Option<usize>) -> Result<Self> {
-        let var = |name: &str| std::env::var(name).ok();
-        let parse = |name: &str, v: String| {
-            v.trim().parse::<usize>().map_err(|_| {
-                Error::option(
-                    "--shard auto",
-                    format!("{name}={v:?} is not a whole number"),
-                )
-            })
-        };
-        let shard = if let Some(id) = var("SLURM_ARRAY_TASK_ID") {
-            let id = parse("SLURM_ARRAY_TASK_ID", id)?;
-            let min = var("SLURM_ARRAY_TASK_MIN")
-                .map(|v| parse("SLURM_ARRAY_TASK_MIN", v))
-                .transpose()?
-                .unwrap_or(0);
-            let total = match var("SLURM_ARRAY_TASK_COUNT") {
-                Some(v) => parse("SLURM_ARRAY_TASK_COUNT", v)?,
-                None => count.ok_or_else(|| {
-                    Error::option(
-                        "--shard auto",
-                        "SLURM_ARRAY_TASK_COUNT is not set; give --shard-count",
-                    )
-                })?,
-            };
-            let step = var("SLURM_ARRAY_TASK_STEP")
-                .map(|v| parse("SLURM_ARRAY_TASK_STEP", v))
-                .transpose()?
-                .unwrap_or(1)
-                .max(1);
-            let offset = id.checked_sub(min).filter(|o| o % step == 0);
-            let shard = Shard {
-                index: offset.map_or(usize::MAX, |o| o / step),
-                count: total,
-            };
-            if shard.index >= total {
-                return Err(Error::option(
-                    "--shard auto",
-                    format!(
-                        "array task {id} (min {min}, step {step}, count {total}) is not one of an \
-                         evenly spaced range; submit with --array=0-{} (optionally %LIMIT)",
-                        total.saturating_sub(1)
-                    ),
-                ));
-            }
-            shard
-        } else if let Some(id) = var("JOB_COMPLETION_INDEX") {
-            let total = count.ok_or_else(|| {
-                Error::option(
-                    "--shard auto",
-                    "JOB_COMPLETION_INDEX is set but not the count: give --shard-count (the job's completions)",
-                )
-            })?;
-            Shard {
-                index: parse("JOB_COMPLETION_INDEX", id)?,
-                count: total,
-            }
-        } else {
-            return Err(Error::option(
-                "--shard auto",
-                "neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a \
-                 Kubernetes indexed job) is set",
-            ));
-        };
-        shard.check("--shard auto")?;
-        Ok(shard)
-    }
-
-    fn check(&self, option: &str) -> Result<()> {
-        if self.count == 0 || self.index >= self.count {
-            return Err(Error::option(
-                option,
-                format!("shard {} of {}: need 0 <= I < N", self.index, self.count),
-            ));
-        }
-        Ok(())
-    }
-
-    /// Whether run `index` belongs to this shard.
-    pub fn owns(&self, index: usize) -> bool {
-        index % self.count == self.index
-    }
-}
-
-impl FromStr for Shard {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        let (i, n) = s
-            .split_once('/')
-            .ok_or_else(|| "expected I/N (e.g. 0/4) or auto".to_string())?;
-        let parse = |v: &str| {
-            v.trim()
-                .parse::<usize>()
-                .map_err(|_| format!("`{v}` is not a whole number"))
-        };
-        let shard = Shard {
-            index: parse(i)?,
-            count: parse(n)?,
-        };
-        shard.check("--shard").map_err(|e| e.to_string())?;
-        Ok(shard)
-    }
-}
 
 /// Options of [`run_sweep`].
 #[derive(Debug, Clone, PartialEq)]
@@ -248,11 +120,9 @@ fn row(sweep: &Sweep, run: &Run) -> (String, bool) {
     let start = Instant::now();
     let measure = || -> Result<(Vec<String>, Option<String>)> {
         let (scene, options) = sweep.scene_of(run)?;
-        let planned = plan(&scene, &options)?;
-        let chosen = build_model(&scene.params, options.model)?;
-        let model = chosen.model.as_ref();
-        crate::budget::check_run(&scene, model, planned.method, &planned.settings)?;
-        let traj = run_trajectory(&scene, model, planned.method, &planned.settings, &Silent)?;
+        let run = PreparedRun::new(&scene, &options, &Silent)?;
+        let model = run.model();
+        let traj = run.integrate(&Silent)?;
         let (tip_max, tip_rms) = peak_and_rms(&traj.column("tip_rel").expect("tip_rel"));
         let force_max = traj
             .names
@@ -348,9 +218,9 @@ fn resume_from(path: &Path, header: &str, columns: &str) -> Result<Vec<usize>> {
     let (h, c) = (lines.next().unwrap_or(""), lines.next().unwrap_or(""));
     if h.trim_end() != header || c.trim_end() != columns {
         return Err(Error::option(
-            "--resume",
+            "SweepOptions::resume",
             format!(
-                "{} belongs to another sweep or shard (its header: {:?}); remove it or drop --resume",
+                "{} belongs to another sweep or shard (its header: {:?}); remove it or do not resume",
                 path.display(),
                 h.trim_end()
             ),
@@ -392,7 +262,7 @@ pub fn run_sweep(
     use rayon::prelude::*;
     let started = Instant::now();
     if options.jobs == 0 {
-        return Err(Error::option("--jobs", "must be at least 1"));
+        return Err(Error::option("SweepOptions::jobs", "must be at least 1"));
     }
     let header = header_line(sweep, options.shard);
     let columns = column_line(sweep);
@@ -444,7 +314,7 @@ pub fn run_sweep(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.jobs)
         .build()
-        .map_err(|e| Error::option("--jobs", e.to_string()))?;
+        .map_err(|e| Error::option("SweepOptions::jobs", e.to_string()))?;
     pool.install(|| {
         pending.par_iter().for_each(|run| {
             // after an interrupt or a failed write, no new run starts
@@ -479,7 +349,7 @@ pub fn run_sweep(
     let (finished, written, failed) = counts.into_inner().unwrap_or_else(|e| e.into_inner());
     if finished < total {
         return Err(Error::Interrupted(format!(
-            "{finished} of {total} runs done, kept in {}; run again with --resume to finish",
+            "{finished} of {total} runs done, kept in {}; resume the sweep to finish",
             partial.display()
         )));
     }

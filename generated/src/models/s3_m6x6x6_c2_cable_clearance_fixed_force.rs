@@ -1402,10 +1402,10 @@ impl GeneratedModel {
             let l_out = self.lengths[0];
             let l_in = self.lengths[1];
             let (a, a_dot) = (positions[0].0, positions[0].1);
-            let xi_in = 0.0 * (l_out - a) / l_in;
-            let xi_out = (a + 0.0 * (l_out - a)) / l_out;
-            let rate_in = -0.0 * a_dot / l_in;
-            let rate_out = 1.0 * a_dot / l_out;
+            let xi_in = 0.0;
+            let xi_out = a / l_out;
+            let rate_in = 0.0;
+            let rate_out = a_dot / l_out;
             let (v, sl) = shapes_2(xi_in);
             for i in 0..v.len() {
                 let f = self.length_factors[1][i];
@@ -1423,10 +1423,10 @@ impl GeneratedModel {
             let l_out = self.lengths[0];
             let l_in = self.lengths[1];
             let (a, a_dot) = (positions[0].0, positions[0].1);
-            let xi_in = 1.0 * (l_out - a) / l_in;
-            let xi_out = (a + 1.0 * (l_out - a)) / l_out;
-            let rate_in = -1.0 * a_dot / l_in;
-            let rate_out = 0.0 * a_dot / l_out;
+            let xi_in = (l_out - a) / l_in;
+            let xi_out = (a + (l_out - a)) / l_out;
+            let rate_in = -a_dot / l_in;
+            let rate_out = 0.0;
             let (v, sl) = shapes_2(xi_in);
             for i in 0..v.len() {
                 let f = self.length_factors[1][i];
@@ -1444,10 +1444,10 @@ impl GeneratedModel {
             let l_out = self.lengths[1];
             let l_in = self.lengths[2];
             let (a, a_dot) = (positions[1].0, positions[1].1);
-            let xi_in = 0.0 * (l_out - a) / l_in;
-            let xi_out = (a + 0.0 * (l_out - a)) / l_out;
-            let rate_in = -0.0 * a_dot / l_in;
-            let rate_out = 1.0 * a_dot / l_out;
+            let xi_in = 0.0;
+            let xi_out = a / l_out;
+            let rate_in = 0.0;
+            let rate_out = a_dot / l_out;
             let (v, sl) = shapes_3(xi_in);
             for i in 0..v.len() {
                 let f = self.length_factors[2][i];
@@ -1465,10 +1465,10 @@ impl GeneratedModel {
             let l_out = self.lengths[1];
             let l_in = self.lengths[2];
             let (a, a_dot) = (positions[1].0, positions[1].1);
-            let xi_in = 1.0 * (l_out - a) / l_in;
-            let xi_out = (a + 1.0 * (l_out - a)) / l_out;
-            let rate_in = -1.0 * a_dot / l_in;
-            let rate_out = 0.0 * a_dot / l_out;
+            let xi_in = (l_out - a) / l_in;
+            let xi_out = (a + (l_out - a)) / l_out;
+            let rate_in = -a_dot / l_in;
+            let rate_out = 0.0;
             let (v, sl) = shapes_3(xi_in);
             for i in 0..v.len() {
                 let f = self.length_factors[2][i];

@@ -76,8 +76,8 @@ pub enum SceneError {
         /// The parser's message, with line and column.
         message: String,
     },
-    /// A `--set KEY=VALUE` argument is malformed or does not fit the file's structure.
-    #[error("--set {argument}: {rule}")]
+    /// An override `KEY=VALUE` (the CLI's `--set`) is malformed or does not fit the file's structure.
+    #[error("override {argument}: {rule}")]
     Override {
         /// The argument as given.
         argument: String,
@@ -163,9 +163,9 @@ impl Scene {
             path.display().to_string()
         } else {
             format!(
-                "{} (with --set {})",
+                "{} (with overrides {})",
                 path.display(),
-                overrides.join(", --set ")
+                overrides.join(", ")
             )
         };
         let file: SceneFile =

@@ -1,7 +1,8 @@
 //! `telescopic`: the command line over the `telescopic` library. It parses arguments into
 //! the library's option structs, calls it, and prints; see `docs/cli.md`.
 
-mod cli;
+mod commands;
+mod flags;
 
 use clap::Parser;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -39,11 +40,11 @@ fn main() -> std::process::ExitCode {
         eprintln!("interrupted: no partial output file was left");
         std::process::exit(130);
     });
-    let cli = cli::Cli::parse();
+    let cli = commands::Cli::parse();
     match cli.run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", flags::in_flags(&format!("{e:#}")));
             std::process::ExitCode::FAILURE
         }
     }

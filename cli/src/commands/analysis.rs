@@ -6,7 +6,7 @@ use super::{SceneArgs, check_chart, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::converge::{ConvergeOptions, converge as run_converge};
-use telescopic::model_choice::ModelChoice;
+use telescopic::models::ModelChoice;
 use telescopic::output::{check_stdout_open, write_to};
 use telescopic::plot::{Figure, save};
 use telescopic::shape_errors::{ShapeErrorsOptions, shape_errors as run_shape_errors};
@@ -27,7 +27,7 @@ pub struct StabilityArgs {
 pub fn stability(args: &StabilityArgs) -> anyhow::Result<()> {
     check_stdout_open()?;
     let scene = args.scene.load()?;
-    let report = stability_analysis(&scene, args.model)?;
+    let report = stability_analysis(&scene, args.model, &Default::default())?;
     if let Some(note) = &report.note {
         eprintln!("{note}");
     }
@@ -108,6 +108,7 @@ pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         methods: args.methods.clone(),
         repeat: args.repeat,
         model: args.model,
+        models: Default::default(),
     };
     let result = run_wp(&scene, &options, &Progress::new())?;
     args.outputs

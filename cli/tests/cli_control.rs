@@ -101,6 +101,7 @@ fn design_then_simulate_with_the_controller() {
         String::from_utf8_lossy(&out.stderr)
     );
     let csv = dir.join("run.csv");
+    let svg = dir.join("run.svg");
     let out = telescopic(&[
         "simulate",
         "scenes/case-study.toml",
@@ -108,9 +109,22 @@ fn design_then_simulate_with_the_controller() {
         controller.to_str().unwrap(),
         "--out",
         csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
+    // the figure says what differs, shows the force limit and marks the residual window
+    let picture = std::fs::read_to_string(&svg).unwrap();
+    for needle in [
+        "case-study with lqr",
+        "case-study without control",
+        "force limit ±300 N",
+        "residual window",
+        "xi_2_0 [mm]",
+    ] {
+        assert!(picture.contains(needle), "the figure lacks `{needle}`");
+    }
     assert!(
         err.contains("controller lqr: residual tip vibration") && err.contains("without"),
         "{err}"

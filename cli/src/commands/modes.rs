@@ -4,7 +4,7 @@
 use super::SceneArgs;
 use clap::Args;
 use telescopic::equations::{EquationFormat, equations as rendered_equations};
-use telescopic::model_choice::ModelChoice;
+use telescopic::models::ModelChoice;
 use telescopic::modes::{ModesOptions, compute_modes};
 use telescopic::output::write_to;
 
@@ -41,6 +41,7 @@ pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
             count: args.count,
             shapes: args.shapes,
             model: args.model,
+            models: Default::default(),
         },
     )?;
     if let Some(note) = &report.note {
@@ -69,7 +70,7 @@ pub struct EquationsArgs {
 pub fn equations(args: &EquationsArgs) -> anyhow::Result<()> {
     telescopic::output::check_stdout_open()?;
     let scene = args.scene.load()?;
-    let text = rendered_equations(&scene, args.format)?;
+    let text = rendered_equations(&scene, args.format, &Default::default())?;
     write_to(None, |w| w.write_all(text.as_bytes()))?;
     Ok(())
 }

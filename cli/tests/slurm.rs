@@ -30,7 +30,7 @@ fn a_job_array_sweep_merges_into_the_unsharded_file() {
             .any(|l| l == "idle" || l == "mixed" || l == "allocated")),
         "the Slurm cluster of {conf} is not up (sinfo: {sinfo:?})"
     );
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = PathBuf::from(common::ROOT);
     let dir = std::env::temp_dir().join(format!("telescopic-slurm-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();

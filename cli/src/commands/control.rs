@@ -8,7 +8,7 @@ use telescopic::control::DesignOptions;
 use telescopic::linear::{
     Format, Grid, LinearizeOptions, linearize as run_linearize, parse_positions,
 };
-use telescopic::model_choice::ModelChoice;
+use telescopic::models::ModelChoice;
 use telescopic::output::{check_stdout_open, write_to};
 use telescopic::runtime::ContactMode;
 
@@ -72,6 +72,7 @@ pub fn linearize(args: &LinearizeArgs) -> anyhow::Result<()> {
         },
         grid: args.grid.clone(),
         model: args.model,
+        models: Default::default(),
     };
     let mut export = run_linearize(&scene, &options)?;
     export.scene_file = args.scene.scene.display().to_string();
@@ -157,6 +158,7 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         sensor_noise: args.sensor_noise,
         force_noise: args.force_noise,
         model: args.model,
+        models: Default::default(),
     };
     let controller = telescopic::control::design(&scene, &options)?;
     write_to(Some(&args.out), |w| {

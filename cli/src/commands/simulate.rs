@@ -6,9 +6,10 @@ use super::{SceneArgs, check_chart, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::Scene;
-use telescopic::control::{Controller, drive_stop, metrics, simulate_controlled};
-use telescopic::model_choice::ModelChoice;
-use telescopic::plot::{Curve, plot};
+use telescopic::control::{Controller, compare_with_open_loop};
+use telescopic::metrics::drive_stop;
+use telescopic::models::ModelChoice;
+use telescopic::plot::{Curve, Marks, Role, clearance_label, plot};
 use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
 
 /// Options of `telescopic simulate`.
@@ -90,58 +91,44 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         dt: args.dt,
         step_cap: !args.no_step_cap,
         model: args.model,
+        ..SimulationOptions::default()
     };
     let progress = Progress::new();
-    let run = match &controller {
-        Some(c) => simulate_controlled(&scene, c, &options, &progress)?,
-        None => simulate_scene(&scene, &options, &progress)?,
+    let (run, open_loop) = match &controller {
+        Some(c) => {
+            let comparison = compare_with_open_loop(&scene, c, &options, &progress)?;
+            (comparison.controlled.clone(), Some(comparison))
+        }
+        None => (simulate_scene(&scene, &options, &progress)?, None),
     };
     write_csv(&run.trajectory, args.out.as_deref())?;
     eprintln!("{}", run.summary());
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), run.trajectory.rows.len());
     }
-    let open_loop = match &controller {
-        Some(c) => {
-            let open = simulate_scene(&scene, &options, &progress)?;
-            let window = drive_stop(&scene);
-            let with = metrics(&scene, &run.trajectory, window);
-            let without = metrics(&scene, &open.trajectory, window);
-            eprintln!(
-                "controller {}: residual tip vibration (standard deviation of tip_rel from t = \
-                 {window} s) {:.5} m with control, {:.5} m without ({:.1}x less); peak drive \
-                 force {:.1} N with (limit {} N), {:.1} N without; final vehicle position {:.4} \
-                 m with, {:.4} m without ({:+.3} %)",
-                c.kind,
-                with.residual_std,
-                without.residual_std,
-                without.residual_std / with.residual_std,
-                with.peak_force,
-                c.force_limit_n,
-                without.peak_force,
-                with.final_vehicle,
-                without.final_vehicle,
-                100.0 * (with.final_vehicle / without.final_vehicle - 1.0)
-            );
-            Some(open)
-        }
-        None => None,
-    };
+    if let (Some(c), Some(comparison)) = (&controller, &open_loop) {
+        eprintln!("{}", comparison.summary(c));
+    }
+    let open_loop = open_loop.map(|c| c.open_loop);
     if let Some(plot_path) = &args.plot {
-        let controlled_label = controller
-            .as_ref()
-            .map(|c| format!("{} with {}", scene.name, c.kind));
+        let half_band = scene.params.contact.half_band();
+        // the labels say what differs: the controller, or the clearance of a compared scene
+        let (label, role) = match &controller {
+            Some(c) => (format!("{} with {}", scene.name, c.kind), Role::Controlled),
+            None => (clearance_label(&scene), Role::Scene),
+        };
         let mut curves = vec![Curve {
-            label: controlled_label.as_deref().unwrap_or(&scene.name),
+            label,
             traj: &run.trajectory,
-            half_band: scene.params.contact.half_band(),
+            half_band,
+            role,
         }];
-        let open_label = format!("{} without control", scene.name);
         if let Some(open) = &open_loop {
             curves.push(Curve {
-                label: &open_label,
+                label: format!("{} without control", scene.name),
                 traj: &open.trajectory,
-                half_band: scene.params.contact.half_band(),
+                half_band,
+                role: Role::Scene,
             });
         }
         let compared = match &other {
@@ -154,12 +141,20 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         };
         if let (Some(other), Some(run)) = (&other, &compared) {
             curves.push(Curve {
-                label: &other.name,
+                label: clearance_label(other),
                 traj: &run.trajectory,
                 half_band: other.params.contact.half_band(),
+                role: Role::Compared,
             });
         }
-        plot(&scene.name, &curves, plot_path)?;
+        let marks = match &controller {
+            Some(c) => Marks {
+                force_limit: Some(c.force_limit_n),
+                residual_window: Some((drive_stop(&scene), scene.time.end)),
+            },
+            None => Marks::default(),
+        };
+        plot(&scene.name, &curves, &marks, plot_path)?;
         eprintln!("wrote {}", plot_path.display());
     }
     Ok(())

@@ -20,7 +20,7 @@ fn long_run(csv: &Path) -> Child {
             "--out",
         ])
         .arg(csv)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(common::ROOT)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

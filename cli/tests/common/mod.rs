@@ -4,11 +4,26 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// The workspace root: the binary runs there, so scene paths read `scenes/...`.
+pub const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
+/// Tests name scenes and docs by paths from the workspace root (`scenes/adams-linear.toml`),
+/// as a user at the root does; cargo runs a package's tests in the package's directory
+/// (`cli/`), so every test binary moves to the root before `main`: a constructor in
+/// `.init_array`, the same hand-written mechanism as the binary's closed-stdout check.
+extern "C" fn move_to_workspace_root() {
+    std::env::set_current_dir(ROOT).expect("the workspace root exists");
+}
+
+#[used]
+#[unsafe(link_section = ".init_array")]
+static MOVE_TO_WORKSPACE_ROOT: extern "C" fn() = move_to_workspace_root;
+
 /// Runs the binary from the workspace root.
 pub fn telescopic(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_telescopic"))
         .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(ROOT)
         .output()
         .expect("the binary runs")
 }

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 fn run_within(args: &[&str], limit: Duration) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_telescopic"))
         .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(common::ROOT)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -384,7 +384,7 @@ fn a_closed_standard_output_is_an_error() {
                 "exec >&-; exec '{}' {command}",
                 env!("CARGO_BIN_EXE_telescopic")
             ))
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .current_dir(common::ROOT)
             .stderr(Stdio::piped())
             .output()
             .unwrap();

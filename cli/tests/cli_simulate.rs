@@ -219,8 +219,10 @@ fn plot_draws_the_papers_figures_with_labelled_axes() {
         "Fig. 12",
         "t [s]",
         "tip_rel [m]",
-        "xi_2_1 [m]",
-        "case-study-no-clearance",
+        "xi_2_1 [mm]",
+        "case-study, l_S = 10 mm",
+        "case-study-no-clearance, l_S = 0 mm",
+        "band edges ±l_S/2 = ±5.00 mm",
     ] {
         assert!(text.contains(needle), "plot lacks `{needle}`");
     }

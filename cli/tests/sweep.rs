@@ -13,7 +13,7 @@ use telescopic::Silent;
 use telescopic::sweep::{Shard, Sweep, SweepOptions, merge_shards, read_table, run_sweep};
 
 fn scene(name: &str) -> String {
-    format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/scenes/{name}.toml", common::ROOT)
 }
 
 /// Writes a sweep file over `scene` with `body` after the `scene =` line.
@@ -750,7 +750,7 @@ fn plot_sweep_draws_lines_and_heat_maps() {
 
 #[test]
 fn the_example_sweep_files_are_valid() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(common::ROOT);
     let clearance = Sweep::load(&root.join("examples/sweeps/clearance.toml")).unwrap();
     assert_eq!(clearance.runs.len(), 9);
     let case_study = Sweep::load(&root.join("examples/sweeps/case-study.toml")).unwrap();
