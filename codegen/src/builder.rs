@@ -280,7 +280,7 @@ impl Builder {
 
     /// Every file, in memory: the modules, their renderings and `telescopic_models.rs`.
     /// Touches no file but the models files it reads; runs Symbolica (one thread, behind
-    /// the lock file: see [`crate::symbolic`]).
+    /// the lock file: see `lock_path`).
     ///
     /// # Errors
     /// [`BuildError`] naming the configuration and the rule or the failed step.

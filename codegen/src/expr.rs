@@ -25,7 +25,7 @@ pub enum Expr {
     Cos(Box<Expr>),
     /// `sin x`.
     Sin(Box<Expr>),
-    /// A temporary introduced by [`eliminate_common`] (`t{index}`).
+    /// A temporary introduced by the common-subexpression pass (`t{index}`).
     Temp(usize),
 }
 

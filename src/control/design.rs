@@ -354,61 +354,8 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
             "the design needs a force-driven scene (the drive force is the input)",
         ));
     };
-    for (name, v) in [
-        ("DesignOptions::force_limit", options.force_limit),
-        ("DesignOptions::tip_scale", options.tip_scale),
-        ("DesignOptions::vehicle_scale", options.vehicle_scale),
-        ("DesignOptions::sensor_noise", options.sensor_noise),
-        ("DesignOptions::force_noise", options.force_noise),
-    ] {
-        if !(v > 0.0 && v.is_finite()) {
-            return Err(Error::option(
-                name,
-                format!("must be a finite number > 0 (got {v})"),
-            ));
-        }
-    }
-    if !(1..=MAX_GRID_POINTS).contains(&options.grid_points) {
-        return Err(Error::option(
-            "DesignOptions::grid_points",
-            format!(
-                "must be 1 to {MAX_GRID_POINTS} (got {})",
-                options.grid_points
-            ),
-        ));
-    }
-    let moving: Vec<usize> = scene
-        .params
-        .positions
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| !p.is_constant())
-        .map(|(i, _)| i)
-        .collect();
-    if moving.len() > 1 {
-        return Err(Error::option(
-            "DesignOptions::kind",
-            "gain scheduling over more than one moving telescopic position is not supported; \
-             design at fixed positions (telescope.positions = [...])",
-        ));
-    }
-    // the schedule: the moving position over its range in the span, else one point
-    let (parameter, grid) = match moving.first() {
-        Some(&i) => {
-            let (lo, hi) = scene.params.positions[i].range(scene.time.start, scene.time.end);
-            let count = options.grid_points.max(2);
-            (
-                Some(i + 2),
-                Some(Grid {
-                    section: i + 2,
-                    from: lo,
-                    to: hi,
-                    count,
-                }),
-            )
-        }
-        None => (None, None),
-    };
+    check_options(options)?;
+    let (parameter, grid) = schedule_grid(scene, options)?;
     let chosen = options.models.build(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
     let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
@@ -423,7 +370,6 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
             ),
         ));
     }
-    let npos = scene.params.positions.len();
     let here: Vec<f64> = scene
         .params
         .positions
@@ -455,73 +401,11 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
                 j + 1
             ))
         };
-        let full = lpv.at(positions, &vec![0.0; npos]).map_err(|e| at(&e))?;
-        let (f1, zeta1) = first_mode(&full.a)?;
-        let (k_e, d) = lpv
-            .second_order_at(positions, &vec![0.0; npos])
-            .map_err(|e| at(&e))?;
-        let modal = modal_analysis_with(model, &k_e).map_err(|e| at(&e))?;
-        let design = modal_design(model, &modal, &k_e, &d, options.design_modes);
-        let c_tip = full.c.view((tip_row, 0), (1, n)).into_owned() * &design.phi;
-        let m2 = design.a.nrows();
-        let mut q = DMatrix::zeros(m2, m2);
-        q.view_mut((0, 0), (m2 / 2, m2 / 2))
-            .copy_from(&(c_tip.transpose() * &c_tip / (options.tip_scale * options.tip_scale)));
-        let u_row = design.phi.row(0).into_owned();
-        q.view_mut((0, 0), (m2 / 2, m2 / 2)).add_assign(
-            &(u_row.transpose() * &u_row / (options.vehicle_scale * options.vehicle_scale)),
-        );
-        let r = DMatrix::from_element(1, 1, 1.0 / (options.force_limit * options.force_limit));
-        let (k_modal, k_full, residual, abscissa) = if options.kind.has_lqr() {
-            let solution = care(&design.a, &design.b, &q, &r).map_err(|e| at(&e))?;
-            let k_full = &solution.k * &design.w;
-            (
-                to_rows(&solution.k),
-                to_rows(&k_full),
-                solution.residual,
-                solution.closed_loop_abscissa,
-            )
-        } else {
-            (Vec::new(), Vec::new(), 0.0, 0.0)
-        };
-        let observer = if options.kind.has_observer() {
-            Some(kalman(&full, &design, tip_row, options).map_err(|e| at(&e))?)
-        } else {
-            None
-        };
-        schedule.push(SchedulePoint {
-            observer,
-            positions: positions.clone(),
-            a: to_rows(&design.a),
-            b: to_rows(&design.b),
-            q: to_rows(&q),
-            r: to_rows(&r),
-            k_modal,
-            w: to_rows(&design.w),
-            k: k_full,
-            first_mode_hz: f1,
-            first_mode_damping: zeta1,
-            riccati_residual: residual,
-            closed_loop_abscissa: abscissa,
-        });
+        let point = design_point(model, &lpv, positions, tip_row, options).map_err(|e| at(&e))?;
+        schedule.push(point);
     }
     let states: Vec<String> = lpv.states().iter().map(|s| s.name.clone()).collect();
-    let feedforward = if options.kind.has_shaper() {
-        let j =
-            jumps(force, scene.time.start).map_err(|e| Error::option("DesignOptions::kind", e))?;
-        let at = |t: f64| -> (f64, f64) {
-            let (a, b, w) = schedule_weights(&schedule, parameter, &scene.params.positions, t);
-            let lerp = |x: f64, y: f64| x + w * (y - x);
-            let (pa, pb) = (&schedule[a], &schedule[b]);
-            (
-                2.0 * std::f64::consts::PI * lerp(pa.first_mode_hz, pb.first_mode_hz),
-                lerp(pa.first_mode_damping, pb.first_mode_damping),
-            )
-        };
-        shape(&j, options.shaper, at)
-    } else {
-        force.clone()
-    };
+    let feedforward = feedforward(scene, force, &schedule, parameter, options)?;
     Ok(Controller {
         format: "telescopic controller".into(),
         version: 1,
@@ -538,6 +422,160 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         schedule,
         shaper: options.kind.has_shaper().then_some(options.shaper),
         feedforward,
+    })
+}
+
+/// Checks the design settings' ranges.
+fn check_options(options: &DesignOptions) -> Result<()> {
+    for (name, v) in [
+        ("DesignOptions::force_limit", options.force_limit),
+        ("DesignOptions::tip_scale", options.tip_scale),
+        ("DesignOptions::vehicle_scale", options.vehicle_scale),
+        ("DesignOptions::sensor_noise", options.sensor_noise),
+        ("DesignOptions::force_noise", options.force_noise),
+    ] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(Error::option(
+                name,
+                format!("must be a finite number > 0 (got {v})"),
+            ));
+        }
+    }
+    if !(1..=MAX_GRID_POINTS).contains(&options.grid_points) {
+        return Err(Error::option(
+            "DesignOptions::grid_points",
+            format!(
+                "must be 1 to {MAX_GRID_POINTS} (got {})",
+                options.grid_points
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The schedule's parameter (`k` of the moving `a_k`) and its grid over the range the scene
+/// moves it through; `None` for fixed positions (one design point).
+fn schedule_grid(scene: &Scene, options: &DesignOptions) -> Result<(Option<usize>, Option<Grid>)> {
+    let moving: Vec<usize> = scene
+        .params
+        .positions
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| !p.is_constant())
+        .map(|(i, _)| i)
+        .collect();
+    if moving.len() > 1 {
+        return Err(Error::option(
+            "DesignOptions::kind",
+            "gain scheduling over more than one moving telescopic position is not supported; \
+         design at fixed positions (telescope.positions = [...])",
+        ));
+    }
+    // the schedule: the moving position over its range in the span, else one point
+    Ok(match moving.first() {
+        Some(&i) => {
+            let (lo, hi) = scene.params.positions[i].range(scene.time.start, scene.time.end);
+            let count = options.grid_points.max(2);
+            (
+                Some(i + 2),
+                Some(Grid {
+                    section: i + 2,
+                    from: lo,
+                    to: hi,
+                    count,
+                }),
+            )
+        }
+        None => (None, None),
+    })
+}
+
+/// The LQR (and Kalman filter) designed at one operating point on the modal model.
+fn design_point(
+    model: &dyn Model,
+    lpv: &Lpv,
+    positions: &[f64],
+    tip_row: usize,
+    options: &DesignOptions,
+) -> Result<SchedulePoint> {
+    let (n, npos) = (model.dof(), positions.len());
+    // the caller names the grid point
+    let at = |e: &dyn fmt::Display| Error::Analysis(e.to_string());
+    let full = lpv.at(positions, &vec![0.0; npos]).map_err(|e| at(&e))?;
+    let (f1, zeta1) = first_mode(&full.a)?;
+    let (k_e, d) = lpv
+        .second_order_at(positions, &vec![0.0; npos])
+        .map_err(|e| at(&e))?;
+    let modal = modal_analysis_with(model, &k_e).map_err(|e| at(&e))?;
+    let design = modal_design(model, &modal, &k_e, &d, options.design_modes);
+    let c_tip = full.c.view((tip_row, 0), (1, n)).into_owned() * &design.phi;
+    let m2 = design.a.nrows();
+    let mut q = DMatrix::zeros(m2, m2);
+    q.view_mut((0, 0), (m2 / 2, m2 / 2))
+        .copy_from(&(c_tip.transpose() * &c_tip / (options.tip_scale * options.tip_scale)));
+    let u_row = design.phi.row(0).into_owned();
+    q.view_mut((0, 0), (m2 / 2, m2 / 2)).add_assign(
+        &(u_row.transpose() * &u_row / (options.vehicle_scale * options.vehicle_scale)),
+    );
+    let r = DMatrix::from_element(1, 1, 1.0 / (options.force_limit * options.force_limit));
+    let (k_modal, k_full, residual, abscissa) = if options.kind.has_lqr() {
+        let solution = care(&design.a, &design.b, &q, &r).map_err(|e| at(&e))?;
+        let k_full = &solution.k * &design.w;
+        (
+            to_rows(&solution.k),
+            to_rows(&k_full),
+            solution.residual,
+            solution.closed_loop_abscissa,
+        )
+    } else {
+        (Vec::new(), Vec::new(), 0.0, 0.0)
+    };
+    let observer = if options.kind.has_observer() {
+        Some(kalman(&full, &design, tip_row, options).map_err(|e| at(&e))?)
+    } else {
+        None
+    };
+    Ok(SchedulePoint {
+        observer,
+        positions: positions.to_vec(),
+        a: to_rows(&design.a),
+        b: to_rows(&design.b),
+        q: to_rows(&q),
+        r: to_rows(&r),
+        k_modal,
+        w: to_rows(&design.w),
+        k: k_full,
+        first_mode_hz: f1,
+        first_mode_damping: zeta1,
+        riccati_residual: residual,
+        closed_loop_abscissa: abscissa,
+    })
+}
+
+/// The shaped feed-forward force (the scene's force when the variant has no shaper), the
+/// shaper tuned to the scheduled first mode.
+fn feedforward(
+    scene: &Scene,
+    force: &Profile,
+    schedule: &[SchedulePoint],
+    parameter: Option<usize>,
+    options: &DesignOptions,
+) -> Result<Profile> {
+    Ok(if options.kind.has_shaper() {
+        let j =
+            jumps(force, scene.time.start).map_err(|e| Error::option("DesignOptions::kind", e))?;
+        let at = |t: f64| -> (f64, f64) {
+            let (a, b, w) = schedule_weights(schedule, parameter, &scene.params.positions, t);
+            let lerp = |x: f64, y: f64| x + w * (y - x);
+            let (pa, pb) = (&schedule[a], &schedule[b]);
+            (
+                2.0 * std::f64::consts::PI * lerp(pa.first_mode_hz, pb.first_mode_hz),
+                lerp(pa.first_mode_damping, pb.first_mode_damping),
+            )
+        };
+        shape(&j, options.shaper, at)
+    } else {
+        force.clone()
     })
 }
 
