@@ -3,7 +3,7 @@
 use super::limits::{
     MAX_CONTACT_POINTS, MAX_OUTPUT_VALUES, MAX_SECTIONS, output_columns, sample_count,
 };
-use super::schema::{PerSection, SceneFile};
+use super::schema::{ContactSpec, DriveSpec, PerSection, SceneFile, TimeSpec};
 use super::{FieldError, Scene, SceneError, TimeSpan};
 use crate::contact::ContactLaw;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
@@ -160,8 +160,68 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     r.non_negative("masses.load", file.masses.load);
     r.non_negative("gravity.g", file.gravity.g);
 
-    // time span
     let t = &file.time;
+    time_rules(&mut r, t);
+
+    // contacts and telescopic positions
+    let contact = contact_rules(&mut r, &file, n);
+    let positions = position_rules(&mut r, &file, n_fits.then_some(n), lengths.as_deref());
+
+    // drive
+    let drive = drive_rules(&mut r, &file.drive);
+
+    if let (Some(a), Some(rho), Some(i), Some(e)) = (&areas, &densities, &inertias, &moduli) {
+        product_rules(&mut r, a, rho, i, e);
+    }
+
+    if r.errors.is_empty() {
+        output_size_rules(&mut r, &file, n);
+    }
+
+    for (i, col) in file.reference.iter().enumerate() {
+        for (j, &f) in col.frequencies_hz.iter().enumerate() {
+            r.positive(&format!("reference[{i}].frequencies_hz[{j}]"), f);
+        }
+    }
+
+    if !r.errors.is_empty() {
+        return Err(SceneError::Invalid {
+            origin: origin.to_string(),
+            errors: r.errors,
+        });
+    }
+    let sections = SectionParams::from_validated(
+        lengths.expect("checked"),
+        areas.expect("checked"),
+        inertias.expect("checked"),
+        densities.expect("checked"),
+        moduli.expect("checked"),
+        modes.expect("checked"),
+    );
+    let params = model_params(&file, sections, contact, positions, drive.expect("checked"));
+    let implausible = super::plausibility::check(&params);
+    if !implausible.is_empty() {
+        return Err(SceneError::Invalid {
+            origin: origin.to_string(),
+            errors: implausible,
+        });
+    }
+    Ok(Scene {
+        name: file.name.clone(),
+        description: file.description.clone(),
+        params,
+        time: TimeSpan {
+            start: t.start,
+            end: t.end,
+            sample: t.sample,
+        },
+        references: file.reference.clone(),
+        file,
+    })
+}
+
+/// The time span's rules.
+fn time_rules(r: &mut Rules, t: &TimeSpec) {
     r.finite("time.start", t.start);
     r.finite("time.end", t.end);
     if t.start.is_finite() && t.end.is_finite() && t.end <= t.start {
@@ -184,9 +244,11 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             ),
         );
     }
+}
 
-    // contacts and telescopic positions
-    let contact = match (&file.contact, n) {
+/// The contact law's rules; `None` for a single section without one.
+fn contact_rules(r: &mut Rules, file: &SceneFile, n: usize) -> Option<ContactSpec> {
+    match (&file.contact, n) {
         (Some(c), _) => {
             if !(2..=MAX_CONTACT_POINTS).contains(&c.points) {
                 r.fail(
@@ -208,13 +270,26 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             r.fail("contact", "is required when there is more than one section");
             None
         }
-    };
+    }
+}
+
+/// The telescopic positions' rules: one profile per overlap, each keeping its overlap in
+/// range over the span (`n`: the section count when it fits its limit).
+fn position_rules(
+    r: &mut Rules,
+    file: &SceneFile,
+    n: Option<usize>,
+    lengths: Option<&[f64]>,
+) -> Vec<Profile> {
+    let t = &file.time;
     let positions = file
         .telescope
         .as_ref()
         .map(|t| t.positions.clone())
         .unwrap_or_default();
-    if n_fits && positions.len() != n - 1 {
+    if let Some(n) = n
+        && positions.len() != n - 1
+    {
         r.fail(
             "telescope.positions",
             format!(
@@ -229,10 +304,11 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         let before = r.errors.len();
         r.profile(&field, p);
         // overlap o_k = l_{k-1} - a_k must stay in (0, min(l_{k-1}, l_k)] at every time
-        if let (Some(l), true) = (
-            &lengths,
-            r.errors.len() == before && t.end > t.start && i + 1 < n,
-        ) {
+        if let (Some(l), Some(n)) = (lengths, n)
+            && r.errors.len() == before
+            && t.end > t.start
+            && i + 1 < n
+        {
             let (l_out, l_in) = (l[i], l[i + 1]);
             let (a_lo, a_hi) = p.range(t.start, t.end);
             let (o_lo, o_hi) = (l_out - a_hi, l_out - a_lo);
@@ -252,9 +328,12 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         }
     }
 
-    // drive
-    let d = &file.drive;
-    let drive = match (&d.force, &d.motion) {
+    positions
+}
+
+/// The drive's rules: a force or a motion with a continuous velocity.
+fn drive_rules(r: &mut Rules, d: &DriveSpec) -> Option<Drive> {
+    match (&d.force, &d.motion) {
         (Some(f), None) => {
             r.profile("drive.force", f);
             Some(Drive::Force(f.clone()))
@@ -277,97 +356,101 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             r.fail("drive", "needs `force` (N) or `motion` (m)");
             None
         }
-    };
-
-    // the products the model uses must exist in double precision too
-    if let (Some(a), Some(rho), Some(i), Some(e)) = (&areas, &densities, &inertias, &moduli) {
-        for k in 0..n {
-            let per_length = rho[k] * a[k];
-            if !(per_length.is_finite() && per_length > 0.0) {
-                r.fail(
-                    format!("sections.area[{k}] and sections.density[{k}]"),
-                    format!(
-                        "their product, the mass per length, must be a finite number > 0 in \
-                         double precision (got {} x {} = {per_length})",
-                        a[k], rho[k]
-                    ),
-                );
-            }
-            let bending = e[k] * i[k];
-            if !(bending.is_finite() && bending > 0.0) {
-                r.fail(
-                    format!("sections.youngs_modulus[{k}] and sections.inertia[{k}]"),
-                    format!(
-                        "their product, the bending stiffness, must be a finite number > 0 in \
-                         double precision (got {} x {} = {bending})",
-                        e[k], i[k]
-                    ),
-                );
-            }
-        }
     }
+}
 
-    // the output's size, before a run allocates it
-    if r.errors.is_empty() {
-        let points = file.contact.as_ref().map_or(0, |c| c.points);
-        let columns = output_columns(n, points, d.motion.is_some());
-        let samples = sample_count(t.start, t.end, t.sample);
-        let values = samples.saturating_mul(columns);
-        if values > MAX_OUTPUT_VALUES {
+/// The products the model uses (mass per length, bending stiffness) must exist in double
+/// precision too.
+fn product_rules(r: &mut Rules, a: &[f64], rho: &[f64], i: &[f64], e: &[f64]) {
+    for k in 0..a.len() {
+        let per_length = rho[k] * a[k];
+        if !(per_length.is_finite() && per_length > 0.0) {
             r.fail(
-                "time.sample",
+                format!("sections.area[{k}] and sections.density[{k}]"),
                 format!(
-                    "{} s over a span of {} s gives {} samples of {columns} columns, more than \
-                     the limit of {MAX_OUTPUT_VALUES} output values (800 MB in memory); raise \
-                     time.sample to at least {:.3e} s or shorten the span",
-                    t.sample,
-                    t.end - t.start,
-                    if samples == u64::MAX {
-                        "about 1e18 or more".to_string()
-                    } else {
-                        samples.to_string()
-                    },
-                    (t.end - t.start) * columns as f64 / MAX_OUTPUT_VALUES as f64
+                    "their product, the mass per length, must be a finite number > 0 in \
+                         double precision (got {} x {} = {per_length})",
+                    a[k], rho[k]
+                ),
+            );
+        }
+        let bending = e[k] * i[k];
+        if !(bending.is_finite() && bending > 0.0) {
+            r.fail(
+                format!("sections.youngs_modulus[{k}] and sections.inertia[{k}]"),
+                format!(
+                    "their product, the bending stiffness, must be a finite number > 0 in \
+                         double precision (got {} x {} = {bending})",
+                    e[k], i[k]
                 ),
             );
         }
     }
+}
 
-    for (i, col) in file.reference.iter().enumerate() {
-        for (j, &f) in col.frequencies_hz.iter().enumerate() {
-            r.positive(&format!("reference[{i}].frequencies_hz[{j}]"), f);
-        }
+/// The output's size, before a run allocates it.
+fn output_size_rules(r: &mut Rules, file: &SceneFile, n: usize) {
+    let (t, d) = (&file.time, &file.drive);
+    let points = file.contact.as_ref().map_or(0, |c| c.points);
+    let columns = output_columns(n, points, d.motion.is_some());
+    let samples = sample_count(t.start, t.end, t.sample);
+    let values = samples.saturating_mul(columns);
+    if values > MAX_OUTPUT_VALUES {
+        r.fail(
+            "time.sample",
+            format!(
+                "{} s over a span of {} s gives {} samples of {columns} columns, more than \
+                     the limit of {MAX_OUTPUT_VALUES} output values (800 MB in memory); raise \
+                     time.sample to at least {:.3e} s or shorten the span",
+                t.sample,
+                t.end - t.start,
+                if samples == u64::MAX {
+                    "about 1e18 or more".to_string()
+                } else {
+                    samples.to_string()
+                },
+                (t.end - t.start) * columns as f64 / MAX_OUTPUT_VALUES as f64
+            ),
+        );
     }
+}
 
-    if !r.errors.is_empty() {
-        return Err(SceneError::Invalid {
-            origin: origin.to_string(),
-            errors: r.errors,
-        });
+impl SectionParams {
+    /// The sections from their validated per-section values.
+    fn from_validated(
+        lengths: Vec<f64>,
+        areas: Vec<f64>,
+        inertias: Vec<f64>,
+        densities: Vec<f64>,
+        moduli: Vec<f64>,
+        modes: Vec<usize>,
+    ) -> Vec<SectionParams> {
+        (0..lengths.len())
+            .map(|k| SectionParams {
+                length: lengths[k],
+                mass_per_length: densities[k] * areas[k],
+                bending_stiffness: moduli[k] * inertias[k],
+                modes: modes[k],
+            })
+            .collect()
     }
-    let (lengths, areas, inertias, densities, moduli, modes) = (
-        lengths.expect("checked"),
-        areas.expect("checked"),
-        inertias.expect("checked"),
-        densities.expect("checked"),
-        moduli.expect("checked"),
-        modes.expect("checked"),
-    );
-    let sections = (0..n)
-        .map(|k| SectionParams {
-            length: lengths[k],
-            mass_per_length: densities[k] * areas[k],
-            bending_stiffness: moduli[k] * inertias[k],
-            modes: modes[k],
-        })
-        .collect();
+}
+
+/// The model's parameters from the validated parts.
+fn model_params(
+    file: &SceneFile,
+    sections: Vec<SectionParams>,
+    contact: Option<ContactSpec>,
+    positions: Vec<Profile>,
+    drive: Drive,
+) -> ModelParams {
     let contact = contact.unwrap_or(super::schema::ContactSpec {
         points: 2,
         stiffness: 1.0,
         damping: 0.0,
         clearance: 0.0,
     });
-    let params = ModelParams {
+    ModelParams {
         sections,
         vehicle_mass: file.masses.vehicle,
         load_mass: file.masses.load,
@@ -385,25 +468,6 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             clearance: contact.clearance,
         },
         positions,
-        drive: drive.expect("checked"),
-    };
-    let implausible = super::plausibility::check(&params);
-    if !implausible.is_empty() {
-        return Err(SceneError::Invalid {
-            origin: origin.to_string(),
-            errors: implausible,
-        });
+        drive,
     }
-    Ok(Scene {
-        name: file.name.clone(),
-        description: file.description.clone(),
-        params,
-        time: TimeSpan {
-            start: t.start,
-            end: t.end,
-            sample: t.sample,
-        },
-        references: file.reference.clone(),
-        file,
-    })
 }
