@@ -205,130 +205,170 @@ pub fn derive(config: &ModelConfig) -> Result<Derivation, CodegenError> {
     let mut shapes = Vec::new();
     mass.entry((0, 0)).or_default().push("m_t".into());
     for k in 1..=n {
-        let kind = if k == 1 {
-            Kind::GuidedFree
-        } else {
-            Kind::FreeFree
-        };
-        let roots = RootTable::new(kind, config.modes[k - 1]);
-        for (m, b) in roots.beta.iter().enumerate() {
-            if !b.is_zero() {
-                consts.add(
-                    format!("K_BETA_{k}_{}", m + 1),
-                    b,
-                    format!("root beta of mode {} of section {k}", m + 1),
-                );
-            }
+        shapes.push(section_terms(
+            config,
+            k,
+            &mut consts,
+            &mut mass,
+            &mut stiffness,
+        ));
+    }
+    let (forces, contact_pattern) = force_terms(config, &stiffness);
+    let inputs = Inputs {
+        mass,
+        stiffness,
+        shapes,
+        forces,
+        contact_pattern,
+        dof,
+    };
+    let config_owned = config.clone();
+    let constants = consts.0;
+    symbolic::run(move || symbolic_part(inputs, config_owned, constants))?
+}
+
+/// Entries of `M` (and `K`) as sums of terms, by `(row, column)` of the upper triangle.
+type TermEntries = BTreeMap<(usize, usize), Vec<String>>;
+
+/// Section `k`'s terms of `M` and `K` (closed-form integrals as named constants), the load's
+/// mass at the top of the last section, and the section's shapes `(global index, length
+/// power, text, top value)`.
+fn section_terms(
+    config: &ModelConfig,
+    k: usize,
+    consts: &mut Constants,
+    mass: &mut TermEntries,
+    stiffness: &mut TermEntries,
+) -> Vec<(usize, i32, String, String)> {
+    let n = config.sections();
+    let kind = if k == 1 {
+        Kind::GuidedFree
+    } else {
+        Kind::FreeFree
+    };
+    let roots = RootTable::new(kind, config.modes[k - 1]);
+    for (m, b) in roots.beta.iter().enumerate() {
+        if !b.is_zero() {
+            consts.add(
+                format!("K_BETA_{k}_{}", m + 1),
+                b,
+                format!("root beta of mode {} of section {k}", m + 1),
+            );
         }
-        let basis = local_basis(config, k, &roots);
-        let funcs: Vec<Func> = basis.iter().map(|(_, f, _)| f.clone()).collect();
-        let ints = SectionIntegrals::new(&funcs, &roots);
-        // prestress P(x) = p0 + p1 x, p0 = g (rho_a_k l_k + above), p1 = -g rho_a_k
-        let above = match config.force_flow {
-            ForceFlow::Cable => {
-                let mut s: Vec<String> = (k + 1..=n).map(|j| format!("rho_a_{j}*l_{j}")).collect();
-                s.push("m_l".into());
-                Some(s.join(" + "))
+    }
+    let basis = local_basis(config, k, &roots);
+    let funcs: Vec<Func> = basis.iter().map(|(_, f, _)| f.clone()).collect();
+    let ints = SectionIntegrals::new(&funcs, &roots);
+    // prestress P(x) = p0 + p1 x, p0 = g (rho_a_k l_k + above), p1 = -g rho_a_k
+    let above = match config.force_flow {
+        ForceFlow::Cable => {
+            let mut s: Vec<String> = (k + 1..=n).map(|j| format!("rho_a_{j}*l_{j}")).collect();
+            s.push("m_l".into());
+            Some(s.join(" + "))
+        }
+        ForceFlow::External if k == n => Some("m_l".into()),
+        ForceFlow::External => Some("0".into()),
+        ForceFlow::None => None,
+    };
+    for (a, (ga, fa, ia)) in basis.iter().enumerate() {
+        for (b, (gb, fb, ib)) in basis.iter().enumerate() {
+            if ga > gb {
+                continue;
             }
-            ForceFlow::External if k == n => Some("m_l".into()),
-            ForceFlow::External => Some("0".into()),
-            ForceFlow::None => None,
-        };
-        for (a, (ga, fa, ia)) in basis.iter().enumerate() {
-            for (b, (gb, fb, ib)) in basis.iter().enumerate() {
-                if ga > gb {
-                    continue;
-                }
-                let lp = fa.length_power + fb.length_power;
-                let key = (*ga, *gb);
-                let tag = format!("{k}_{ia}_{ib}");
-                if !is_zero(&ints.mass[a][b]) {
+            let lp = fa.length_power + fb.length_power;
+            let key = (*ga, *gb);
+            let tag = format!("{k}_{ia}_{ib}");
+            if !is_zero(&ints.mass[a][b]) {
+                let c = consts.add(
+                    format!("K_M_{tag}"),
+                    &ints.mass[a][b],
+                    format!("int psi_{k},{ia} psi_{k},{ib} dxi"),
+                );
+                mass.entry(key)
+                    .or_default()
+                    .push(format!("rho_a_{k}*{}*{c}", length_pow(k, lp + 1)));
+            }
+            if !is_zero(&ints.bending[a][b]) {
+                let c = consts.add(
+                    format!("K_EI_{tag}"),
+                    &ints.bending[a][b],
+                    format!("int psi_{k},{ia}'' psi_{k},{ib}'' dxi"),
+                );
+                stiffness
+                    .entry(key)
+                    .or_default()
+                    .push(format!("ei_{k}*{}*{c}", length_pow(k, lp - 3)));
+            }
+            if let Some(above) = &above {
+                if !is_zero(&ints.axial[a][b]) {
                     let c = consts.add(
-                        format!("K_M_{tag}"),
-                        &ints.mass[a][b],
-                        format!("int psi_{k},{ia} psi_{k},{ib} dxi"),
+                        format!("K_AX_{tag}"),
+                        &ints.axial[a][b],
+                        format!("int psi_{k},{ia}' psi_{k},{ib}' dxi"),
                     );
-                    mass.entry(key)
-                        .or_default()
-                        .push(format!("rho_a_{k}*{}*{c}", length_pow(k, lp + 1)));
+                    stiffness.entry(key).or_default().push(format!(
+                        "-g*(rho_a_{k}*l_{k} + {above})*{}*{c}",
+                        length_pow(k, lp - 1)
+                    ));
                 }
-                if !is_zero(&ints.bending[a][b]) {
+                if !is_zero(&ints.axial_x[a][b]) {
                     let c = consts.add(
-                        format!("K_EI_{tag}"),
-                        &ints.bending[a][b],
-                        format!("int psi_{k},{ia}'' psi_{k},{ib}'' dxi"),
+                        format!("K_AXX_{tag}"),
+                        &ints.axial_x[a][b],
+                        format!("int xi psi_{k},{ia}' psi_{k},{ib}' dxi"),
                     );
                     stiffness
                         .entry(key)
                         .or_default()
-                        .push(format!("ei_{k}*{}*{c}", length_pow(k, lp - 3)));
-                }
-                if let Some(above) = &above {
-                    if !is_zero(&ints.axial[a][b]) {
-                        let c = consts.add(
-                            format!("K_AX_{tag}"),
-                            &ints.axial[a][b],
-                            format!("int psi_{k},{ia}' psi_{k},{ib}' dxi"),
-                        );
-                        stiffness.entry(key).or_default().push(format!(
-                            "-g*(rho_a_{k}*l_{k} + {above})*{}*{c}",
-                            length_pow(k, lp - 1)
-                        ));
-                    }
-                    if !is_zero(&ints.axial_x[a][b]) {
-                        let c = consts.add(
-                            format!("K_AXX_{tag}"),
-                            &ints.axial_x[a][b],
-                            format!("int xi psi_{k},{ia}' psi_{k},{ib}' dxi"),
-                        );
-                        stiffness
-                            .entry(key)
-                            .or_default()
-                            .push(format!("g*rho_a_{k}*{}*{c}", length_pow(k, lp)));
-                    }
+                        .push(format!("g*rho_a_{k}*{}*{c}", length_pow(k, lp)));
                 }
             }
         }
-        // every basis function's value at the top, registered once (index 0: the translation, 1)
-        let tops: Vec<String> = basis
-            .iter()
-            .map(|(g, f, i)| {
-                if *g == 0 {
-                    return "1".to_string();
-                }
-                let v = f.value_at_end(&roots, true);
-                consts.add(
-                    format!("K_TOP_{k}_{i}"),
-                    &v,
-                    format!("psi_{k},{i} at the top (xi = 1)"),
-                )
-            })
-            .collect();
-        // the load at the top of section n: m_L h h'
-        if k == n {
-            let h: Vec<(usize, String)> = basis
-                .iter()
-                .zip(&tops)
-                .map(|((g, f, _), top)| (*g, format!("{}*{top}", length_pow(k, f.length_power))))
-                .collect();
-            for (ga, ha) in &h {
-                for (gb, hb) in &h {
-                    if ga <= gb {
-                        mass.entry((*ga, *gb))
-                            .or_default()
-                            .push(format!("m_l*{ha}*{hb}"));
-                    }
-                }
-            }
-        }
-        let mut section_shapes = Vec::new();
-        for ((g, f, i), top) in basis.iter().zip(&tops).skip(1) {
-            let text = shape_text(f, &roots, k, *i, &mut consts);
-            section_shapes.push((*g, f.length_power, text, top.clone()));
-        }
-        shapes.push(section_shapes);
     }
+    // every basis function's value at the top, registered once (index 0: the translation, 1)
+    let tops: Vec<String> = basis
+        .iter()
+        .map(|(g, f, i)| {
+            if *g == 0 {
+                return "1".to_string();
+            }
+            let v = f.value_at_end(&roots, true);
+            consts.add(
+                format!("K_TOP_{k}_{i}"),
+                &v,
+                format!("psi_{k},{i} at the top (xi = 1)"),
+            )
+        })
+        .collect();
+    // the load at the top of section n: m_L h h'
+    if k == n {
+        let h: Vec<(usize, String)> = basis
+            .iter()
+            .zip(&tops)
+            .map(|((g, f, _), top)| (*g, format!("{}*{top}", length_pow(k, f.length_power))))
+            .collect();
+        for (ga, ha) in &h {
+            for (gb, hb) in &h {
+                if ga <= gb {
+                    mass.entry((*ga, *gb))
+                        .or_default()
+                        .push(format!("m_l*{ha}*{hb}"));
+                }
+            }
+        }
+    }
+    let mut section_shapes = Vec::new();
+    for ((g, f, i), top) in basis.iter().zip(&tops).skip(1) {
+        let text = shape_text(f, &roots, k, *i, consts);
+        section_shapes.push((*g, f.length_power, text, top.clone()));
+    }
+    section_shapes
+}
 
+/// The generalized forces `q_i = b_i f_drive - sum_j k_i_j z_j - sum_c f_c g_c_i` as text,
+/// and the coordinates each contact vector touches.
+fn force_terms(config: &ModelConfig, stiffness: &TermEntries) -> (Vec<String>, Vec<Vec<usize>>) {
+    let (n, dof) = (config.sections(), config.dof());
     // generalized forces: q_i = b_i f_drive - sum_j k_i_j z_j - sum_c f_c g_c_i
     let mut contact_pattern = Vec::new();
     for k in 2..=n {
@@ -363,17 +403,7 @@ pub fn derive(config: &ModelConfig) -> Result<Derivation, CodegenError> {
             terms.join(" + ")
         });
     }
-    let inputs = Inputs {
-        mass,
-        stiffness,
-        shapes,
-        forces,
-        contact_pattern,
-        dof,
-    };
-    let config_owned = config.clone();
-    let constants = consts.0;
-    symbolic::run(move || symbolic_part(inputs, config_owned, constants))?
+    (forces, contact_pattern)
 }
 
 /// Everything that needs Symbolica, on its thread.
