@@ -183,19 +183,7 @@ impl<'m> Driver<'m> {
             (None, true) => self.initial_step(),
             (None, false) => unreachable!("checked in new"),
         };
-        let h_floor = 16.0 * f64::EPSILON * self.t.abs().max(1.0);
-        if !(self.h >= h_floor) {
-            return Err(SimError::StepUnderflow {
-                t: self.t,
-                method: self.method.name(),
-                h: self.h,
-                h_min: h_floor,
-                cause: format!(
-                    "the state changes too fast at the start for any step; {}",
-                    super::diagnosis::growth_cause(self.sys.model, self.t, &self.span)
-                ),
-            });
-        }
+        self.check_first_step()?;
         observe(self.t, &self.y, &self.f0);
         self.next_sample = 1;
         let mut newton_failures = 0u32;
@@ -207,27 +195,8 @@ impl<'m> Driver<'m> {
         let mut next_break = 0usize;
         let mut last_report = self.t;
         while self.t < end {
-            let stats = &self.sys.stats;
-            if stats.steps + stats.rejected >= self.settings.max_steps {
-                return Err(SimError::TooManySteps {
-                    t: self.t,
-                    method: self.method.name(),
-                    steps: stats.steps + stats.rejected,
-                    cause: self.too_many_steps_cause(),
-                });
-            }
-            while next_break < self.breakpoints.len() && self.breakpoints[next_break] <= self.t {
-                next_break += 1;
-            }
-            let t_break = self.breakpoints.get(next_break).copied().unwrap_or(end);
-            // adaptive methods end steps on sample times, so samples carry the method's own
-            // accuracy; fixed-step methods keep their grid and interpolate
-            let t_sample = if self.adaptive() && self.next_sample < self.samples.total {
-                self.samples.time(self.next_sample)
-            } else {
-                end
-            };
-            let t_stop = t_break.min(t_sample);
+            self.check_step_count()?;
+            let (t_break, t_stop) = self.next_stops(&mut next_break);
             // only dop853 has a cap; skip the branch scan for every other method
             if self.step_cap < f64::INFINITY && self.sys.tracker.any_closed() {
                 self.h = self.h.min(self.step_cap);
@@ -262,24 +231,7 @@ impl<'m> Driver<'m> {
                     // a fixed step does not shrink: the first failure is final
                     if !self.adaptive() || newton_failures >= MAX_NEWTON_FAILURES || h / 4.0 < h_min
                     {
-                        let remedy = if self.adaptive() {
-                            ""
-                        } else {
-                            "; a fixed step cannot be cut: take a smaller Settings::dt or the adaptive galpha"
-                        };
-                        let stiffness = self
-                            .stiffness(h)
-                            .map_or("stiffness unknown".into(), |s| s.describe(self.method));
-                        return Err(SimError::NewtonFailure {
-                            t: self.t,
-                            method: self.method.name(),
-                            h,
-                            attempts: newton_failures,
-                            cause: format!(
-                                "the Jacobian does not describe the step (a contact switch \
-                                 inside it, or a singular iteration matrix){remedy}; {stiffness}"
-                            ),
-                        });
+                        return Err(self.newton_failure(h, newton_failures));
                     }
                     self.h = h / 4.0;
                     just_rejected = true;
@@ -288,20 +240,8 @@ impl<'m> Driver<'m> {
             };
             let finite = self.y1.iter().all(|v| v.is_finite());
             if self.adaptive() && (!finite || err > 1.0) {
-                self.sys.stats.rejected += 1;
-                self.h = h * if finite { self.step_factor(err) } else { 0.1 };
+                self.reject(h, err, finite, h_min)?;
                 just_rejected = true;
-                if self.h < h_min {
-                    return Err(SimError::StepUnderflow {
-                        t: self.t,
-                        method: self.method.name(),
-                        h: self.h,
-                        h_min,
-                        cause: "the tolerance is too tight for f64 at this time, or the \
-                                contacts chatter faster than any step can follow"
-                            .into(),
-                    });
-                }
                 continue;
             }
             self.check_size(h, finite)?;
@@ -371,6 +311,100 @@ impl<'m> Driver<'m> {
             }
         }
         Ok(self.sys.stats.clone())
+    }
+
+    /// The next profile breakpoint after `t` (advancing `next_break` to it) and the next
+    /// time a step must end on, `(t_break, t_stop)` (s): the breakpoint or, for adaptive
+    /// methods, the next sample time, whichever comes first (adaptive methods end steps on
+    /// sample times, so samples carry the method's own accuracy; fixed-step methods keep
+    /// their grid and interpolate).
+    #[inline]
+    fn next_stops(&self, next_break: &mut usize) -> (f64, f64) {
+        let end = self.span.end;
+        while *next_break < self.breakpoints.len() && self.breakpoints[*next_break] <= self.t {
+            *next_break += 1;
+        }
+        let t_break = self.breakpoints.get(*next_break).copied().unwrap_or(end);
+        let t_sample = if self.adaptive() && self.next_sample < self.samples.total {
+            self.samples.time(self.next_sample)
+        } else {
+            end
+        };
+        (t_break, t_break.min(t_sample))
+    }
+
+    /// The first step must be above the floor of `f64` at the start time.
+    fn check_first_step(&self) -> Result<(), SimError> {
+        let h_floor = 16.0 * f64::EPSILON * self.t.abs().max(1.0);
+        if self.h >= h_floor {
+            return Ok(());
+        }
+        Err(SimError::StepUnderflow {
+            t: self.t,
+            method: self.method.name(),
+            h: self.h,
+            h_min: h_floor,
+            cause: format!(
+                "the state changes too fast at the start for any step; {}",
+                super::diagnosis::growth_cause(self.sys.model, self.t, &self.span)
+            ),
+        })
+    }
+
+    /// The run stops at the step limit, with the likely cause.
+    fn check_step_count(&self) -> Result<(), SimError> {
+        let stats = &self.sys.stats;
+        if stats.steps + stats.rejected < self.settings.max_steps {
+            return Ok(());
+        }
+        Err(SimError::TooManySteps {
+            t: self.t,
+            method: self.method.name(),
+            steps: stats.steps + stats.rejected,
+            cause: self.too_many_steps_cause(),
+        })
+    }
+
+    /// The error of a Newton iteration that failed `attempts` times on a step of `h` (s).
+    #[cold]
+    fn newton_failure(&self, h: f64, attempts: u32) -> SimError {
+        let remedy = if self.adaptive() {
+            ""
+        } else {
+            "; a fixed step cannot be cut: take a smaller Settings::dt or the adaptive galpha"
+        };
+        let stiffness = self
+            .stiffness(h)
+            .map_or("stiffness unknown".into(), |s| s.describe(self.method));
+        SimError::NewtonFailure {
+            t: self.t,
+            method: self.method.name(),
+            h,
+            attempts,
+            cause: format!(
+                "the Jacobian does not describe the step (a contact switch inside it, or a \
+                 singular iteration matrix){remedy}; {stiffness}"
+            ),
+        }
+    }
+
+    /// A rejected adaptive step of `h` (s) with error `err`: the next trial step, or an
+    /// error when it falls below `h_min`.
+    fn reject(&mut self, h: f64, err: f64, finite: bool, h_min: f64) -> Result<(), SimError> {
+        self.sys.stats.rejected += 1;
+        self.h = h * if finite { self.step_factor(err) } else { 0.1 };
+        if self.h >= h_min {
+            return Ok(());
+        }
+        Err(SimError::StepUnderflow {
+            t: self.t,
+            method: self.method.name(),
+            h: self.h,
+            h_min,
+            cause: "the tolerance is too tight for f64 at this time, or the contacts chatter \
+                    faster than any step can follow"
+                .into(),
+        })
     }
 
     /// Shortens the step `h` so that it ends just past the first band-edge crossing. Every
