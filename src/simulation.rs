@@ -144,7 +144,9 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     if method.step_control() == StepControl::Fixed && settings.dt.is_none() {
         return Err(Error::option(
             "SimulationOptions::dt",
-            format!("method {method} takes a fixed step: give a step (see the stability analysis)"),
+            format!(
+                "method {method} takes a fixed step: give SimulationOptions::dt (see the stability analysis)"
+            ),
         ));
     }
     Ok(Plan {
