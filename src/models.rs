@@ -45,6 +45,9 @@ crate::named::named_enum!(ModelChoice, "a model choice", {
     Assembled => "assembled",
 });
 
+/// The name of the set of committed models (runs on them say only `generated model <key>`).
+const COMMITTED_SET: &str = "telescopic-generated";
+
 /// A generated module's lookup: `None` if it has no model `key`, `Some(Err)` if the
 /// parameters do not fit it (the `prepare_by_key` every generated models module defines).
 pub type PrepareFn = fn(&str, &ModelParams) -> Option<Result<Box<dyn Model>, String>>;
@@ -90,7 +93,7 @@ impl ModelSet {
     /// The models committed in `telescopic-generated`.
     pub fn committed() -> Self {
         ModelSet::new(
-            "telescopic-generated",
+            COMMITTED_SET,
             telescopic_generated::CONFIGURATIONS,
             telescopic_generated::prepare_by_key,
         )
@@ -196,7 +199,7 @@ impl ModelRegistry {
             let model = (set.prepare)(&key, params)
                 .unwrap_or_else(|| Err(format!("{} lists {key} but has no model for it", set.name)))
                 .map_err(Error::Model)?;
-            let description = if set.name == ModelSet::committed().name {
+            let description = if set.name == COMMITTED_SET {
                 format!("generated model {key}")
             } else {
                 format!("generated model {key} ({})", set.name)

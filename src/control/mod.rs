@@ -67,8 +67,8 @@ pub fn simulate_controlled(
     reporter: &dyn Reporter,
 ) -> Result<Simulation> {
     controller.check_fits(scene)?;
-    let method = controlled_method(options)?;
     let mut run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
+    let method = run.plan.method;
     run.plan.how = format!("controller {}; ", controller.kind);
     let base = run.model();
     let (start, end) = (scene.time.start, scene.time.end);

@@ -94,10 +94,11 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         ..SimulationOptions::default()
     };
     let progress = Progress::new();
-    let (run, open_loop) = match &controller {
+    let (run, comparison) = match &controller {
         Some(c) => {
             let comparison = compare_with_open_loop(&scene, c, &options, &progress)?;
-            (comparison.controlled.clone(), Some(comparison))
+            let summary = comparison.summary(c);
+            (comparison.controlled, Some((summary, comparison.open_loop)))
         }
         None => (simulate_scene(&scene, &options, &progress)?, None),
     };
@@ -106,10 +107,10 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), run.trajectory.rows.len());
     }
-    if let (Some(c), Some(comparison)) = (&controller, &open_loop) {
-        eprintln!("{}", comparison.summary(c));
-    }
-    let open_loop = open_loop.map(|c| c.open_loop);
+    let open_loop = comparison.map(|(summary, open_loop)| {
+        eprintln!("{summary}");
+        open_loop
+    });
     if let Some(plot_path) = &args.plot {
         let half_band = scene.params.contact.half_band();
         // the labels say what differs: the controller, or the clearance of a compared scene
