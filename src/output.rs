@@ -1,7 +1,9 @@
 //! Output files: written completely or not at all, and CSV text.
 //!
-//! Every file goes to a temporary file beside its final path (`.NAME.tmp-PID`) and is
-//! renamed into place when complete, so an error leaves the old file or none. The
+//! A regular file goes to a temporary file beside its final path (`.NAME.tmp-PID`) and is
+//! renamed into place when complete, so an error leaves the old file or none; a symlink's
+//! target is the file written. A character device (`/dev/null`) or a FIFO is written as a
+//! stream and never replaced; anything else (a directory, a block device) is refused. The
 //! temporary files in progress are registered, so a signal handler can remove them
 //! ([`remove_partial_files`]): `tempfile`'s cleanup runs on drop, which an interrupted
 //! process never reaches, hence this small hand-written registry.
@@ -31,6 +33,28 @@ pub fn remove_partial_files() -> usize {
     removed
 }
 
+/// Work files that an interrupt keeps (a sweep's finished rows), for the handler's message.
+static KEPT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Registers a work file that an interrupt keeps (see [`kept_files`]).
+pub fn keep_on_interrupt(path: &Path) {
+    KEPT.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(path.to_owned());
+}
+
+/// Unregisters a work file once it is done with.
+pub fn forget_kept(path: &Path) {
+    KEPT.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .retain(|p| p != path);
+}
+
+/// The work files an interrupt now would keep, for a signal handler's message.
+pub fn kept_files() -> Vec<PathBuf> {
+    KEPT.lock().unwrap_or_else(|e| e.into_inner()).clone()
+}
+
 /// The temporary path beside `path` that [`write_atomically`] writes first.
 pub fn temporary_path(path: &Path) -> PathBuf {
     let dir = parent_dir(path);
@@ -48,17 +72,73 @@ fn parent_dir(path: &Path) -> &Path {
         .unwrap_or(Path::new("."))
 }
 
-/// Checks before any work that `path` can be written: it names a file (not a directory) in
-/// an existing, writable directory. `option` names the flag in the error.
+/// Where an output path leads: a regular file (or a new one) replaced whole, or a stream
+/// (a character device such as `/dev/null`, or a FIFO) written through in place.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Destination {
+    /// A regular file, replaced atomically; the path is the symlink's target when `path`
+    /// was a symlink, so the link stays and its target is written.
+    File(PathBuf),
+    /// A character device or FIFO, opened for writing and never replaced.
+    Stream(PathBuf),
+}
+
+impl Destination {
+    /// Classifies `path`: symlinks are followed; a directory, a block device or a socket is
+    /// refused.
+    ///
+    /// # Errors
+    /// A message saying what `path` is and what an output may be.
+    pub fn of(path: &Path) -> std::result::Result<Self, String> {
+        use std::os::unix::fs::FileTypeExt;
+        if path.file_name().is_none() {
+            return Err("is a directory, not a file name".into());
+        }
+        let link = std::fs::symlink_metadata(path);
+        let target = match &link {
+            Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).map_err(|e| {
+                format!("is a symbolic link whose target cannot be reached ({e})")
+            })?,
+            _ => path.to_owned(),
+        };
+        let Ok(meta) = std::fs::metadata(&target) else {
+            return Ok(Destination::File(target));
+        };
+        let kind = meta.file_type();
+        if kind.is_file() {
+            Ok(Destination::File(target))
+        } else if kind.is_char_device() || kind.is_fifo() {
+            Ok(Destination::Stream(target))
+        } else {
+            let what = if kind.is_dir() {
+                "a directory"
+            } else if kind.is_block_device() {
+                "a block device"
+            } else {
+                "a socket"
+            };
+            Err(format!(
+                "is {what}; an output is a regular file (replaced whole), a character device \
+                 such as /dev/null or a FIFO (written as a stream)"
+            ))
+        }
+    }
+}
+
+/// Checks before any work that `path` can be written: a regular file (new or existing) in
+/// an existing, writable directory, or a character device or FIFO. `option` names the flag
+/// in the error.
 ///
 /// # Errors
 /// [`Error::Option`] naming the option, the path and the problem.
 pub fn check_writable(option: &str, path: &Path) -> Result<()> {
     let bad = |why: String| Err(Error::option(option, format!("{}: {why}", path.display())));
-    if path.file_name().is_none() || path.is_dir() {
-        return bad("is a directory, not a file name".into());
-    }
-    let dir = parent_dir(path);
+    let file = match Destination::of(path) {
+        Ok(Destination::Stream(_)) => return Ok(()),
+        Ok(Destination::File(file)) => file,
+        Err(why) => return bad(why),
+    };
+    let dir = parent_dir(&file);
     if !dir.is_dir() {
         return bad(format!("the directory {} does not exist", dir.display()));
     }
@@ -76,8 +156,39 @@ pub fn check_writable(option: &str, path: &Path) -> Result<()> {
     }
 }
 
-/// Writes `path` through a temporary file in the same directory, renamed when `fill`
-/// succeeded; removed otherwise, so no partial file is left at `path`.
+/// Refuses an output that is one of the command's inputs, however spelled (the same file
+/// on disk: device and inode), so that writing the output cannot destroy an input.
+///
+/// # Errors
+/// [`Error::Option`] naming `option` and the input it would overwrite.
+pub fn check_not_an_input(option: &str, out: &Path, inputs: &[&Path]) -> Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let Ok(out_meta) = std::fs::metadata(out) else {
+        return Ok(()); // a new file is no input
+    };
+    if !out_meta.is_file() {
+        return Ok(()); // a stream is written through, never replaced
+    }
+    for input in inputs {
+        if let Ok(m) = std::fs::metadata(input)
+            && (m.dev(), m.ino()) == (out_meta.dev(), out_meta.ino())
+        {
+            return Err(Error::option(
+                option,
+                format!(
+                    "{} is the input {}: writing it would destroy the input; choose another file",
+                    out.display(),
+                    input.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Writes `path`: a regular file through a temporary file in the same directory, renamed
+/// when `fill` succeeded (removed otherwise, so no partial file is left at `path`); a
+/// character device or FIFO directly, as a stream.
 ///
 /// # Errors
 /// [`Error::Write`] naming the file.
@@ -89,17 +200,19 @@ pub fn write_atomically(
         path: path.to_owned(),
         error,
     };
-    if path.file_name().is_none() {
-        return Err(write_error(std::io::Error::other("not a file path")));
-    }
-    let tmp = temporary_path(path);
+    let file = match Destination::of(path) {
+        Ok(Destination::File(file)) => file,
+        Ok(Destination::Stream(stream)) => return write_stream(&stream, fill).map_err(write_error),
+        Err(why) => return Err(write_error(std::io::Error::other(why))),
+    };
+    let tmp = temporary_path(&file);
     registry().push(tmp.clone());
     let result = (|| -> std::io::Result<()> {
-        let file = std::fs::File::create(&tmp)?;
-        let mut w = std::io::BufWriter::new(file);
+        let handle = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::new(handle);
         fill(&mut w)?;
         w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, path)
+        std::fs::rename(&tmp, &file)
     })();
     registry().retain(|p| p != &tmp);
     if let Err(e) = result {
@@ -107,6 +220,17 @@ pub fn write_atomically(
         return Err(write_error(e));
     }
     Ok(())
+}
+
+/// Writes a character device or FIFO in place (no truncation, no rename).
+fn write_stream(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let handle = std::fs::OpenOptions::new().write(true).open(path)?;
+    let mut w = std::io::BufWriter::new(handle);
+    fill(&mut w)?;
+    w.flush()
 }
 
 /// Writes to `path` atomically, or to standard output when `path` is `None`.

@@ -12,6 +12,8 @@ const FLAGS: &[(&str, &str)] = &[
     ("Settings::rtol/atol", "--rtol/--atol"),
     ("Settings::dt", "--dt"),
     ("SweepOptions::resume", "--resume"),
+    ("SweepOptions::out", "--out"),
+    ("resume to keep them", "give --resume to keep them"),
     ("SweepOptions::jobs", "--jobs"),
     ("Shard::from_environment", "--shard auto"),
     ("give the shard count", "give --shard-count"),

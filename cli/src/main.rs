@@ -37,7 +37,17 @@ fn main() -> std::process::ExitCode {
             return;
         }
         telescopic::output::remove_partial_files();
-        eprintln!("interrupted: no partial output file was left");
+        let kept = telescopic::output::kept_files();
+        if kept.is_empty() {
+            eprintln!("interrupted: no partial output file was left");
+        } else {
+            for path in kept {
+                eprintln!(
+                    "interrupted: the finished runs are kept in {} (run again with --resume)",
+                    path.display()
+                );
+            }
+        }
         std::process::exit(130);
     });
     let cli = commands::Cli::parse();
@@ -45,7 +55,12 @@ fn main() -> std::process::ExitCode {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", flags::in_flags(&format!("{e:#}")));
-            std::process::ExitCode::FAILURE
+            // stopped by Ctrl-C or SIGTERM (a sweep between runs): the shell's 128 + SIGINT
+            let interrupted = matches!(
+                e.downcast_ref::<telescopic::Error>(),
+                Some(telescopic::Error::Interrupted(_))
+            );
+            std::process::ExitCode::from(if interrupted { 130 } else { 1 })
         }
     }
 }

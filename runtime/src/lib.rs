@@ -26,6 +26,7 @@ pub mod configuration;
 pub mod contact;
 pub mod contact_table;
 pub mod eigen;
+pub mod input;
 pub mod integrate;
 pub mod layout;
 pub mod linear;

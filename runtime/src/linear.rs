@@ -171,31 +171,32 @@ impl<'m> Lpv<'m> {
         let mut states = Vec::with_capacity(2 * n);
         for k in 1..=sections {
             for i in 1..=layout.modes()[k - 1] {
+                let name = state_name(k, i);
                 states.push(match (k, i) {
                     (1, 1) => signal(
-                        "u".into(),
+                        name,
                         "m",
                         "vehicle position w_1(0,t), the rigid translation of the telescope".into(),
                     ),
                     (1, i) => signal(
-                        format!("q_1_{i}"),
+                        name,
                         "m",
                         format!(
                             "section 1, shape coordinate {i} (basis phi_1,{i}(x) - phi_1,{i}(0))"
                         ),
                     ),
                     (k, 1) => signal(
-                        format!("r_{k}"),
+                        name,
                         "m",
                         format!("section {k}, rigid offset from the vehicle (basis 1)"),
                     ),
                     (k, 2) => signal(
-                        format!("q_{k}_2"),
+                        name,
                         "rad",
                         format!("section {k}, rigid rotation (basis x)"),
                     ),
                     (k, i) => signal(
-                        format!("q_{k}_{i}"),
+                        name,
                         "m",
                         format!("section {k}, free-free shape coordinate {i}"),
                     ),
@@ -285,9 +286,7 @@ impl<'m> Lpv<'m> {
 
     /// The valid range `[min, max)` (m) of `a_k`, `k = 2..n` (index 0 is `a_2`).
     pub fn position_range(&self, index: usize) -> (f64, f64) {
-        let s = &self.model.params().sections;
-        let (below, above) = (s[index].length, s[index + 1].length);
-        (below - below.min(above), below)
+        self.model.params().position_range(index)
     }
 
     /// `K_e` and `D` of `M z'' + D z' + K_e z = b u` with the linear law on every closed
@@ -425,4 +424,26 @@ impl<'m> Lpv<'m> {
             d: d_mat,
         })
     }
+}
+
+/// The name of generalized coordinate `i` of section `k` (both 1-based): `u` (the vehicle),
+/// `q_1_i`, `r_k` (a section's rigid offset), `q_k_i`.
+pub fn state_name(k: usize, i: usize) -> String {
+    match (k, i) {
+        (1, 1) => "u".into(),
+        (k, 1) if k > 1 => format!("r_{k}"),
+        (k, i) => format!("q_{k}_{i}"),
+    }
+}
+
+/// The state names of a model with `modes` per section, in the order of the linear models:
+/// the coordinates, then their rates (`NAME_dot`).
+pub fn state_names(modes: &[usize]) -> Vec<String> {
+    let coordinates: Vec<String> = modes
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &m)| (1..=m).map(move |i| state_name(k + 1, i)))
+        .collect();
+    let rates = coordinates.iter().map(|c| format!("{c}_dot"));
+    coordinates.clone().into_iter().chain(rates).collect()
 }

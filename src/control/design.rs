@@ -26,7 +26,7 @@ use std::ops::AddAssign;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
 use telescopic_runtime::{
-    Drive, ModelParams, Profile, Scene, ShapedProfile, configuration_key, eigenvalues,
+    Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues,
 };
 
 /// Which controller.
@@ -425,19 +425,32 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     })
 }
 
+/// The usable range of the force limit (N): the Riccati equation's weight `1 / F^2` must
+/// stay within double precision's reach of the state weights.
+pub const FORCE_LIMIT_RANGE: (f64, f64) = (1e-3, 1e4);
+
+/// The usable range of the weight scales `tip_scale` and `vehicle_scale` (m).
+pub const SCALE_RANGE: (f64, f64) = (1e-4, 1e3);
+
+/// The usable range of the Kalman filter's measurement noise (m).
+pub const SENSOR_NOISE_RANGE: (f64, f64) = (1e-12, 1e3);
+
 /// Checks the design settings' ranges.
 fn check_options(options: &DesignOptions) -> Result<()> {
-    for (name, v) in [
-        ("DesignOptions::force_limit", options.force_limit),
-        ("DesignOptions::tip_scale", options.tip_scale),
-        ("DesignOptions::vehicle_scale", options.vehicle_scale),
-        ("DesignOptions::sensor_noise", options.sensor_noise),
-        ("DesignOptions::force_noise", options.force_noise),
+    for (name, v, (low, high), unit) in [
+        ("DesignOptions::force_limit", options.force_limit, FORCE_LIMIT_RANGE, "N"),
+        ("DesignOptions::tip_scale", options.tip_scale, SCALE_RANGE, "m"),
+        ("DesignOptions::vehicle_scale", options.vehicle_scale, SCALE_RANGE, "m"),
+        ("DesignOptions::sensor_noise", options.sensor_noise, SENSOR_NOISE_RANGE, "m"),
+        ("DesignOptions::force_noise", options.force_noise, FORCE_LIMIT_RANGE, "N"),
     ] {
-        if !(v > 0.0 && v.is_finite()) {
+        if !(low..=high).contains(&v) {
             return Err(Error::option(
                 name,
-                format!("must be a finite number > 0 (got {v})"),
+                format!(
+                    "must be {low:e} to {high:e} {unit}, the range a design resolves in double \
+                     precision (got {v:e})"
+                ),
             ));
         }
     }
@@ -519,7 +532,14 @@ fn design_point(
     );
     let r = DMatrix::from_element(1, 1, 1.0 / (options.force_limit * options.force_limit));
     let (k_modal, k_full, residual, abscissa) = if options.kind.has_lqr() {
-        let solution = care(&design.a, &design.b, &q, &r).map_err(|e| at(&e))?;
+        let solution = care(&design.a, &design.b, &q, &r).map_err(|e| {
+            let ratio = options.force_limit / options.tip_scale.min(options.vehicle_scale);
+            at(&format!(
+                "{e}; the weights are out of balance when the force limit over the smaller \
+                 scale is large (here {ratio:.1e} N/m; designs resolve to about 1e6 N/m): lower \
+                 DesignOptions::force_limit or raise DesignOptions::tip_scale / vehicle_scale"
+            ))
+        })?;
         let k_full = &solution.k * &design.w;
         (
             to_rows(&solution.k),
@@ -636,89 +656,6 @@ impl Controller {
         self.schedule_parameter
             .as_ref()
             .and_then(|name| name.strip_prefix("a_")?.parse().ok())
-    }
-
-    /// Checks that the controller fits `scene`: the same configuration and states, a force
-    /// drive, and a schedule of the scene's positions with gains of the state's size.
-    ///
-    /// # Errors
-    /// [`Error::Option`] naming the mismatch.
-    pub fn check_fits(&self, scene: &Scene) -> Result<()> {
-        self.check_params(&scene.params)
-    }
-
-    /// [`Controller::check_fits`] on the scene's parameters.
-    pub(crate) fn check_params(&self, params: &ModelParams) -> Result<()> {
-        let key = configuration_key(params);
-        if key != self.configuration {
-            return Err(Error::option(
-                "controller",
-                format!(
-                    "the controller was designed for configuration {} (scene {}), the scene is \
-                     {key}",
-                    self.configuration, self.scene
-                ),
-            ));
-        }
-        let dof = params.modes().iter().sum::<usize>();
-        if self.states.len() != 2 * dof || self.schedule.is_empty() {
-            return Err(Error::option(
-                "controller",
-                format!(
-                    "the controller has {} states and {} design points; the scene's model has \
-                     {} states",
-                    self.states.len(),
-                    self.schedule.len(),
-                    2 * dof
-                ),
-            ));
-        }
-        if self.kind.has_lqr()
-            && self
-                .schedule
-                .iter()
-                .any(|p| p.k.len() != 1 || p.k[0].len() != 2 * dof)
-        {
-            return Err(Error::option("controller", "a gain K has the wrong size"));
-        }
-        if !matches!(params.drive, Drive::Force(_)) {
-            return Err(Error::option(
-                "controller",
-                "the scene has a prescribed motion; a controller drives a force",
-            ));
-        }
-        let npos = params.positions.len();
-        if let Some(p) = self.schedule.iter().find(|p| p.positions.len() != npos) {
-            return Err(Error::option(
-                "controller",
-                format!(
-                    "a design point has {} position(s), the scene has {npos} (a_2..a_n)",
-                    p.positions.len()
-                ),
-            ));
-        }
-        if let Some(name) = &self.schedule_parameter {
-            let Some(k) = self
-                .scheduled_section()
-                .filter(|k| (2..=npos + 1).contains(k))
-            else {
-                return Err(Error::option(
-                    "controller",
-                    format!("the schedule runs over {name}, which the scene does not have"),
-                ));
-            };
-            let ascending = self
-                .schedule
-                .windows(2)
-                .all(|w| w[0].positions[k - 2] < w[1].positions[k - 2]);
-            if !ascending {
-                return Err(Error::option(
-                    "controller",
-                    format!("the design points are not in ascending order of {name}"),
-                ));
-            }
-        }
-        Ok(())
     }
 
     /// The feedforward profile as a piecewise-constant one, if it is (for the summary).

@@ -1,7 +1,7 @@
 //! Charts of a sweep's results: a metric against an override key, one line per value of a
 //! second key, or a heat map over both.
 
-use super::merge::{SweepTable, split_csv};
+use super::table::{SweepTable, split_csv};
 use crate::plot::{COLORS, Figure, plot_error, tick_label, titled_page, upper_left_legend};
 use crate::{Error, Result};
 use plotters::prelude::*;

@@ -11,6 +11,7 @@ use serde::Deserialize;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use telescopic_runtime::Scene;
+use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
 
 /// Most runs of one sweep.
 pub const MAX_RUNS: usize = 10_000_000;
@@ -300,7 +301,7 @@ fn number(v: &toml::Value) -> Option<f64> {
 /// The sweep file's text and its parsed fields.
 fn read_spec(path: &Path) -> Result<(String, SweepSpec)> {
     let text =
-        std::fs::read_to_string(path).map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
+        read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
     let spec: SweepSpec = {
         let de = toml::Deserializer::parse(&text)
             .map_err(|e| invalid(path, format!("not valid TOML: {e}")))?;
@@ -313,7 +314,7 @@ fn read_spec(path: &Path) -> Result<(String, SweepSpec)> {
 /// The base scene named by the sweep file: its path, text and TOML table.
 fn read_base_scene(path: &Path, spec: &SweepSpec) -> Result<(PathBuf, String, toml::Table)> {
     let scene_path = path.parent().unwrap_or(Path::new(".")).join(&spec.scene);
-    let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
+    let scene_text = read_text(&scene_path, MAX_TEXT_INPUT_BYTES).map_err(|e| {
         invalid(
             path,
             format!(

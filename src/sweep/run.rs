@@ -206,47 +206,181 @@ fn partial_path(out: &Path) -> PathBuf {
     out.with_file_name(name)
 }
 
-/// The indices of the complete rows of a work file, after checking its header; a torn last
-/// line is cut off.
-fn resume_from(path: &Path, header: &str, columns: &str) -> Result<Vec<usize>> {
+/// Most runs at once: threads beyond the cores only cost memory and start-up time.
+pub const MAX_JOBS: usize = 256;
+
+/// Where the finished rows go while the sweep runs.
+enum WorkFile {
+    /// `<out>.partial`, locked against a second sweep, appended row by row.
+    Partial { path: PathBuf, file: std::fs::File },
+    /// In memory, for an output that is a stream (no work file beside a device).
+    Memory(Vec<u8>),
+}
+
+impl Write for WorkFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            WorkFile::Partial { file, .. } => file.write(buf),
+            WorkFile::Memory(bytes) => bytes.write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            WorkFile::Partial { file, .. } => file.flush(),
+            WorkFile::Memory(_) => Ok(()),
+        }
+    }
+}
+
+/// Opens the work file of `out` and takes its lock; returns it with the indices of the rows
+/// it keeps (`resume`), after checking every row like a shard's. Without `resume`, a work
+/// file that holds rows is refused rather than discarded.
+fn open_work_file(
+    out: &Path,
+    header: &str,
+    columns: &str,
+    resume: bool,
+) -> Result<(WorkFile, Vec<usize>)> {
+    use crate::output::Destination;
+    let first_lines = format!("{header}\n{columns}\n");
+    if matches!(Destination::of(out), Ok(Destination::Stream(_))) {
+        if resume {
+            return Err(Error::option(
+                "SweepOptions::resume",
+                format!("{} is a stream, which keeps no rows to resume", out.display()),
+            ));
+        }
+        return Ok((WorkFile::Memory(first_lines.into_bytes()), Vec::new()));
+    }
+    let path = partial_path(out);
     let write_error = |error| Error::Write {
-        path: path.to_owned(),
+        path: path.clone(),
         error,
     };
-    let text = std::fs::read_to_string(path).map_err(write_error)?;
-    let mut lines = text.split_inclusive('\n');
-    let (h, c) = (lines.next().unwrap_or(""), lines.next().unwrap_or(""));
-    if h.trim_end() != header || c.trim_end() != columns {
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(&path)
+        .map_err(write_error)?;
+    if let Err(e) = file.try_lock() {
         return Err(Error::option(
-            "SweepOptions::resume",
+            "SweepOptions::out",
             format!(
-                "{} belongs to another sweep or shard (its header: {:?}); remove it or do not resume",
-                path.display(),
-                h.trim_end()
+                "another sweep is writing {} (its work file {} is locked: {e}); wait for it or \
+                 choose another output",
+                out.display(),
+                path.display()
             ),
         ));
     }
-    let mut kept = h.len() + c.len();
-    let mut done = Vec::new();
-    for line in lines {
-        if !line.ends_with('\n') {
-            break;
+    let kept = kept_rows(&path, &file, header, columns, resume)?;
+    let done = match kept {
+        Some((rows, whole)) => {
+            file.set_len(whole as u64).map_err(write_error)?;
+            rows
         }
-        let index = line.split(',').next().and_then(|i| i.parse::<usize>().ok());
-        match index {
-            Some(i) => done.push(i),
-            None => break,
+        None => {
+            file.set_len(0).map_err(write_error)?;
+            (&file)
+                .write_all(first_lines.as_bytes())
+                .map_err(write_error)?;
+            Vec::new()
         }
-        kept += line.len();
+    };
+    use std::io::Seek;
+    (&file)
+        .seek(std::io::SeekFrom::End(0))
+        .map_err(write_error)?;
+    Ok((WorkFile::Partial { path, file }, done))
+}
+
+/// The rows a work file keeps (their indices and the length of its whole lines) when
+/// resuming; `None` to start afresh. A work file of another sweep, one with a bad row, or
+/// one with finished rows when not resuming is refused.
+fn kept_rows(
+    path: &Path,
+    file: &std::fs::File,
+    header: &str,
+    columns: &str,
+    resume: bool,
+) -> Result<Option<(Vec<usize>, usize)>> {
+    let length = file
+        .metadata()
+        .map_err(|error| Error::Write {
+            path: path.to_owned(),
+            error,
+        })?
+        .len();
+    if length == 0 {
+        return Ok(None);
     }
-    if kept < text.len() {
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .open(path)
-            .map_err(write_error)?;
-        file.set_len(kept as u64).map_err(write_error)?;
+    let refuse = |why: String| Err(Error::option("SweepOptions::resume", why));
+    let foreign = |found: &str| {
+        refuse(format!(
+            "{} belongs to another sweep or shard (its header: {}); remove it to start afresh",
+            path.display(),
+            super::table::quoted(found)
+        ))
+    };
+    let first_line = first_line(file);
+    if first_line != header {
+        return foreign(&first_line);
     }
-    Ok(done)
+    let (table, whole) = match super::table::read_work_file(path) {
+        Ok(found) => found,
+        Err(e) => return refuse(format!("{e}; remove the work file to start afresh")),
+    };
+    if table.columns != columns {
+        return foreign(&table.header);
+    }
+    match (resume, table.rows.len()) {
+        (true, _) => Ok(Some((table.rows.iter().map(|(i, _)| *i).collect(), whole))),
+        (false, 0) => Ok(None),
+        (false, n) => refuse(format!(
+            "{} holds {n} finished run(s) of this sweep: resume to keep them, or remove it to \
+             start afresh",
+            path.display()
+        )),
+    }
+}
+
+/// The first line of a file (at most 4 KiB of it), without its line break.
+fn first_line(file: &std::fs::File) -> String {
+    use std::io::{BufRead, Read, Seek};
+    let mut reader = file;
+    let _ = reader.seek(std::io::SeekFrom::Start(0));
+    let mut line = String::new();
+    let _ = std::io::BufReader::new(reader.take(4096)).read_line(&mut line);
+    line.trim_end_matches('\n').to_string()
+}
+
+/// The finished sweep's rows, sorted by index, from its work file.
+fn finished_table(work: &WorkFile) -> Result<super::table::SweepTable> {
+    let mut table = match work {
+        WorkFile::Partial { path, .. } => super::table::read_work_file(path)?.0,
+        WorkFile::Memory(bytes) => {
+            let text = String::from_utf8_lossy(bytes);
+            let mut lines = text.lines();
+            let header = lines.next().unwrap_or_default().to_string();
+            let columns = lines.next().unwrap_or_default().to_string();
+            let rows = lines
+                .map(|l| {
+                    let index = l.split(',').next().and_then(|i| i.parse().ok());
+                    (index.unwrap_or(0), l.to_string())
+                })
+                .collect();
+            super::table::SweepTable {
+                header,
+                columns,
+                rows,
+            }
+        }
+    };
+    table.rows.sort_by_key(|(i, _)| *i);
+    Ok(table)
 }
 
 /// Runs `sweep` (the shard's runs) with `options`, reporting the count of finished runs.
@@ -261,8 +395,11 @@ pub fn run_sweep(
 ) -> Result<SweepOutcome> {
     use rayon::prelude::*;
     let started = Instant::now();
-    if options.jobs == 0 {
-        return Err(Error::option("SweepOptions::jobs", "must be at least 1"));
+    if !(1..=MAX_JOBS).contains(&options.jobs) {
+        return Err(Error::option(
+            "SweepOptions::jobs",
+            format!("must be 1 to {MAX_JOBS} (got {})", options.jobs),
+        ));
     }
     let header = header_line(sweep, options.shard);
     let columns = column_line(sweep);
@@ -272,13 +409,9 @@ pub fn run_sweep(
         .filter(|r| options.shard.owns(r.index))
         .collect();
     let partial = partial_path(&options.out);
-    let write_error = |path: &Path, error| Error::Write {
-        path: path.to_owned(),
-        error,
-    };
     // a complete file of this sweep and shard: nothing to do
-    if options.resume && !partial.exists() && options.out.exists() {
-        let table = super::merge::read_table(&options.out)?;
+    if options.resume && !partial.exists() && options.out.is_file() {
+        let table = super::table::read_table(&options.out)?;
         if table.header == header && table.rows.len() == mine.len() {
             return Ok(SweepOutcome {
                 total: mine.len(),
@@ -289,30 +422,23 @@ pub fn run_sweep(
             });
         }
     }
-    let done: Vec<usize> = if options.resume && partial.exists() {
-        resume_from(&partial, &header, &columns)?
-    } else {
-        std::fs::write(&partial, format!("{header}\n{columns}\n"))
-            .map_err(|e| write_error(&partial, e))?;
-        Vec::new()
-    };
+    let (work, done) = open_work_file(&options.out, &header, &columns, options.resume)?;
     let finished_before: std::collections::HashSet<usize> = done.iter().copied().collect();
     let pending: Vec<&Run> = mine
         .iter()
         .copied()
         .filter(|r| !finished_before.contains(&r.index))
         .collect();
-    let file = std::fs::OpenOptions::new()
-        .append(true)
-        .open(&partial)
-        .map_err(|e| write_error(&partial, e))?;
-    let writer = Mutex::new(file);
+    if let WorkFile::Partial { path, .. } = &work {
+        crate::output::keep_on_interrupt(path);
+    }
+    let writer = Mutex::new(work);
     let counts = Mutex::new((done.len(), 0usize, 0usize)); // (finished, written, failed)
     let write_failure: Mutex<Option<std::io::Error>> = Mutex::new(None);
     let total = mine.len();
     reporter.runs(done.len(), total);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.jobs)
+        .num_threads(options.jobs.min(pending.len()).max(1))
         .build()
         .map_err(|e| Error::option("SweepOptions::jobs", e.to_string()))?;
     pool.install(|| {
@@ -340,24 +466,36 @@ pub fn run_sweep(
             reporter.runs(c.0, total);
         })
     });
+    let work = writer.into_inner().unwrap_or_else(|e| e.into_inner());
+    let write_error = |error| Error::Write {
+        path: partial.clone(),
+        error,
+    };
     if let Some(e) = write_failure
         .into_inner()
         .unwrap_or_else(|e| e.into_inner())
     {
-        return Err(write_error(&partial, e));
+        return Err(write_error(e));
     }
     let (finished, written, failed) = counts.into_inner().unwrap_or_else(|e| e.into_inner());
     if finished < total {
+        let kept = match &work {
+            WorkFile::Partial { path, .. } => {
+                format!("kept in {}; resume the sweep to finish", path.display())
+            }
+            WorkFile::Memory(_) => "not kept (the output is a stream)".into(),
+        };
         return Err(Error::Interrupted(format!(
-            "{finished} of {total} runs done, kept in {}; resume the sweep to finish",
-            partial.display()
+            "{finished} of {total} runs done, {kept}"
         )));
     }
-    // every row is there: sort by index into the result file, atomically
-    let mut table = super::merge::read_table(&partial)?;
-    table.rows.sort_by_key(|(i, _)| *i);
+    // every row is there: sorted by index into the result file, written whole
+    let table = finished_table(&work)?;
     crate::output::write_atomically(&options.out, |w| table.write(w))?;
-    std::fs::remove_file(&partial).map_err(|e| write_error(&partial, e))?;
+    if let WorkFile::Partial { path, .. } = &work {
+        crate::output::forget_kept(path);
+        std::fs::remove_file(path).map_err(write_error)?;
+    }
     Ok(SweepOutcome {
         total,
         written,

@@ -50,9 +50,9 @@ pub struct Outputs {
 
 impl Outputs {
     /// Checks the paths before any work; `stdout`: something will be printed.
-    fn check(&self, stdout: bool) -> anyhow::Result<()> {
-        check_chart("--out", self.out.as_deref())?;
-        check_output("--csv", self.csv.as_deref())?;
+    fn check(&self, stdout: bool, inputs: &[&std::path::Path]) -> anyhow::Result<()> {
+        check_chart("--out", self.out.as_deref(), inputs)?;
+        check_output("--csv", self.csv.as_deref(), inputs)?;
         if stdout {
             check_stdout_open()?;
         }
@@ -102,7 +102,8 @@ pub struct WorkPrecisionArgs {
 
 /// Runs `telescopic work-precision`.
 pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
-    args.outputs.check(args.outputs.csv.is_none())?;
+    args.outputs
+        .check(args.outputs.csv.is_none(), &[&args.scene.scene])?;
     let scene = args.scene.load()?;
     let options = WorkPrecisionOptions {
         methods: args.methods.clone(),
@@ -135,7 +136,7 @@ pub struct ConvergeArgs {
 
 /// Runs `telescopic converge`.
 pub fn converge(args: &ConvergeArgs) -> anyhow::Result<()> {
-    args.outputs.check(true)?;
+    args.outputs.check(true, &[&args.scene.scene])?;
     let scene = args.scene.load()?;
     let options = ConvergeOptions {
         tol: args.tol,
@@ -164,7 +165,8 @@ pub struct ShapeErrorsArgs {
 
 /// Runs `telescopic shape-errors`.
 pub fn shape_errors(args: &ShapeErrorsArgs) -> anyhow::Result<()> {
-    args.outputs.check(args.outputs.csv.is_none())?;
+    args.outputs
+        .check(args.outputs.csv.is_none(), &[])?;
     let result = run_shape_errors(&ShapeErrorsOptions {
         length: args.length,
         points: args.points,

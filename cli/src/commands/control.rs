@@ -54,7 +54,7 @@ pub struct LinearizeArgs {
 
 /// Runs `telescopic linearize`.
 pub fn linearize(args: &LinearizeArgs) -> anyhow::Result<()> {
-    check_output("--out", args.out.as_deref())?;
+    check_output("--out", args.out.as_deref(), &[&args.scene.scene])?;
     if args.out.is_none() {
         check_stdout_open()?;
     }
@@ -144,7 +144,7 @@ pub struct DesignArgs {
 
 /// Runs `telescopic design`.
 pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
-    check_output("--out", Some(&args.out))?;
+    check_output("--out", Some(&args.out), &[&args.scene.scene])?;
     check_stdout_open()?;
     let scene = args.scene.load()?;
     let options = DesignOptions {

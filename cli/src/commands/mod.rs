@@ -78,18 +78,22 @@ impl SceneArgs {
     }
 }
 
-/// Checks an output file's path before any work (`option` names the flag).
-pub fn check_output(option: &str, path: Option<&Path>) -> anyhow::Result<()> {
+/// Checks an output file's path before any work (`option` names the flag): writable, and
+/// none of the command's `inputs`.
+pub fn check_output(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyhow::Result<()> {
     if let Some(p) = path {
         telescopic::output::check_writable(option, p)?;
+        telescopic::output::check_not_an_input(option, p, inputs)?;
     }
     Ok(())
 }
 
-/// Checks a chart's path before any work: .svg or .png in a writable directory.
-pub fn check_chart(option: &str, path: Option<&Path>) -> anyhow::Result<()> {
+/// Checks a chart's path before any work: .svg or .png in a writable directory, and none of
+/// the command's `inputs`.
+pub fn check_chart(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyhow::Result<()> {
     if let Some(p) = path {
         telescopic::plot::check_picture_path(option, p)?;
+        telescopic::output::check_not_an_input(option, p, inputs)?;
     }
     Ok(())
 }

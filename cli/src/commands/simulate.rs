@@ -63,8 +63,14 @@ pub struct SimulateArgs {
 /// Runs `telescopic simulate`.
 pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     // every input and output is checked before the run
-    check_chart("--plot", args.plot.as_deref())?;
-    check_output("--out", args.out.as_deref())?;
+    let mut inputs = vec![args.scene.scene.as_path()];
+    inputs.extend(args.compare.as_deref());
+    inputs.extend(args.controller.as_deref());
+    check_chart("--plot", args.plot.as_deref(), &inputs)?;
+    check_output("--out", args.out.as_deref(), &inputs)?;
+    if let (Some(plot), Some(out)) = (&args.plot, &args.out) {
+        telescopic::output::check_not_an_input("--plot", plot, &[out])?;
+    }
     if args.out.is_none() {
         telescopic::output::check_stdout_open()?;
     }
@@ -75,11 +81,9 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     };
     let controller = match &args.controller {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
-            let c = Controller::from_json(&text)
-                .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
-            c.check_fits(&scene)?;
+            let c = Controller::load(path)?;
+            c.check_fits(&scene)
+                .map_err(|e| anyhow::anyhow!("{} does not fit the scene: {e}", path.display()))?;
             Some(c)
         }
         None => None,

@@ -13,7 +13,7 @@ use telescopic::sweep::{Shard, Sweep, SweepOptions, merge_shards, run_sweep};
 pub struct SweepArgs {
     /// The sweep file (TOML; docs/sweeps.md).
     pub sweep: PathBuf,
-    /// Runs at once (default: every core).
+    /// Runs at once, 1 to 256 (default: every core; never more than the runs left).
     #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
     /// Make only the runs with index % N == I: `I/N`, or `auto` from a Slurm job array
@@ -35,7 +35,7 @@ pub struct SweepArgs {
 
 /// Runs `telescopic sweep`.
 pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
-    super::check_output("--out", Some(&args.out))?;
+    super::check_output("--out", Some(&args.out), &[&args.sweep])?;
     let shard = match args.shard.as_deref() {
         None => Shard::whole(),
         Some("auto") => Shard::from_env(args.shard_count)?,
@@ -43,10 +43,13 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
             .parse::<Shard>()
             .map_err(|e| anyhow::anyhow!("--shard {s}: {e}"))?,
     };
-    let jobs = args
-        .jobs
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let jobs = args.jobs.unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(telescopic::sweep::MAX_JOBS)
+    });
     let sweep = Sweep::load(&args.sweep)?;
+    super::check_output("--out", Some(&args.out), &[&args.sweep, &sweep.scene_path])?;
     let mine = sweep.runs.iter().filter(|r| shard.owns(r.index)).count();
     eprintln!(
         "{}: {} runs ({} in shard {}/{}), {} at once, sweep {}",
@@ -55,7 +58,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
         mine,
         shard.index,
         shard.count,
-        jobs,
+        jobs.min(mine.max(1)),
         sweep.hash
     );
     telescopic::interrupt::stop_between_runs();
@@ -95,8 +98,8 @@ pub struct MergeArgs {
 
 /// Runs `telescopic sweep-merge`.
 pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
-    super::check_output("--out", Some(&args.out))?;
     let paths: Vec<&std::path::Path> = args.shards.iter().map(PathBuf::as_path).collect();
+    super::check_output("--out", Some(&args.out), &paths)?;
     let table = merge_shards(&paths)?;
     write_atomically(&args.out, |w| table.write(w))?;
     eprintln!(
@@ -132,7 +135,7 @@ pub struct PlotArgs {
 
 /// Runs `telescopic plot-sweep`.
 pub fn plot(args: &PlotArgs) -> anyhow::Result<()> {
-    check_chart("--out", Some(&args.out))?;
+    check_chart("--out", Some(&args.out), &[&args.results])?;
     let table = telescopic::sweep::read_table(&args.results)?;
     let chart = telescopic::sweep::chart(
         &table,

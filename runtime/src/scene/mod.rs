@@ -8,6 +8,7 @@ pub mod schema;
 mod validate;
 
 pub use overrides::apply_override;
+pub use validate::profile_errors;
 pub use schema::SceneFile;
 
 use crate::params::ModelParams;
@@ -121,7 +122,7 @@ impl Scene {
     /// # Errors
     /// [`SceneError`] naming the field and the rule for every problem found.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
+        let text = crate::input::read_text(path, crate::input::MAX_TEXT_INPUT_BYTES).map_err(|error| SceneError::Io {
             path: path.to_owned(),
             error,
         })?;

@@ -10,6 +10,15 @@ use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile};
 use crate::shape::MAX_MODES;
 
+/// The broken rules of a profile read from elsewhere (a controller file's feedforward):
+/// finite numbers, as many values as times, strictly increasing times; `field` prefixes the
+/// names.
+pub fn profile_errors(field: &str, profile: &Profile) -> Vec<FieldError> {
+    let mut rules = Rules::default();
+    rules.profile(field, profile);
+    rules.errors
+}
+
 /// Collects broken rules.
 #[derive(Default)]
 struct Rules {

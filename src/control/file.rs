@@ -1,0 +1,182 @@
+//! A controller file checked like a scene: every field against its rule and against the
+//! scene it is applied to, each error naming the JSON field.
+
+use super::design::{Controller, FORCE_LIMIT_RANGE, SCALE_RANGE, SchedulePoint};
+use crate::{Error, Result};
+use std::path::Path;
+use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
+use telescopic_runtime::linear::state_names;
+use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
+
+/// Largest gain entry a controller file may hold (N per SI unit of its state): far above any
+/// design at the usable force limits, and far below gains that make the controlled run
+/// unaffordably stiff.
+pub const MAX_GAIN: f64 = 1e12;
+
+fn field(name: &str, rule: impl Into<String>) -> Error {
+    Error::option(&format!("controller `{name}`"), rule)
+}
+
+impl Controller {
+    /// Reads and checks a controller file (size-capped like a scene).
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the file and what is wrong.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| {
+            Error::option("controller", format!("{}: cannot be read: {e}", path.display()))
+        })?;
+        Controller::from_json(&text).map_err(|e| {
+            Error::option("controller", format!("{}: {e}", path.display()))
+        })
+    }
+
+    /// Checks that the controller fits `scene`: the same configuration and states in the
+    /// model's order, a force drive, design points inside the scene's position ranges and
+    /// in ascending order, finite and bounded gains, a valid feedforward profile.
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the field and the rule.
+    pub fn check_fits(&self, scene: &Scene) -> Result<()> {
+        self.check_params(&scene.params)
+    }
+
+    /// [`Controller::check_fits`] on the scene's parameters.
+    pub(crate) fn check_params(&self, params: &ModelParams) -> Result<()> {
+        self.check_values()?;
+        self.check_model(params)?;
+        self.check_schedule(params)?;
+        let errors = telescopic_runtime::scene::profile_errors("feedforward", &self.feedforward);
+        if let Some(e) = errors.first() {
+            return Err(field(&e.field, &e.rule));
+        }
+        Ok(())
+    }
+
+    /// The scalar settings: finite, positive, inside the ranges a design takes.
+    fn check_values(&self) -> Result<()> {
+        for (name, v, (low, high), unit) in [
+            ("force_limit_n", self.force_limit_n, FORCE_LIMIT_RANGE, "N"),
+            ("tip_scale_m", self.tip_scale_m, SCALE_RANGE, "m"),
+            ("vehicle_scale_m", self.vehicle_scale_m, SCALE_RANGE, "m"),
+            ("total_mass_kg", self.total_mass_kg, (1e-6, 1e9), "kg"),
+        ] {
+            if !(low..=high).contains(&v) {
+                return Err(field(name, format!("must be {low:e} to {high:e} {unit} (got {v})")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The configuration, the state names in the model's order, the drive.
+    fn check_model(&self, params: &ModelParams) -> Result<()> {
+        let key = configuration_key(params);
+        if key != self.configuration {
+            return Err(field(
+                "configuration",
+                format!(
+                    "the controller was designed for configuration {} (scene {}), the scene is \
+                     {key}",
+                    self.configuration, self.scene
+                ),
+            ));
+        }
+        let expected = state_names(&params.modes());
+        if self.states != expected {
+            let first = self
+                .states
+                .iter()
+                .zip(&expected)
+                .position(|(a, b)| a != b)
+                .unwrap_or(expected.len().min(self.states.len()));
+            return Err(field(
+                "states",
+                format!(
+                    "must list the scene's {} states in the model's order ({}, ...); entry {first} \
+                     is {:?}, expected {:?}",
+                    expected.len(),
+                    expected[..expected.len().min(4)].join(", "),
+                    self.states.get(first),
+                    expected.get(first)
+                ),
+            ));
+        }
+        if !matches!(params.drive, Drive::Force(_)) {
+            return Err(Error::option(
+                "controller",
+                "the scene has a prescribed motion; a controller drives a force",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The design points: positions inside the scene's ranges and ascending along the
+    /// schedule, gains of the state's size, finite and bounded.
+    fn check_schedule(&self, params: &ModelParams) -> Result<()> {
+        if self.schedule.is_empty() {
+            return Err(field("schedule", "must hold at least one design point"));
+        }
+        let n = self.states.len();
+        let npos = params.positions.len();
+        for (j, point) in self.schedule.iter().enumerate() {
+            let at = |name: &str| format!("schedule[{j}].{name}");
+            if point.positions.len() != npos {
+                return Err(field(
+                    &at("positions"),
+                    format!(
+                        "has {} position(s), the scene has {npos} (a_2..a_n)",
+                        point.positions.len()
+                    ),
+                ));
+            }
+            for (i, &a) in point.positions.iter().enumerate() {
+                let (min, max) = params.position_range(i);
+                if !(min..=max).contains(&a) {
+                    return Err(field(
+                        &at(&format!("positions[{i}]")),
+                        format!("a_{} = {a} m is outside the scene's range [{min}, {max}] m", i + 2),
+                    ));
+                }
+            }
+            check_gains(&at("K"), point, n, self.kind.has_lqr())?;
+        }
+        if let Some(name) = &self.schedule_parameter {
+            let Some(k) = self
+                .scheduled_section()
+                .filter(|k| (2..=npos + 1).contains(k))
+            else {
+                return Err(field(
+                    "schedule_parameter",
+                    format!("the schedule runs over {name}, which the scene does not have"),
+                ));
+            };
+            let ascending = self
+                .schedule
+                .windows(2)
+                .all(|w| w[0].positions[k - 2] < w[1].positions[k - 2]);
+            if !ascending {
+                return Err(field(
+                    "schedule",
+                    format!("the design points are not in ascending order of {name}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A design point's gain: one row of `n` entries when the controller has an LQR, every entry
+/// finite and at most [`MAX_GAIN`] in size.
+fn check_gains(name: &str, point: &SchedulePoint, n: usize, lqr: bool) -> Result<()> {
+    if lqr && (point.k.len() != 1 || point.k[0].len() != n) {
+        return Err(field(name, format!("must be one row of {n} gains (the state's size)")));
+    }
+    let entries = point.k.iter().flatten();
+    if let Some(g) = entries.clone().find(|g| !g.is_finite() || g.abs() > MAX_GAIN) {
+        return Err(field(
+            name,
+            format!("holds {g}; every gain must be finite and at most {MAX_GAIN:e} in size"),
+        ));
+    }
+    Ok(())
+}
