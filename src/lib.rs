@@ -52,6 +52,7 @@ pub mod equations;
 mod error;
 pub mod interrupt;
 pub mod linear;
+pub mod memory;
 pub mod metrics;
 pub mod models;
 pub mod modes;

@@ -101,6 +101,7 @@ impl<'s> PreparedRun<'s> {
         reporter: &dyn Reporter,
     ) -> Result<Trajectory> {
         let (method, settings) = (self.plan.method, &self.plan.settings);
+        crate::memory::check_runs(&[self.scene])?;
         crate::budget::check_run(self.scene, budget_model, method, settings)?;
         integrate_from_rest(self.scene, model, method, settings, reporter)
     }

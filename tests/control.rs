@@ -120,7 +120,7 @@ fn bad_input_is_refused_with_the_rule() {
     let err = simulate_controlled(&other, &controller, &SimulationOptions::default(), &Silent)
         .unwrap_err()
         .to_string();
-    assert!(err.starts_with("controller: "), "{err}");
+    assert!(err.starts_with("controller `configuration`: "), "{err}");
     // settings out of range
     for (options, needle) in [
         (
@@ -237,4 +237,59 @@ fn the_kalman_variant_runs_within_the_limit_and_its_filter_is_checkable() {
     .unwrap_err()
     .to_string();
     assert!(err.contains("dopri5 or dop853"), "{err}");
+}
+
+/// A controller file edited by hand: every field is checked against its rule and the scene,
+/// and the error names the JSON field (issue: these were all accepted with exit 0).
+#[test]
+fn controller_files_are_checked_field_by_field() {
+    let case = scene("case-study", &[]);
+    let options = DesignOptions {
+        grid_points: 2,
+        ..DesignOptions::default()
+    };
+    let json: serde_json::Value =
+        serde_json::from_str(&design(&case, &options).unwrap().to_json()).unwrap();
+    let edited = |edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut v = json.clone();
+        edit(&mut v);
+        Controller::from_json(&v.to_string()).and_then(|c| c.check_fits(&case))
+    };
+    assert!(edited(&|_| {}).is_ok(), "the designed file itself fits");
+    let cases: Vec<(&str, Box<dyn Fn(&mut serde_json::Value)>)> = vec![
+        ("`force_limit_n`", Box::new(|v| v["force_limit_n"] = (-5.0).into())),
+        ("`force_limit_n`", Box::new(|v| v["force_limit_n"] = 0.0.into())),
+        ("`total_mass_kg`", Box::new(|v| v["total_mass_kg"] = 0.0.into())),
+        (
+            "`schedule[1].positions[0]`",
+            Box::new(|v| v["schedule"][1]["positions"][0] = 5.0.into()),
+        ),
+        (
+            "`schedule[0].positions[0]`",
+            Box::new(|v| v["schedule"][0]["positions"][0] = (-3.0).into()),
+        ),
+        (
+            "`feedforward.times`",
+            Box::new(|v| {
+                let times = v["feedforward"]["times"].as_array_mut().unwrap();
+                times.reverse();
+            }),
+        ),
+        (
+            "`states`",
+            Box::new(|v| v["states"].as_array_mut().unwrap().reverse()),
+        ),
+        (
+            "`schedule[0].K`",
+            Box::new(|v| {
+                for (i, g) in v["schedule"][0]["K"][0].as_array_mut().unwrap().iter_mut().enumerate() {
+                    *g = (if i % 2 == 0 { 1e308 } else { -1e308 }).into();
+                }
+            }),
+        ),
+    ];
+    for (field, edit) in cases {
+        let err = edited(&*edit).unwrap_err().to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    }
 }

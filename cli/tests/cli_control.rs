@@ -171,7 +171,7 @@ fn malformed_controller_files_are_refused_before_the_run() {
             }),
             &[
                 "--controller",
-                "a design point has 0 position(s), the scene has 1",
+                "`schedule[0].positions`: has 0 position(s), the scene has 1",
             ],
         ),
         (
@@ -184,7 +184,7 @@ fn malformed_controller_files_are_refused_before_the_run() {
             Box::new(|c| {
                 c["schedule"][0]["K"][0].as_array_mut().unwrap().pop();
             }),
-            &["--controller", "a gain K has the wrong size"],
+            &["--controller", "`schedule[0].K`: must be one row of 16 gains"],
         ),
         (
             "filter",

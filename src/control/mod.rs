@@ -143,6 +143,7 @@ pub fn compare_with_open_loop(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<ControlComparison> {
+    crate::memory::check_runs(&[scene, scene])?;
     let controlled = simulate_controlled(scene, controller, options, reporter)?;
     let open_loop = simulate_scene(scene, &comparison_options(options)?, reporter)?;
     let window = drive_stop(scene);

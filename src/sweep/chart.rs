@@ -17,6 +17,9 @@ pub struct SweepChart {
     heatmap: bool,
 }
 
+/// Most lines of a line chart (distinct values of the color column).
+pub const MAX_LINES: usize = 64;
+
 /// A chart of column `y` against column `x` of `table`, a line per value of `color` (or a
 /// heat map over `x` and `color`); failed runs and empty cells are left out.
 ///
@@ -46,6 +49,8 @@ pub fn chart(
     let ic = color.map(|c| find(c, "SweepChart color")).transpose()?;
     let status = find("status", "SweepChart y")?;
     let mut groups: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    // the group of each label: linear in the rows however many labels there are
+    let mut group_of: std::collections::HashMap<String, usize> = Default::default();
     for (_, line) in &table.rows {
         let cells = split_csv(line);
         if cells.get(status).map(String::as_str) != Some("ok") {
@@ -63,10 +68,24 @@ pub fn chart(
         let label = ic
             .map(|i| cells.get(i).cloned().unwrap_or_default())
             .unwrap_or_default();
-        match groups.iter_mut().find(|(l, _)| *l == label) {
-            Some((_, points)) => points.push((xv, yv)),
-            None => groups.push((label, vec![(xv, yv)])),
+        match group_of.get(&label) {
+            Some(&g) => groups[g].1.push((xv, yv)),
+            None => {
+                group_of.insert(label.clone(), groups.len());
+                groups.push((label, vec![(xv, yv)]));
+            }
         }
+    }
+    if !heatmap && groups.len() > MAX_LINES {
+        return Err(Error::option(
+            "SweepChart color",
+            format!(
+                "`{}` has {} distinct values; a line chart shows at most {MAX_LINES} lines: \
+                 draw a heat map, or color by a column with fewer values",
+                color.unwrap_or(""),
+                groups.len()
+            ),
+        ));
     }
     if groups.is_empty() {
         return Err(Error::option(

@@ -4,6 +4,7 @@
 
 use crate::simulation::{MethodChoice, SimulationOptions, plan};
 use crate::{Error, Result};
+use rayon::prelude::*;
 use rand::Rng;
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
@@ -15,6 +16,12 @@ use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
 
 /// Most runs of one sweep.
 pub const MAX_RUNS: usize = 10_000_000;
+
+/// Most runs checked as combinations before a sweep starts (all of a smaller sweep).
+pub const VALIDATED_RUNS: usize = 10_000;
+
+/// Most sampled keys whose range corners are checked (2^10 corners).
+const MAX_CORNER_KEYS: usize = 10;
 
 /// Keys that set the run rather than the scene.
 pub const RUN_KEYS: [&str; 4] = ["method", "rtol", "atol", "dt"];
@@ -80,6 +87,8 @@ pub struct Sweep {
     /// A hash of the sweep file and the base scene (16 hex digits): shards of one sweep
     /// carry the same.
     pub hash: String,
+    /// The sampled keys: `(position in keys, low, high)`.
+    sampled: Vec<(usize, f64, f64)>,
 }
 
 fn invalid(path: &Path, what: String) -> Error {
@@ -110,14 +119,16 @@ impl Sweep {
     /// [`Error::Scene`] for an unreadable or invalid base scene.
     pub fn load(path: &Path) -> Result<Self> {
         let (text, spec) = read_spec(path)?;
+        check_memory(path, &spec)?;
         let (scene_path, scene_text, base) = read_base_scene(path, &spec)?;
         let mut keys: Vec<String> = Vec::new();
         let mut runs: Vec<Run> = Vec::new();
         grid_runs(path, &spec, &mut keys, &mut runs)?;
         explicit_runs(path, &spec, &mut keys, &mut runs)?;
-        if let Some(latin) = &spec.latin {
-            latin_runs(path, latin, &mut keys, &mut runs)?;
-        }
+        let sampled = match &spec.latin {
+            Some(latin) => latin_runs(path, latin, &mut keys, &mut runs)?,
+            None => Vec::new(),
+        };
         // explicit runs and grid runs share the column list: pad earlier runs
         for run in &mut runs {
             run.values.resize(keys.len(), None);
@@ -148,6 +159,7 @@ impl Sweep {
             keys,
             runs,
             hash,
+            sampled,
         };
         sweep.validate()?;
         Ok(sweep)
@@ -158,10 +170,32 @@ impl Sweep {
     /// # Errors
     /// [`Error::Scene`] or [`Error::Option`] for the run's values.
     pub fn scene_of(&self, run: &Run) -> Result<(Scene, SimulationOptions)> {
-        let mut overrides = self.set.clone();
+        let mut overrides = Vec::with_capacity(self.set.len() + self.keys.len());
         let mut options = SimulationOptions::default();
-        for (key, value) in self.keys.iter().zip(&run.values) {
-            let Some(value) = value else { continue };
+        // `set` holds scene overrides and run settings (`dt=5e-5`) alike
+        let mut settings: Vec<(String, toml::Value)> = Vec::new();
+        for entry in &self.set {
+            match entry.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
+                Some((key, value)) if RUN_KEYS.contains(&key) => {
+                    let value: toml::Value = format!("v = {value}")
+                        .parse::<toml::Table>()
+                        .ok()
+                        .and_then(|mut t| t.remove("v"))
+                        .ok_or_else(|| {
+                            Error::option("`set`", format!("{entry:?}: the value is not TOML"))
+                        })?;
+                    settings.push((key.to_string(), value));
+                }
+                _ => overrides.push(entry.clone()),
+            }
+        }
+        let run_values = self
+            .keys
+            .iter()
+            .zip(&run.values)
+            .filter_map(|(k, v)| v.as_ref().map(|v| (k.clone(), v.clone())));
+        for (key, value) in settings.into_iter().chain(run_values) {
+            let (key, value) = (&key, &value);
             let option = |rule: String| Error::option(&format!("`{key}`"), rule);
             match key.as_str() {
                 "method" => {
@@ -185,32 +219,25 @@ impl Sweep {
         Ok((scene, options))
     }
 
-    /// Checks every run's scene and settings, all of them, before any run: first each key
-    /// with each of its values alone (so a misspelt key or a bad value is named once), then
-    /// every run's combination.
+    /// Checks the runs' scenes and settings before any run: first each key with each of its
+    /// values alone (so a misspelt key or a bad value is named once; a sampled key at both
+    /// ends of its range), then every run's combination, all of them up to
+    /// [`VALIDATED_RUNS`]; of a larger sweep an evenly spaced [`VALIDATED_RUNS`] and the
+    /// corners of its sampled ranges (the rest are checked as they run: an invalid one is
+    /// recorded with status `invalid`).
     fn validate(&self) -> Result<()> {
-        use rayon::prelude::*;
-        let check = |run: &Run| {
-            self.scene_of(run)
-                .and_then(|(scene, options)| plan(&scene, &options).map(|_| ()))
-        };
-        let mut alone: Vec<Run> = Vec::new();
-        for k in 0..self.keys.len() {
-            // by text (a TOML value has no hash): linear in the runs, also for a large
-            // Latin-hypercube sample whose values all differ
-            let mut seen = std::collections::HashSet::new();
-            for value in self.runs.iter().filter_map(|r| r.values[k].as_ref()) {
-                if seen.insert(value_text(value)) {
-                    let mut values = vec![None; self.keys.len()];
-                    values[k] = Some(value.clone());
-                    alone.push(Run { index: k, values });
-                }
-            }
-        }
-        let mut problems: Vec<(usize, String)> = alone
+        let mut problems: Vec<(usize, String)> = self
+            .alone_runs()
             .par_iter()
             .filter_map(|run| {
-                check(run).err().map(|e| {
+                // a run setting alone is checked for its form only (a fixed-step method
+                // alone lacks its dt): its combination is checked with its run's
+                let checked = if RUN_KEYS.contains(&self.keys[run.index].as_str()) {
+                    self.scene_of(run).map(|_| ())
+                } else {
+                    self.check(run)
+                };
+                checked.err().map(|e| {
                     (
                         run.index,
                         format!("{}: {}", self.describe(run), indented(&e)),
@@ -235,17 +262,17 @@ impl Sweep {
                 ),
             ));
         }
-        let problems: Vec<String> = self
-            .runs
+        let checked: Vec<Run> = self.runs_to_check();
+        let problems: Vec<String> = checked
             .par_iter()
             .filter_map(|run| {
-                check(run).err().map(|e| {
-                    format!(
-                        "run {} ({}): {}",
-                        run.index,
-                        self.describe(run),
-                        indented(&e)
-                    )
+                self.check(run).err().map(|e| {
+                    let which = if run.index == usize::MAX {
+                        "the corner".to_string()
+                    } else {
+                        format!("run {}", run.index)
+                    };
+                    format!("{which} ({}): {}", self.describe(run), indented(&e))
                 })
             })
             .collect();
@@ -256,9 +283,14 @@ impl Sweep {
         Err(invalid(
             &self.path,
             format!(
-                "{} of {} runs are invalid, e.g.\n{}",
+                "{} of {} runs{} are invalid, e.g.\n{}",
                 problems.len(),
-                self.runs.len(),
+                checked.len(),
+                if checked.len() < self.runs.len() {
+                    format!(" checked (of {})", self.runs.len())
+                } else {
+                    String::new()
+                },
                 shown
                     .iter()
                     .map(|p| format!("  - {p}"))
@@ -266,6 +298,63 @@ impl Sweep {
                     .join("\n")
             ),
         ))
+    }
+
+    /// A run's scene and settings, checked.
+    fn check(&self, run: &Run) -> Result<()> {
+        self.scene_of(run)
+            .and_then(|(scene, options)| plan(&scene, &options).map(|_| ()))
+    }
+
+    /// One run per key and value, the key set alone (`index` is the key's position); a
+    /// sampled key at both ends of its range, other keys at up to [`VALIDATED_RUNS`] of
+    /// their distinct values.
+    fn alone_runs(&self) -> Vec<Run> {
+        let mut alone: Vec<Run> = Vec::new();
+        let single = |k: usize, value: toml::Value| {
+            let mut values = vec![None; self.keys.len()];
+            values[k] = Some(value);
+            Run { index: k, values }
+        };
+        for k in 0..self.keys.len() {
+            if let Some(&(_, lo, hi)) = self.sampled.iter().find(|(key, ..)| *key == k) {
+                alone.push(single(k, toml::Value::Float(lo)));
+                alone.push(single(k, toml::Value::Float(hi)));
+                continue;
+            }
+            // by text (a TOML value has no hash): linear in the runs
+            let mut seen = std::collections::HashSet::new();
+            let step = (self.runs.len() / VALIDATED_RUNS).max(1);
+            for value in self.runs.iter().step_by(step).filter_map(|r| r.values[k].as_ref()) {
+                if seen.insert(value_text(value)) {
+                    alone.push(single(k, value.clone()));
+                }
+            }
+        }
+        alone
+    }
+
+    /// The runs checked as combinations: all, or for a large sweep an evenly spaced
+    /// [`VALIDATED_RUNS`] of them and the corners of the sampled ranges (index `usize::MAX`).
+    fn runs_to_check(&self) -> Vec<Run> {
+        if self.runs.len() <= VALIDATED_RUNS {
+            return self.runs.clone();
+        }
+        let step = self.runs.len().div_ceil(VALIDATED_RUNS);
+        let mut checked: Vec<Run> = self.runs.iter().step_by(step).cloned().collect();
+        let sampled = &self.sampled[..self.sampled.len().min(MAX_CORNER_KEYS)];
+        for corner in 0..1usize << sampled.len() {
+            let mut values = vec![None; self.keys.len()];
+            for (bit, &(k, lo, hi)) in sampled.iter().enumerate() {
+                let end = if corner >> bit & 1 == 0 { lo } else { hi };
+                values[k] = Some(toml::Value::Float(end));
+            }
+            checked.push(Run {
+                index: usize::MAX,
+                values,
+            });
+        }
+        checked
     }
 
     /// The run's values as `KEY=VALUE` text.
@@ -296,6 +385,36 @@ fn number(v: &toml::Value) -> Option<f64> {
         toml::Value::Integer(i) => Some(*i as f64),
         _ => None,
     }
+}
+
+/// Bytes one run takes in memory before it is made: its index and values (measured with
+/// 10^6 Latin samples of two keys).
+const BYTES_PER_RUN: u64 = 64;
+
+/// Bytes one value of a run takes.
+const BYTES_PER_VALUE: u64 = 48;
+
+/// Refuses, before any run is generated, a sweep whose runs would not fit the memory budget.
+fn check_memory(path: &Path, spec: &SweepSpec) -> Result<()> {
+    let grid = spec
+        .grid
+        .values()
+        .map(|v| v.as_array().map_or(1, Vec::len) as u64)
+        .try_fold(1u64, |n, len| n.checked_mul(len.max(1)))
+        .unwrap_or(u64::MAX);
+    let grid = if spec.grid.is_empty() { 0 } else { grid };
+    let latin = spec.latin.as_ref().map_or(0, |l| l.samples as u64);
+    let runs = grid.saturating_add(spec.runs.len() as u64).saturating_add(latin);
+    let keys = spec.grid.len()
+        + spec.runs.iter().map(toml::Table::len).sum::<usize>()
+        + spec.latin.as_ref().map_or(0, |l| l.ranges.len());
+    let bytes = runs.saturating_mul(BYTES_PER_RUN + BYTES_PER_VALUE * keys as u64);
+    crate::memory::check(
+        bytes,
+        &format!("{runs} runs of {keys} keys"),
+        "[latin] samples or the [grid] (fewer runs), or split the sweep",
+        |reason| invalid(path, reason),
+    )
 }
 
 /// The sweep file's text and its parsed fields.
@@ -381,8 +500,18 @@ fn explicit_runs(
     keys: &mut Vec<String>,
     runs: &mut Vec<Run>,
 ) -> Result<()> {
-    for table in &spec.runs {
+    for (r, table) in spec.runs.iter().enumerate() {
         for key in table.keys() {
+            if spec.grid.contains_key(key) {
+                return Err(invalid(
+                    path,
+                    format!(
+                        "[[runs]] entry {}: `{key}` is also a [grid] key; a key is varied in one \
+                         place only",
+                        r + 1
+                    ),
+                ));
+            }
             if !keys.contains(key) {
                 keys.push(key.clone());
             }
@@ -411,7 +540,7 @@ fn latin_runs(
     latin: &LatinSpec,
     keys: &mut Vec<String>,
     runs: &mut Vec<Run>,
-) -> Result<()> {
+) -> Result<Vec<(usize, f64, f64)>> {
     if !(1..=MAX_RUNS).contains(&latin.samples) {
         return Err(invalid(
             path,
@@ -425,6 +554,7 @@ fn latin_runs(
         return Err(invalid(path, "[latin] `ranges` is empty".into()));
     }
     let first = keys.len();
+    let mut sampled = Vec::new();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(latin.seed);
     let mut columns: Vec<Vec<f64>> = Vec::new();
     for (key, range) in &latin.ranges {
@@ -445,6 +575,7 @@ fn latin_runs(
                 format!("[latin.ranges] `{key}`: already varied elsewhere"),
             ));
         }
+        sampled.push((keys.len(), lo, hi));
         keys.push(key.clone());
         let n = latin.samples;
         let mut strata: Vec<usize> = (0..n).collect();
@@ -466,8 +597,7 @@ fn latin_runs(
             values,
         });
     }
-
-    Ok(())
+    Ok(sampled)
 }
 
 #[cfg(test)]

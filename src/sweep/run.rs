@@ -5,6 +5,7 @@
 
 use super::file::{Run, Sweep};
 use super::shard::Shard;
+use crate::memory::MemoryGate;
 use crate::metrics::{drive_stop, metrics, peak_and_rms};
 use crate::output::csv_number;
 use crate::report::{Reporter, Silent};
@@ -116,10 +117,12 @@ fn status_of(e: &Error) -> &'static str {
 }
 
 /// One run, as its CSV row.
-fn row(sweep: &Sweep, run: &Run) -> (String, bool) {
+fn row(sweep: &Sweep, run: &Run, gate: &MemoryGate) -> (String, bool) {
     let start = Instant::now();
     let measure = || -> Result<(Vec<String>, Option<String>)> {
         let (scene, options) = sweep.scene_of(run)?;
+        // the run's trajectory's share of the memory budget, held until its row is made
+        let _share = gate.take(&scene)?;
         let run = PreparedRun::new(&scene, &options, &Silent)?;
         let model = run.model();
         let traj = run.integrate(&Silent)?;
@@ -432,6 +435,7 @@ pub fn run_sweep(
     if let WorkFile::Partial { path, .. } = &work {
         crate::output::keep_on_interrupt(path);
     }
+    let gate = MemoryGate::new()?;
     let writer = Mutex::new(work);
     let counts = Mutex::new((done.len(), 0usize, 0usize)); // (finished, written, failed)
     let write_failure: Mutex<Option<std::io::Error>> = Mutex::new(None);
@@ -448,7 +452,7 @@ pub fn run_sweep(
             if crate::interrupt::requested() || write_failed() {
                 return;
             }
-            let (line, failed) = row(sweep, run);
+            let (line, failed) = row(sweep, run, &gate);
             // one write of a whole line, then flushed: a kill leaves whole rows or a torn
             // last one, which --resume cuts off
             let result = {

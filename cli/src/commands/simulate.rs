@@ -79,11 +79,14 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         Some(path) => Some(Scene::load(path, &args.scene.overrides)?),
         None => None,
     };
+    if let Some(other) = &other {
+        telescopic::memory::check_runs(&[&scene, other])?;
+    }
     let controller = match &args.controller {
         Some(path) => {
             let c = Controller::load(path)?;
             c.check_fits(&scene)
-                .map_err(|e| anyhow::anyhow!("{} does not fit the scene: {e}", path.display()))?;
+                .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
             Some(c)
         }
         None => None,

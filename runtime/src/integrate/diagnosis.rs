@@ -13,9 +13,10 @@ pub fn growth_cause(model: &dyn Model, t: f64, span: &TimeSpan) -> String {
         Ok(m) if !m.unstable_growth_rates.is_empty() => format!(
             "the model is unstable: {} mode(s) buckle under the axial load of gravity (growth \
              rates up to {:.3e} 1/s); check gravity.g, gravity.force_flow and the masses against \
-             the bending stiffness",
+             the bending stiffness.{}",
             m.unstable_growth_rates.len(),
-            m.unstable_growth_rates.last().copied().unwrap_or(0.0)
+            m.unstable_growth_rates.last().copied().unwrap_or(0.0),
+            crate::scene::plausibility::unit_note(params)
         ),
         Ok(_) => {
             let (lo, hi) = params.drive_profile().range(span.start, span.end);

@@ -23,13 +23,74 @@ pub const MAX_STIFFNESS_RATIO: f64 = 1e12;
 /// than double precision keeps.
 pub const MAX_DAMPING_RATIO: f64 = 1e6;
 
+/// Largest clearance against the shortest section's length: a clearance is a small play in
+/// a guide, not a gap of the section's own size.
+pub const MAX_CLEARANCE_FRACTION: f64 = 0.05;
+
 fn fail(errors: &mut Vec<FieldError>, field: String, rule: String) {
     errors.push(FieldError { field, rule });
+}
+
+/// Longest plausible section (m): a longer one was likely given in millimetres.
+pub const MAX_SECTION_LENGTH: f64 = 100.0;
+
+/// A section whose cantilever sag under its own weight exceeds this many times its length
+/// has a bending stiffness no structure has: real sections sag 1e-4 to 1e-2 of their length,
+/// and a modulus given in MPa makes it 1e6 times more.
+pub const SAG_FACTOR: f64 = 100.0;
+
+/// Fields whose values point to a wrong unit, with a hint: `(field, hint)`. A section
+/// longer than [`MAX_SECTION_LENGTH`]; a section that would sag more than [`SAG_FACTOR`]
+/// times its own length as a cantilever under its own weight at standard gravity
+/// (`q l^4 / (8 EI)`), which no steel or aluminium section does with its modulus in N/m^2
+/// but every one does in MPa.
+pub fn unit_suspects(params: &ModelParams) -> Vec<(String, String)> {
+    const STANDARD_GRAVITY: f64 = 9.80665;
+    let mut suspects = Vec::new();
+    for (k, s) in params.sections.iter().enumerate() {
+        if s.length > MAX_SECTION_LENGTH {
+            suspects.push((
+                format!("sections.length[{k}]"),
+                format!(
+                    "{} m is longer than any telescope section; was it given in millimetres?",
+                    s.length
+                ),
+            ));
+        }
+        let sag = s.mass_per_length * STANDARD_GRAVITY * s.length.powi(4) / (8.0 * s.bending_stiffness);
+        if s.length <= MAX_SECTION_LENGTH && sag > SAG_FACTOR * s.length {
+            suspects.push((
+                format!("sections.youngs_modulus[{k}]"),
+                format!(
+                    "with sections.inertia[{k}], a bending stiffness EI = {:e} N m^2 under which \
+                     the section would sag {sag:.3e} m under its own weight, over {SAG_FACTOR} \
+                     times its length {} m; was the modulus given in MPa or GPa (SI: N/m^2 = \
+                     Pa)?",
+                    s.bending_stiffness, s.length
+                ),
+            ));
+        }
+    }
+    suspects
+}
+
+/// The unit hints of `params` as a sentence to append to a message ("" without any).
+pub fn unit_note(params: &ModelParams) -> String {
+    let suspects = unit_suspects(params);
+    if suspects.is_empty() {
+        return String::new();
+    }
+    let list: Vec<String> = suspects
+        .iter()
+        .map(|(field, hint)| format!("`{field}`: {hint}"))
+        .collect();
+    format!(" Values are SI: {}", list.join("; "))
 }
 
 /// The broken plausibility rules of `params` (empty when it is resolvable).
 pub fn check(params: &ModelParams) -> Vec<FieldError> {
     let mut errors = Vec::new();
+    check_clearance(params, &mut errors);
     let section_mass = |k: usize| params.sections[k].mass_per_length * params.sections[k].length;
     // masses: the lightest section against the heaviest mass of the model
     let mut masses: Vec<(String, f64)> = (0..params.sections.len())
@@ -108,5 +169,48 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
             );
         }
     }
+    // name the field most likely at fault first, and say that values are SI
+    let suspects = unit_suspects(params);
+    for e in &mut errors {
+        if e.field == "contact.clearance" {
+            continue;
+        }
+        let index = |f: &str| f.rsplit_once('[').map(|(_, i)| i.to_string());
+        if let Some((field, hint)) = suspects
+            .iter()
+            .find(|(f, _)| index(f).is_some_and(|i| e.field.contains(&format!("[{i}")) ))
+            .or(suspects.first())
+        {
+            e.field = format!("{field} (or {})", e.field);
+            e.rule = format!("{}. Values are SI: `{field}` = {hint}", e.rule.trim_end_matches('.'));
+        }
+    }
     errors
+}
+
+/// A clearance is small against the sections' lengths (a value in millimetres is not).
+fn check_clearance(params: &ModelParams, errors: &mut Vec<FieldError>) {
+    let clearance = params.contact.clearance;
+    let (shortest, k) = params
+        .sections
+        .iter()
+        .enumerate()
+        .map(|(k, s)| (s.length, k))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .expect("at least one section");
+    if params.sections.len() > 1 && clearance > MAX_CLEARANCE_FRACTION * shortest {
+        fail(
+            errors,
+            "contact.clearance".into(),
+            format!(
+                "{clearance} m is {:.1} % of section {}'s length {shortest} m; a clearance is a \
+                 small play, at most {:.0} % of the shortest section's length. Values are SI \
+                 (metres): {clearance} mm would be {:e} m",
+                100.0 * clearance / shortest,
+                k + 1,
+                100.0 * MAX_CLEARANCE_FRACTION,
+                clearance / 1000.0
+            ),
+        );
+    }
 }
