@@ -60,8 +60,11 @@ pub fn trajectory_bytes(scene: &Scene) -> u64 {
     let samples = crate::budget::sample_count(&scene.time) as u64;
     let p = &scene.params;
     let motion = matches!(p.drive, telescopic_runtime::Drive::Motion(_));
-    let columns =
-        telescopic_runtime::scene::limits::output_columns(p.sections.len(), p.contact_points, motion);
+    let columns = telescopic_runtime::scene::limits::output_columns(
+        p.sections.len(),
+        p.contact_points,
+        motion,
+    );
     samples.saturating_mul(columns * BYTES_PER_VALUE + BYTES_PER_ROW)
 }
 
@@ -70,7 +73,12 @@ pub fn trajectory_bytes(scene: &Scene) -> u64 {
 ///
 /// # Errors
 /// `error` of a message naming the need, the budget and the setting.
-pub fn check(bytes: u64, what: &str, setting: &str, error: impl FnOnce(String) -> Error) -> Result<()> {
+pub fn check(
+    bytes: u64,
+    what: &str,
+    setting: &str,
+    error: impl FnOnce(String) -> Error,
+) -> Result<()> {
     let budget = budget()?;
     if bytes <= budget {
         return Ok(());
@@ -103,7 +111,12 @@ pub fn check_runs(scenes: &[&Scene]) -> Result<()> {
     } else {
         format!("the {} runs' trajectories", scenes.len())
     };
-    check_scene(name, bytes, &what, "time.sample (a coarser output grid) or time.end")
+    check_scene(
+        name,
+        bytes,
+        &what,
+        "time.sample (a coarser output grid) or time.end",
+    )
 }
 
 /// A size for a message (`1.3 GiB`).

@@ -96,9 +96,8 @@ impl Destination {
         }
         let link = std::fs::symlink_metadata(path);
         let target = match &link {
-            Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).map_err(|e| {
-                format!("is a symbolic link whose target cannot be reached ({e})")
-            })?,
+            Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path)
+                .map_err(|e| format!("is a symbolic link whose target cannot be reached ({e})"))?,
             _ => path.to_owned(),
         };
         let Ok(meta) = std::fs::metadata(&target) else {

@@ -257,9 +257,18 @@ fn controller_files_are_checked_field_by_field() {
     };
     assert!(edited(&|_| {}).is_ok(), "the designed file itself fits");
     let cases: Vec<(&str, Box<dyn Fn(&mut serde_json::Value)>)> = vec![
-        ("`force_limit_n`", Box::new(|v| v["force_limit_n"] = (-5.0).into())),
-        ("`force_limit_n`", Box::new(|v| v["force_limit_n"] = 0.0.into())),
-        ("`total_mass_kg`", Box::new(|v| v["total_mass_kg"] = 0.0.into())),
+        (
+            "`force_limit_n`",
+            Box::new(|v| v["force_limit_n"] = (-5.0).into()),
+        ),
+        (
+            "`force_limit_n`",
+            Box::new(|v| v["force_limit_n"] = 0.0.into()),
+        ),
+        (
+            "`total_mass_kg`",
+            Box::new(|v| v["total_mass_kg"] = 0.0.into()),
+        ),
         (
             "`schedule[1].positions[0]`",
             Box::new(|v| v["schedule"][1]["positions"][0] = 5.0.into()),
@@ -282,7 +291,12 @@ fn controller_files_are_checked_field_by_field() {
         (
             "`schedule[0].K`",
             Box::new(|v| {
-                for (i, g) in v["schedule"][0]["K"][0].as_array_mut().unwrap().iter_mut().enumerate() {
+                for (i, g) in v["schedule"][0]["K"][0]
+                    .as_array_mut()
+                    .unwrap()
+                    .iter_mut()
+                    .enumerate()
+                {
                     *g = (if i % 2 == 0 { 1e308 } else { -1e308 }).into();
                 }
             }),

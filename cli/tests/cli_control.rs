@@ -184,7 +184,10 @@ fn malformed_controller_files_are_refused_before_the_run() {
             Box::new(|c| {
                 c["schedule"][0]["K"][0].as_array_mut().unwrap().pop();
             }),
-            &["--controller", "`schedule[0].K`: must be one row of 16 gains"],
+            &[
+                "--controller",
+                "`schedule[0].K`: must be one row of 16 gains",
+            ],
         ),
         (
             "filter",

@@ -396,3 +396,359 @@ fn a_closed_standard_output_is_an_error() {
         );
     }
 }
+
+// ---- reliability: output paths, inputs, sizes, memory, units ----
+
+use std::os::unix::fs::FileTypeExt;
+use std::path::Path;
+
+/// A scratch sweep over adams-clearance with two short runs, and its result and shard.
+fn small_sweep(dir: &Path) -> (String, String) {
+    let sweep = dir.join("s.toml");
+    std::fs::write(
+        &sweep,
+        format!(
+            "scene = {:?}\nset = [\"time.end=0.2\"]\n[grid]\n\"masses.load\" = [5.0, 10.0]\n",
+            format!("{}/scenes/adams-clearance.toml", common::ROOT)
+        ),
+    )
+    .unwrap();
+    let result = dir.join("r.csv");
+    common::succeeds(&[
+        "sweep",
+        sweep.to_str().unwrap(),
+        "--out",
+        result.to_str().unwrap(),
+    ]);
+    (
+        sweep.to_str().unwrap().to_string(),
+        result.to_str().unwrap().to_string(),
+    )
+}
+
+#[test]
+fn outputs_to_devices_are_streamed_and_never_replaced() {
+    let dir = common::scratch("out-devices");
+    let (sweep, result) = small_sweep(&dir);
+    let null_is_a_device = || {
+        std::fs::metadata("/dev/null")
+            .unwrap()
+            .file_type()
+            .is_char_device()
+    };
+    assert!(null_is_a_device());
+    for args in [
+        vec![
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--set",
+            "time.end=0.1",
+            "--out",
+            "/dev/null",
+        ],
+        vec![
+            "linearize",
+            "scenes/adams-linear.toml",
+            "--out",
+            "/dev/null",
+        ],
+        vec![
+            "design",
+            "scenes/adams-linear.toml",
+            "--no-table",
+            "--out",
+            "/dev/null",
+        ],
+        vec!["sweep", &sweep, "--out", "/dev/null"],
+        vec!["sweep-merge", &result, "--out", "/dev/null"],
+        vec![
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--methods",
+            "rk4",
+            "--csv",
+            "/dev/null",
+        ],
+    ] {
+        common::succeeds(&args);
+        assert!(null_is_a_device(), "{args:?} replaced /dev/null");
+    }
+    // a FIFO is written as a stream: the reader gets what a file would hold
+    let fifo = dir.join("fifo");
+    let c_path = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a valid NUL-terminated path and a mode.
+    assert_eq!(unsafe { libc::mkfifo(c_path.as_ptr(), 0o600) }, 0);
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let file = dir.join("direct.csv");
+    let sim = |out: &Path| {
+        common::succeeds(&[
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--set",
+            "time.end=0.1",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    sim(&fifo);
+    sim(&file);
+    assert_eq!(
+        reader.join().unwrap(),
+        std::fs::read_to_string(&file).unwrap()
+    );
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    // a symlink stays a link and its target is written
+    let target = dir.join("target.csv");
+    std::fs::write(&target, "old").unwrap();
+    let link = dir.join("link.csv");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    sim(&link);
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(
+        std::fs::read_to_string(&target).unwrap(),
+        std::fs::read_to_string(&file).unwrap()
+    );
+    // anything else is refused naming the flag
+    refused(
+        &[
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        &["--out", "is a directory"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused() {
+    let dir = common::scratch("out-input");
+    let (sweep, result) = small_sweep(&dir);
+    let scene = dir.join("scene.toml");
+    std::fs::copy(format!("{}/scenes/adams-linear.toml", common::ROOT), &scene).unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    // the same file spelled another way: through `..` and through a link
+    let spelled = format!(
+        "{}/../{}/scene.toml",
+        dir.display(),
+        dir.file_name().unwrap().to_str().unwrap()
+    );
+    let link = dir.join("link.toml");
+    std::os::unix::fs::symlink(&scene, &link).unwrap();
+    let controller = dir.join("c.json");
+    common::succeeds(&[
+        "design",
+        scene.to_str().unwrap(),
+        "--no-table",
+        "--out",
+        controller.to_str().unwrap(),
+    ]);
+    let c = controller.to_str().unwrap();
+    for args in [
+        vec!["simulate", scene.to_str().unwrap(), "--out", &spelled],
+        vec![
+            "simulate",
+            scene.to_str().unwrap(),
+            "--out",
+            link.to_str().unwrap(),
+        ],
+        vec!["linearize", scene.to_str().unwrap(), "--out", &spelled],
+        vec![
+            "design",
+            scene.to_str().unwrap(),
+            "--no-table",
+            "--out",
+            &spelled,
+        ],
+        vec![
+            "simulate",
+            scene.to_str().unwrap(),
+            "--controller",
+            c,
+            "--out",
+            c,
+        ],
+        vec!["sweep", &sweep, "--out", &sweep],
+        vec!["sweep-merge", &result, "--out", &result],
+    ] {
+        refused(&args, &["--out", "is the input", "would destroy the input"]);
+    }
+    assert_eq!(std::fs::read(&scene).unwrap(), before);
+    // the base scene a sweep reads
+    let base_sweep = dir.join("b.toml");
+    std::fs::write(
+        &base_sweep,
+        "scene = \"scene.toml\"\n[grid]\n\"masses.load\" = [5.0]\n",
+    )
+    .unwrap();
+    refused(
+        &[
+            "sweep",
+            base_sweep.to_str().unwrap(),
+            "--out",
+            scene.to_str().unwrap(),
+        ],
+        &["--out", "is the input"],
+    );
+    assert_eq!(std::fs::read(&scene).unwrap(), before);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn inputs_have_a_size_cap_checked_before_reading() {
+    let dir = common::scratch("input-caps");
+    let (_, _) = small_sweep(&dir);
+    for args in [
+        vec!["simulate", "/dev/zero"],
+        vec![
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--controller",
+            "/dev/zero",
+        ],
+        vec!["sweep", "/dev/zero", "--out", "/dev/null"],
+    ] {
+        refused(&args, &["/dev/zero", "more than the 16777216 bytes"]);
+    }
+    // result files are read line by line, a line at most 64 KiB
+    for args in [
+        vec!["sweep-merge", "/dev/zero", "--out", "/dev/null"],
+        vec![
+            "plot-sweep",
+            "/dev/zero",
+            "--x",
+            "a",
+            "--y",
+            "b",
+            "--out",
+            "/tmp/x.svg",
+        ],
+    ] {
+        refused(&args, &["/dev/zero", "line 1 is longer than 65536 bytes"]);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn memory_is_predicted_before_allocating() {
+    refused(
+        &[
+            "linearize",
+            "scenes/case-study.toml",
+            "--set",
+            "sections.modes=30",
+            "--grid",
+            "a2=0.35:1.15:10000",
+            "--out",
+            "/dev/null",
+        ],
+        &[
+            "--grid",
+            "GiB",
+            "more than the budget",
+            "TELESCOPIC_MEMORY_BUDGET",
+        ],
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+        .args([
+            "simulate",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "time.sample=5.1e-7",
+            "--out",
+            "/dev/null",
+        ])
+        .env("TELESCOPIC_MEMORY_BUDGET", "256M")
+        .current_dir(common::ROOT)
+        .output()
+        .unwrap();
+    common::failed_cleanly(
+        &["simulate"],
+        &out,
+        &["time.sample", "more than the budget of 256 MiB"],
+    );
+}
+
+#[test]
+fn values_in_the_wrong_unit_name_the_field_and_say_si() {
+    refused(
+        &[
+            "simulate",
+            "scenes/case-study.toml",
+            "--set",
+            "contact.clearance=10",
+            "--out",
+            "/dev/null",
+        ],
+        &[
+            "contact.clearance",
+            "a clearance is a small play",
+            "Values are SI",
+            "10 mm would be 1e-2 m",
+        ],
+    );
+    refused(
+        &[
+            "simulate",
+            "scenes/case-study.toml",
+            "--set",
+            "sections.length=1350",
+            "--out",
+            "/dev/null",
+        ],
+        &["`sections.length[0]", "Values are SI", "millimetres"],
+    );
+    refused(
+        &[
+            "simulate",
+            "scenes/case-study.toml",
+            "--set",
+            "sections.youngs_modulus=2.1e5",
+            "--out",
+            "/dev/null",
+        ],
+        &["buckle", "sections.youngs_modulus[0]", "MPa"],
+    );
+}
+
+#[test]
+fn design_settings_name_their_usable_range() {
+    for limit in ["1e300", "1e-300"] {
+        refused(
+            &[
+                "design",
+                "scenes/adams-linear.toml",
+                "--force-limit",
+                limit,
+                "--out",
+                "/dev/null",
+            ],
+            &["--force-limit", "1e-3 to 1e4 N"],
+        );
+    }
+}
+
+#[test]
+fn exit_codes_agree_with_the_docs() {
+    // a parser error: 2; any other error: 1 (130 after Ctrl-C: tests/sweep.rs)
+    let out = common::telescopic(&["simulate", "--no-such-flag"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = common::telescopic(&["simulate", "scenes/absent.toml"]);
+    assert_eq!(out.status.code(), Some(1));
+    let docs = std::fs::read_to_string(format!("{}/docs/cli.md", common::ROOT)).unwrap();
+    for code in ["`0`", "`1`", "`2`", "`130`"] {
+        assert!(
+            docs.contains(code),
+            "docs/cli.md does not state exit code {code}"
+        );
+    }
+}

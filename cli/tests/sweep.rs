@@ -761,3 +761,520 @@ fn the_example_sweep_files_are_valid() {
         ["contact.clearance", "telescope.positions.0.to"]
     );
 }
+
+// ---- reliability: every row of a shard, a merge and a resume is checked ----
+
+/// A small sweep made whole and as two shards, in `dir`: (whole, shard 0, shard 1).
+fn small_sweep_and_shards(dir: &Path) -> (PathBuf, PathBuf, PathBuf) {
+    let body = "set = [\"time.end=0.3\"]\n[grid]\n\"contact.clearance\" = [0.0, 0.004, 0.01]\n\"masses.load\" = [10.0, 30.0]\n";
+    let sweep = Sweep::load(&sweep_file(dir, "s.toml", "adams-clearance", body)).unwrap();
+    let whole = dir.join("whole.csv");
+    run_sweep(&sweep, &options(&whole, 2, Shard::whole()), &Silent).unwrap();
+    let parts: Vec<PathBuf> = (0..2)
+        .map(|i| {
+            let part = dir.join(format!("part{i}.csv"));
+            let shard = Shard { index: i, count: 2 };
+            run_sweep(&sweep, &options(&part, 1, shard), &Silent).unwrap();
+            part
+        })
+        .collect();
+    (whole, parts[0].clone(), parts[1].clone())
+}
+
+/// `sweep-merge` of `parts` into `dir/merged.csv` fails naming every needle, leaving no file.
+fn merge_refused(dir: &Path, parts: &[&Path], needles: &[&str]) {
+    let merged = dir.join("merged.csv");
+    let mut args = vec!["sweep-merge"];
+    args.extend(parts.iter().map(|p| p.to_str().unwrap()));
+    args.extend(["--out", merged.to_str().unwrap()]);
+    common::fails_with(&args, needles);
+    assert!(!merged.exists(), "{args:?} left a merged file");
+}
+
+#[test]
+fn merges_check_every_row_against_the_header() {
+    let dir = scratch("sweep-rows");
+    let (_, part0, part1) = small_sweep_and_shards(&dir);
+    let text = std::fs::read_to_string(&part0).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let bad = dir.join("bad.csv");
+    let with_row = |row: &str| {
+        // the rows above the closing line, one of them replaced: the checksum is rebuilt, so
+        // only the row check can refuse it
+        let mut table = read_table(&part0).unwrap();
+        table.rows[0].1 = row.to_string();
+        let mut bytes = Vec::new();
+        table.write(&mut bytes).unwrap();
+        std::fs::write(&bad, bytes).unwrap();
+    };
+    let row0 = lines[2];
+    let cells: Vec<&str> = row0.split(',').collect();
+    // truncated mid-row: 10 fields, `steps` = 16
+    with_row(&cells[..10].join(",").replace(cells[9], "16"));
+    merge_refused(
+        &dir,
+        &[&bad, &part1],
+        &["bad.csv", "line 3", "fields, the columns are"],
+    );
+    // an extra column
+    with_row(&format!("{row0},1"));
+    merge_refused(
+        &dir,
+        &[&bad, &part1],
+        &["line 3", "fields, the columns are"],
+    );
+    // NaN and inf metrics
+    for value in ["NaN", "inf"] {
+        let mut c = cells.clone();
+        c[3] = value;
+        with_row(&c.join(","));
+        merge_refused(&dir, &[&bad, &part1], &["line 3", "tip_rel_max", "finite"]);
+    }
+    // a row like 1,0.0,17.897,xxx
+    with_row("1,0.0,17.897,xxx");
+    merge_refused(&dir, &[&bad, &part1], &["line 3", "fields"]);
+    // an unknown status
+    let mut c = cells.clone();
+    let status = c.len() - 3;
+    c[status] = "great";
+    with_row(&c.join(","));
+    merge_refused(&dir, &[&bad, &part1], &["line 3", "status \"great\""]);
+    // a file cut anywhere (its closing line gone) or edited after writing
+    std::fs::write(&bad, &text[..text.len() - 30]).unwrap();
+    merge_refused(&dir, &[&bad, &part1], &["bad.csv", "truncated"]);
+    std::fs::write(&bad, text.replacen(cells[3], "0.5", 1)).unwrap();
+    merge_refused(&dir, &[&bad, &part1], &["bad.csv", "SHA-256"]);
+    // a huge run count in the header is bounded before anything is allocated for it
+    for runs in ["9000000000000", "300000000"] {
+        std::fs::write(&bad, text.replacen("runs 6;", &format!("runs {runs};"), 1)).unwrap();
+        merge_refused(
+            &dir,
+            &[&bad, &part1],
+            &["line 1", "run count must be 1 to 10000000"],
+        );
+    }
+    // a 2 MB bad line is quoted in at most a few hundred characters
+    with_row(&"x".repeat(2_000_000));
+    let merged = dir.join("merged.csv");
+    let out = telescopic(&[
+        "sweep-merge",
+        bad.to_str().unwrap(),
+        part1.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        out.stderr.len() < 1000,
+        "{} bytes of error",
+        out.stderr.len()
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("longer than 65536 bytes"));
+    // a bad line under that length is quoted in part too
+    with_row(&format!("{},{}", "y".repeat(60_000), row0));
+    let out = telescopic(&[
+        "sweep-merge",
+        bad.to_str().unwrap(),
+        part1.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        out.stderr.len() < 1000,
+        "{} bytes of error",
+        out.stderr.len()
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bytes in all"));
+    // shards of different splits are named as such, not as a shard given twice
+    let third = dir.join("third.csv");
+    let sweep = Sweep::load(&dir.join("s.toml")).unwrap();
+    run_sweep(
+        &sweep,
+        &options(&third, 1, Shard { index: 1, count: 3 }),
+        &Silent,
+    )
+    .unwrap();
+    let err = merge_shards(&[&part0, &third]).unwrap_err().to_string();
+    assert!(
+        err.contains("is shard 1 of 3") && err.contains("one split"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+    /// A shard cut or corrupted at any byte either merges into exactly the unsharded file or
+    /// is refused with a message; never a different result.
+    #[test]
+    fn a_corrupted_shard_merges_right_or_is_refused(
+        cut in proptest::prelude::any::<proptest::sample::Index>(),
+        at in proptest::prelude::any::<proptest::sample::Index>(),
+        byte in proptest::prelude::any::<u8>(),
+        truncate in proptest::prelude::any::<bool>(),
+    ) {
+        static FILES: std::sync::OnceLock<(PathBuf, Vec<u8>, PathBuf, PathBuf)> =
+            std::sync::OnceLock::new();
+        let (whole, part0, part1, dir) = {
+            let (dir, bytes, whole, part1) = FILES.get_or_init(|| {
+                let dir = scratch("sweep-proptest");
+                let (whole, part0, part1) = small_sweep_and_shards(&dir);
+                (dir.clone(), std::fs::read(&part0).unwrap(), whole, part1)
+            });
+            (whole.clone(), bytes.clone(), part1.clone(), dir.clone())
+        };
+        let mut bytes = part0;
+        if truncate {
+            bytes.truncate(cut.index(bytes.len()));
+        } else {
+            let i = at.index(bytes.len());
+            bytes[i] = byte;
+        }
+        let corrupted = dir.join(format!("corrupted-{}.csv", std::thread::current().name().unwrap_or("t").replace("::", "-")));
+        std::fs::write(&corrupted, &bytes).unwrap();
+        match merge_shards(&[&corrupted, &part1]) {
+            Ok(table) => {
+                let expected = read_table(&whole).unwrap();
+                let cells = |t: &telescopic::sweep::SweepTable| -> Vec<String> {
+                    t.rows.iter().map(|(_, l)| l.rsplit_once(',').unwrap().0.to_string()).collect()
+                };
+                proptest::prop_assert_eq!(cells(&table), cells(&expected));
+            }
+            Err(e) => proptest::prop_assert!(!e.to_string().is_empty()),
+        }
+    }
+}
+
+#[test]
+fn resumes_check_the_work_file_and_never_discard_it() {
+    let dir = scratch("sweep-resume-check");
+    let body = "set = [\"time.end=0.2\"]\n[grid]\n\"masses.load\" = [5.0, 10.0, 15.0, 20.0]\n";
+    let path = sweep_file(&dir, "s.toml", "adams-clearance", body);
+    let out = dir.join("r.csv");
+    let partial = dir.join("r.csv.partial");
+    let sweep = Sweep::load(&path).unwrap();
+    run_sweep(&sweep, &options(&out, 1, Shard::whole()), &Silent).unwrap();
+    let reference = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = reference.lines().collect();
+    let head = format!("{}\n{}\n", lines[0], lines[1]);
+    let sweep_args = |resume: bool| {
+        let mut args = vec![
+            "sweep",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if resume {
+            args.push("--resume");
+        }
+        args
+    };
+    std::fs::remove_file(&out).unwrap();
+    // a garbage row, a row twice, an index beyond the sweep's runs: refused, file kept
+    for (rows, needle) in [
+        (format!("{}\ngarbage,,\n", lines[2]), "line 4"),
+        (format!("{0}\n{0}\n", lines[2]), "run 0 is there twice"),
+        (
+            format!("{}\n", lines[2].replacen("0,", "50,", 1)),
+            "index 50 is not a run",
+        ),
+    ] {
+        std::fs::write(&partial, format!("{head}{rows}")).unwrap();
+        common::fails_with(&sweep_args(true), &["r.csv.partial", needle]);
+        assert_eq!(
+            std::fs::read_to_string(&partial).unwrap(),
+            format!("{head}{rows}")
+        );
+    }
+    // finished rows without --resume: said, not discarded
+    std::fs::write(&partial, format!("{head}{}\n", lines[2])).unwrap();
+    common::fails_with(&sweep_args(false), &["holds 1 finished run(s)", "--resume"]);
+    assert!(
+        std::fs::read_to_string(&partial)
+            .unwrap()
+            .contains(lines[2])
+    );
+    // and resumed, they give the uninterrupted file
+    succeeds(&sweep_args(true));
+    assert_eq!(without_wall(&out), {
+        std::fs::write(dir.join("ref.csv"), &reference).unwrap();
+        without_wall(&dir.join("ref.csv"))
+    });
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_second_sweep_on_the_same_output_refuses() {
+    let dir = scratch("sweep-lock");
+    let path = sweep_file(&dir, "s.toml", "adams-clearance", LONG);
+    let out = dir.join("r.csv");
+    let mut first = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+        .args([
+            "sweep",
+            path.to_str().unwrap(),
+            "--jobs",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let partial = dir.join("r.csv.partial");
+    let start = Instant::now();
+    while std::fs::read_to_string(&partial).map_or(0, |t| t.lines().count()) < 3 {
+        assert!(start.elapsed() < Duration::from_secs(60));
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    common::fails_with(
+        &[
+            "sweep",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["another sweep is writing", "locked"],
+    );
+    common::fails_with(
+        &[
+            "sweep",
+            path.to_str().unwrap(),
+            "--resume",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["another sweep is writing"],
+    );
+    // SAFETY: kill with a valid pid and signal number has no memory-safety preconditions.
+    unsafe { libc::kill(first.id() as i32, libc::SIGKILL) };
+    first.wait().unwrap();
+    // the first one's rows are whole and resumable
+    succeeds(&[
+        "sweep",
+        path.to_str().unwrap(),
+        "--resume",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(read_table(&out).unwrap().rows.len(), 60);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn jobs_are_bounded_and_signals_are_honoured_promptly() {
+    let dir = scratch("sweep-jobs");
+    let path = sweep_file(&dir, "s.toml", "adams-clearance", LONG);
+    let out = dir.join("r.csv");
+    for jobs in ["10000", "257", "18446744073709551615"] {
+        common::fails_with(
+            &[
+                "sweep",
+                path.to_str().unwrap(),
+                "--jobs",
+                jobs,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &["--jobs", "1 to 256"],
+        );
+    }
+    // the most jobs allowed: SIGTERM twice ends the sweep within a second of the second
+    for sig in [libc::SIGTERM, libc::SIGINT] {
+        let _ = std::fs::remove_file(dir.join("r.csv.partial"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+            .args([
+                "sweep",
+                path.to_str().unwrap(),
+                "--jobs",
+                "256",
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(300));
+        // SAFETY: kill with a valid pid and signal number has no memory-safety preconditions.
+        unsafe { libc::kill(child.id() as i32, sig) };
+        std::thread::sleep(Duration::from_millis(50));
+        let second = Instant::now();
+        // SAFETY: as above.
+        unsafe { libc::kill(child.id() as i32, sig) };
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status;
+            }
+            assert!(
+                second.elapsed() < Duration::from_secs(1),
+                "no exit within 1 s of the second signal"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        let output = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(status.code(), Some(130), "{err}");
+        // the double interrupt says where the finished rows are, or that there are none
+        assert!(
+            err.contains("kept in") || err.contains("no partial output file"),
+            "{err}"
+        );
+        if dir.join("r.csv.partial").exists() {
+            assert!(err.contains("r.csv.partial"), "{err}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn large_sweeps_validate_in_bounded_time_and_memory() {
+    let dir = scratch("sweep-large");
+    // 10^6 Latin samples: validated at the corners and an evenly spaced 10^4
+    let body = "[latin]\nsamples = 1000000\nseed = 3\nranges = { \"contact.clearance\" = [0.001, 0.01], \"masses.load\" = [5.0, 20.0] }\n";
+    let start = Instant::now();
+    let sweep = Sweep::load(&sweep_file(&dir, "l.toml", "adams-clearance", body)).unwrap();
+    assert_eq!(sweep.runs.len(), 1_000_000);
+    assert!(
+        start.elapsed() < Duration::from_secs(30),
+        "{:?}",
+        start.elapsed()
+    );
+    // a sample whose corner is invalid is named before any run
+    let body = "[latin]\nsamples = 1000000\nseed = 3\nranges = { \"contact.clearance\" = [0.001, 10.0], \"masses.load\" = [5.0, 20.0] }\n";
+    let err = Sweep::load(&sweep_file(&dir, "l2.toml", "adams-clearance", body))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("contact.clearance=10.0"), "{err}");
+    // beyond the memory budget: refused before the runs are made, naming what to change
+    let body = "[latin]\nsamples = 10000000\nseed = 3\nranges = { \"contact.clearance\" = [0.001, 0.01], \"masses.load\" = [5.0, 20.0], \"masses.vehicle\" = [5.0, 20.0], \"drive.force\" = [5.0, 20.0] }\n";
+    let path = sweep_file(&dir, "l3.toml", "adams-clearance", body);
+    let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+        .args([
+            "sweep",
+            path.to_str().unwrap(),
+            "--out",
+            dir.join("r.csv").to_str().unwrap(),
+        ])
+        .env("TELESCOPIC_MEMORY_BUDGET", "1G")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("[latin] samples") && err.contains("TELESCOPIC_MEMORY_BUDGET"),
+        "{err}"
+    );
+    // runs whose trajectories exceed the budget are recorded as unaffordable, naming time.sample
+    let body = "set = [\"time.sample=5.1e-7\"]\n[grid]\n\"masses.load\" = [5.0, 10.0]\n";
+    let path = sweep_file(&dir, "m.toml", "adams-clearance", body);
+    let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+        .args([
+            "sweep",
+            path.to_str().unwrap(),
+            "--jobs",
+            "2",
+            "--out",
+            dir.join("m.csv").to_str().unwrap(),
+        ])
+        .env("TELESCOPIC_MEMORY_BUDGET", "512M")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = read_table(&dir.join("m.csv")).unwrap();
+    assert_eq!(
+        table.column("status").unwrap(),
+        ["unaffordable", "unaffordable"]
+    );
+    assert!(table.column("error").unwrap()[0].contains("time.sample"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn settings_combine_across_keys() {
+    let dir = scratch("sweep-combine");
+    let out = dir.join("r.csv");
+    // a fixed-step method with its step, in [[runs]] and through `set`
+    for body in [
+        "set = [\"time.end=0.2\"]\n[[runs]]\nmethod = \"rk4\"\ndt = 5e-5\n[[runs]]\nmethod = \"dopri5\"\n",
+        "set = [\"time.end=0.2\", \"dt=5e-5\"]\n[grid]\nmethod = [\"rk4\", \"verlet\"]\n",
+    ] {
+        let path = sweep_file(&dir, "s.toml", "adams-clearance", body);
+        succeeds(&[
+            "sweep",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(
+            read_table(&out).unwrap().column("status").unwrap(),
+            ["ok", "ok"]
+        );
+    }
+    // rk4 without a step anywhere is refused naming the run
+    let path = sweep_file(
+        &dir,
+        "s.toml",
+        "adams-clearance",
+        "[[runs]]\nmethod = \"rk4\"\n",
+    );
+    common::fails_with(
+        &[
+            "sweep",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["run 0", "dt"],
+    );
+    // a key both in [grid] and [[runs]]
+    let path = sweep_file(
+        &dir,
+        "s.toml",
+        "adams-clearance",
+        "[grid]\n\"masses.load\" = [5.0]\n[[runs]]\n\"masses.load\" = 10.0\n",
+    );
+    common::fails_with(
+        &[
+            "sweep",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["`masses.load` is also a [grid] key"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn coloring_by_many_values_is_linear_and_bounded() {
+    // 200,000 rows with distinct colour values: grouped in one pass; a line chart refuses
+    // more than 64 lines, a heat map takes them
+    let columns = format!("index,k,c,{}", telescopic::sweep::METRIC_COLUMNS.join(","));
+    let n = 200_000;
+    let rows = (0..n)
+        .map(|i| (i, format!("{i},{i},{i},0.1,0.1,1,2,,,3,0,4,0,0,ok,,0.001")))
+        .collect();
+    let table = telescopic::sweep::SweepTable {
+        header: format!("# telescopic sweep 0.1.0; sweep 0; runs {n}; shard 0/1; file x"),
+        columns,
+        rows,
+    };
+    let start = Instant::now();
+    let err = telescopic::sweep::chart(&table, "k", "tip_rel_max", Some("c"), false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("200000 distinct values") && err.contains("at most 64"),
+        "{err}"
+    );
+    assert!(
+        start.elapsed() < Duration::from_secs(10),
+        "{:?}",
+        start.elapsed()
+    );
+}

@@ -39,7 +39,10 @@ pub fn read_text(path: &Path, cap: u64) -> std::io::Result<String> {
     String::from_utf8(bytes).map_err(|e| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
-            format!("not UTF-8 text (byte {} is invalid)", e.utf8_error().valid_up_to()),
+            format!(
+                "not UTF-8 text (byte {} is invalid)",
+                e.utf8_error().valid_up_to()
+            ),
         )
     })
 }

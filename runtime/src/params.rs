@@ -71,10 +71,7 @@ impl ModelParams {
     /// The valid range `[min, max]` (m) of the telescopic position `a_k`, `k = 2..n` (index 0
     /// is `a_2`): its overlap `l_{k-1} - a_k` stays in `[0, min(l_{k-1}, l_k)]`.
     pub fn position_range(&self, index: usize) -> (f64, f64) {
-        let (below, above) = (
-            self.sections[index].length,
-            self.sections[index + 1].length,
-        );
+        let (below, above) = (self.sections[index].length, self.sections[index + 1].length);
         (below - below.min(above), below)
     }
 

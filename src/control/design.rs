@@ -25,9 +25,7 @@ use std::fmt;
 use std::ops::AddAssign;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
-use telescopic_runtime::{
-    Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues,
-};
+use telescopic_runtime::{Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues};
 
 /// Which controller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -438,11 +436,36 @@ pub const SENSOR_NOISE_RANGE: (f64, f64) = (1e-12, 1e3);
 /// Checks the design settings' ranges.
 fn check_options(options: &DesignOptions) -> Result<()> {
     for (name, v, (low, high), unit) in [
-        ("DesignOptions::force_limit", options.force_limit, FORCE_LIMIT_RANGE, "N"),
-        ("DesignOptions::tip_scale", options.tip_scale, SCALE_RANGE, "m"),
-        ("DesignOptions::vehicle_scale", options.vehicle_scale, SCALE_RANGE, "m"),
-        ("DesignOptions::sensor_noise", options.sensor_noise, SENSOR_NOISE_RANGE, "m"),
-        ("DesignOptions::force_noise", options.force_noise, FORCE_LIMIT_RANGE, "N"),
+        (
+            "DesignOptions::force_limit",
+            options.force_limit,
+            FORCE_LIMIT_RANGE,
+            "N",
+        ),
+        (
+            "DesignOptions::tip_scale",
+            options.tip_scale,
+            SCALE_RANGE,
+            "m",
+        ),
+        (
+            "DesignOptions::vehicle_scale",
+            options.vehicle_scale,
+            SCALE_RANGE,
+            "m",
+        ),
+        (
+            "DesignOptions::sensor_noise",
+            options.sensor_noise,
+            SENSOR_NOISE_RANGE,
+            "m",
+        ),
+        (
+            "DesignOptions::force_noise",
+            options.force_noise,
+            FORCE_LIMIT_RANGE,
+            "N",
+        ),
     ] {
         if !(low..=high).contains(&v) {
             return Err(Error::option(

@@ -24,11 +24,13 @@ impl Controller {
     /// [`Error::Option`] naming the file and what is wrong.
     pub fn load(path: &Path) -> Result<Self> {
         let text = read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| {
-            Error::option("controller", format!("{}: cannot be read: {e}", path.display()))
+            Error::option(
+                "controller",
+                format!("{}: cannot be read: {e}", path.display()),
+            )
         })?;
-        Controller::from_json(&text).map_err(|e| {
-            Error::option("controller", format!("{}: {e}", path.display()))
-        })
+        Controller::from_json(&text)
+            .map_err(|e| Error::option("controller", format!("{}: {e}", path.display())))
     }
 
     /// Checks that the controller fits `scene`: the same configuration and states in the
@@ -62,7 +64,10 @@ impl Controller {
             ("total_mass_kg", self.total_mass_kg, (1e-6, 1e9), "kg"),
         ] {
             if !(low..=high).contains(&v) {
-                return Err(field(name, format!("must be {low:e} to {high:e} {unit} (got {v})")));
+                return Err(field(
+                    name,
+                    format!("must be {low:e} to {high:e} {unit} (got {v})"),
+                ));
             }
         }
         Ok(())
@@ -134,7 +139,10 @@ impl Controller {
                 if !(min..=max).contains(&a) {
                     return Err(field(
                         &at(&format!("positions[{i}]")),
-                        format!("a_{} = {a} m is outside the scene's range [{min}, {max}] m", i + 2),
+                        format!(
+                            "a_{} = {a} m is outside the scene's range [{min}, {max}] m",
+                            i + 2
+                        ),
                     ));
                 }
             }
@@ -169,10 +177,16 @@ impl Controller {
 /// finite and at most [`MAX_GAIN`] in size.
 fn check_gains(name: &str, point: &SchedulePoint, n: usize, lqr: bool) -> Result<()> {
     if lqr && (point.k.len() != 1 || point.k[0].len() != n) {
-        return Err(field(name, format!("must be one row of {n} gains (the state's size)")));
+        return Err(field(
+            name,
+            format!("must be one row of {n} gains (the state's size)"),
+        ));
     }
     let entries = point.k.iter().flatten();
-    if let Some(g) = entries.clone().find(|g| !g.is_finite() || g.abs() > MAX_GAIN) {
+    if let Some(g) = entries
+        .clone()
+        .find(|g| !g.is_finite() || g.abs() > MAX_GAIN)
+    {
         return Err(field(
             name,
             format!("holds {g}; every gain must be finite and at most {MAX_GAIN:e} in size"),

@@ -7,6 +7,7 @@ use crate::{Error, Result};
 use plotters::prelude::*;
 
 /// The chart of [`chart`].
+#[derive(Debug, Clone)]
 pub struct SweepChart {
     title: String,
     x: String,

@@ -4,10 +4,10 @@
 
 use crate::simulation::{MethodChoice, SimulationOptions, plan};
 use crate::{Error, Result};
-use rayon::prelude::*;
 use rand::Rng;
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
+use rayon::prelude::*;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
@@ -325,7 +325,12 @@ impl Sweep {
             // by text (a TOML value has no hash): linear in the runs
             let mut seen = std::collections::HashSet::new();
             let step = (self.runs.len() / VALIDATED_RUNS).max(1);
-            for value in self.runs.iter().step_by(step).filter_map(|r| r.values[k].as_ref()) {
+            for value in self
+                .runs
+                .iter()
+                .step_by(step)
+                .filter_map(|r| r.values[k].as_ref())
+            {
                 if seen.insert(value_text(value)) {
                     alone.push(single(k, value.clone()));
                 }
@@ -404,7 +409,9 @@ fn check_memory(path: &Path, spec: &SweepSpec) -> Result<()> {
         .unwrap_or(u64::MAX);
     let grid = if spec.grid.is_empty() { 0 } else { grid };
     let latin = spec.latin.as_ref().map_or(0, |l| l.samples as u64);
-    let runs = grid.saturating_add(spec.runs.len() as u64).saturating_add(latin);
+    let runs = grid
+        .saturating_add(spec.runs.len() as u64)
+        .saturating_add(latin);
     let keys = spec.grid.len()
         + spec.runs.iter().map(toml::Table::len).sum::<usize>()
         + spec.latin.as_ref().map_or(0, |l| l.ranges.len());
@@ -419,8 +426,8 @@ fn check_memory(path: &Path, spec: &SweepSpec) -> Result<()> {
 
 /// The sweep file's text and its parsed fields.
 fn read_spec(path: &Path) -> Result<(String, SweepSpec)> {
-    let text =
-        read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
+    let text = read_text(path, MAX_TEXT_INPUT_BYTES)
+        .map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
     let spec: SweepSpec = {
         let de = toml::Deserializer::parse(&text)
             .map_err(|e| invalid(path, format!("not valid TOML: {e}")))?;

@@ -18,7 +18,10 @@ pub fn merge_shards(paths: &[&Path]) -> Result<SweepTable> {
     let tables: Vec<SweepTable> = paths.iter().map(|p| read_table(p)).collect::<Result<_>>()?;
     let first = &tables[0];
     let runs = first.runs().ok_or_else(|| {
-        refuse(format!("{}: no valid run count in its header", paths[0].display()))
+        refuse(format!(
+            "{}: no valid run count in its header",
+            paths[0].display()
+        ))
     })?;
     let count_of = |t: &SweepTable| t.shard().map_or(0, |s| s.count);
     let mut seen_shards: Vec<(usize, usize)> = Vec::new();

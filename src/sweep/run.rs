@@ -212,6 +212,20 @@ fn partial_path(out: &Path) -> PathBuf {
 /// Most runs at once: threads beyond the cores only cost memory and start-up time.
 pub const MAX_JOBS: usize = 256;
 
+/// Checks a number of runs at once: 1 to [`MAX_JOBS`].
+///
+/// # Errors
+/// [`Error::Option`] naming `SweepOptions::jobs`.
+pub fn check_jobs(jobs: usize) -> Result<()> {
+    if !(1..=MAX_JOBS).contains(&jobs) {
+        return Err(Error::option(
+            "SweepOptions::jobs",
+            format!("must be 1 to {MAX_JOBS} (got {jobs})"),
+        ));
+    }
+    Ok(())
+}
+
 /// Where the finished rows go while the sweep runs.
 enum WorkFile {
     /// `<out>.partial`, locked against a second sweep, appended row by row.
@@ -251,7 +265,10 @@ fn open_work_file(
         if resume {
             return Err(Error::option(
                 "SweepOptions::resume",
-                format!("{} is a stream, which keeps no rows to resume", out.display()),
+                format!(
+                    "{} is a stream, which keeps no rows to resume",
+                    out.display()
+                ),
             ));
         }
         return Ok((WorkFile::Memory(first_lines.into_bytes()), Vec::new()));
@@ -398,12 +415,7 @@ pub fn run_sweep(
 ) -> Result<SweepOutcome> {
     use rayon::prelude::*;
     let started = Instant::now();
-    if !(1..=MAX_JOBS).contains(&options.jobs) {
-        return Err(Error::option(
-            "SweepOptions::jobs",
-            format!("must be 1 to {MAX_JOBS} (got {})", options.jobs),
-        ));
-    }
+    check_jobs(options.jobs)?;
     let header = header_line(sweep, options.shard);
     let columns = column_line(sweep);
     let mine: Vec<&Run> = sweep

@@ -14,7 +14,6 @@ use sha2::{Digest, Sha256};
 use std::collections::HashSet;
 use std::io::Write;
 use std::path::Path;
-use telescopic_runtime::input::read_text;
 
 /// Largest result or shard file read (bytes): 4 GiB, some 10^7 rows.
 pub const MAX_RESULT_BYTES: u64 = 4 << 30;
@@ -170,7 +169,10 @@ impl RowRules {
             rows: Vec::new(),
         };
         let runs = table.runs().ok_or_else(|| {
-            format!("line 1: the header's run count must be 1 to {MAX_RUNS}: {}", quoted(header))
+            format!(
+                "line 1: the header's run count must be 1 to {MAX_RUNS}: {}",
+                quoted(header)
+            )
         })?;
         let shard = table
             .shard()
@@ -203,7 +205,10 @@ impl RowRules {
         }
         let metrics = &cells[self.columns - METRIC_COLUMNS.len()..];
         let cell = |name: &str| {
-            let i = METRIC_COLUMNS.iter().position(|c| *c == name).expect("a metric");
+            let i = METRIC_COLUMNS
+                .iter()
+                .position(|c| *c == name)
+                .expect("a metric");
             metrics[i].as_str()
         };
         let status = cell("status");
@@ -222,7 +227,9 @@ impl RowRules {
             let fine = match (status == "ok", kind) {
                 (false, _) => v.is_empty(),
                 (true, Kind::Number) => v.parse::<f64>().is_ok_and(|x| x.is_finite() && x >= 0.0),
-                (true, Kind::Optional) => v.is_empty() || v.parse::<f64>().is_ok_and(f64::is_finite),
+                (true, Kind::Optional) => {
+                    v.is_empty() || v.parse::<f64>().is_ok_and(f64::is_finite)
+                }
                 (true, Kind::Count) => v.parse::<u64>().is_ok(),
             };
             if !fine {
@@ -274,23 +281,58 @@ enum Ending {
     Open,
 }
 
+/// Longest line of a result file (bytes): rows are a few hundred bytes; a longer line is
+/// not one of them (and is never read whole).
+pub const MAX_LINE_BYTES: u64 = 64 << 10;
+
+/// Reads the next line (with its line break, if any) of at most [`MAX_LINE_BYTES`]; `None`
+/// at the end of the file.
+fn next_line(
+    reader: &mut impl std::io::BufRead,
+    number: usize,
+) -> std::result::Result<Option<String>, String> {
+    use std::io::{BufRead, Read};
+    let mut bytes = Vec::new();
+    reader
+        .by_ref()
+        .take(MAX_LINE_BYTES + 1)
+        .read_until(b'\n', &mut bytes)
+        .map_err(|e| format!("cannot be read: {e}"))?;
+    if bytes.is_empty() {
+        return Ok(None);
+    }
+    if bytes.len() as u64 > MAX_LINE_BYTES {
+        let start = String::from_utf8_lossy(&bytes[..QUOTE_LIMIT]).into_owned();
+        return Err(format!(
+            "line {number} is longer than {MAX_LINE_BYTES} bytes, no row of a sweep: {start:?}..."
+        ));
+    }
+    String::from_utf8(bytes)
+        .map(Some)
+        .map_err(|_| format!("line {number} is not UTF-8 text"))
+}
+
 /// A file's rows, checked; for a work file also the length of its whole lines (a torn last
 /// line is beyond it).
-fn parse(path: &Path, text: &str, ending: Ending) -> Result<(SweepTable, usize)> {
+fn parse(
+    path: &Path,
+    reader: &mut impl std::io::BufRead,
+    ending: Ending,
+) -> Result<(SweepTable, usize)> {
     let bad = |why: String| Error::option("sweep results", format!("{}: {why}", path.display()));
-    let mut lines = text.split_inclusive('\n');
-    let header = lines.next().unwrap_or("").trim_end_matches('\n');
+    let header = next_line(reader, 1).map_err(bad)?.unwrap_or_default();
+    let header = header.trim_end_matches('\n');
     if !header.starts_with("# telescopic sweep ") {
         return Err(bad(format!(
             "line 1: not the result of `telescopic sweep` (no header line): {}",
             quoted(header)
         )));
     }
-    let columns = lines
-        .next()
+    let columns = next_line(reader, 2)
+        .map_err(bad)?
         .filter(|c| c.ends_with('\n'))
-        .ok_or_else(|| bad("no column line".into()))?
-        .trim_end_matches('\n');
+        .ok_or_else(|| bad("no column line".into()))?;
+    let columns = columns.trim_end_matches('\n');
     let rules = RowRules::new(header, columns).map_err(bad)?;
     let mut table = SweepTable {
         header: header.to_string(),
@@ -300,8 +342,14 @@ fn parse(path: &Path, text: &str, ending: Ending) -> Result<(SweepTable, usize)>
     let mut seen = HashSet::new();
     let mut whole = header.len() + columns.len() + 2;
     let mut closing = None;
-    for (n, raw) in lines.enumerate() {
-        let number = n + 3;
+    let mut number = 2;
+    while let Some(raw) = next_line(reader, number + 1).map_err(bad)? {
+        number += 1;
+        if closing.is_some() {
+            return Err(bad(format!(
+                "line {number}: a line after the closing `# end` line"
+            )));
+        }
         let Some(line) = raw.strip_suffix('\n') else {
             if ending == Ending::Open {
                 break; // torn by a kill: cut off by the caller
@@ -311,9 +359,8 @@ fn parse(path: &Path, text: &str, ending: Ending) -> Result<(SweepTable, usize)>
             )));
         };
         if line.starts_with("# end;") && ending == Ending::Closed {
-            closing = Some((number, line));
-            whole += raw.len();
-            break;
+            closing = Some((number, line.to_string()));
+            continue;
         }
         let index = rules
             .check(line)
@@ -325,7 +372,7 @@ fn parse(path: &Path, text: &str, ending: Ending) -> Result<(SweepTable, usize)>
         whole += raw.len();
     }
     if ending == Ending::Closed {
-        check_closing(&table, closing, whole < text.len()).map_err(bad)?;
+        check_closing(&table, closing).map_err(bad)?;
     }
     Ok((table, whole))
 }
@@ -333,8 +380,7 @@ fn parse(path: &Path, text: &str, ending: Ending) -> Result<(SweepTable, usize)>
 /// The `# end` line: present, last, and matching the rows above it.
 fn check_closing(
     table: &SweepTable,
-    closing: Option<(usize, &str)>,
-    more_after: bool,
+    closing: Option<(usize, String)>,
 ) -> std::result::Result<(), String> {
     let Some((number, line)) = closing else {
         return Err(
@@ -343,9 +389,6 @@ fn check_closing(
                 .into(),
         );
     };
-    if more_after {
-        return Err(format!("line {number}: the `# end` line is not the last"));
-    }
     if line != closing_line(&table.body(), table.rows.len()) {
         return Err(format!(
             "line {number}: the rows do not match the closing line's count and SHA-256: the \
@@ -355,18 +398,31 @@ fn check_closing(
     Ok(())
 }
 
+/// Opens a result file, refusing a regular file over [`MAX_RESULT_BYTES`] before reading.
+fn open(path: &Path) -> Result<std::io::BufReader<std::fs::File>> {
+    let bad = |why: String| Error::option("sweep results", format!("{}: {why}", path.display()));
+    let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot be read: {e}")))?;
+    let meta = file
+        .metadata()
+        .map_err(|e| bad(format!("cannot be read: {e}")))?;
+    if meta.is_dir() {
+        return Err(bad("is a directory, not a file".into()));
+    }
+    if meta.is_file() && meta.len() > MAX_RESULT_BYTES {
+        return Err(bad(format!(
+            "{} bytes, more than the {MAX_RESULT_BYTES} bytes a result file may have",
+            meta.len()
+        )));
+    }
+    Ok(std::io::BufReader::new(file))
+}
+
 /// Reads a complete result file (of a sweep, a shard or a merge), every row checked.
 ///
 /// # Errors
 /// [`Error::Option`] naming the file, the line and the rule.
 pub fn read_table(path: &Path) -> Result<SweepTable> {
-    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| {
-        Error::option(
-            "sweep results",
-            format!("{}: cannot be read: {e}", path.display()),
-        )
-    })?;
-    Ok(parse(path, &text, Ending::Closed)?.0)
+    Ok(parse(path, &mut open(path)?, Ending::Closed)?.0)
 }
 
 /// Reads a work file: its rows checked, and the byte length of its whole lines (a torn last
@@ -375,11 +431,5 @@ pub fn read_table(path: &Path) -> Result<SweepTable> {
 /// # Errors
 /// [`Error::Option`] naming the file, the line and the rule.
 pub(super) fn read_work_file(path: &Path) -> Result<(SweepTable, usize)> {
-    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| {
-        Error::option(
-            "sweep results",
-            format!("{}: cannot be read: {e}", path.display()),
-        )
-    })?;
-    parse(path, &text, Ending::Open)
+    parse(path, &mut open(path)?, Ending::Open)
 }

@@ -165,8 +165,7 @@ pub struct ShapeErrorsArgs {
 
 /// Runs `telescopic shape-errors`.
 pub fn shape_errors(args: &ShapeErrorsArgs) -> anyhow::Result<()> {
-    args.outputs
-        .check(args.outputs.csv.is_none(), &[])?;
+    args.outputs.check(args.outputs.csv.is_none(), &[])?;
     let result = run_shape_errors(&ShapeErrorsOptions {
         length: args.length,
         points: args.points,

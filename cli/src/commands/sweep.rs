@@ -48,6 +48,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
             .map_or(1, |n| n.get())
             .min(telescopic::sweep::MAX_JOBS)
     });
+    telescopic::sweep::check_jobs(jobs)?;
     let sweep = Sweep::load(&args.sweep)?;
     super::check_output("--out", Some(&args.out), &[&args.sweep, &sweep.scene_path])?;
     let mine = sweep.runs.iter().filter(|r| shard.owns(r.index)).count();

@@ -8,8 +8,8 @@ pub mod schema;
 mod validate;
 
 pub use overrides::apply_override;
-pub use validate::profile_errors;
 pub use schema::SceneFile;
+pub use validate::profile_errors;
 
 use crate::params::ModelParams;
 use std::fmt;
@@ -122,10 +122,13 @@ impl Scene {
     /// # Errors
     /// [`SceneError`] naming the field and the rule for every problem found.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
-        let text = crate::input::read_text(path, crate::input::MAX_TEXT_INPUT_BYTES).map_err(|error| SceneError::Io {
-            path: path.to_owned(),
-            error,
-        })?;
+        let text =
+            crate::input::read_text(path, crate::input::MAX_TEXT_INPUT_BYTES).map_err(|error| {
+                SceneError::Io {
+                    path: path.to_owned(),
+                    error,
+                }
+            })?;
         Self::from_toml_str(&text, path, overrides)
     }
 

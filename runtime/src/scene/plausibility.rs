@@ -57,7 +57,8 @@ pub fn unit_suspects(params: &ModelParams) -> Vec<(String, String)> {
                 ),
             ));
         }
-        let sag = s.mass_per_length * STANDARD_GRAVITY * s.length.powi(4) / (8.0 * s.bending_stiffness);
+        let sag =
+            s.mass_per_length * STANDARD_GRAVITY * s.length.powi(4) / (8.0 * s.bending_stiffness);
         if s.length <= MAX_SECTION_LENGTH && sag > SAG_FACTOR * s.length {
             suspects.push((
                 format!("sections.youngs_modulus[{k}]"),
@@ -178,11 +179,14 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
         let index = |f: &str| f.rsplit_once('[').map(|(_, i)| i.to_string());
         if let Some((field, hint)) = suspects
             .iter()
-            .find(|(f, _)| index(f).is_some_and(|i| e.field.contains(&format!("[{i}")) ))
+            .find(|(f, _)| index(f).is_some_and(|i| e.field.contains(&format!("[{i}"))))
             .or(suspects.first())
         {
             e.field = format!("{field} (or {})", e.field);
-            e.rule = format!("{}. Values are SI: `{field}` = {hint}", e.rule.trim_end_matches('.'));
+            e.rule = format!(
+                "{}. Values are SI: `{field}` = {hint}",
+                e.rule.trim_end_matches('.')
+            );
         }
     }
     errors
