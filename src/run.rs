@@ -19,6 +19,7 @@ use crate::models::ChosenModel;
 use crate::report::Reporter;
 use crate::simulation::{Plan, Simulation, SimulationOptions, Trajectory, plan};
 use crate::{Error, Result};
+use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
 use telescopic_runtime::{
     Method, Model, Scene, Settings, model::rest_state, simulate, specializations,
 };
@@ -135,12 +136,18 @@ fn integrate_from_rest(
     settings: &Settings,
     reporter: &dyn Reporter,
 ) -> Result<Trajectory> {
-    let names = model.output_names();
+    let mut names = model.output_names();
+    let own = names.len();
+    names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
+    let sensors = Sensors::new(model);
+    let dof = model.dof();
     let mut rows: Vec<Vec<f64>> = Vec::with_capacity(crate::budget::sample_count(&scene.time));
     let mut out = vec![0.0; names.len()];
     let mut bad_output: Option<(f64, String)> = None;
     let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
-        model.outputs(t, y, ydot, &mut out);
+        let (model_outputs, sensor_outputs) = out.split_at_mut(own);
+        model.outputs(t, y, ydot, model_outputs);
+        sensors.values(dof, y, ydot, sensor_outputs);
         if bad_output.is_none()
             && let Some(i) = out.iter().position(|v| !v.is_finite())
         {

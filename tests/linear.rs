@@ -138,8 +138,19 @@ fn the_state_order_is_the_documented_one() {
     assert_eq!(
         outputs,
         [
-            "vehicle", "tip_rel", "top1_rel", "xi_2_0", "xi_2_1", "xi_3_0", "xi_3_1", "f_2_0",
-            "f_2_1", "f_3_0", "f_3_1"
+            "vehicle",
+            "tip_rel",
+            "top1_rel",
+            "xi_2_0",
+            "xi_2_1",
+            "xi_3_0",
+            "xi_3_1",
+            "f_2_0",
+            "f_2_1",
+            "f_3_0",
+            "f_3_1",
+            "kappa_1_0",
+            "acc_load"
         ]
     );
     assert_eq!(export.inputs[0].name, "F");

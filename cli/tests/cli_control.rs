@@ -135,7 +135,10 @@ fn design_then_simulate_with_the_controller() {
         .next()
         .unwrap()
         .to_string();
-    assert!(header.ends_with(",drive_force"), "{header}");
+    assert!(
+        header.ends_with(",drive_force,kappa_1_0,acc_load"),
+        "{header}"
+    );
     // a controller for another configuration is refused before the run
     fails_with(
         &[

@@ -44,7 +44,7 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "t,vehicle,tip_rel,top1_rel,xi_2_0,xi_2_1,xi_2_2,f_2_0,f_2_1,f_2_2"
+        "t,vehicle,tip_rel,top1_rel,xi_2_0,xi_2_1,xi_2_2,f_2_0,f_2_1,f_2_2,kappa_1_0,acc_load"
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
@@ -52,7 +52,7 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
     // 0 .. 0.5 s every millisecond
     assert_eq!(rows.len(), 501);
     for (k, r) in rows.iter().enumerate() {
-        assert_eq!(r.len(), 10);
+        assert_eq!(r.len(), 12);
         assert!(
             (r[0] - k as f64 * 1e-3).abs() < 1e-12,
             "row {k} at t = {}",

@@ -663,7 +663,7 @@ fn memory_is_predicted_before_allocating() {
             "simulate",
             "scenes/adams-clearance.toml",
             "--set",
-            "time.sample=5.1e-7",
+            "time.sample=6.1e-7",
             "--out",
             "/dev/null",
         ])

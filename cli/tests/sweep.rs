@@ -1194,7 +1194,7 @@ fn large_sweeps_validate_in_bounded_time_and_memory() {
         "{err}"
     );
     // runs whose trajectories exceed the budget are recorded as unaffordable, naming time.sample
-    let body = "set = [\"time.sample=5.1e-7\"]\n[grid]\n\"masses.load\" = [5.0, 10.0]\n";
+    let body = "set = [\"time.sample=6.1e-7\"]\n[grid]\n\"masses.load\" = [5.0, 10.0]\n";
     let path = sweep_file(&dir, "m.toml", "adams-clearance", body);
     let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
         .args([

@@ -35,6 +35,7 @@ pub mod params;
 pub mod profile;
 pub mod quadrature;
 pub mod scene;
+pub mod sensors;
 pub mod shape;
 #[cfg(feature = "reference")]
 pub mod shape_reference;

@@ -30,6 +30,7 @@
 use crate::eigen::EigenError;
 use crate::model::Model;
 use crate::params::Drive;
+use crate::sensors::Sensors;
 use nalgebra::DMatrix;
 
 /// How the contacts enter a linear model.
@@ -129,6 +130,8 @@ pub struct Lpv<'m> {
     outputs: Vec<Signal>,
     /// Rows of `vehicle`, `tip_rel` and `top1_rel` over the coordinates.
     rigid_rows: DMatrix<f64>,
+    /// The rows of the sensor outputs (the last two).
+    sensors: Sensors,
 }
 
 impl<'m> Lpv<'m> {
@@ -252,6 +255,19 @@ impl<'m> Lpv<'m> {
                 ));
             }
         }
+        outputs.push(signal(
+            "kappa_1_0".into(),
+            "1/m",
+            "bending curvature of section 1 at its foot, w_1''(0,t) (a strain gauge reads it \
+             times half the section's height)"
+                .into(),
+        ));
+        outputs.push(signal(
+            "acc_load".into(),
+            "m/s^2",
+            "absolute horizontal acceleration of the load, d^2/dt^2 w_n(l_n,t)".into(),
+        ));
+        let sensors = Sensors::new(model);
         Ok(Lpv {
             model,
             contacts,
@@ -260,6 +276,7 @@ impl<'m> Lpv<'m> {
             states,
             inputs,
             outputs,
+            sensors,
             rigid_rows,
         })
     }
@@ -414,7 +431,16 @@ impl<'m> Lpv<'m> {
                 }
             }
         }
-        let d_mat = DMatrix::zeros(self.outputs.len(), 1);
+        let mut d_mat = DMatrix::zeros(self.outputs.len(), 1);
+        // the sensors: curvature from the coordinates, the load's acceleration from x'
+        let (kappa_row, acc_row) = (self.outputs.len() - 2, self.outputs.len() - 1);
+        for j in 0..n {
+            c[(kappa_row, j)] = self.sensors.kappa[j];
+        }
+        for col in 0..2 * n {
+            c[(acc_row, col)] = (0..n).map(|j| self.sensors.load[j] * a[(n + j, col)]).sum();
+        }
+        d_mat[(acc_row, 0)] = (0..n).map(|j| self.sensors.load[j] * b[(n + j, 0)]).sum();
         Ok(LinearModel {
             positions: positions.to_vec(),
             rates: rates.to_vec(),

@@ -15,9 +15,10 @@ pub const MAX_CONTACT_POINTS: usize = 32;
 pub const MAX_OUTPUT_VALUES: u64 = 100_000_000;
 
 /// Columns of a run's output, `t` included: `t`, `vehicle`, `tip_rel`, `top1_rel`, a gap and
-/// a force per contact point, and `drive_force` for a prescribed motion.
+/// a force per contact point, `drive_force` for a prescribed motion, and the two sensor
+/// outputs `kappa_1_0` and `acc_load`.
 pub fn output_columns(sections: usize, contact_points: usize, motion: bool) -> u64 {
-    4 + 2 * (sections.saturating_sub(1) as u64) * contact_points as u64 + u64::from(motion)
+    6 + 2 * (sections.saturating_sub(1) as u64) * contact_points as u64 + u64::from(motion)
 }
 
 /// Output samples of a span `[start, end]` every `sample` seconds, the start included (the
