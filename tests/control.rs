@@ -307,3 +307,97 @@ fn controller_files_are_checked_field_by_field() {
         assert!(err.contains(field), "{field}: {err}");
     }
 }
+
+// ---- the sampled output-feedback controller ----
+
+use telescopic::control::sampled::{kalman_gain, zero_order_hold};
+
+#[test]
+fn zero_order_hold_of_a_double_integrator_is_exact() {
+    // x'' = u: Ad = [1 T; 0 1], Bd = [T^2/2; T]
+    let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]);
+    let b = DMatrix::from_row_slice(2, 1, &[0.0, 1.0]);
+    let t = 1e-3;
+    let (ad, bd) = zero_order_hold(&a, &b, t);
+    let expected_a = DMatrix::from_row_slice(2, 2, &[1.0, t, 0.0, 1.0]);
+    let expected_b = DMatrix::from_row_slice(2, 1, &[0.5 * t * t, t]);
+    assert!((ad - expected_a).norm() < 1e-15);
+    assert!((bd - expected_b).norm() < 1e-18);
+}
+
+#[test]
+fn the_kalman_gain_solves_the_scalar_riccati_equation() {
+    // x+ = a x + w, y = x + v: P = a^2 P - a^2 P^2 / (P + r) + q, L = a P / (P + r)
+    let (a, q, r) = (0.9, 0.5, 2.0);
+    let l = kalman_gain(
+        &DMatrix::from_element(1, 1, a),
+        &DMatrix::from_element(1, 1, 1.0),
+        &DMatrix::from_element(1, 1, q),
+        &DMatrix::from_element(1, 1, r),
+    )
+    .unwrap()[(0, 0)];
+    // the positive root of P^2 + (r - a^2 r - q) P - q r = 0
+    let bq = r - a * a * r - q;
+    let p = (-bq + (bq * bq + 4.0 * q * r).sqrt()) / 2.0;
+    assert!(
+        (l - a * p / (p + r)).abs() < 1e-12,
+        "{l} vs {}",
+        a * p / (p + r)
+    );
+}
+
+#[test]
+fn sampled_output_feedback_from_vehicle_and_curvature() {
+    // without clearance the closed-contact filter models the plant: the sampled controller
+    // from two sensors (1 kHz, noise, delay, saturation) keeps most of the full-state figure
+    let plant = scene("case-study-no-clearance", &[]);
+    let options = DesignOptions {
+        sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+        ..DesignOptions::default()
+    };
+    let controller = design(&plant, &options).unwrap();
+    let sampled = controller.sampled.as_ref().unwrap();
+    assert_eq!(sampled.rate_hz, 1000.0);
+    assert_eq!(sampled.noise, [1e-4, 1e-5]);
+    // the file round-trips
+    assert_eq!(
+        Controller::from_json(&controller.to_json()).unwrap(),
+        controller
+    );
+    let run = compare_with_open_loop(&plant, &controller, &SimulationOptions::default(), &Silent)
+        .unwrap();
+    let reduction = run.without.residual_std / run.with.residual_std;
+    assert!(reduction > 4.0, "{reduction}x");
+    assert!(run.with.peak_force <= 300.0 + 1e-9);
+    let travel = run.with.final_vehicle / run.without.final_vehicle - 1.0;
+    assert!(travel.abs() < 0.01, "travel {travel}");
+    // the force is held between ticks: constant over each millisecond of the output
+    let t = &run.controlled.trajectory;
+    let force = t.column("drive_force").unwrap();
+    assert!(
+        force
+            .iter()
+            .all(|f| f.is_finite() && f.abs() <= 300.0 + 1e-9)
+    );
+    // sensors the scene lacks are refused, at design and in a file
+    let err = design(
+        &plant,
+        &DesignOptions {
+            sensors: vec!["strain_gauge".into()],
+            ..DesignOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("DesignOptions::sensors") && err.contains("strain_gauge"),
+        "{err}"
+    );
+    let mut edited = controller.clone();
+    edited.sampled.as_mut().unwrap().sensors[1] = "kappa_2_0".into();
+    let err = edited.check_fits(&plant).unwrap_err().to_string();
+    assert!(
+        err.contains("`sampled.sensors`") && err.contains("kappa_2_0"),
+        "{err}"
+    );
+}

@@ -11,7 +11,7 @@ use telescopic_runtime::{ContactState, ContactTable, Drive, Layout, Model, Model
 
 /// The rigid reference `u_ref(t)`, `u_ref'(t)`: piecewise quadratic between nodes, exact for
 /// a piecewise-constant force.
-struct Reference {
+pub(crate) struct Reference {
     times: Vec<f64>,
     /// `(u, v, a)` at each node; `a` holds until the next.
     states: Vec<(f64, f64, f64)>,
@@ -21,7 +21,7 @@ impl Reference {
     /// Integrates `u'' = f(t) / m` from rest at `start` to `end`, on nodes at the profile's
     /// breakpoints and at most `step` apart, with the acceleration at each interval's
     /// midpoint.
-    fn new(force: &Profile, mass: f64, start: f64, end: f64, step: f64) -> Self {
+    pub(crate) fn new(force: &Profile, mass: f64, start: f64, end: f64, step: f64) -> Self {
         let mut nodes: Vec<f64> = force
             .breakpoints()
             .into_iter()
@@ -49,7 +49,7 @@ impl Reference {
     }
 
     /// `(u_ref, u_ref')` at `t` (s); constant extrapolation of the motion outside.
-    fn at(&self, t: f64) -> (f64, f64) {
+    pub(crate) fn at(&self, t: f64) -> (f64, f64) {
         let i = self.times.partition_point(|&x| x <= t).saturating_sub(1);
         let (u, v, a) = self.states[i];
         let h = (t - self.times[i]).max(0.0);
@@ -68,9 +68,32 @@ pub struct ControlLaw {
     parameter: Option<usize>,
     positions: Vec<Profile>,
     limit: f64,
+    /// A sampled controller's force, held between its ticks (bits of an `f64`), replacing the
+    /// continuous law.
+    held: Option<std::sync::atomic::AtomicU64>,
 }
 
 impl ControlLaw {
+    /// The law of a sampled controller: the force set by [`ControlLaw::hold`], held.
+    pub(crate) fn held(
+        controller: &Controller,
+        params: &ModelParams,
+        start: f64,
+        end: f64,
+    ) -> Self {
+        ControlLaw {
+            held: Some(std::sync::atomic::AtomicU64::new(0f64.to_bits())),
+            ..ControlLaw::new(controller, params, start, end)
+        }
+    }
+
+    /// Sets the held force (N) of a sampled law.
+    pub(crate) fn hold(&self, force: f64) {
+        if let Some(h) = &self.held {
+            h.store(force.to_bits(), std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
     /// The law of `controller` on `params` over `[start, end]` s.
     pub(crate) fn new(controller: &Controller, params: &ModelParams, start: f64, end: f64) -> Self {
         let parameter = controller.scheduled_section();
@@ -93,6 +116,7 @@ impl ControlLaw {
             parameter,
             positions: params.positions.clone(),
             limit: controller.force_limit_n,
+            held: None,
         }
     }
 
@@ -103,6 +127,12 @@ impl ControlLaw {
 
     /// The total drive force (N) at `t`, state `y`, and whether it saturated.
     pub fn force(&self, t: f64, y: &[f64]) -> (f64, bool) {
+        if let Some(h) = &self.held {
+            return (
+                f64::from_bits(h.load(std::sync::atomic::Ordering::Relaxed)),
+                false,
+            );
+        }
         let mut f = self.feedforward.value(t);
         if !self.gains.is_empty() {
             let n = y.len() / 2;
@@ -131,7 +161,7 @@ impl ControlLaw {
 
     /// `dF/dy_m` at `t` (zero when saturated or without feedback), as a function of `m`.
     fn gradient(&self, t: f64, y: &[f64]) -> Option<impl Fn(usize) -> f64 + '_> {
-        if self.gains.is_empty() || self.force(t, y).1 {
+        if self.held.is_some() || self.gains.is_empty() || self.force(t, y).1 {
             return None;
         }
         let (i, j, w) = self.weights(t);
@@ -172,6 +202,21 @@ impl<'m> Controlled<'m> {
             params,
             drive_response: response.iter().copied().collect(),
         })
+    }
+
+    /// `base` driven by a sampled controller's held force ([`ControlLaw::hold`]).
+    ///
+    /// # Errors
+    /// As [`Controlled::new`].
+    pub fn sampled(
+        base: &'m dyn Model,
+        controller: &Controller,
+        start: f64,
+        end: f64,
+    ) -> Result<Self> {
+        let mut wrapped = Controlled::new(base, controller, start, end)?;
+        wrapped.law = ControlLaw::held(controller, base.params(), start, end);
+        Ok(wrapped)
     }
 
     /// The control law.

@@ -100,6 +100,14 @@ pub struct DesignOptions {
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
     pub models: ModelRegistry,
+    /// The measured outputs of an output-feedback controller, run sampled through a discrete
+    /// Kalman filter (empty: the continuous full-state controller).
+    pub sensors: Vec<String>,
+    /// Their measurement noise (standard deviation, each in its output's unit; empty: the
+    /// defaults of [`super::sampled::default_noise`]).
+    pub sensor_noises: Vec<f64>,
+    /// The sampled controller's rate (Hz, default 1000).
+    pub rate_hz: f64,
 }
 
 impl Default for DesignOptions {
@@ -116,6 +124,9 @@ impl Default for DesignOptions {
             force_noise: 30.0,
             model: ModelChoice::Auto,
             models: ModelRegistry::default(),
+            sensors: Vec::new(),
+            sensor_noises: Vec::new(),
+            rate_hz: super::sampled::DEFAULT_RATE_HZ,
         }
     }
 }
@@ -231,6 +242,10 @@ pub struct Controller {
     pub shaper: Option<ShaperKind>,
     /// The feedforward force: the drive profile, shaped or not.
     pub feedforward: Profile,
+    /// The sampled output-feedback part: sensors, rate and discrete Kalman filters (absent
+    /// for a continuous full-state controller).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sampled: Option<super::sampled::SampledDesign>,
 }
 
 /// The first elastic mode of `A`: frequency (Hz) and damping ratio, from the eigenvalue pair
@@ -404,7 +419,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     }
     let states: Vec<String> = lpv.states().iter().map(|s| s.name.clone()).collect();
     let feedforward = feedforward(scene, force, &schedule, parameter, options)?;
-    Ok(Controller {
+    let mut controller = Controller {
         format: "telescopic controller".into(),
         version: 1,
         generator: format!("telescopic {}", env!("CARGO_PKG_VERSION")),
@@ -420,7 +435,59 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         schedule,
         shaper: options.kind.has_shaper().then_some(options.shaper),
         feedforward,
-    })
+        sampled: None,
+    };
+    if !options.sensors.is_empty() {
+        controller.sampled = Some(sampled_part(&controller, model, options)?);
+    }
+    Ok(controller)
+}
+
+/// The sampled output-feedback part of a design with sensors.
+fn sampled_part(
+    controller: &Controller,
+    model: &dyn Model,
+    options: &DesignOptions,
+) -> Result<super::sampled::SampledDesign> {
+    if !options.kind.has_lqr() || options.kind.has_observer() {
+        return Err(Error::option(
+            "DesignOptions::sensors",
+            "an output-feedback controller is an LQR on a sampled Kalman filter: take \
+             --controller lqr or lqr+shaper with sensors",
+        ));
+    }
+    let noise: Vec<f64> = if options.sensor_noises.is_empty() {
+        options
+            .sensors
+            .iter()
+            .map(|s| super::sampled::default_noise(s))
+            .collect()
+    } else if options.sensor_noises.len() == options.sensors.len() {
+        options.sensor_noises.clone()
+    } else {
+        return Err(Error::option(
+            "DesignOptions::sensor_noises",
+            format!(
+                "gives {} noise level(s) for {} sensor(s)",
+                options.sensor_noises.len(),
+                options.sensors.len()
+            ),
+        ));
+    };
+    if let Some(bad) = noise.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        return Err(Error::option(
+            "DesignOptions::sensor_noises",
+            format!("must be finite numbers > 0 (got {bad})"),
+        ));
+    }
+    super::sampled::design_sampled(
+        controller,
+        model,
+        &options.sensors,
+        &noise,
+        options.force_noise,
+        options.rate_hz,
+    )
 }
 
 /// The usable range of the force limit (N): the Riccati equation's weight `1 / F^2` must

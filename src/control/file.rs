@@ -6,6 +6,7 @@ use crate::{Error, Result};
 use std::path::Path;
 use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
 use telescopic_runtime::linear::state_names;
+use telescopic_runtime::sensors::SENSOR_OUTPUTS;
 use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
 
 /// Largest gain entry a controller file may hold (N per SI unit of its state): far above any
@@ -48,6 +49,7 @@ impl Controller {
         self.check_values()?;
         self.check_model(params)?;
         self.check_schedule(params)?;
+        self.check_sampled(params)?;
         let errors = telescopic_runtime::scene::profile_errors("feedforward", &self.feedforward);
         if let Some(e) = errors.first() {
             return Err(field(&e.field, &e.rule));
@@ -167,6 +169,72 @@ impl Controller {
                     "schedule",
                     format!("the design points are not in ascending order of {name}"),
                 ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Controller {
+    /// The sampled part: sensors the scene has, positive noise and rate, one discrete point
+    /// per design point with matrices of the state's size.
+    fn check_sampled(&self, params: &ModelParams) -> Result<()> {
+        let Some(sampled) = &self.sampled else {
+            return Ok(());
+        };
+        let layout = telescopic_runtime::Layout::new(&params.modes(), params.contact_points);
+        let mut outputs = layout.output_names(matches!(params.drive, Drive::Motion(_)));
+        outputs.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
+        if let Some(s) = sampled.sensors.iter().find(|s| !outputs.contains(s)) {
+            return Err(field(
+                "sampled.sensors",
+                format!(
+                    "`{s}` is not an output of the scene; its outputs: {}",
+                    outputs.join(", ")
+                ),
+            ));
+        }
+        if sampled.sensors.is_empty() || sampled.noise.len() != sampled.sensors.len() {
+            return Err(field(
+                "sampled.noise",
+                "must give one noise level per sensor",
+            ));
+        }
+        if let Some(v) = sampled.noise.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+            return Err(field(
+                "sampled.noise",
+                format!("must be finite numbers > 0 (got {v})"),
+            ));
+        }
+        if !(sampled.rate_hz.is_finite() && (1.0..=1e6).contains(&sampled.rate_hz)) {
+            return Err(field(
+                "sampled.rate_hz",
+                format!("must be 1 to 1e6 Hz (got {})", sampled.rate_hz),
+            ));
+        }
+        let n = self.states.len();
+        let m = sampled.sensors.len();
+        if sampled.points.len() != self.schedule.len() {
+            return Err(field(
+                "sampled.points",
+                "must hold one point per design point",
+            ));
+        }
+        for (j, p) in sampled.points.iter().enumerate() {
+            for (name, rows, shape) in [
+                ("Ad", &p.ad, (n, n)),
+                ("Bd", &p.bd, (n, 1)),
+                ("C", &p.c, (m, n)),
+                ("L", &p.l, (n, m)),
+            ] {
+                crate::rows::from_rows(rows, Some(shape))
+                    .map_err(|e| field(&format!("sampled.points[{j}].{name}"), e))?;
+                if rows.iter().flatten().any(|v| !v.is_finite()) {
+                    return Err(field(
+                        &format!("sampled.points[{j}].{name}"),
+                        "must be finite",
+                    ));
+                }
             }
         }
         Ok(())

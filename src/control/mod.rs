@@ -18,6 +18,8 @@ pub mod controlled;
 pub mod design;
 pub mod file;
 pub mod riccati;
+pub mod sampled;
+pub mod sampled_run;
 pub mod shaper;
 
 pub use controlled::{ControlLaw, Controlled, Observed};
@@ -68,6 +70,10 @@ pub fn simulate_controlled(
     reporter: &dyn Reporter,
 ) -> Result<Simulation> {
     controller.check_fits(scene)?;
+    if controller.sampled.is_some() {
+        let run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
+        return Ok(sampled_run::simulate_sampled(run, controller, reporter)?.simulation);
+    }
     let mut run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
     let method = run.plan.method;
     run.plan.how = format!("controller {}; ", controller.kind);

@@ -134,6 +134,18 @@ pub struct DesignArgs {
     /// The controller file (JSON) to write.
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
+    /// Output feedback from these measured outputs (e.g. `vehicle,kappa_1_0` or
+    /// `vehicle,acc_load`), run sampled through a discrete Kalman filter (default: the
+    /// continuous full-state controller).
+    #[arg(long, value_name = "OUTPUT,...", value_delimiter = ',')]
+    pub sensors: Vec<String>,
+    /// Measurement noise of each sensor (standard deviation in its unit), as many as
+    /// --sensors (default: vehicle 1e-4 m, kappa_1_0 1e-5 1/m, acc_load 0.01 m/s^2).
+    #[arg(long, value_name = "SIGMA,...", value_delimiter = ',')]
+    pub measurement_noise: Vec<f64>,
+    /// The sampled controller's rate (Hz).
+    #[arg(long, default_value_t = DesignOptions::default().rate_hz, value_name = "HZ")]
+    pub rate: f64,
     /// Skip the table of variants (four simulations of the scene).
     #[arg(long)]
     pub no_table: bool,
@@ -157,6 +169,9 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         shaper: args.shaper,
         sensor_noise: args.sensor_noise,
         force_noise: args.force_noise,
+        sensors: args.sensors.clone(),
+        sensor_noises: args.measurement_noise.clone(),
+        rate_hz: args.rate,
         model: args.model,
         models: Default::default(),
     };

@@ -1,0 +1,362 @@
+//! The controller as a machine runs it: sampled at a fixed rate, from the outputs its sensors
+//! measure (with noise), through a discrete Kalman filter, with a zero-order hold on the force,
+//! one sample of computation delay and saturation at the force limit.
+//!
+//! At tick `k` (time `t_k = t_0 + k T`) the controller reads the measurements `y_k` and the
+//! scheduled position `a_k`, and computes the force applied from `t_{k+1}` on:
+//!
+//! ```text
+//! x_hat_{k+1} = Ad x_hat_k + Bd u_k + L (y_k - C x_hat_k)          (predictor form)
+//! u_{k+1}     = sat( F_ff(t_{k+1}) - K (x_hat_{k+1} - x_ref(t_{k+1})), +-F_max )
+//! ```
+//!
+//! `Ad`, `Bd` are the zero-order-hold discretization of the closed-contact linear model at
+//! each design point, `L` the steady Kalman gain of the filter's discrete Riccati equation
+//! (solved by the structured doubling algorithm), `K` the design point's LQR gain; all are
+//! interpolated linearly in the scheduled position between design points, as the continuous
+//! law's gains are.
+
+use super::design::Controller;
+use crate::rows::{from_rows, to_rows};
+use crate::{Error, Result};
+use serde::{Deserialize, Serialize};
+use telescopic_runtime::nalgebra::{DMatrix, DVector};
+use telescopic_runtime::{ContactMode, Lpv, Model};
+
+/// Default controller rate (Hz).
+pub const DEFAULT_RATE_HZ: f64 = 1000.0;
+
+/// Default measurement noise (standard deviation, in the output's unit) of a sensor.
+pub fn default_noise(sensor: &str) -> f64 {
+    match sensor {
+        "kappa_1_0" => 1e-5,           // 1/m: 1 microstrain on a 0.2 m section
+        "acc_load" => 0.01,            // m/s^2: an industrial accelerometer
+        "vehicle" | "tip_rel" => 1e-4, // m: an incremental encoder, a laser
+        _ => 1e-4,
+    }
+}
+
+/// The sampled output-feedback part of a controller file: what a machine needs to run it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SampledDesign {
+    /// Controller rate (Hz).
+    pub rate_hz: f64,
+    /// The measured outputs, in the order of `C`'s rows.
+    pub sensors: Vec<String>,
+    /// Their measurement noise (standard deviation, in each output's unit).
+    pub noise: Vec<f64>,
+    /// The force disturbance of the filter's model (N, standard deviation).
+    pub force_noise: f64,
+    /// Seed of the simulated measurement noise.
+    pub seed: u64,
+    /// One discrete filter per design point, in the schedule's order.
+    pub points: Vec<DiscretePoint>,
+}
+
+/// The discrete model and Kalman gain of one design point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DiscretePoint {
+    /// `Ad = exp(A T)`, rows.
+    #[serde(rename = "Ad")]
+    pub ad: Vec<Vec<f64>>,
+    /// `Bd = int_0^T exp(A s) ds B`, rows.
+    #[serde(rename = "Bd")]
+    pub bd: Vec<Vec<f64>>,
+    /// Measurement rows on the full state.
+    #[serde(rename = "C")]
+    pub c: Vec<Vec<f64>>,
+    /// Kalman gain (predictor form), rows (`states x sensors`).
+    #[serde(rename = "L")]
+    pub l: Vec<Vec<f64>>,
+}
+
+/// `(Ad, Bd)`: the zero-order-hold discretization of `(A, B)` with period `period` (s), from
+/// the exponential of the augmented matrix `[A B; 0 0] T`.
+pub fn zero_order_hold(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    period: f64,
+) -> (DMatrix<f64>, DMatrix<f64>) {
+    let (n, m) = (a.nrows(), b.ncols());
+    let mut aug = DMatrix::zeros(n + m, n + m);
+    aug.view_mut((0, 0), (n, n)).copy_from(&(a * period));
+    aug.view_mut((0, n), (n, m)).copy_from(&(b * period));
+    let e = aug.exp();
+    (
+        e.view((0, 0), (n, n)).into_owned(),
+        e.view((0, n), (n, m)).into_owned(),
+    )
+}
+
+/// The steady predictor-form Kalman gain `L = Ad P C' (C P C' + R)^-1` with `P` the
+/// stabilizing solution of the filter's discrete Riccati equation, by the structured doubling
+/// algorithm (quadratic convergence; hand-written: nalgebra has no discrete Riccati solver).
+///
+/// # Errors
+/// [`Error::Analysis`] when a step cannot be solved or it does not converge.
+pub fn kalman_gain(
+    ad: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    q: &DMatrix<f64>,
+    r: &DMatrix<f64>,
+) -> Result<DMatrix<f64>> {
+    let n = ad.nrows();
+    let fail = |why: &str| Error::Analysis(format!("discrete Kalman filter: {why}"));
+    let r_inv = r
+        .clone()
+        .try_inverse()
+        .ok_or_else(|| fail("R is singular"))?;
+    // the filter's equation is the control one of (Ad', C')
+    let mut a_k = ad.transpose();
+    let mut g = c.transpose() * &r_inv * c;
+    let mut h = q.clone();
+    let identity = DMatrix::<f64>::identity(n, n);
+    for _ in 0..100 {
+        let w = (&identity + &g * &h)
+            .lu()
+            .try_inverse()
+            .ok_or_else(|| fail("I + G H is singular"))?;
+        let a_next = &a_k * &w * &a_k;
+        let g_next = &g + &a_k * &w * &g * a_k.transpose();
+        let h_next = &h + a_k.transpose() * &h * &w * &a_k;
+        let change = (&h_next - &h).norm() / h_next.norm().max(f64::MIN_POSITIVE);
+        (a_k, g, h) = (a_next, g_next, h_next);
+        if change < 1e-13 {
+            let p = (&h + h.transpose()) * 0.5;
+            let s = c * &p * c.transpose() + r;
+            let s_inv = s
+                .try_inverse()
+                .ok_or_else(|| fail("C P C' + R is singular"))?;
+            return Ok(ad * &p * c.transpose() * s_inv);
+        }
+        if !change.is_finite() {
+            break;
+        }
+    }
+    Err(fail(
+        "the doubling iteration did not converge (is the model detectable from these sensors?)",
+    ))
+}
+
+/// Designs the sampled output-feedback part of `controller` on `model` (closed contacts at
+/// each design point): the discrete model, the measurement rows of `sensors` and the Kalman
+/// gain with measurement noise `noise` and a force disturbance `force_noise` (N).
+///
+/// # Errors
+/// [`Error::Option`] for unknown sensors or a bad rate; [`Error::Analysis`] for a filter that
+/// cannot be designed.
+pub fn design_sampled(
+    controller: &Controller,
+    model: &dyn Model,
+    sensors: &[String],
+    noise: &[f64],
+    force_noise: f64,
+    rate_hz: f64,
+) -> Result<SampledDesign> {
+    if !(rate_hz.is_finite() && (1.0..=1e6).contains(&rate_hz)) {
+        return Err(Error::option(
+            "SampledOptions::rate_hz",
+            format!("must be 1 to 1e6 Hz (got {rate_hz})"),
+        ));
+    }
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
+    let rows: Vec<usize> = sensors
+        .iter()
+        .map(|s| {
+            lpv.outputs()
+                .iter()
+                .position(|o| &o.name == s)
+                .ok_or_else(|| {
+                    let known: Vec<&str> = lpv.outputs().iter().map(|o| o.name.as_str()).collect();
+                    Error::option(
+                        "DesignOptions::sensors",
+                        format!(
+                            "`{s}` is not an output of the scene; its outputs: {}",
+                            known.join(", ")
+                        ),
+                    )
+                })
+        })
+        .collect::<Result<_>>()?;
+    let period = 1.0 / rate_hz;
+    let r = DMatrix::from_diagonal(&DVector::from_iterator(
+        noise.len(),
+        noise.iter().map(|s| s * s),
+    ));
+    let npos = model.params().positions.len();
+    let mut points = Vec::with_capacity(controller.schedule.len());
+    for point in &controller.schedule {
+        let linear = lpv
+            .at(&point.positions, &vec![0.0; npos])
+            .map_err(|e| Error::Model(e.to_string()))?;
+        let (ad, bd) = zero_order_hold(&linear.a, &linear.b, period);
+        let c = DMatrix::from_fn(rows.len(), linear.a.ncols(), |i, j| linear.c[(rows[i], j)]);
+        // a measured output that feeds through the input (acc_load) is measured before the
+        // new force acts: its D term is part of the one-sample delay
+        let q = &bd * bd.transpose() * (force_noise * force_noise)
+            + DMatrix::identity(ad.nrows(), ad.nrows()) * 1e-18;
+        let l = kalman_gain(&ad, &c, &q, &r)?;
+        points.push(DiscretePoint {
+            ad: to_rows(&ad),
+            bd: to_rows(&bd),
+            c: to_rows(&c),
+            l: to_rows(&l),
+        });
+    }
+    Ok(SampledDesign {
+        rate_hz,
+        sensors: sensors.to_vec(),
+        noise: noise.to_vec(),
+        force_noise,
+        seed: 1,
+        points,
+    })
+}
+
+/// A sampled controller, stepped by the caller at every tick: the in-library one
+/// ([`DiscreteController`]) or another implementation of the same law (the emitted C).
+pub trait SampledController {
+    /// One tick at `t` (s): the measurements `y` (in the order of the sensors) and the
+    /// scheduled position `a` (m); returns the force (N) to apply from the next tick on.
+    fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64;
+}
+
+/// The sampled law of a controller file, ready to step: allocation-free per tick.
+pub struct DiscreteController {
+    points: Vec<(
+        DMatrix<f64>,
+        DMatrix<f64>,
+        DMatrix<f64>,
+        DMatrix<f64>,
+        DVector<f64>,
+    )>,
+    positions: Vec<f64>,
+    reference: super::controlled::Reference,
+    feedforward: telescopic_runtime::Profile,
+    period: f64,
+    limit: f64,
+    x_hat: DVector<f64>,
+    scratch: DVector<f64>,
+    innovation: Vec<f64>,
+    u: f64,
+}
+
+impl DiscreteController {
+    /// The controller of `file` (which must have a sampled part and an LQR) over `[start,
+    /// end]` s.
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming what the file lacks.
+    pub fn new(file: &Controller, start: f64, end: f64) -> Result<Self> {
+        let sampled = file.sampled.as_ref().ok_or_else(|| {
+            Error::option("controller", "has no sampled part (design it with sensors)")
+        })?;
+        if !file.kind.has_lqr() || sampled.points.len() != file.schedule.len() {
+            return Err(Error::option(
+                "controller `sampled.points`",
+                "needs one discrete point per design point and an LQR gain",
+            ));
+        }
+        let k_index = file.scheduled_section();
+        let mut points = Vec::with_capacity(sampled.points.len());
+        for (p, s) in sampled.points.iter().zip(&file.schedule) {
+            let m = |rows: &[Vec<f64>], name: &str| {
+                from_rows(rows, None)
+                    .map_err(|e| Error::option(&format!("controller `sampled.{name}`"), e))
+            };
+            let k = DVector::from_column_slice(&s.k[0]);
+            points.push((
+                m(&p.ad, "Ad")?,
+                m(&p.bd, "Bd")?,
+                m(&p.c, "C")?,
+                m(&p.l, "L")?,
+                k,
+            ));
+        }
+        let n = points[0].0.nrows();
+        Ok(DiscreteController {
+            positions: file
+                .schedule
+                .iter()
+                .map(|p| k_index.map_or(0.0, |k| p.positions[k - 2]))
+                .collect(),
+            points,
+            reference: super::controlled::Reference::new(
+                &file.feedforward,
+                file.total_mass_kg,
+                start,
+                end,
+                1e-3,
+            ),
+            feedforward: file.feedforward.clone(),
+            period: 1.0 / sampled.rate_hz,
+            limit: file.force_limit_n,
+            x_hat: DVector::zeros(n),
+            scratch: DVector::zeros(n),
+            innovation: vec![0.0; sampled.sensors.len()],
+            u: 0.0,
+        })
+    }
+
+    /// The two design points around `a` and the weight of the second.
+    fn weights(&self, a: f64) -> (usize, usize, f64) {
+        let last = self.positions.len() - 1;
+        if last == 0 || a <= self.positions[0] {
+            return (0, 0, 0.0);
+        }
+        if a >= self.positions[last] {
+            return (last, last, 0.0);
+        }
+        let j = self.positions.partition_point(|&x| x <= a).clamp(1, last);
+        let (x0, x1) = (self.positions[j - 1], self.positions[j]);
+        (j - 1, j, (a - x0) / (x1 - x0))
+    }
+}
+
+impl SampledController for DiscreteController {
+    fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64 {
+        let (i, j, w) = self.weights(a);
+        let lerp = |x: f64, z: f64| x + w * (z - x);
+        let n = self.x_hat.len();
+        let (pi, pj) = (&self.points[i], &self.points[j]);
+        // the filter runs on the nearest design point's discrete model: the entries of
+        // exp(A T) of the contact modes (far above the Nyquist rate) vary too fast with the
+        // position to interpolate; the state is physical, so switching points keeps it
+        let near = if w < 0.5 { pi } else { pj };
+        let pick = |x: f64, _: f64| x;
+        // x_hat <- Ad x_hat + Bd u + L (y - C x_hat), each matrix interpolated entrywise
+        for (s, &ys) in y.iter().enumerate() {
+            let mut predicted = 0.0;
+            for c in 0..n {
+                predicted += pick(near.2[(s, c)], 0.0) * self.x_hat[c];
+            }
+            self.innovation[s] = ys - predicted;
+        }
+        for r in 0..n {
+            let mut v = 0.0;
+            for c in 0..n {
+                v += pick(near.0[(r, c)], 0.0) * self.x_hat[c];
+            }
+            v += pick(near.1[(r, 0)], 0.0) * self.u;
+            for (s, e) in self.innovation.iter().enumerate() {
+                v += pick(near.3[(r, s)], 0.0) * e;
+            }
+            self.scratch[r] = v;
+        }
+        std::mem::swap(&mut self.x_hat, &mut self.scratch);
+        let next = t + self.period;
+        let (u_ref, v_ref) = self.reference.at(next);
+        let mut feedback = 0.0;
+        for m in 0..n {
+            let e = match m {
+                0 => self.x_hat[0] - u_ref,
+                _ if m == n / 2 => self.x_hat[m] - v_ref,
+                _ => self.x_hat[m],
+            };
+            feedback += lerp(pi.4[m], pj.4[m]) * e;
+        }
+        let f = self.feedforward.value(next) - feedback;
+        self.u = f.clamp(-self.limit, self.limit);
+        self.u
+    }
+}

@@ -1,0 +1,180 @@
+//! A sampled controller in the loop with the full nonlinear model: the plant is integrated
+//! from tick to tick with the force held, the sensors are read at each tick with seeded
+//! Gaussian noise, and the controller's force acts from the next tick on.
+
+use super::controlled::Controlled;
+use super::design::Controller;
+use super::sampled::{DiscreteController, SampledController};
+use crate::report::Reporter;
+use crate::run::PreparedRun;
+use crate::simulation::{Simulation, Trajectory};
+use crate::{Error, Result};
+use rand::{Rng, SeedableRng};
+use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
+use telescopic_runtime::{Model, RunStats, Scene, TimeSpan, rest_state, simulate};
+
+/// A sampled run: the simulation and the force the controller commanded at every tick.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampledRun {
+    /// The controlled simulation (its `drive_force` column is the held force).
+    pub simulation: Simulation,
+    /// `(t_k, u_{k+1})`: each tick's time and the force it commanded (N).
+    pub forces: Vec<(f64, f64)>,
+}
+
+/// Standard normal samples (Box-Muller; hand-written: `rand_distr` for one function is not
+/// worth a dependency).
+fn gaussian(rng: &mut impl Rng) -> f64 {
+    let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
+    let u2: f64 = rng.random();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// Runs `run`'s scene with the sampled controller of `file`, stepped through `controller`
+/// (the in-library [`DiscreteController`] or another implementation of the same law).
+///
+/// # Errors
+/// [`Error::Option`] for a controller without a sampled part or an output grid that is not a
+/// multiple of the controller's period; the errors of a simulation.
+pub fn run_sampled(
+    run: PreparedRun<'_>,
+    file: &Controller,
+    controller: &mut dyn SampledController,
+    reporter: &dyn Reporter,
+) -> Result<SampledRun> {
+    let scene: &Scene = run.scene;
+    let sampled = file.sampled.as_ref().ok_or_else(|| {
+        Error::option("controller", "has no sampled part (design it with sensors)")
+    })?;
+    let period = 1.0 / sampled.rate_hz;
+    let span = scene.time;
+    let ratio = span.sample / period;
+    if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
+        return Err(Error::option(
+            "time.sample",
+            format!(
+                "{} s is not a multiple of the controller's period {period} s ({} Hz)",
+                span.sample, sampled.rate_hz
+            ),
+        ));
+    }
+    crate::memory::check_runs(&[scene])?;
+    let base = run.model();
+    let model = Controlled::sampled(base, file, span.start, span.end)?;
+    let sensors = Sensors::new(&model);
+    let mut names = model.output_names();
+    let own = names.len();
+    names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
+    let measured: Vec<usize> = sampled
+        .sensors
+        .iter()
+        .map(|s| {
+            names.iter().position(|n| n == s).ok_or_else(|| {
+                Error::option(
+                    "controller `sampled.sensors`",
+                    format!("`{s}` is not an output of the scene"),
+                )
+            })
+        })
+        .collect::<Result<_>>()?;
+    let scheduled = file.scheduled_section();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(sampled.seed);
+    let every = ratio.round() as usize;
+    let ticks = ((span.end - span.start) / period).round() as usize;
+    let (n, mut y) = (model.dof(), rest_state(&model, span.start));
+    let mut ydot = vec![0.0; 2 * n];
+    let mut out = vec![0.0; names.len()];
+    let mut measurement = vec![0.0; measured.len()];
+    let mut rows = Vec::with_capacity(ticks / every + 1);
+    let mut forces = Vec::with_capacity(ticks);
+    let mut stats = RunStats::default();
+    let (method, settings) = (run.plan.method, run.plan.settings.clone());
+    reporter.start(&format!(
+        "simulating {} with a sampled controller",
+        scene.name
+    ));
+    for k in 0..=ticks {
+        let t = span.start + k as f64 * period;
+        // the outputs and the measurements at the tick, with the force held now
+        model.rhs(t, &y, None, &mut ydot);
+        let (own_out, sensor_out) = out.split_at_mut(own);
+        model.outputs(t, &y, &ydot, own_out);
+        sensors.values(n, &y, &ydot, sensor_out);
+        if k % every == 0 {
+            let mut row = Vec::with_capacity(out.len() + 1);
+            row.push(t);
+            row.extend_from_slice(&out);
+            rows.push(row);
+        }
+        if k == ticks {
+            break;
+        }
+        for (m, &i) in measurement.iter_mut().zip(&measured) {
+            *m = out[i];
+        }
+        for (m, sigma) in measurement.iter_mut().zip(&sampled.noise) {
+            *m += sigma * gaussian(&mut rng);
+        }
+        let a = scheduled.map_or(0.0, |s| model.params().positions[s - 2].value(t));
+        let force = controller.step(t, &measurement, a);
+        forces.push((t, force));
+        // one sample of computation delay: the force acts from the next tick on
+        let tick = TimeSpan {
+            start: t,
+            end: t + period,
+            sample: period,
+        };
+        let mut last = y.clone();
+        let step_stats = simulate(
+            &model,
+            &y,
+            &tick,
+            method,
+            &settings,
+            &mut |_, s, _| last.copy_from_slice(s),
+            None,
+        )
+        .map_err(|error| Error::Simulation {
+            scene: scene.name.clone(),
+            error,
+        })?;
+        y.copy_from_slice(&last);
+        model.law().hold(force);
+        add(&mut stats, &step_stats);
+        reporter.progress((k + 1) as f64 / ticks as f64);
+    }
+    reporter.finish();
+    let mut plan = run.plan.clone();
+    plan.how = format!("sampled controller at {} Hz; ", sampled.rate_hz);
+    let simulation = run.into_simulation(Trajectory { names, rows, stats });
+    Ok(SampledRun {
+        simulation: Simulation { plan, ..simulation },
+        forces,
+    })
+}
+
+/// Adds a tick's counts to the run's.
+fn add(total: &mut RunStats, tick: &RunStats) {
+    total.steps += tick.steps;
+    total.rejected += tick.rejected;
+    total.rhs_evals += tick.rhs_evals;
+    total.jacobian_evals += tick.jacobian_evals;
+    total.factorizations += tick.factorizations;
+    total.switches += tick.switches;
+    total.exponentials += tick.exponentials;
+    total.wall += tick.wall;
+}
+
+/// Runs the in-library sampled controller of `file` on `run`'s scene.
+///
+/// # Errors
+/// As [`run_sampled`].
+pub fn simulate_sampled(
+    run: PreparedRun<'_>,
+    file: &Controller,
+    reporter: &dyn Reporter,
+) -> Result<SampledRun> {
+    let (start, end) = (run.scene.time.start, run.scene.time.end);
+    let mut controller = DiscreteController::new(file, start, end)?;
+    run_sampled(run, file, &mut controller, reporter)
+}
