@@ -27,8 +27,15 @@ impl Reference {
             .into_iter()
             .filter(|&b| b > start && b < end)
             .collect();
-        let count = ((end - start) / step).ceil() as usize;
+        // nodes every `step` (an infinite step: the breakpoints, the start and the end only,
+        // exact for a piecewise-constant force)
+        let count = if step.is_finite() {
+            ((end - start) / step).ceil() as usize
+        } else {
+            0
+        };
         nodes.extend((0..=count).map(|i| (start + i as f64 * step).min(end)));
+        nodes.push(end);
         nodes.sort_by(f64::total_cmp);
         nodes.dedup();
         let mut states = Vec::with_capacity(nodes.len());
@@ -46,6 +53,14 @@ impl Reference {
             times: nodes,
             states,
         }
+    }
+
+    /// The nodes: `(t, u, v, a)` each, `a` holding until the next node.
+    pub(crate) fn nodes(&self) -> impl Iterator<Item = (f64, f64, f64, f64)> + '_ {
+        self.times
+            .iter()
+            .zip(&self.states)
+            .map(|(&t, &(u, v, a))| (t, u, v, a))
     }
 
     /// `(u_ref, u_ref')` at `t` (s); constant extrapolation of the motion outside.

@@ -213,6 +213,18 @@ pub fn design_sampled(
     })
 }
 
+/// The rigid reference of a sampled controller: nodes at the feedforward's breakpoints only
+/// for a piecewise-constant force (exact, and a short table for emitted code), every 1 ms
+/// otherwise.
+pub(crate) fn reference(file: &Controller, start: f64, end: f64) -> super::controlled::Reference {
+    let step = if file.feedforward_steps().is_some() {
+        f64::INFINITY
+    } else {
+        1e-3
+    };
+    super::controlled::Reference::new(&file.feedforward, file.total_mass_kg, start, end, step)
+}
+
 /// A sampled controller, stepped by the caller at every tick: the in-library one
 /// ([`DiscreteController`]) or another implementation of the same law (the emitted C).
 pub trait SampledController {
@@ -281,13 +293,7 @@ impl DiscreteController {
                 .map(|p| k_index.map_or(0.0, |k| p.positions[k - 2]))
                 .collect(),
             points,
-            reference: super::controlled::Reference::new(
-                &file.feedforward,
-                file.total_mass_kg,
-                start,
-                end,
-                1e-3,
-            ),
+            reference: reference(file, start, end),
             feedforward: file.feedforward.clone(),
             period: 1.0 / sampled.rate_hz,
             limit: file.force_limit_n,

@@ -88,7 +88,19 @@ pub fn run_sampled(
     let mut rows = Vec::with_capacity(ticks / every + 1);
     let mut forces = Vec::with_capacity(ticks);
     let mut stats = RunStats::default();
-    let (method, settings) = (run.plan.method, run.plan.settings.clone());
+    // a controlled scene is neither linear nor time-invariant: no exact stepping
+    let method = run.plan.method;
+    if method == telescopic_runtime::Method::Exact {
+        return Err(Error::option(
+            "SimulationOptions::method",
+            "exact stepping needs a linear time-invariant scene; with a controller, take \
+             dopri5 or another integrator",
+        ));
+    }
+    let settings = telescopic_runtime::Settings {
+        exact_from: None,
+        ..run.plan.settings.clone()
+    };
     reporter.start(&format!(
         "simulating {} with a sampled controller",
         scene.name

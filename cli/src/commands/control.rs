@@ -143,6 +143,10 @@ pub struct DesignArgs {
     /// --sensors (default: vehicle 1e-4 m, kappa_1_0 1e-5 1/m, acc_load 0.01 m/s^2).
     #[arg(long, value_name = "SIGMA,...", value_delimiter = ',')]
     pub measurement_noise: Vec<f64>,
+    /// Also write the sampled controller as C99 into this directory
+    /// (telescopic_controller.h and .c); needs --sensors.
+    #[arg(long, value_name = "DIR", requires = "sensors")]
+    pub emit_c: Option<PathBuf>,
     /// The sampled controller's rate (Hz).
     #[arg(long, default_value_t = DesignOptions::default().rate_hz, value_name = "HZ")]
     pub rate: f64,
@@ -175,7 +179,21 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         model: args.model,
         models: Default::default(),
     };
+    if let Some(dir) = &args.emit_c
+        && !dir.is_dir()
+    {
+        anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
+    }
     let controller = telescopic::control::design(&scene, &options)?;
+    if let Some(dir) = &args.emit_c {
+        telescopic::control::emit_c::write_c(&controller, scene.time.start, scene.time.end, dir)?;
+        eprintln!(
+            "wrote {} and {} in {}",
+            telescopic::control::emit_c::C_FILES[0],
+            telescopic::control::emit_c::C_FILES[1],
+            dir.display()
+        );
+    }
     write_to(Some(&args.out), |w| {
         w.write_all(controller.to_json().as_bytes())
     })?;
