@@ -29,13 +29,11 @@ impl Reference {
             .collect();
         // nodes every `step` (an infinite step: the breakpoints, the start and the end only,
         // exact for a piecewise-constant force)
-        let count = if step.is_finite() {
-            ((end - start) / step).ceil() as usize
-        } else {
-            0
-        };
-        nodes.extend((0..=count).map(|i| (start + i as f64 * step).min(end)));
-        nodes.push(end);
+        if step.is_finite() {
+            let count = ((end - start) / step).ceil() as usize;
+            nodes.extend((0..=count).map(|i| (start + i as f64 * step).min(end)));
+        }
+        nodes.extend([start, end]);
         nodes.sort_by(f64::total_cmp);
         nodes.dedup();
         let mut states = Vec::with_capacity(nodes.len());

@@ -204,24 +204,41 @@ pub fn compare_variants(
         travel_ratio: 1.0,
         wall: open.trajectory.stats.wall.as_secs_f64(),
     }];
-    for kind in [
+    // the continuous variants (full state, or the Kalman filter on vehicle and tip_rel), then
+    // with sensors the sampled output-feedback ones
+    let continuous = [
         ControllerKind::Shaper,
         ControllerKind::Lqr,
         ControllerKind::LqrShaper,
         ControllerKind::LqrShaperKalman,
-    ] {
-        reporter.note(&format!("{}: {kind}", scene.name));
+    ]
+    .map(|kind| (kind, Vec::new()));
+    let sampled = [ControllerKind::Lqr, ControllerKind::LqrShaper]
+        .map(|kind| (kind, options.sensors.clone()));
+    let with_sensors = if options.sensors.is_empty() {
+        &[][..]
+    } else {
+        &sampled[..]
+    };
+    for (kind, sensors) in continuous.iter().chain(with_sensors).cloned() {
+        let variant = if sensors.is_empty() {
+            kind.to_string()
+        } else {
+            format!("{kind} from {}", sensors.join("+"))
+        };
+        reporter.note(&format!("{}: {variant}", scene.name));
         let controller = design(
             scene,
             &DesignOptions {
                 kind,
+                sensors,
                 ..options.clone()
             },
         )?;
         let run = simulate_controlled(scene, &controller, &sim, reporter)?;
         let m = metrics(scene, &run.trajectory, window);
         rows.push(VariantRow {
-            variant: kind.to_string(),
+            variant,
             metrics: m,
             reduction: base.residual_std / m.residual_std,
             travel_ratio: m.final_vehicle / base.final_vehicle,
@@ -233,8 +250,14 @@ pub fn compare_variants(
 
 /// The variants as a text table.
 pub fn variants_table(rows: &[VariantRow]) -> String {
+    let width = rows
+        .iter()
+        .map(|r| r.variant.len())
+        .max()
+        .unwrap_or(0)
+        .max(18);
     let mut s = format!(
-        "{:<18} {:>17} {:>10} {:>15} {:>18} {:>10} {:>8}\n",
+        "{:<width$} {:>17} {:>10} {:>15} {:>18} {:>10} {:>8}\n",
         "variant",
         "residual std [m]",
         "reduction",
@@ -245,7 +268,7 @@ pub fn variants_table(rows: &[VariantRow]) -> String {
     );
     for r in rows {
         s += &format!(
-            "{:<18} {:>17.5} {:>9.1}x {:>15.1} {:>18.4} {:>9.4}% {:>8.2}\n",
+            "{:<width$} {:>17.5} {:>9.1}x {:>15.1} {:>18.4} {:>9.4}% {:>8.2}\n",
             r.variant,
             r.metrics.residual_std,
             r.reduction,
