@@ -488,3 +488,39 @@ fn the_emitted_c_controller_matches_the_library_in_the_loop() {
     assert!(worst <= 1e-9, "{worst:e} N");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_extended_filter_matches_the_full_state_law_without_clearance() {
+    // the extended Kalman filter runs the nonlinear model itself: from the encoder and the
+    // strain gauge it recovers what the full-state continuous law does on this plant
+    let plant = scene("case-study-no-clearance", &[]);
+    let sensors = vec!["vehicle".to_string(), "kappa_1_0".to_string()];
+    let extended = design(
+        &plant,
+        &DesignOptions {
+            sensors,
+            estimator: "extended".into(),
+            ..DesignOptions::default()
+        },
+    )
+    .unwrap();
+    let full_state = design(&plant, &DesignOptions::default()).unwrap();
+    let sim = SimulationOptions::default();
+    let with_filter = compare_with_open_loop(&plant, &extended, &sim, &Silent).unwrap();
+    let with_state = compare_with_open_loop(&plant, &full_state, &sim, &Silent).unwrap();
+    let (a, b) = (with_filter.with.residual_std, with_state.with.residual_std);
+    assert!((a - b).abs() <= 0.1 * b, "filter {a} m, full state {b} m");
+    assert!(with_filter.with.peak_force <= 300.0 + 1e-9);
+    // an estimator that does not exist is refused naming the option
+    let err = design(
+        &plant,
+        &DesignOptions {
+            sensors: vec!["vehicle".into()],
+            estimator: "particle".into(),
+            ..DesignOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("DesignOptions::estimator"), "{err}");
+}

@@ -39,6 +39,7 @@ const FLAGS: &[(&str, &str)] = &[
     ("DesignOptions::vehicle_scale", "--vehicle-scale"),
     ("DesignOptions::sensor_noises", "--measurement-noise"),
     ("DesignOptions::sensors", "--sensors"),
+    ("DesignOptions::estimator", "--estimator"),
     ("SampledOptions::rate_hz", "--rate"),
     ("DesignOptions::sensor_noise", "--sensor-noise"),
     ("DesignOptions::force_noise", "--force-noise"),

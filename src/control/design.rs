@@ -108,6 +108,8 @@ pub struct DesignOptions {
     pub sensor_noises: Vec<f64>,
     /// The sampled controller's rate (Hz, default 1000).
     pub rate_hz: f64,
+    /// The sampled controller's estimator: `linear` (default) or `extended`.
+    pub estimator: String,
 }
 
 impl Default for DesignOptions {
@@ -127,6 +129,7 @@ impl Default for DesignOptions {
             sensors: Vec::new(),
             sensor_noises: Vec::new(),
             rate_hz: super::sampled::DEFAULT_RATE_HZ,
+            estimator: "linear".into(),
         }
     }
 }
@@ -480,14 +483,26 @@ fn sampled_part(
             format!("must be finite numbers > 0 (got {bad})"),
         ));
     }
-    super::sampled::design_sampled(
+    if !super::sampled::ESTIMATORS.contains(&options.estimator.as_str()) {
+        return Err(Error::option(
+            "DesignOptions::estimator",
+            format!(
+                "`{}` is none of {}",
+                options.estimator,
+                super::sampled::ESTIMATORS.join(", ")
+            ),
+        ));
+    }
+    let mut sampled = super::sampled::design_sampled(
         controller,
         model,
         &options.sensors,
         &noise,
         options.force_noise,
         options.rate_hz,
-    )
+    )?;
+    sampled.estimator = options.estimator.clone();
+    Ok(sampled)
 }
 
 /// The usable range of the force limit (N): the Riccati equation's weight `1 / F^2` must

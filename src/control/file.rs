@@ -212,6 +212,16 @@ impl Controller {
                 format!("must be 1 to 1e6 Hz (got {})", sampled.rate_hz),
             ));
         }
+        if !super::sampled::ESTIMATORS.contains(&sampled.estimator.as_str()) {
+            return Err(field(
+                "sampled.estimator",
+                format!(
+                    "`{}` is none of {}",
+                    sampled.estimator,
+                    super::sampled::ESTIMATORS.join(", ")
+                ),
+            ));
+        }
         let n = self.states.len();
         let m = sampled.sensors.len();
         if sampled.points.len() != self.schedule.len() {

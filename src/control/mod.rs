@@ -16,6 +16,7 @@
 
 pub mod controlled;
 pub mod design;
+pub mod ekf;
 pub mod emit_c;
 pub mod file;
 pub mod riccati;

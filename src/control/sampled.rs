@@ -49,6 +49,11 @@ pub struct SampledDesign {
     pub force_noise: f64,
     /// Seed of the simulated measurement noise.
     pub seed: u64,
+    /// The estimator: `linear` (the discrete Kalman filter of the closed-contact model, what
+    /// the emitted C runs) or `extended` (the extended filter on the nonlinear model with the
+    /// contact law, [`super::ekf::ExtendedKalman`]).
+    #[serde(default = "linear")]
+    pub estimator: String,
     /// One discrete filter per design point, in the schedule's order.
     pub points: Vec<DiscretePoint>,
 }
@@ -69,6 +74,14 @@ pub struct DiscretePoint {
     #[serde(rename = "L")]
     pub l: Vec<Vec<f64>>,
 }
+
+/// The default estimator's name.
+fn linear() -> String {
+    "linear".into()
+}
+
+/// The estimators a sampled controller may run.
+pub const ESTIMATORS: [&str; 2] = ["linear", "extended"];
 
 /// `(Ad, Bd)`: the zero-order-hold discretization of `(A, B)` with period `period` (s), from
 /// the exponential of the augmented matrix `[A B; 0 0] T`.
@@ -209,6 +222,7 @@ pub fn design_sampled(
         noise: noise.to_vec(),
         force_noise,
         seed: 1,
+        estimator: linear(),
         points,
     })
 }
@@ -322,7 +336,6 @@ impl DiscreteController {
 impl SampledController for DiscreteController {
     fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64 {
         let (i, j, w) = self.weights(a);
-        let lerp = |x: f64, z: f64| x + w * (z - x);
         let n = self.x_hat.len();
         let (pi, pj) = (&self.points[i], &self.points[j]);
         // the filter runs on the nearest design point's discrete model: the entries of
@@ -350,6 +363,18 @@ impl SampledController for DiscreteController {
             self.scratch[r] = v;
         }
         std::mem::swap(&mut self.x_hat, &mut self.scratch);
+        self.u = self.law(t, a);
+        self.u
+    }
+}
+
+impl DiscreteController {
+    /// The saturated LQR force for the next tick after `t` on the estimate `x_hat`.
+    fn law(&self, t: f64, a: f64) -> f64 {
+        let (i, j, w) = self.weights(a);
+        let lerp = |x: f64, z: f64| x + w * (z - x);
+        let (pi, pj) = (&self.points[i], &self.points[j]);
+        let n = self.x_hat.len();
         let next = t + self.period;
         let (u_ref, v_ref) = self.reference.at(next);
         let mut feedback = 0.0;
@@ -362,7 +387,13 @@ impl SampledController for DiscreteController {
             feedback += lerp(pi.4[m], pj.4[m]) * e;
         }
         let f = self.feedforward.value(next) - feedback;
-        self.u = f.clamp(-self.limit, self.limit);
-        self.u
+        f.clamp(-self.limit, self.limit)
+    }
+
+    /// The law of [`DiscreteController::step`] on another estimator's state `x` (the
+    /// extended filter's), for the next tick after `t` at scheduled position `a`.
+    pub fn force_at(&mut self, t: f64, x: &[f64], a: f64) -> f64 {
+        self.x_hat.copy_from_slice(x);
+        self.law(t, a)
     }
 }

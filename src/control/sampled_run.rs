@@ -187,6 +187,18 @@ pub fn simulate_sampled(
     reporter: &dyn Reporter,
 ) -> Result<SampledRun> {
     let (start, end) = (run.scene.time.start, run.scene.time.end);
+    let extended = file
+        .sampled
+        .as_ref()
+        .is_some_and(|s| s.estimator == "extended");
+    if extended {
+        // the filter's own instance of the scene's model
+        let own = crate::models::ModelRegistry::default()
+            .build(&run.scene.params, crate::models::ModelChoice::Auto)?
+            .model;
+        let mut controller = super::ekf::ExtendedKalman::new(file, own, start, end)?;
+        return run_sampled(run, file, &mut controller, reporter);
+    }
     let mut controller = DiscreteController::new(file, start, end)?;
     run_sampled(run, file, &mut controller, reporter)
 }

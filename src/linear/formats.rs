@@ -490,7 +490,14 @@ impl LinearExport {
     /// A LaTeX document with the names, units and the entries of `A`, `B`, `C` and `D` (six
     /// significant digits; the first operating point of a grid).
     pub fn to_latex(&self) -> String {
-        let esc = |t: &str| t.replace('_', "\\_");
+        // `_` and `^` are special outside math: `m/s^2` is typeset as `m/s$^{2}$`
+        let esc = |t: &str| {
+            let t = t.replace('_', "\\_");
+            match t.split_once('^') {
+                Some((base, power)) => format!("{base}$^{{{power}}}$"),
+                None => t,
+            }
+        };
         let entry = |v: f64| {
             if v == 0.0 {
                 "0".to_string()

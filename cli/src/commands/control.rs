@@ -147,6 +147,11 @@ pub struct DesignArgs {
     /// (telescopic_controller.h and .c); needs --sensors.
     #[arg(long, value_name = "DIR", requires = "sensors")]
     pub emit_c: Option<PathBuf>,
+    /// The sampled controller's estimator: linear (a discrete Kalman filter of the
+    /// closed-contact model; what --emit-c writes) or extended (an extended Kalman filter on
+    /// the nonlinear model with the contact law).
+    #[arg(long, default_value = "linear", value_name = "linear|extended")]
+    pub estimator: String,
     /// The sampled controller's rate (Hz).
     #[arg(long, default_value_t = DesignOptions::default().rate_hz, value_name = "HZ")]
     pub rate: f64,
@@ -176,6 +181,7 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         sensors: args.sensors.clone(),
         sensor_noises: args.measurement_noise.clone(),
         rate_hz: args.rate,
+        estimator: args.estimator.clone(),
         model: args.model,
         models: Default::default(),
     };
