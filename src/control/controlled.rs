@@ -217,7 +217,7 @@ impl<'m> Controlled<'m> {
         })
     }
 
-    /// `base` driven by a sampled controller's held force ([`ControlLaw::hold`]).
+    /// `base` driven by a sampled controller's held force (set at every tick).
     ///
     /// # Errors
     /// As [`Controlled::new`].
