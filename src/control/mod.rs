@@ -136,8 +136,25 @@ impl ControlComparison {
             with.final_vehicle,
             without.final_vehicle,
             100.0 * (with.final_vehicle / without.final_vehicle - 1.0)
+        ) + &format!(
+            "; residual amplitude (peak to peak) {:.5} m with, {:.5} m without ({:.1} % of \
+             open loop); settling to +-{} mm about the final rest {} with, {} without; contact \
+             switches in the window {} with, {} without",
+            with.residual_p2p,
+            without.residual_p2p,
+            100.0 * with.residual_p2p / without.residual_p2p,
+            1e3 * crate::metrics::SETTLING_BAND,
+            settling(with.settling_time),
+            settling(without.settling_time),
+            with.window_switches,
+            without.window_switches
         )
     }
+}
+
+/// A settling time for a sentence.
+fn settling(t: Option<f64>) -> String {
+    t.map_or("not within the run".into(), |t| format!("after {t:.2} s"))
 }
 
 /// Simulates `scene` with `controller` and without it, with the same method and settings,
@@ -258,21 +275,30 @@ pub fn variants_table(rows: &[VariantRow]) -> String {
         .unwrap_or(0)
         .max(18);
     let mut s = format!(
-        "{:<width$} {:>17} {:>10} {:>15} {:>18} {:>10} {:>8}\n",
+        "{:<width$} {:>17} {:>10} {:>9} {:>10} {:>9} {:>15} {:>18} {:>10} {:>8}\n",
         "variant",
         "residual std [m]",
         "reduction",
+        "p2p [%]",
+        "settle [s]",
+        "switches",
         "peak force [N]",
         "final vehicle [m]",
         "travel",
         "wall [s]"
     );
+    let open_p2p = rows.first().map_or(f64::NAN, |r| r.metrics.residual_p2p);
     for r in rows {
         s += &format!(
-            "{:<width$} {:>17.5} {:>9.1}x {:>15.1} {:>18.4} {:>9.4}% {:>8.2}\n",
+            "{:<width$} {:>17.5} {:>9.1}x {:>9.1} {:>10} {:>9} {:>15.1} {:>18.4} {:>9.4}% {:>8.2}\n",
             r.variant,
             r.metrics.residual_std,
             r.reduction,
+            100.0 * r.metrics.residual_p2p / open_p2p,
+            r.metrics
+                .settling_time
+                .map_or("-".into(), |t| format!("{t:.2}")),
+            r.metrics.window_switches,
             r.metrics.peak_force,
             r.metrics.final_vehicle,
             100.0 * r.travel_ratio,
