@@ -511,6 +511,11 @@ fn the_extended_filter_matches_the_full_state_law_without_clearance() {
     let (a, b) = (with_filter.with.residual_std, with_state.with.residual_std);
     assert!((a - b).abs() <= 0.1 * b, "filter {a} m, full state {b} m");
     assert!(with_filter.with.peak_force <= 300.0 + 1e-9);
+    // the emitted C runs the linear filter only: an extended design is refused
+    let err = telescopic::control::emit_c::emit_c(&extended, 0.0, 16.0)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("`sampled.estimator`"), "{err}");
     // an estimator that does not exist is refused naming the option
     let err = design(
         &plant,

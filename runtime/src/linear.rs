@@ -255,18 +255,7 @@ impl<'m> Lpv<'m> {
                 ));
             }
         }
-        outputs.push(signal(
-            "kappa_1_0".into(),
-            "1/m",
-            "bending curvature of section 1 at its foot, w_1''(0,t) (a strain gauge reads it \
-             times half the section's height)"
-                .into(),
-        ));
-        outputs.push(signal(
-            "acc_load".into(),
-            "m/s^2",
-            "absolute horizontal acceleration of the load, d^2/dt^2 w_n(l_n,t)".into(),
-        ));
+        outputs.extend(sensor_signals());
         let sensors = Sensors::new(model);
         Ok(Lpv {
             model,
@@ -450,6 +439,24 @@ impl<'m> Lpv<'m> {
             d: d_mat,
         })
     }
+}
+
+/// The sensor outputs, last of every linear model's outputs.
+fn sensor_signals() -> [Signal; 2] {
+    [
+        Signal {
+            name: "kappa_1_0".into(),
+            unit: "1/m".into(),
+            description: "bending curvature of section 1 at its foot, w_1''(0,t) (a strain \
+                          gauge reads it times half the section's height)"
+                .into(),
+        },
+        Signal {
+            name: "acc_load".into(),
+            unit: "m/s^2".into(),
+            description: "absolute horizontal acceleration of the load, d^2/dt^2 w_n(l_n,t)".into(),
+        },
+    ]
 }
 
 /// The name of generalized coordinate `i` of section `k` (both 1-based): `u` (the vehicle),

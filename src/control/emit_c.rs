@@ -77,6 +77,16 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
     let sampled = file.sampled.as_ref().ok_or_else(|| {
         Error::option("controller", "has no sampled part (design it with sensors)")
     })?;
+    if sampled.estimator != "linear" {
+        return Err(Error::option(
+            "controller `sampled.estimator`",
+            format!(
+                "the emitted C runs the linear filter; this controller's estimator is `{}` \
+                 (design it with the linear estimator to emit it)",
+                sampled.estimator
+            ),
+        ));
+    }
     let (n, m, p) = (
         file.states.len(),
         sampled.sensors.len(),
@@ -203,40 +213,38 @@ fn source(file: &Controller, banner: &str, start: f64, end: f64) -> String {
         gains,
         &[p, n],
     );
+    append_profiles(&mut s, &nodes, ff_times, ff_values);
+    s.push_str(FUNCTIONS);
+    s
+}
+
+/// The feedforward's and the rigid reference's tables.
+fn append_profiles(
+    s: &mut String,
+    nodes: &[(f64, f64, f64, f64)],
+    ff_times: Vec<f64>,
+    ff_values: Vec<f64>,
+) {
+    let table = |s: &mut String, decl: &str, values: Vec<f64>| {
+        let _ = writeln!(s, "{decl} = {};", list(values, "    "));
+    };
     let _ = writeln!(
         s,
         "\n/* the feedforward force: piecewise constant (s, N) */"
     );
     let _ = writeln!(s, "#define FF_COUNT {}", ff_times.len());
-    table(&mut s, "static const double FF_TIMES[FF_COUNT]", ff_times);
-    table(&mut s, "static const double FF_VALUES[FF_COUNT]", ff_values);
+    table(s, "static const double FF_TIMES[FF_COUNT]", ff_times);
+    table(s, "static const double FF_VALUES[FF_COUNT]", ff_values);
     let _ = writeln!(
         s,
         "\n/* the rigid reference u_ref: nodes (s, m, m/s, m/s^2) */"
     );
     let _ = writeln!(s, "#define REF_COUNT {}", nodes.len());
-    table(
-        &mut s,
-        "static const double REF_T[REF_COUNT]",
-        nodes.iter().map(|n| n.0).collect(),
-    );
-    table(
-        &mut s,
-        "static const double REF_U[REF_COUNT]",
-        nodes.iter().map(|n| n.1).collect(),
-    );
-    table(
-        &mut s,
-        "static const double REF_V[REF_COUNT]",
-        nodes.iter().map(|n| n.2).collect(),
-    );
-    table(
-        &mut s,
-        "static const double REF_A[REF_COUNT]",
-        nodes.iter().map(|n| n.3).collect(),
-    );
-    s.push_str(FUNCTIONS);
-    s
+    let column = |i: usize| -> Vec<f64> { nodes.iter().map(|n| [n.0, n.1, n.2, n.3][i]).collect() };
+    table(s, "static const double REF_T[REF_COUNT]", column(0));
+    table(s, "static const double REF_U[REF_COUNT]", column(1));
+    table(s, "static const double REF_V[REF_COUNT]", column(2));
+    table(s, "static const double REF_A[REF_COUNT]", column(3));
 }
 
 /// The functions of the C source (the tables above them are the controller's own).

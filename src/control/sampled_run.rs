@@ -46,18 +46,8 @@ pub fn run_sampled(
     let sampled = file.sampled.as_ref().ok_or_else(|| {
         Error::option("controller", "has no sampled part (design it with sensors)")
     })?;
-    let period = 1.0 / sampled.rate_hz;
     let span = scene.time;
-    let ratio = span.sample / period;
-    if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
-        return Err(Error::option(
-            "time.sample",
-            format!(
-                "{} s is not a multiple of the controller's period {period} s ({} Hz)",
-                span.sample, sampled.rate_hz
-            ),
-        ));
-    }
+    let (period, every) = tick_grid(sampled.rate_hz, &span)?;
     crate::memory::check_runs(&[scene])?;
     let base = run.model();
     let model = Controlled::sampled(base, file, span.start, span.end)?;
@@ -65,21 +55,9 @@ pub fn run_sampled(
     let mut names = model.output_names();
     let own = names.len();
     names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
-    let measured: Vec<usize> = sampled
-        .sensors
-        .iter()
-        .map(|s| {
-            names.iter().position(|n| n == s).ok_or_else(|| {
-                Error::option(
-                    "controller `sampled.sensors`",
-                    format!("`{s}` is not an output of the scene"),
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
+    let measured = measured_columns(&names, &sampled.sensors)?;
     let scheduled = file.scheduled_section();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(sampled.seed);
-    let every = ratio.round() as usize;
     let ticks = ((span.end - span.start) / period).round() as usize;
     let (n, mut y) = (model.dof(), rest_state(&model, span.start));
     let mut ydot = vec![0.0; 2 * n];
@@ -163,6 +141,43 @@ pub fn run_sampled(
         simulation: Simulation { plan, ..simulation },
         forces,
     })
+}
+
+/// The controller's period (s) and how many ticks make one output sample.
+///
+/// # Errors
+/// [`Error::Option`] naming `time.sample` when it is not a multiple of the period.
+fn tick_grid(rate_hz: f64, span: &TimeSpan) -> Result<(f64, usize)> {
+    let period = 1.0 / rate_hz;
+    let ratio = span.sample / period;
+    if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
+        return Err(Error::option(
+            "time.sample",
+            format!(
+                "{} s is not a multiple of the controller's period {period} s ({rate_hz} Hz)",
+                span.sample
+            ),
+        ));
+    }
+    Ok((period, ratio.round() as usize))
+}
+
+/// The output columns (in `names`) the sensors read.
+///
+/// # Errors
+/// [`Error::Option`] naming a sensor that is not an output.
+fn measured_columns(names: &[String], sensors: &[String]) -> Result<Vec<usize>> {
+    sensors
+        .iter()
+        .map(|s| {
+            names.iter().position(|n| n == s).ok_or_else(|| {
+                Error::option(
+                    "controller `sampled.sensors`",
+                    format!("`{s}` is not an output of the scene"),
+                )
+            })
+        })
+        .collect()
 }
 
 /// Adds a tick's counts to the run's.

@@ -185,10 +185,16 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         model: args.model,
         models: Default::default(),
     };
-    if let Some(dir) = &args.emit_c
-        && !dir.is_dir()
-    {
-        anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
+    if let Some(dir) = &args.emit_c {
+        if !dir.is_dir() {
+            anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
+        }
+        if args.estimator != "linear" {
+            anyhow::bail!(
+                "--emit-c writes the linear filter; --estimator {} runs in the library only",
+                args.estimator
+            );
+        }
     }
     let controller = telescopic::control::design(&scene, &options)?;
     if let Some(dir) = &args.emit_c {
