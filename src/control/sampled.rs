@@ -247,15 +247,19 @@ pub trait SampledController {
     fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64;
 }
 
+/// One design point's matrices, ready to use.
+struct PointMatrices {
+    ad: DMatrix<f64>,
+    bd: DMatrix<f64>,
+    c: DMatrix<f64>,
+    l: DMatrix<f64>,
+    /// The LQR gain on the full state.
+    k: DVector<f64>,
+}
+
 /// The sampled law of a controller file, ready to step: allocation-free per tick.
 pub struct DiscreteController {
-    points: Vec<(
-        DMatrix<f64>,
-        DMatrix<f64>,
-        DMatrix<f64>,
-        DMatrix<f64>,
-        DVector<f64>,
-    )>,
+    points: Vec<PointMatrices>,
     positions: Vec<f64>,
     reference: super::controlled::Reference,
     feedforward: telescopic_runtime::Profile,
@@ -291,15 +295,15 @@ impl DiscreteController {
                     .map_err(|e| Error::option(&format!("controller `sampled.{name}`"), e))
             };
             let k = DVector::from_column_slice(&s.k[0]);
-            points.push((
-                m(&p.ad, "Ad")?,
-                m(&p.bd, "Bd")?,
-                m(&p.c, "C")?,
-                m(&p.l, "L")?,
+            points.push(PointMatrices {
+                ad: m(&p.ad, "Ad")?,
+                bd: m(&p.bd, "Bd")?,
+                c: m(&p.c, "C")?,
+                l: m(&p.l, "L")?,
                 k,
-            ));
+            });
         }
-        let n = points[0].0.nrows();
+        let n = points[0].ad.nrows();
         Ok(DiscreteController {
             positions: file
                 .schedule
@@ -342,23 +346,22 @@ impl SampledController for DiscreteController {
         // exp(A T) of the contact modes (far above the Nyquist rate) vary too fast with the
         // position to interpolate; the state is physical, so switching points keeps it
         let near = if w < 0.5 { pi } else { pj };
-        let pick = |x: f64, _: f64| x;
         // x_hat <- Ad x_hat + Bd u + L (y - C x_hat), each matrix interpolated entrywise
         for (s, &ys) in y.iter().enumerate() {
             let mut predicted = 0.0;
             for c in 0..n {
-                predicted += pick(near.2[(s, c)], 0.0) * self.x_hat[c];
+                predicted += near.c[(s, c)] * self.x_hat[c];
             }
             self.innovation[s] = ys - predicted;
         }
         for r in 0..n {
             let mut v = 0.0;
             for c in 0..n {
-                v += pick(near.0[(r, c)], 0.0) * self.x_hat[c];
+                v += near.ad[(r, c)] * self.x_hat[c];
             }
-            v += pick(near.1[(r, 0)], 0.0) * self.u;
+            v += near.bd[(r, 0)] * self.u;
             for (s, e) in self.innovation.iter().enumerate() {
-                v += pick(near.3[(r, s)], 0.0) * e;
+                v += near.l[(r, s)] * e;
             }
             self.scratch[r] = v;
         }
@@ -384,7 +387,7 @@ impl DiscreteController {
                 _ if m == n / 2 => self.x_hat[m] - v_ref,
                 _ => self.x_hat[m],
             };
-            feedback += lerp(pi.4[m], pj.4[m]) * e;
+            feedback += lerp(pi.k[m], pj.k[m]) * e;
         }
         let f = self.feedforward.value(next) - feedback;
         f.clamp(-self.limit, self.limit)

@@ -77,7 +77,7 @@ pub fn run_sampled(
     }
     let settings = telescopic_runtime::Settings {
         exact_from: None,
-        ..run.plan.settings.clone()
+        ..run.plan.settings
     };
     reporter.start(&format!(
         "simulating {} with a sampled controller",
