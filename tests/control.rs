@@ -379,6 +379,15 @@ fn sampled_output_feedback_from_vehicle_and_curvature() {
             .iter()
             .all(|f| f.is_finite() && f.abs() <= 300.0 + 1e-9)
     );
+    // the noise is seeded: the same seed, the same run; another seed, another run
+    let again =
+        simulate_controlled(&plant, &controller, &SimulationOptions::default(), &Silent).unwrap();
+    assert_eq!(again.trajectory.column("drive_force").unwrap(), force);
+    let mut reseeded = controller.clone();
+    reseeded.sampled.as_mut().unwrap().seed = 2;
+    let other =
+        simulate_controlled(&plant, &reseeded, &SimulationOptions::default(), &Silent).unwrap();
+    assert_ne!(other.trajectory.column("drive_force").unwrap(), force);
     // sensors the scene lacks are refused, at design and in a file
     let err = design(
         &plant,

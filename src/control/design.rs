@@ -110,6 +110,8 @@ pub struct DesignOptions {
     pub rate_hz: f64,
     /// The sampled controller's estimator: `linear` (default) or `extended`.
     pub estimator: String,
+    /// Seed of the simulated measurement noise (default 1): the same seed, the same run.
+    pub noise_seed: u64,
 }
 
 impl Default for DesignOptions {
@@ -130,6 +132,7 @@ impl Default for DesignOptions {
             sensor_noises: Vec::new(),
             rate_hz: super::sampled::DEFAULT_RATE_HZ,
             estimator: "linear".into(),
+            noise_seed: 1,
         }
     }
 }
@@ -502,6 +505,7 @@ fn sampled_part(
         options.rate_hz,
     )?;
     sampled.estimator = options.estimator.clone();
+    sampled.seed = options.noise_seed;
     Ok(sampled)
 }
 

@@ -152,6 +152,9 @@ pub struct DesignArgs {
     /// the nonlinear model with the contact law).
     #[arg(long, default_value = "linear", value_name = "linear|extended")]
     pub estimator: String,
+    /// Seed of the simulated measurement noise (the same seed, the same run).
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub noise_seed: u64,
     /// The sampled controller's rate (Hz).
     #[arg(long, default_value_t = DesignOptions::default().rate_hz, value_name = "HZ")]
     pub rate: f64,
@@ -182,6 +185,7 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         sensor_noises: args.measurement_noise.clone(),
         rate_hz: args.rate,
         estimator: args.estimator.clone(),
+        noise_seed: args.noise_seed,
         model: args.model,
         models: Default::default(),
     };
