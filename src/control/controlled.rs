@@ -76,7 +76,8 @@ pub struct ControlLaw {
     reference: Reference,
     /// One gain row per schedule point (empty without LQR).
     gains: Vec<Vec<f64>>,
-    schedule: Vec<super::design::SchedulePoint>,
+    /// Each design point's value of the scheduled position (m).
+    schedule_positions: Vec<f64>,
     /// Section `k` of the scheduled position `a_k`.
     parameter: Option<usize>,
     positions: Vec<Profile>,
@@ -125,7 +126,7 @@ impl ControlLaw {
             } else {
                 Vec::new()
             },
-            schedule: controller.schedule.clone(),
+            schedule_positions: controller.schedule_positions(),
             parameter,
             positions: params.positions.clone(),
             limit: controller.force_limit_n,
@@ -135,7 +136,7 @@ impl ControlLaw {
 
     /// The scheduled gains around time `t`: `(i, j, w)`.
     fn weights(&self, t: f64) -> (usize, usize, f64) {
-        schedule_weights(&self.schedule, self.parameter, &self.positions, t)
+        schedule_weights(&self.schedule_positions, self.parameter, &self.positions, t)
     }
 
     /// The total drive force (N) at `t`, state `y`, and whether it saturated.
@@ -182,6 +183,50 @@ impl ControlLaw {
     }
 }
 
+/// Where a change of the drive force goes: `M^-1 b`. The one place that replaces a model's
+/// own drive force by another (a controller's, a held one, an estimator's).
+#[derive(Debug, Clone)]
+pub(crate) struct DriveResponse(Vec<f64>);
+
+impl DriveResponse {
+    /// `M^-1 b` of `model`.
+    ///
+    /// # Errors
+    /// [`Error::Model`] when the mass matrix cannot be factored.
+    pub(crate) fn of(model: &dyn Model) -> Result<Self> {
+        let response = model
+            .mass_matrix()
+            .clone()
+            .cholesky()
+            .ok_or_else(|| Error::Model("the mass matrix is not positive definite".into()))?
+            .solve(model.drive_vector());
+        Ok(DriveResponse(response.iter().copied().collect()))
+    }
+
+    /// The entries of `M^-1 b`.
+    pub(crate) fn entries(&self) -> &[f64] {
+        &self.0
+    }
+
+    /// `ydot` of `model` at `t`, `y` with the drive force `force` (N) in place of the scene's.
+    pub(crate) fn rhs_with(
+        &self,
+        model: &dyn Model,
+        t: f64,
+        y: &[f64],
+        states: Option<&[ContactState]>,
+        force: f64,
+        ydot: &mut [f64],
+    ) {
+        model.rhs(t, y, states, ydot);
+        let n = self.0.len();
+        let change = force - model.params().drive_profile().value(t);
+        for (a, r) in ydot[n..].iter_mut().zip(&self.0) {
+            *a += r * change;
+        }
+    }
+}
+
 /// The scene's model with its drive replaced by a controller.
 pub struct Controlled<'m> {
     base: &'m dyn Model,
@@ -189,8 +234,8 @@ pub struct Controlled<'m> {
     /// The base parameters with the feedforward profile as the drive (its breakpoints end
     /// the integrator's steps).
     params: ModelParams,
-    /// `M^-1 b`: where a change of the drive force goes in the accelerations.
-    drive_response: Vec<f64>,
+    /// Where a change of the drive force goes in the accelerations.
+    drive: DriveResponse,
 }
 
 impl<'m> Controlled<'m> {
@@ -201,19 +246,14 @@ impl<'m> Controlled<'m> {
     /// [`Controller::check_fits`]); [`Error::Model`] when the mass matrix cannot be factored.
     pub fn new(base: &'m dyn Model, controller: &Controller, start: f64, end: f64) -> Result<Self> {
         controller.check_params(base.params())?;
-        let response = base
-            .mass_matrix()
-            .clone()
-            .cholesky()
-            .ok_or_else(|| Error::Model("the mass matrix is not positive definite".into()))?
-            .solve(base.drive_vector());
+        let drive = DriveResponse::of(base)?;
         let mut params = base.params().clone();
         params.drive = Drive::Force(controller.feedforward.clone());
         Ok(Controlled {
             base,
             law: ControlLaw::new(controller, base.params(), start, end),
             params,
-            drive_response: response.iter().copied().collect(),
+            drive,
         })
     }
 
@@ -235,10 +275,6 @@ impl<'m> Controlled<'m> {
     /// The control law.
     pub fn law(&self) -> &ControlLaw {
         &self.law
-    }
-
-    fn base_force(&self, t: f64) -> f64 {
-        self.base.params().drive_profile().value(t)
     }
 }
 
@@ -277,18 +313,14 @@ impl Model for Controlled<'_> {
         self.base.contact_gaps(t, y, xi, xi_dot)
     }
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
-        self.base.rhs(t, y, states, ydot);
-        let n = self.dof();
-        let change = self.law.force(t, y).0 - self.base_force(t);
-        for (a, r) in ydot[n..].iter_mut().zip(&self.drive_response) {
-            *a += r * change;
-        }
+        let force = self.law.force(t, y).0;
+        self.drive.rhs_with(self.base, t, y, states, force, ydot);
     }
     fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
         self.base.jacobian(t, y, states, jac);
         let n = self.dof();
         if let Some(grad) = self.law.gradient(t, y) {
-            for (i, r) in self.drive_response.iter().enumerate() {
+            for (i, r) in self.drive.entries().iter().enumerate() {
                 for j in 0..2 * n {
                     jac[(n + i, j)] += r * grad(j);
                 }
@@ -431,16 +463,14 @@ impl Model for Observed<'_> {
         let mut guard = self.scratch.borrow_mut();
         let (yb, ydb, xhat) = &mut *guard;
         self.gather(y, yb);
-        self.inner.base.rhs(t, yb, states, ydb);
         // the law on the estimate
         for (i, x) in xhat.iter_mut().enumerate() {
             *x = self.estimate(y, i);
         }
         let force = self.inner.law.force(t, xhat).0;
-        let change = force - self.inner.base_force(t);
-        for (a, r) in ydb[n..].iter_mut().zip(&self.inner.drive_response) {
-            *a += r * change;
-        }
+        self.inner
+            .drive
+            .rhs_with(self.inner.base, t, yb, states, force, ydb);
         // the filter: x_hat' = A x_hat + B F + L (y_meas - C x_hat), interpolated
         let (i, j, w) = self.inner.law.weights(t);
         let (pi, pj) = (&self.points[i], &self.points[j]);

@@ -693,8 +693,12 @@ fn feedforward(
     Ok(if options.kind.has_shaper() {
         let j =
             jumps(force, scene.time.start).map_err(|e| Error::option("DesignOptions::kind", e))?;
+        let scheduled: Vec<f64> = parameter.map_or_else(
+            || vec![0.0; schedule.len()],
+            |k| schedule.iter().map(|p| p.positions[k - 2]).collect(),
+        );
         let at = |t: f64| -> (f64, f64) {
-            let (a, b, w) = schedule_weights(schedule, parameter, &scene.params.positions, t);
+            let (a, b, w) = schedule_weights(&scheduled, parameter, &scene.params.positions, t);
             let lerp = |x: f64, y: f64| x + w * (y - x);
             let (pa, pb) = (&schedule[a], &schedule[b]);
             (
@@ -709,33 +713,33 @@ fn feedforward(
 }
 
 /// The two schedule points around time `t` and the weight of the second, `(i, j, w)`, for a
-/// schedule over `a_k` (`section = Some(k)`; `positions` are the scene's `a_2..a_n`), or the
-/// one point of a schedule at fixed positions (`None`).
+/// schedule over `a_k` (`section = Some(k)`, `schedule_positions` its points' values of
+/// `a_k` from [`Controller::schedule_positions`]; `positions` are the scene's `a_2..a_n`),
+/// or the one point of a schedule at fixed positions (`None`). Allocation-free.
 pub fn schedule_weights(
-    schedule: &[SchedulePoint],
+    schedule_positions: &[f64],
     section: Option<usize>,
     positions: &[Profile],
     t: f64,
 ) -> (usize, usize, f64) {
     match section {
-        Some(k) => interpolate_index(schedule, k, positions[k - 2].value(t)),
+        Some(k) => bracket(schedule_positions, positions[k - 2].value(t)),
         None => (0, 0, 0.0),
     }
 }
 
-/// The two schedule points around position value `a` of `a_k` and the weight of the second:
-/// `(i, j, w)`, clamped at the ends.
-pub fn interpolate_index(schedule: &[SchedulePoint], k: usize, a: f64) -> (usize, usize, f64) {
-    let x = |p: &SchedulePoint| p.positions[k - 2];
-    let last = schedule.len() - 1;
-    if last == 0 || a <= x(&schedule[0]) {
+/// The two entries of the ascending `positions` around `a` and the weight of the second:
+/// `(i, j, w)`, clamped at the ends (the emitted C's `weights` does the same).
+pub(crate) fn bracket(positions: &[f64], a: f64) -> (usize, usize, f64) {
+    let last = positions.len() - 1;
+    if last == 0 || a <= positions[0] {
         return (0, 0, 0.0);
     }
-    if a >= x(&schedule[last]) {
+    if a >= positions[last] {
         return (last, last, 0.0);
     }
-    let j = schedule.partition_point(|p| x(p) <= a).clamp(1, last);
-    let (x0, x1) = (x(&schedule[j - 1]), x(&schedule[j]));
+    let j = positions.partition_point(|&x| x <= a).clamp(1, last);
+    let (x0, x1) = (positions[j - 1], positions[j]);
     (j - 1, j, (a - x0) / (x1 - x0))
 }
 
@@ -758,6 +762,16 @@ impl Controller {
             ));
         }
         Ok(c)
+    }
+
+    /// Each design point's value of the scheduled position (m), zeros for a schedule at fixed
+    /// positions.
+    pub fn schedule_positions(&self) -> Vec<f64> {
+        let k = self.scheduled_section();
+        self.schedule
+            .iter()
+            .map(|p| k.map_or(0.0, |k| p.positions[k - 2]))
+            .collect()
     }
 
     /// Section `k` of the scheduled position `a_k`, if the schedule runs over one.

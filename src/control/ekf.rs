@@ -18,8 +18,8 @@ const SUBSTEPS: usize = 20;
 /// The extended Kalman filter with the controller's LQR law on its estimate.
 pub struct ExtendedKalman {
     model: Box<dyn Model>,
-    /// `M^-1 b`: where the drive force enters the accelerations.
-    response: Vec<f64>,
+    /// Where the drive force enters the accelerations.
+    drive: super::controlled::DriveResponse,
     c: DMatrix<f64>,
     r: DMatrix<f64>,
     /// Process noise per period.
@@ -52,12 +52,8 @@ impl ExtendedKalman {
             ));
         }
         let n = model.dof();
-        let response = model
-            .mass_matrix()
-            .clone()
-            .cholesky()
-            .ok_or_else(|| Error::Model("the mass matrix is not positive definite".into()))?
-            .solve(model.drive_vector());
+        let drive = super::controlled::DriveResponse::of(model.as_ref())?;
+        let response = drive.entries();
         let c = from_rows(&sampled.points[0].c, None)
             .map_err(|e| Error::option("controller `sampled.points[0].C`", e))?;
         let r = DMatrix::from_diagonal(&DVector::from_iterator(
@@ -74,7 +70,7 @@ impl ExtendedKalman {
         let q = &bd * bd.transpose() * sampled.force_noise.powi(2)
             + DMatrix::identity(2 * n, 2 * n) * 1e-16;
         Ok(ExtendedKalman {
-            response: response.iter().copied().collect(),
+            drive,
             c,
             r,
             q,
@@ -97,12 +93,8 @@ impl ExtendedKalman {
 
     /// `ydot` of the model with the drive force `u` at `t`.
     fn rhs(&self, t: f64, y: &[f64], u: f64, ydot: &mut [f64]) {
-        self.model.rhs(t, y, None, ydot);
-        let n = self.response.len();
-        let change = u - self.model.params().drive_profile().value(t);
-        for (a, r) in ydot[n..].iter_mut().zip(&self.response) {
-            *a += r * change;
-        }
+        self.drive
+            .rhs_with(self.model.as_ref(), t, y, None, u, ydot);
     }
 
     /// Integrates the estimate over one period with the force held (classic RK4).

@@ -126,12 +126,7 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
 /// The C source: the tables, then the functions.
 fn source(file: &Controller, banner: &str, start: f64, end: f64) -> String {
     let sampled = file.sampled.as_ref().expect("checked by the caller");
-    let k_index = file.scheduled_section();
-    let positions: Vec<f64> = file
-        .schedule
-        .iter()
-        .map(|p| k_index.map_or(0.0, |k| p.positions[k - 2]))
-        .collect();
+    let positions = file.schedule_positions();
     let reference = super::sampled::reference(file, start, end);
     let nodes: Vec<(f64, f64, f64, f64)> = reference.nodes().collect();
     let (ff_times, ff_values) = file.feedforward_steps().map_or(

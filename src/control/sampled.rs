@@ -29,10 +29,9 @@ pub const DEFAULT_RATE_HZ: f64 = 1000.0;
 /// Default measurement noise (standard deviation, in the output's unit) of a sensor.
 pub fn default_noise(sensor: &str) -> f64 {
     match sensor {
-        "kappa_1_0" => 1e-5,           // 1/m: 1 microstrain on a 0.2 m section
-        "acc_load" => 0.01,            // m/s^2: an industrial accelerometer
-        "vehicle" | "tip_rel" => 1e-4, // m: an incremental encoder, a laser
-        _ => 1e-4,
+        "kappa_1_0" => 1e-5, // 1/m: 1 microstrain on a 0.2 m section
+        "acc_load" => 0.01,  // m/s^2: an industrial accelerometer
+        _ => 1e-4,           // m: an incremental encoder, a laser distance sensor
     }
 }
 
@@ -287,7 +286,6 @@ impl DiscreteController {
                 "needs one discrete point per design point and an LQR gain",
             ));
         }
-        let k_index = file.scheduled_section();
         let mut points = Vec::with_capacity(sampled.points.len());
         for (p, s) in sampled.points.iter().zip(&file.schedule) {
             let m = |rows: &[Vec<f64>], name: &str| {
@@ -305,11 +303,7 @@ impl DiscreteController {
         }
         let n = points[0].ad.nrows();
         Ok(DiscreteController {
-            positions: file
-                .schedule
-                .iter()
-                .map(|p| k_index.map_or(0.0, |k| p.positions[k - 2]))
-                .collect(),
+            positions: file.schedule_positions(),
             points,
             reference: reference(file, start, end),
             feedforward: file.feedforward.clone(),
@@ -324,16 +318,7 @@ impl DiscreteController {
 
     /// The two design points around `a` and the weight of the second.
     fn weights(&self, a: f64) -> (usize, usize, f64) {
-        let last = self.positions.len() - 1;
-        if last == 0 || a <= self.positions[0] {
-            return (0, 0, 0.0);
-        }
-        if a >= self.positions[last] {
-            return (last, last, 0.0);
-        }
-        let j = self.positions.partition_point(|&x| x <= a).clamp(1, last);
-        let (x0, x1) = (self.positions[j - 1], self.positions[j]);
-        (j - 1, j, (a - x0) / (x1 - x0))
+        super::design::bracket(&self.positions, a)
     }
 }
 

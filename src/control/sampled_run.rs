@@ -61,6 +61,8 @@ pub fn run_sampled(
     let ticks = ((span.end - span.start) / period).round() as usize;
     let (n, mut y) = (model.dof(), rest_state(&model, span.start));
     let mut ydot = vec![0.0; 2 * n];
+    // the state at the end of each tick, written by the integrator's observer
+    let mut last = y.clone();
     let mut out = vec![0.0; names.len()];
     let mut measurement = vec![0.0; measured.len()];
     let mut rows = Vec::with_capacity(ticks / every + 1);
@@ -114,7 +116,6 @@ pub fn run_sampled(
             end: t + period,
             sample: period,
         };
-        let mut last = y.clone();
         let step_stats = simulate(
             &model,
             &y,
@@ -130,7 +131,7 @@ pub fn run_sampled(
         })?;
         y.copy_from_slice(&last);
         model.law().hold(force);
-        add(&mut stats, &step_stats);
+        stats.add(&step_stats);
         reporter.progress((k + 1) as f64 / ticks as f64);
     }
     reporter.finish();
@@ -178,18 +179,6 @@ fn measured_columns(names: &[String], sensors: &[String]) -> Result<Vec<usize>> 
             })
         })
         .collect()
-}
-
-/// Adds a tick's counts to the run's.
-fn add(total: &mut RunStats, tick: &RunStats) {
-    total.steps += tick.steps;
-    total.rejected += tick.rejected;
-    total.rhs_evals += tick.rhs_evals;
-    total.jacobian_evals += tick.jacobian_evals;
-    total.factorizations += tick.factorizations;
-    total.switches += tick.switches;
-    total.exponentials += tick.exponentials;
-    total.wall += tick.wall;
 }
 
 /// Runs the in-library sampled controller of `file` on `run`'s scene.

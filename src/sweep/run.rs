@@ -381,23 +381,8 @@ fn first_line(file: &std::fs::File) -> String {
 fn finished_table(work: &WorkFile) -> Result<super::table::SweepTable> {
     let mut table = match work {
         WorkFile::Partial { path, .. } => super::table::read_work_file(path)?.0,
-        WorkFile::Memory(bytes) => {
-            let text = String::from_utf8_lossy(bytes);
-            let mut lines = text.lines();
-            let header = lines.next().unwrap_or_default().to_string();
-            let columns = lines.next().unwrap_or_default().to_string();
-            let rows = lines
-                .map(|l| {
-                    let index = l.split(',').next().and_then(|i| i.parse().ok());
-                    (index.unwrap_or(0), l.to_string())
-                })
-                .collect();
-            super::table::SweepTable {
-                header,
-                columns,
-                rows,
-            }
-        }
+        // the rows in memory read like a work file, every row checked the same way
+        WorkFile::Memory(bytes) => super::table::read_work_bytes(Path::new("(in memory)"), bytes)?,
     };
     table.rows.sort_by_key(|(i, _)| *i);
     Ok(table)
@@ -416,6 +401,11 @@ pub fn run_sweep(
     use rayon::prelude::*;
     let started = Instant::now();
     check_jobs(options.jobs)?;
+    crate::output::check_not_an_input(
+        "SweepOptions::out",
+        &options.out,
+        &[&sweep.path, &sweep.scene_path],
+    )?;
     let header = header_line(sweep, options.shard);
     let columns = column_line(sweep);
     let mine: Vec<&Run> = sweep

@@ -74,24 +74,17 @@ impl SweepTable {
 
     /// A field of the header (`sweep`, `runs`, `shard`, ...).
     pub fn header_field(&self, name: &str) -> Option<&str> {
-        self.header
-            .split("; ")
-            .find_map(|part| part.strip_prefix(name).and_then(|v| v.strip_prefix(' ')))
+        header_field(&self.header, name)
     }
 
     /// The run count of the header, bounded by [`MAX_RUNS`].
     pub fn runs(&self) -> Option<usize> {
-        self.header_field("runs")
-            .and_then(|r| r.parse::<usize>().ok())
-            .filter(|&r| (1..=MAX_RUNS).contains(&r))
+        header_runs(&self.header)
     }
 
     /// The shard of the header (`whole` for a merged file).
     pub fn shard(&self) -> Option<Shard> {
-        match self.header_field("shard") {
-            Some(s) => s.parse().ok(),
-            None => self.header_field("merged").map(|_| Shard::whole()),
-        }
+        header_shard(&self.header)
     }
 
     /// The cells of a column, by name, in row order (quotes removed).
@@ -103,6 +96,28 @@ impl SweepTable {
                 .map(|(_, l)| split_csv(l).get(i).cloned().unwrap_or_default())
                 .collect(),
         )
+    }
+}
+
+/// A field of a header line (`sweep`, `runs`, `shard`, ...).
+fn header_field<'h>(header: &'h str, name: &str) -> Option<&'h str> {
+    header
+        .split("; ")
+        .find_map(|part| part.strip_prefix(name).and_then(|v| v.strip_prefix(' ')))
+}
+
+/// The run count of a header line, bounded by [`MAX_RUNS`].
+fn header_runs(header: &str) -> Option<usize> {
+    header_field(header, "runs")
+        .and_then(|r| r.parse::<usize>().ok())
+        .filter(|&r| (1..=MAX_RUNS).contains(&r))
+}
+
+/// The shard of a header line (`whole` for a merged file).
+fn header_shard(header: &str) -> Option<Shard> {
+    match header_field(header, "shard") {
+        Some(s) => s.parse().ok(),
+        None => header_field(header, "merged").map(|_| Shard::whole()),
     }
 }
 
@@ -163,19 +178,13 @@ impl RowRules {
                 quoted(columns)
             ));
         }
-        let table = SweepTable {
-            header: header.to_string(),
-            columns: String::new(),
-            rows: Vec::new(),
-        };
-        let runs = table.runs().ok_or_else(|| {
+        let runs = header_runs(header).ok_or_else(|| {
             format!(
                 "line 1: the header's run count must be 1 to {MAX_RUNS}: {}",
                 quoted(header)
             )
         })?;
-        let shard = table
-            .shard()
+        let shard = header_shard(header)
             .ok_or_else(|| format!("line 1: the header names no shard: {}", quoted(header)))?;
         Ok(RowRules {
             columns: names.len(),
@@ -432,4 +441,12 @@ pub fn read_table(path: &Path) -> Result<SweepTable> {
 /// [`Error::Option`] naming the file, the line and the rule.
 pub(super) fn read_work_file(path: &Path) -> Result<(SweepTable, usize)> {
     parse(path, &mut open(path)?, Ending::Open)
+}
+
+/// Reads work-file text kept in memory (`origin` names it in errors).
+///
+/// # Errors
+/// As [`read_work_file`].
+pub(super) fn read_work_bytes(origin: &Path, bytes: &[u8]) -> Result<SweepTable> {
+    Ok(parse(origin, &mut &bytes[..], Ending::Open)?.0)
 }

@@ -50,7 +50,6 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
     });
     telescopic::sweep::check_jobs(jobs)?;
     let sweep = Sweep::load(&args.sweep)?;
-    super::check_output("--out", Some(&args.out), &[&args.sweep, &sweep.scene_path])?;
     let mine = sweep.runs.iter().filter(|r| shard.owns(r.index)).count();
     eprintln!(
         "{}: {} runs ({} in shard {}/{}), {} at once, sweep {}",
