@@ -353,6 +353,7 @@ fn sampled_output_feedback_from_vehicle_and_curvature() {
     let plant = scene("case-study-no-clearance", &[]);
     let options = DesignOptions {
         sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+        law: "lqr".into(),
         ..DesignOptions::default()
     };
     let controller = design(&plant, &options).unwrap();
@@ -411,24 +412,42 @@ fn sampled_output_feedback_from_vehicle_and_curvature() {
     );
 }
 
-/// The emitted C controller, compiled by the system's C compiler with every warning an
-/// error, loaded, and run in the loop against the simulated plant: its force history equals
-/// the in-library controller's.
+/// The emitted C controllers (the LQR on the linear filter, and the strain-rate law), each
+/// compiled by the system's C compiler with every warning an error, loaded, and run in the
+/// loop against the simulated plant: their force histories equal the in-library
+/// controllers'.
 #[test]
 #[ignore = "needs a C compiler (cc); the test command installs gcc"]
-fn the_emitted_c_controller_matches_the_library_in_the_loop() {
+fn the_emitted_c_controllers_match_the_library_in_the_loop() {
+    for (plant, law) in [
+        ("case-study-no-clearance", "lqr"),
+        ("case-study", "strain-rate"),
+    ] {
+        let options = DesignOptions {
+            sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+            law: law.into(),
+            ..DesignOptions::default()
+        };
+        let worst = emitted_c_in_the_loop(&scene(plant, &[]), &options);
+        eprintln!("{plant}, {law}: largest force difference C - library {worst:e} N");
+        assert!(worst <= 1e-9, "{plant}, {law}: {worst:e} N");
+    }
+}
+
+/// Designs, emits, compiles and loads the C controller, runs it and the library's in the loop
+/// on `plant`; returns the largest difference of their forces (N).
+fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
     use telescopic::control::emit_c::{C_FILES, write_c};
     use telescopic::control::sampled::SampledController;
     use telescopic::control::sampled_run::{run_sampled, simulate_sampled};
     use telescopic::run::PreparedRun;
 
-    let plant = scene("case-study-no-clearance", &[]);
-    let options = DesignOptions {
-        sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-        ..DesignOptions::default()
-    };
-    let controller = design(&plant, &options).unwrap();
-    let dir = std::env::temp_dir().join(format!("telescopic-emit-c-{}", std::process::id()));
+    let controller = design(plant, options).unwrap();
+    let dir = std::env::temp_dir().join(format!(
+        "telescopic-emit-c-{}-{}",
+        std::process::id(),
+        options.law
+    ));
     std::fs::create_dir_all(&dir).unwrap();
     write_c(&controller, plant.time.start, plant.time.end, &dir).unwrap();
     let library = dir.join("libtc.so");
@@ -464,38 +483,35 @@ fn the_emitted_c_controller_matches_the_library_in_the_loop() {
     }
     impl SampledController for CController {
         fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64 {
-            // SAFETY: the state has room for tc_state (TC_STATES + 1 doubles) and y holds
-            // TC_SENSORS measurements.
+            // SAFETY: the state has room for either tc_state (at most TC_STATES + 1 doubles,
+            // or an int and five doubles) and y holds TC_SENSORS measurements.
             unsafe { (self.step)(self.state.as_mut_ptr(), t, y.as_ptr(), a) }
         }
     }
     let path = std::ffi::CString::new(library.to_str().unwrap()).unwrap();
     // SAFETY: dlopen/dlsym with valid NUL-terminated strings; the symbols have the emitted
     // signatures (telescopic_controller.h).
-    let c_controller = unsafe {
+    let mut c_controller = unsafe {
         let handle = libc::dlopen(path.as_ptr(), libc::RTLD_NOW);
         assert!(!handle.is_null(), "dlopen failed");
         let init: Init = std::mem::transmute(libc::dlsym(handle, c"tc_init".as_ptr()));
         let step: Step = std::mem::transmute(libc::dlsym(handle, c"tc_step".as_ptr()));
-        let mut state = vec![0.0; controller.states.len() + 1];
+        let mut state = vec![0.0; controller.states.len() + 8];
         init(state.as_mut_ptr());
         CController { state, step }
     };
-    let prepared = || PreparedRun::new(&plant, &SimulationOptions::default(), &Silent).unwrap();
+    let prepared = || PreparedRun::new(plant, &SimulationOptions::default(), &Silent).unwrap();
     let in_library = simulate_sampled(prepared(), &controller, &Silent).unwrap();
-    let mut c_controller = c_controller;
     let in_c = run_sampled(prepared(), &controller, &mut c_controller, &Silent).unwrap();
     assert_eq!(in_library.forces.len(), in_c.forces.len());
     assert_eq!(in_library.forces.len(), 16_000);
-    let worst = in_library
+    std::fs::remove_dir_all(&dir).unwrap();
+    in_library
         .forces
         .iter()
         .zip(&in_c.forces)
         .map(|(a, b)| (a.1 - b.1).abs())
-        .fold(0.0, f64::max);
-    eprintln!("largest force difference C - library: {worst:e} N");
-    assert!(worst <= 1e-9, "{worst:e} N");
-    std::fs::remove_dir_all(&dir).unwrap();
+        .fold(0.0, f64::max)
 }
 
 #[test]

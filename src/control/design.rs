@@ -112,6 +112,12 @@ pub struct DesignOptions {
     pub estimator: String,
     /// Seed of the simulated measurement noise (default 1): the same seed, the same run.
     pub noise_seed: u64,
+    /// The sampled law: `auto` (default: `strain-rate` when the sensors include `vehicle`
+    /// and `kappa_1_0`, else `lqr`), `lqr` (the LQR on the estimator's state) or
+    /// `strain-rate` ([`super::strain`]; the kind gives its feedforward, shaped or not).
+    pub law: String,
+    /// The strain-rate law's damping ratio added to the first mode (default 0.15).
+    pub added_damping: f64,
 }
 
 impl Default for DesignOptions {
@@ -133,6 +139,8 @@ impl Default for DesignOptions {
             rate_hz: super::sampled::DEFAULT_RATE_HZ,
             estimator: "linear".into(),
             noise_seed: 1,
+            law: "auto".into(),
+            added_damping: super::strain::DEFAULT_ADDED_DAMPING,
         }
     }
 }
@@ -496,6 +504,20 @@ fn sampled_part(
             ),
         ));
     }
+    let law = sampled_law(options);
+    if law == "strain-rate" {
+        return strain_rate_part(controller, model, options, noise);
+    }
+    if law != "lqr" {
+        return Err(Error::option(
+            "DesignOptions::law",
+            format!(
+                "`{}` is none of {}",
+                options.law,
+                super::strain::LAWS.join(", ")
+            ),
+        ));
+    }
     let mut sampled = super::sampled::design_sampled(
         controller,
         model,
@@ -507,6 +529,61 @@ fn sampled_part(
     sampled.estimator = options.estimator.clone();
     sampled.seed = options.noise_seed;
     Ok(sampled)
+}
+
+/// The sampled law `options` ask for, `auto` resolved: `strain-rate` when the sensors include
+/// `vehicle` and `kappa_1_0` and the estimator is the default, else `lqr`.
+pub fn sampled_law(options: &DesignOptions) -> &str {
+    if options.law != "auto" {
+        return &options.law;
+    }
+    let reads = |s: &str| options.sensors.iter().any(|o| o == s);
+    let strain = super::strain::STRAIN_RATE_SENSORS.iter().all(|s| reads(s));
+    if strain && options.estimator == "linear" {
+        "strain-rate"
+    } else {
+        "lqr"
+    }
+}
+
+/// The sampled part of a strain-rate design: the law, no estimator.
+fn strain_rate_part(
+    controller: &Controller,
+    model: &dyn Model,
+    options: &DesignOptions,
+    noise: Vec<f64>,
+) -> Result<super::sampled::SampledDesign> {
+    use super::strain::STRAIN_RATE_SENSORS;
+    if let Some(missing) = STRAIN_RATE_SENSORS
+        .iter()
+        .find(|s| !options.sensors.iter().any(|o| o == *s))
+    {
+        return Err(Error::option(
+            "DesignOptions::sensors",
+            format!(
+                "the strain-rate law reads {}; `{missing}` is missing",
+                STRAIN_RATE_SENSORS.join(" and ")
+            ),
+        ));
+    }
+    if options.estimator != "linear" {
+        return Err(Error::option(
+            "DesignOptions::estimator",
+            "the strain-rate law has no estimator; leave --estimator at its default",
+        ));
+    }
+    super::sampled::check_rate(options.rate_hz)?;
+    let law = super::strain::design_strain_rate(controller, model, options.added_damping)?;
+    Ok(super::sampled::SampledDesign {
+        rate_hz: options.rate_hz,
+        sensors: options.sensors.clone(),
+        noise,
+        force_noise: options.force_noise,
+        seed: options.noise_seed,
+        estimator: "none".into(),
+        points: Vec::new(),
+        strain_rate: Some(law),
+    })
 }
 
 /// The usable range of the force limit (N): the Riccati equation's weight `1 / F^2` must
@@ -762,6 +839,30 @@ impl Controller {
             ));
         }
         Ok(c)
+    }
+
+    /// What the controller is, in a few words: its kind, and for a sampled one its law,
+    /// sensors and rate (e.g. `strain-rate + shaper from vehicle, kappa_1_0 at 1000 Hz`).
+    pub fn describe(&self) -> String {
+        let Some(sampled) = &self.sampled else {
+            return self.kind.to_string();
+        };
+        let sensors = sampled.sensors.join(", ");
+        let rate = sampled.rate_hz;
+        if sampled.strain_rate.is_some() {
+            let shaped = if self.kind.has_shaper() {
+                " + shaper"
+            } else {
+                ""
+            };
+            format!("strain-rate{shaped} from {sensors} at {rate} Hz")
+        } else {
+            let estimator = &sampled.estimator;
+            format!(
+                "{} on a {estimator} filter from {sensors} at {rate} Hz",
+                self.kind
+            )
+        }
     }
 
     /// Each design point's value of the scheduled position (m), zeros for a schedule at fixed

@@ -12,7 +12,7 @@ use std::path::Path;
 pub const C_FILES: [&str; 2] = ["telescopic_controller.h", "telescopic_controller.c"];
 
 /// A number as a C double literal that reads back to the same `f64`.
-fn lit(v: f64) -> String {
+pub(crate) fn lit(v: f64) -> String {
     let text = format!("{v:?}");
     if text.contains(['.', 'e', 'E']) {
         text
@@ -22,7 +22,7 @@ fn lit(v: f64) -> String {
 }
 
 /// A C initializer of a list of numbers, wrapped at about 100 columns.
-fn list(values: impl IntoIterator<Item = f64>, indent: &str) -> String {
+pub(crate) fn list(values: impl IntoIterator<Item = f64>, indent: &str) -> String {
     let mut out = String::from("{");
     let mut line = 1;
     for (i, v) in values.into_iter().enumerate() {
@@ -77,6 +77,9 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
     let sampled = file.sampled.as_ref().ok_or_else(|| {
         Error::option("controller", "has no sampled part (design it with sensors)")
     })?;
+    if let Some(law) = &sampled.strain_rate {
+        return Ok(super::emit_strain::emit_strain_rate(file, law, start, end));
+    }
     if sampled.estimator != "linear" {
         return Err(Error::option(
             "controller `sampled.estimator`",
@@ -127,12 +130,6 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
 fn source(file: &Controller, banner: &str, start: f64, end: f64) -> String {
     let sampled = file.sampled.as_ref().expect("checked by the caller");
     let positions = file.schedule_positions();
-    let reference = super::sampled::reference(file, start, end);
-    let nodes: Vec<(f64, f64, f64, f64)> = reference.nodes().collect();
-    let (ff_times, ff_values) = file.feedforward_steps().map_or(
-        (vec![start], vec![file.feedforward.value(start)]),
-        |(t, v)| (t.to_vec(), v.to_vec()),
-    );
     let mut s = String::from(banner);
     s.push_str("#include \"telescopic_controller.h\"\n#include <math.h>\n\n");
     let (n, m, p) = (
@@ -208,18 +205,20 @@ fn source(file: &Controller, banner: &str, start: f64, end: f64) -> String {
         gains,
         &[p, n],
     );
-    append_profiles(&mut s, &nodes, ff_times, ff_values);
-    s.push_str(FUNCTIONS);
+    append_profiles(&mut s, file, start, end);
+    s.push_str(FILTER_FUNCTIONS);
     s
 }
 
-/// The feedforward's and the rigid reference's tables.
-fn append_profiles(
-    s: &mut String,
-    nodes: &[(f64, f64, f64, f64)],
-    ff_times: Vec<f64>,
-    ff_values: Vec<f64>,
-) {
+/// The feedforward's and the rigid reference's tables over `[start, end]` s, then the shared
+/// helpers that read them.
+pub(crate) fn append_profiles(s: &mut String, file: &Controller, start: f64, end: f64) {
+    let reference = super::sampled::reference(file, start, end);
+    let nodes: Vec<(f64, f64, f64, f64)> = reference.nodes().collect();
+    let (ff_times, ff_values) = file.feedforward_steps().map_or(
+        (vec![start], vec![file.feedforward.value(start)]),
+        |(t, v)| (t.to_vec(), v.to_vec()),
+    );
     let table = |s: &mut String, decl: &str, values: Vec<f64>| {
         let _ = writeln!(s, "{decl} = {};", list(values, "    "));
     };
@@ -240,10 +239,12 @@ fn append_profiles(
     table(s, "static const double REF_U[REF_COUNT]", column(1));
     table(s, "static const double REF_V[REF_COUNT]", column(2));
     table(s, "static const double REF_A[REF_COUNT]", column(3));
+    s.push_str(SHARED_FUNCTIONS);
 }
 
-/// The functions of the C source (the tables above them are the controller's own).
-const FUNCTIONS: &str = r#"
+/// The helpers every emitted controller shares: the feedforward, the rigid reference and the
+/// schedule's weights, over the tables above them.
+pub(crate) const SHARED_FUNCTIONS: &str = r#"
 /* The feedforward force at t: the value of the last step at or before t. */
 static double feedforward(double t)
 {
@@ -299,7 +300,10 @@ static void weights(double a, int *i, int *j, double *w)
     *j = k;
     *w = (a - POSITIONS[k - 1]) / (POSITIONS[k] - POSITIONS[k - 1]);
 }
+"#;
 
+/// The linear filter's init and step.
+const FILTER_FUNCTIONS: &str = r#"
 void tc_init(tc_state *s)
 {
     for (int r = 0; r < TC_STATES; r++) {

@@ -212,6 +212,9 @@ impl Controller {
                 format!("must be 1 to 1e6 Hz (got {})", sampled.rate_hz),
             ));
         }
+        if let Some(law) = &sampled.strain_rate {
+            return self.check_strain_rate(law, &sampled.estimator, &sampled.sensors);
+        }
         if !super::sampled::ESTIMATORS.contains(&sampled.estimator.as_str()) {
             return Err(field(
                 "sampled.estimator",
@@ -246,6 +249,66 @@ impl Controller {
                     ));
                 }
             }
+        }
+        Ok(())
+    }
+}
+
+impl Controller {
+    /// The strain-rate law: no estimator, its sensors present, one finite point per design
+    /// point, finite positive loop gains and filter.
+    fn check_strain_rate(
+        &self,
+        law: &super::strain::StrainRateLaw,
+        estimator: &str,
+        sensors: &[String],
+    ) -> Result<()> {
+        if estimator != "none" {
+            return Err(field(
+                "sampled.estimator",
+                format!("must be `none` with a strain-rate law (got `{estimator}`)"),
+            ));
+        }
+        if let Some(s) = super::strain::STRAIN_RATE_SENSORS
+            .iter()
+            .find(|s| !sensors.iter().any(|o| o == *s))
+        {
+            return Err(field(
+                "sampled.sensors",
+                format!("the strain-rate law reads `{s}`, which is not among them"),
+            ));
+        }
+        if law.points.len() != self.schedule.len() {
+            return Err(field(
+                "sampled.strain_rate.points",
+                "must hold one point per design point",
+            ));
+        }
+        for (name, v) in [
+            ("vehicle_stiffness_n_per_m", law.vehicle_stiffness_n_per_m),
+            ("vehicle_damping_n_s_per_m", law.vehicle_damping_n_s_per_m),
+            ("filter_time_constant_s", law.filter_time_constant_s),
+        ] {
+            if !(v.is_finite() && (0.0..=MAX_GAIN).contains(&v)) {
+                return Err(field(
+                    &format!("sampled.strain_rate.{name}"),
+                    format!("must be finite, >= 0 and at most {MAX_GAIN:e} (got {v})"),
+                ));
+            }
+        }
+        if let Some((j, p)) = law
+            .points
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !(p.gain.is_finite() && p.gain.abs() <= MAX_GAIN))
+        {
+            return Err(field(
+                &format!("sampled.strain_rate.points[{j}].gain"),
+                format!(
+                    "must be finite and at most {MAX_GAIN:e} in size (got {})",
+                    p.gain
+                ),
+            ));
         }
         Ok(())
     }

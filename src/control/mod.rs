@@ -18,11 +18,13 @@ pub mod controlled;
 pub mod design;
 pub mod ekf;
 pub mod emit_c;
+mod emit_strain;
 pub mod file;
 pub mod riccati;
 pub mod sampled;
 pub mod sampled_run;
 pub mod shaper;
+pub mod strain;
 
 pub use controlled::{ControlLaw, Controlled, Observed};
 pub use design::{Controller, ControllerKind, DesignOptions, design};
@@ -125,7 +127,7 @@ impl ControlComparison {
              {} s) {:.5} m with control, {:.5} m without ({:.1}x less); peak drive force \
              {:.1} N with (limit {} N), {:.1} N without; final vehicle position {:.4} m with, \
              {:.4} m without ({:+.3} %)",
-            controller.kind,
+            controller.describe(),
             with.window_start,
             with.residual_std,
             without.residual_std,
@@ -241,6 +243,9 @@ pub fn compare_variants(
     for (kind, sensors) in continuous.iter().chain(with_sensors).cloned() {
         let variant = if sensors.is_empty() {
             kind.to_string()
+        } else if design::sampled_law(options) == "strain-rate" {
+            let shaped = if kind.has_shaper() { " + shaper" } else { "" };
+            format!("strain-rate{shaped} from {}", sensors.join("+"))
         } else {
             format!("{kind} from {}", sensors.join("+"))
         };

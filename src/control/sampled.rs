@@ -53,8 +53,12 @@ pub struct SampledDesign {
     /// contact law, [`super::ekf::ExtendedKalman`]).
     #[serde(default = "linear")]
     pub estimator: String,
-    /// One discrete filter per design point, in the schedule's order.
+    /// One discrete filter per design point, in the schedule's order (none for the
+    /// strain-rate law).
     pub points: Vec<DiscretePoint>,
+    /// The strain-rate law, replacing the LQR on a filter's estimate (estimator `none`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strain_rate: Option<super::strain::StrainRateLaw>,
 }
 
 /// The discrete model and Kalman gain of one design point.
@@ -165,12 +169,7 @@ pub fn design_sampled(
     force_noise: f64,
     rate_hz: f64,
 ) -> Result<SampledDesign> {
-    if !(rate_hz.is_finite() && (1.0..=1e6).contains(&rate_hz)) {
-        return Err(Error::option(
-            "SampledOptions::rate_hz",
-            format!("must be 1 to 1e6 Hz (got {rate_hz})"),
-        ));
-    }
+    check_rate(rate_hz)?;
     let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
     let rows: Vec<usize> = sensors
         .iter()
@@ -223,7 +222,22 @@ pub fn design_sampled(
         seed: 1,
         estimator: linear(),
         points,
+        strain_rate: None,
     })
+}
+
+/// Checks a controller rate (Hz): 1 to 1e6.
+///
+/// # Errors
+/// [`Error::Option`] naming `DesignOptions::rate_hz`.
+pub fn check_rate(rate_hz: f64) -> Result<()> {
+    if !(rate_hz.is_finite() && (1.0..=1e6).contains(&rate_hz)) {
+        return Err(Error::option(
+            "DesignOptions::rate_hz",
+            format!("must be 1 to 1e6 Hz (got {rate_hz})"),
+        ));
+    }
+    Ok(())
 }
 
 /// The rigid reference of a sampled controller: nodes at the feedforward's breakpoints only

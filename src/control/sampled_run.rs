@@ -203,6 +203,14 @@ pub fn simulate_sampled(
         let mut controller = super::ekf::ExtendedKalman::new(file, own, start, end)?;
         return run_sampled(run, file, &mut controller, reporter);
     }
+    if file
+        .sampled
+        .as_ref()
+        .is_some_and(|s| s.strain_rate.is_some())
+    {
+        let mut controller = super::strain::StrainRateController::new(file, start, end)?;
+        return run_sampled(run, file, &mut controller, reporter);
+    }
     let mut controller = DiscreteController::new(file, start, end)?;
     run_sampled(run, file, &mut controller, reporter)
 }

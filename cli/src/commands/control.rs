@@ -152,6 +152,15 @@ pub struct DesignArgs {
     /// the nonlinear model with the contact law).
     #[arg(long, default_value = "linear", value_name = "linear|extended")]
     pub estimator: String,
+    /// The sampled law: auto (strain-rate when the sensors include vehicle and kappa_1_0,
+    /// else lqr), lqr (the LQR on the estimator's state) or strain-rate (the strain gauge's
+    /// rate fed to the drive and a PD on the vehicle, no estimator; --controller then only
+    /// chooses the feedforward, shaped or not).
+    #[arg(long, default_value = "auto", value_name = "auto|lqr|strain-rate")]
+    pub law: String,
+    /// The strain-rate law's damping ratio added to the first mode.
+    #[arg(long, default_value_t = DesignOptions::default().added_damping, value_name = "ZETA")]
+    pub added_damping: f64,
     /// Seed of the simulated measurement noise (the same seed, the same run).
     #[arg(long, default_value_t = 1, value_name = "N")]
     pub noise_seed: u64,
@@ -186,6 +195,8 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         rate_hz: args.rate,
         estimator: args.estimator.clone(),
         noise_seed: args.noise_seed,
+        law: args.law.clone(),
+        added_damping: args.added_damping,
         model: args.model,
         models: Default::default(),
     };
@@ -193,7 +204,7 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         if !dir.is_dir() {
             anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
         }
-        if args.estimator != "linear" {
+        if args.estimator != "linear" && args.law != "strain-rate" {
             anyhow::bail!(
                 "--emit-c writes the linear filter; --estimator {} runs in the library only",
                 args.estimator
@@ -216,7 +227,7 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
     eprintln!(
         "{}: controller {} with {} design point(s){}; wrote {}",
         scene.name,
-        controller.kind,
+        controller.describe(),
         controller.schedule.len(),
         controller
             .schedule_parameter

@@ -122,7 +122,10 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         let half_band = scene.params.contact.half_band();
         // the labels say what differs: the controller, or the clearance of a compared scene
         let (label, role) = match &controller {
-            Some(c) => (format!("{} with {}", scene.name, c.kind), Role::Controlled),
+            Some(c) => (
+                format!("{} with {}", scene.name, c.describe()),
+                Role::Controlled,
+            ),
             None => (clearance_label(&scene), Role::Scene),
         };
         let mut curves = vec![Curve {

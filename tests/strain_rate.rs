@@ -1,0 +1,144 @@
+//! The strain-rate law from a machine's sensors (`vehicle` + `kappa_1_0`, sampled at 1 kHz
+//! with noise, delay and saturation) on case-study with clearance: its reduction, force and
+//! travel at the default settings, on plants it was not designed for, its file's checks.
+
+use telescopic::control::{Controller, DesignOptions, compare_with_open_loop, design};
+use telescopic::simulation::SimulationOptions;
+use telescopic::{Scene, Silent};
+
+fn scene(overrides: &[&str]) -> Scene {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scene::load("scenes/case-study.toml".as_ref(), &o).unwrap()
+}
+
+fn sensors() -> DesignOptions {
+    DesignOptions {
+        sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+        ..DesignOptions::default()
+    }
+}
+
+/// Reduction of the residual std, peak force (N) and travel against the open loop of `plant`.
+fn run(plant: &Scene, controller: &Controller) -> (f64, f64, f64) {
+    let run =
+        compare_with_open_loop(plant, controller, &SimulationOptions::default(), &Silent).unwrap();
+    let reduction = run.without.residual_std / run.with.residual_std;
+    let travel = run.with.final_vehicle / run.without.final_vehicle - 1.0;
+    eprintln!(
+        "{}: {reduction:.2}x, peak {:.1} N, travel {:+.3} %, p2p {:.1} % of open loop, {} \
+         switches",
+        plant.name,
+        run.with.peak_force,
+        100.0 * travel,
+        100.0 * run.with.residual_p2p / run.without.residual_p2p,
+        run.with.window_switches
+    );
+    (reduction, run.with.peak_force, travel)
+}
+
+#[test]
+fn the_strain_rate_law_damps_case_study_with_clearance_from_the_machine_sensors() {
+    let nominal = scene(&[]);
+    // the default law with these sensors is the strain-rate law
+    let controller = design(&nominal, &sensors()).unwrap();
+    let sampled = controller.sampled.as_ref().unwrap();
+    let law = sampled.strain_rate.as_ref().expect("strain-rate law");
+    assert_eq!(sampled.estimator, "none");
+    assert!(sampled.points.is_empty());
+    // the gain follows the physics it is built from: m 2 zeta omega_1 r at every point
+    for p in &law.points {
+        let expected = controller.total_mass_kg
+            * 2.0
+            * law.added_damping
+            * std::f64::consts::TAU
+            * p.first_mode_hz;
+        assert!((p.gain - expected * p.tip_per_curvature_m2).abs() <= 1e-9 * p.gain.abs());
+        assert!(p.tip_per_curvature_m2 > 0.0, "{p:?}");
+    }
+    assert_eq!(
+        Controller::from_json(&controller.to_json()).unwrap(),
+        controller
+    );
+    // measured 8.0x at 172 N and +0.20 % travel (docs/control.md); the issue's 10x is not
+    // reached on this window (the shaped braking lasts until 13.3 s)
+    let (reduction, peak, travel) = run(&nominal, &controller);
+    assert!(reduction >= 7.0, "{reduction}x");
+    assert!(peak <= 300.0 + 1e-9, "{peak} N");
+    assert!(travel.abs() <= 0.01, "travel {travel}");
+}
+
+#[test]
+fn the_strain_rate_law_holds_on_plants_it_was_not_designed_for() {
+    let controller = design(&scene(&[]), &sensors()).unwrap();
+    // measured 7.1x, 10.7x and 7.8x (docs/control.md): at least 5x each within the limit
+    for change in [
+        "contact.clearance=0.005",
+        "contact.clearance=0.02",
+        "contact.stiffness=0.11875e9",
+    ] {
+        let (reduction, peak, travel) = run(&scene(&[change]), &controller);
+        assert!(reduction >= 5.0, "{change}: {reduction}x");
+        assert!(peak <= 300.0 + 1e-9, "{change}: {peak} N");
+        assert!(travel.abs() <= 0.01, "{change}: travel {travel}");
+    }
+}
+
+#[test]
+fn strain_rate_designs_and_files_are_checked() {
+    let plant = scene(&[]);
+    let err = |options: DesignOptions| design(&plant, &options).unwrap_err().to_string();
+    let e = err(DesignOptions {
+        sensors: vec!["vehicle".into(), "acc_load".into()],
+        law: "strain-rate".into(),
+        ..DesignOptions::default()
+    });
+    assert!(
+        e.contains("DesignOptions::sensors") && e.contains("kappa_1_0"),
+        "{e}"
+    );
+    let e = err(DesignOptions {
+        law: "pid".into(),
+        ..sensors()
+    });
+    assert!(e.contains("DesignOptions::law") && e.contains("pid"), "{e}");
+    let e = err(DesignOptions {
+        added_damping: -0.1,
+        ..sensors()
+    });
+    assert!(e.contains("DesignOptions::added_damping"), "{e}");
+    let controller = design(&plant, &sensors()).unwrap();
+    let edit = |f: &dyn Fn(&mut Controller)| {
+        let mut c = controller.clone();
+        f(&mut c);
+        c.check_fits(&plant).unwrap_err().to_string()
+    };
+    let e = edit(&|c| {
+        c.sampled
+            .as_mut()
+            .unwrap()
+            .strain_rate
+            .as_mut()
+            .unwrap()
+            .points[2]
+            .gain = f64::NAN
+    });
+    assert!(e.contains("sampled.strain_rate.points[2].gain"), "{e}");
+    let e = edit(&|c| {
+        c.sampled
+            .as_mut()
+            .unwrap()
+            .strain_rate
+            .as_mut()
+            .unwrap()
+            .points
+            .pop();
+    });
+    assert!(e.contains("sampled.strain_rate.points"), "{e}");
+    let e = edit(&|c| c.sampled.as_mut().unwrap().sensors[1] = "acc_load".into());
+    assert!(
+        e.contains("sampled.sensors") && e.contains("kappa_1_0"),
+        "{e}"
+    );
+    let e = edit(&|c| c.sampled.as_mut().unwrap().estimator = "linear".into());
+    assert!(e.contains("sampled.estimator"), "{e}");
+}
