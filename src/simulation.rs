@@ -22,7 +22,7 @@ use std::io::Write;
 use std::path::Path;
 use std::str::FromStr;
 use telescopic_runtime::integrate::StepControl;
-use telescopic_runtime::{Method, RunStats, Scene, Settings, auto_plan};
+use telescopic_runtime::{Method, RunStats, Scene, Settings, auto_plan, plan_for_accuracy};
 
 /// The method of a run: `auto` (chosen on the scene) or one named method.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -72,6 +72,11 @@ pub struct SimulationOptions {
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
     pub models: ModelRegistry,
+    /// The error asked for in `tip_rel` inside the predictability horizon (m): `auto` then
+    /// picks the method and tolerance that reach it cheapest from the measured table
+    /// ([`telescopic_runtime::accuracy`]); `None`: the default accuracy, 1e-6 m, unless a
+    /// method or tolerance is given.
+    pub accuracy: Option<f64>,
 }
 
 impl Default for SimulationOptions {
@@ -84,6 +89,7 @@ impl Default for SimulationOptions {
             step_cap: true,
             model: ModelChoice::Auto,
             models: ModelRegistry::default(),
+            accuracy: None,
         }
     }
 }
@@ -106,13 +112,36 @@ pub struct Plan {
 /// every method, even those that do not use them).
 pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     let mut settings = Settings::default();
-    let (method, how) = match options.method {
-        MethodChoice::Auto => {
+    let (method, how) = match (options.method, options.accuracy) {
+        (MethodChoice::Auto, Some(accuracy)) => {
+            if options.rtol.is_some() || options.atol.is_some() {
+                return Err(Error::option(
+                    "SimulationOptions::accuracy",
+                    "picks the tolerances itself: give an accuracy or rtol/atol, not both",
+                ));
+            }
+            let chosen = plan_for_accuracy(&scene.params, &scene.time, accuracy)
+                .map_err(|e| Error::option("SimulationOptions::accuracy", e))?;
+            settings.exact_from = chosen.exact_from;
+            settings.rtol = chosen.rtol;
+            settings.atol = 1e-3 * chosen.rtol;
+            (
+                chosen.method,
+                format!("accuracy {accuracy:e} m: {}; ", chosen.why),
+            )
+        }
+        (MethodChoice::Method(m), Some(_)) => {
+            return Err(Error::option(
+                "SimulationOptions::accuracy",
+                format!("picks the method itself: leave the method at auto (got {m})"),
+            ));
+        }
+        (MethodChoice::Auto, None) => {
             let (m, exact_from, why) = auto_plan(&scene.params, &scene.time);
             settings.exact_from = exact_from;
             (m, format!("auto: {why}; "))
         }
-        MethodChoice::Method(m) => (m, String::new()),
+        (MethodChoice::Method(m), None) => (m, String::new()),
     };
     if let Some(r) = options.rtol {
         settings.rtol = r;
@@ -139,6 +168,15 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
         return Err(Error::option(
             "SimulationOptions::dt",
             format!("must be a finite number of seconds > 0 (got {dt})"),
+        ));
+    }
+    let span = scene.time.end - scene.time.start;
+    if let Some(dt) = settings.dt
+        && dt > span
+    {
+        return Err(Error::option(
+            "SimulationOptions::dt",
+            format!("{dt} s is longer than the scene's span ({span} s): a step must fit in it"),
         ));
     }
     if method.step_control() == StepControl::Fixed && settings.dt.is_none() {

@@ -112,26 +112,13 @@ fn strain_rate_designs_and_files_are_checked() {
         f(&mut c);
         c.check_fits(&plant).unwrap_err().to_string()
     };
-    let e = edit(&|c| {
-        c.sampled
-            .as_mut()
-            .unwrap()
-            .strain_rate
-            .as_mut()
-            .unwrap()
-            .points[2]
-            .gain = f64::NAN
-    });
+    fn law(c: &mut Controller) -> &mut telescopic::control::strain::StrainRateLaw {
+        c.sampled.as_mut().unwrap().strain_rate.as_mut().unwrap()
+    }
+    let e = edit(&|c| law(c).points[2].gain = f64::NAN);
     assert!(e.contains("sampled.strain_rate.points[2].gain"), "{e}");
     let e = edit(&|c| {
-        c.sampled
-            .as_mut()
-            .unwrap()
-            .strain_rate
-            .as_mut()
-            .unwrap()
-            .points
-            .pop();
+        law(c).points.pop();
     });
     assert!(e.contains("sampled.strain_rate.points"), "{e}");
     let e = edit(&|c| c.sampled.as_mut().unwrap().sensors[1] = "acc_load".into());

@@ -33,6 +33,7 @@ const FLAGS: &[(&str, &str)] = &[
     ("ConvergeOptions::tol", "--tol"),
     ("ConvergeOptions::max_modes", "--max-modes"),
     ("ConvergeOptions::max_contacts", "--max-contacts"),
+    ("SimulationOptions::accuracy", "--accuracy"),
     ("DesignOptions::kind", "--controller"),
     ("DesignOptions::force_limit", "--force-limit"),
     ("DesignOptions::tip_scale", "--tip-scale"),

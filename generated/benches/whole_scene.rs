@@ -32,6 +32,13 @@ fn cases() -> Vec<(&'static str, &'static str, Settings)> {
         ("case-study.toml", "dop853", uncapped(1e-5)),
         ("case-study.toml", "dop853", rtol(1e-6)),
         ("case-study.toml", "dopri5", rtol(1e-8)),
+        ("case-study.toml", "imex", rtol(1e-7)),
+        ("case-study.toml", "auto", Settings::default()),
+        ("case-study-no-clearance.toml", "auto", Settings::default()),
+        ("case-study-no-clearance.toml", "dop853", rtol(1e-5)),
+        ("case-study-no-clearance.toml", "dopri5", rtol(1e-6)),
+        ("case-study-no-clearance.toml", "esdirk", rtol(1e-3)),
+        ("three-section.toml", "auto", Settings::default()),
     ]
 }
 

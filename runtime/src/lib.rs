@@ -20,6 +20,7 @@
 
 #![warn(missing_docs)]
 
+pub mod accuracy;
 pub mod assembled;
 pub mod check;
 pub mod configuration;
@@ -41,6 +42,7 @@ pub mod shape;
 pub mod shape_reference;
 pub mod specialize;
 
+pub use accuracy::{AccuracyPlan, DEFAULT_ACCURACY_M, plan_for_accuracy};
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use configuration::{DriveKind, ModelConfig, Positions, configuration_key, models_toml_entry};
 pub use contact::{ContactForce, ContactLaw, ContactState};

@@ -2,6 +2,7 @@
 //! summary: constant contact vectors, the linear law without events, no prestress, exact
 //! stepping.
 
+use crate::accuracy::{DEFAULT_ACCURACY_M, SceneKind, cheapest, plan_for_accuracy};
 use crate::integrate::Method;
 use crate::integrate::exact::{exact_tail_start, lti_obstacle};
 use crate::model::Model;
@@ -61,7 +62,7 @@ pub fn specializations(
         let how = if exact_from.is_some() {
             "exact stepping of the rest (method auto)".to_string()
         } else {
-            format!("exact stepping of the rest would apply (method auto; this run: {method})")
+            format!("exact stepping of the rest would apply (this run: {method} throughout)")
         };
         found.push(format!(
             "positions at rest from t = {t} s: linear time-invariant from there, {how}"
@@ -72,31 +73,22 @@ pub fn specializations(
 
 /// What method `auto` runs on `span`: the method, the time from which exact stepping takes
 /// over when the positions come to rest inside the span (`None`: one method throughout), and
-/// why.
+/// why; the plan of [`crate::accuracy::plan_for_accuracy`] at the default accuracy (1e-6 m),
+/// whose tolerance is the default one (rtol 1e-6).
 pub fn auto_plan(params: &ModelParams, span: &TimeSpan) -> (Method, Option<f64>, String) {
-    let (method, why) = auto_method(params);
-    match exact_tail_start(params, span) {
-        // exact from the start needs no tail; anything but moving positions rules one out
-        Some(t) if method != Method::Exact => (
-            method,
-            Some(t),
-            format!(
-                "{} while the positions move, exact from t = {t} s on (positions at rest)",
-                method.name()
-            ),
-        ),
-        _ => (method, None, why),
-    }
+    let plan = plan_for_accuracy(params, span, DEFAULT_ACCURACY_M)
+        .expect("every kind of scene has a measured run within the default accuracy");
+    (plan.method, plan.exact_from, plan.why)
 }
 
-/// The method `auto` stands for: `exact` for a scene that is linear and time-invariant
-/// between contact switches, else `dopri5`; with the reason.
+/// The method `auto` stands for on the scene of `params` (at the default accuracy), with the
+/// reason.
 pub fn auto_method(params: &ModelParams) -> (Method, String) {
-    match lti_obstacle(params) {
-        None => (
-            Method::Exact,
-            "the scene is linear and time-invariant between contact switches".to_string(),
-        ),
-        Some(why) => (Method::Dopri5, format!("not exact: {why}")),
-    }
+    let kind = SceneKind::of(params);
+    let row = cheapest(kind, DEFAULT_ACCURACY_M)
+        .expect("every kind of scene has a measured run within the default accuracy");
+    (
+        Method::from_name(row.method).expect("the table names known methods"),
+        format!("{} (for scenes {})", row.method, kind.describe()),
+    )
 }

@@ -134,34 +134,15 @@ impl Stepper for Esdirk {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tableau::{dot, full, mul};
     use super::*;
     use approx::assert_relative_eq;
-
-    /// The full Butcher matrix (diagonal included).
-    fn full() -> [[f64; 6]; 6] {
-        let mut a = [[0.0; 6]; 6];
-        for i in 0..6 {
-            a[i][..5].copy_from_slice(&A[i]);
-            if i > 0 {
-                a[i][i] = GAMMA;
-            }
-        }
-        a
-    }
-
-    fn dot(x: &[f64; 6], y: &[f64; 6]) -> f64 {
-        x.iter().zip(y).map(|(a, b)| a * b).sum()
-    }
-
-    fn mul(a: &[[f64; 6]; 6], x: &[f64; 6]) -> [f64; 6] {
-        std::array::from_fn(|i| dot(&a[i], x))
-    }
 
     /// The transcribed coefficients satisfy the order conditions: 4 for `b`, 3 for `bhat`,
     /// and the row sums are the nodes.
     #[test]
     fn order_conditions_hold() {
-        let a = full();
+        let a = full(&A, GAMMA);
         let ones = [1.0; 6];
         for (i, row) in a.iter().enumerate() {
             assert_relative_eq!(row.iter().sum::<f64>(), C[i], epsilon = 1e-14);

@@ -20,8 +20,11 @@ pub mod events;
 pub mod exact;
 pub mod explicit;
 pub mod generalized_alpha;
+pub mod imex;
 pub mod newton;
 pub mod stability;
+#[cfg(test)]
+mod tableau;
 pub mod verlet;
 
 use crate::model::Model;
@@ -49,6 +52,9 @@ pub enum Method {
         /// Adaptive step size from the local error estimate (else a fixed `dt`).
         adaptive: bool,
     },
+    /// ARK4(3)6L\[2\]SA (Kennedy-Carpenter), adaptive, additive: the contact springs and
+    /// dampers implicit (a low-rank solve per stage), everything else explicit.
+    Imex,
     /// Classical Runge-Kutta 4, fixed step, explicit.
     Rk4,
     /// Exact stepping (matrix exponential per contact branch) of a scene that is linear and
@@ -78,7 +84,7 @@ pub enum StepControl {
 }
 
 /// Names accepted by [`Method::from_name`], with a one-line description each.
-pub const METHOD_NAMES: [(&str, &str); 12] = [
+pub const METHOD_NAMES: [(&str, &str); 13] = [
     (
         "dopri5",
         "Dormand-Prince 5(4), adaptive explicit Runge-Kutta",
@@ -90,6 +96,10 @@ pub const METHOD_NAMES: [(&str, &str); 12] = [
     (
         "esdirk",
         "ESDIRK4(3)6L[2]SA, adaptive L-stable implicit Runge-Kutta, analytic Jacobian",
+    ),
+    (
+        "imex",
+        "ARK4(3)6L[2]SA, adaptive additive Runge-Kutta: contacts implicit, the rest explicit",
     ),
     (
         "bdf",
@@ -151,6 +161,7 @@ impl Method {
             "dopri5" => Ok(Method::Dopri5),
             "dop853" => Ok(Method::Dop853),
             "esdirk" => Ok(Method::Esdirk),
+            "imex" => Ok(Method::Imex),
             "rk4" => Ok(Method::Rk4),
             "exact" => Ok(Method::Exact),
             "verlet" => Ok(Method::Verlet),
@@ -193,6 +204,7 @@ impl Method {
             Method::Dopri5 => "dopri5".into(),
             Method::Dop853 => "dop853".into(),
             Method::Esdirk => "esdirk".into(),
+            Method::Imex => "imex".into(),
             Method::Bdf {
                 max_order,
                 adaptive,
@@ -225,6 +237,7 @@ impl Method {
             Method::Dopri5
             | Method::Dop853
             | Method::Esdirk
+            | Method::Imex
             | Method::Bdf { adaptive: true, .. }
             | Method::GeneralizedAlpha { adaptive: true, .. } => StepControl::Adaptive,
             Method::Exact => StepControl::Exact,
@@ -524,6 +537,7 @@ fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Step
             settings,
         )),
         Method::Esdirk => Box::new(esdirk::Esdirk::new(dof, settings)),
+        Method::Imex => Box::new(imex::Imex::new(dof, settings)),
         Method::Bdf { max_order, .. } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
         Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),
         Method::Exact => unreachable!("method exact has its own loop (exact.rs)"),

@@ -207,7 +207,8 @@ pub fn linearization_times(model: &dyn Model, span: &TimeSpan) -> Vec<f64> {
 /// (margin for times between the linearization times).
 pub const STEP_CAP_SAFETY: f64 = 0.95;
 
-/// Largest stable step (s) of an explicit `method` (dopri5, dop853, rk4, verlet) with closed
+/// Largest stable step (s) of a `method` with an explicit part (dopri5, dop853, rk4, verlet,
+/// imex) with closed
 /// contacts at the stiffest (largest `omega_max`) of the [`linearization_times`], to three
 /// digits. `None` for implicit methods (no limit), for a model without contacts, or when the
 /// modal analysis fails.
@@ -218,7 +219,7 @@ pub fn closed_contact_stable_step(
 ) -> Option<f64> {
     let explicit = matches!(
         method,
-        Method::Dopri5 | Method::Dop853 | Method::Rk4 | Method::Verlet
+        Method::Dopri5 | Method::Dop853 | Method::Rk4 | Method::Verlet | Method::Imex
     );
     if !explicit || model.layout().contact_count() == 0 {
         return None;

@@ -1,0 +1,197 @@
+//! Accuracy asked for in metres: the defaults keep 1e-6 m in `tip_rel` inside every shipped
+//! scene's predictability horizon (against two tight reference runs, as `work-precision`
+//! measures it), the table behind `--accuracy` is the committed measurements, and requests it
+//! cannot meet are refused with the rule.
+
+use telescopic::runtime::Method;
+use telescopic::runtime::accuracy::{MEASURED, SceneKind};
+use telescopic::simulation::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
+use telescopic::{Scene, Silent};
+
+fn scene(name: &str, overrides: &[&str]) -> Scene {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scene::load(format!("scenes/{name}.toml").as_ref(), &o).unwrap()
+}
+
+fn tight(method: Method, rtol: f64) -> SimulationOptions {
+    SimulationOptions {
+        method: MethodChoice::Method(method),
+        rtol: Some(rtol),
+        atol: Some(1e-3 * rtol),
+        ..SimulationOptions::default()
+    }
+}
+
+fn tip(t: &Trajectory) -> Vec<f64> {
+    t.column("tip_rel").unwrap()
+}
+
+/// Largest `|tip_rel|` difference (m) of `run` from the reference up to the horizon.
+fn worst_in_horizon(run: &Trajectory, horizon: f64, t: &[f64], reference: &[f64]) -> f64 {
+    t.iter()
+        .zip(tip(run).iter().zip(reference))
+        .filter(|(t, _)| **t <= horizon)
+        .map(|(_, (x, y))| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The horizon (s) where two tight references part by 1e-9 m, and the first reference.
+fn references(scene: &Scene) -> (f64, Vec<f64>, Vec<f64>) {
+    let a = simulate_scene(scene, &tight(Method::Dop853, 1e-12), &Silent).unwrap();
+    let b = simulate_scene(scene, &tight(Method::Dopri5, 1e-10), &Silent).unwrap();
+    let (ta, tb) = (tip(&a.trajectory), tip(&b.trajectory));
+    let t = a.trajectory.column("t").unwrap();
+    let horizon = t
+        .iter()
+        .zip(ta.iter().zip(&tb))
+        .find(|(_, (x, y))| (*x - *y).abs() > 1e-9)
+        .map_or(scene.time.end, |(t, _)| *t);
+    (horizon, t, ta)
+}
+
+#[test]
+fn the_defaults_keep_1e_6_m_on_every_shipped_scene() {
+    for name in [
+        "adams-linear",
+        "adams-clearance",
+        "case-study",
+        "case-study-no-clearance",
+        "three-section",
+        "test-rig",
+    ] {
+        let scene = scene(name, &[]);
+        let (horizon, t, reference) = references(&scene);
+        let run = simulate_scene(&scene, &SimulationOptions::default(), &Silent).unwrap();
+        let worst = worst_in_horizon(&run.trajectory, horizon, &t, &reference);
+        eprintln!(
+            "{name}: default ({}) within {worst:.2e} m of the references on [0, {horizon}] s",
+            run.plan.method
+        );
+        assert!(worst <= 1e-6, "{name}: {worst:e} m");
+    }
+}
+
+/// `docs/wp-<scene>.csv`: `(method, setting) -> (tip error, wall)`.
+fn committed(scene: &str) -> Vec<(String, String, f64, f64)> {
+    let text = std::fs::read_to_string(format!("docs/wp-{scene}.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (m, s, e, w) = (
+        col("method"),
+        col("setting"),
+        col("tip_error_horizon_m"),
+        col("wall_s"),
+    );
+    // a failed run (e.g. verlet above its limit) has no error and no time
+    lines
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            Some((
+                f[m].to_string(),
+                f[s].to_string(),
+                f[e].parse().ok()?,
+                f[w].parse().ok()?,
+            ))
+        })
+        .collect()
+}
+
+#[test]
+fn the_accuracy_table_is_the_committed_measurements() {
+    for row in MEASURED {
+        let setting = if row.method == "exact" {
+            "exact".to_string()
+        } else {
+            format!("rtol={:e}", row.rtol)
+        };
+        let runs = committed(row.scene);
+        let (_, _, error, wall) = runs
+            .iter()
+            .find(|(m, s, _, _)| m == row.method && *s == setting)
+            .unwrap_or_else(|| panic!("{row:?} is not in docs/wp-{}.csv", row.scene));
+        // the table rounds to two digits
+        assert!(
+            (error - row.error_m).abs() <= 0.05 * row.error_m,
+            "{row:?}: {error}"
+        );
+        assert!(
+            (wall - row.wall_s).abs() <= 0.05 * row.wall_s,
+            "{row:?}: {wall}"
+        );
+        // and the scene is of the row's kind
+        assert_eq!(SceneKind::of(&scene(row.scene, &[]).params), row.kind);
+    }
+}
+
+#[test]
+fn accuracy_picks_the_table_s_run_and_meets_it() {
+    let case = scene("case-study", &[]);
+    let asked = SimulationOptions {
+        accuracy: Some(1e-9),
+        ..SimulationOptions::default()
+    };
+    let run = simulate_scene(&case, &asked, &Silent).unwrap();
+    assert_eq!(run.plan.method, Method::Dop853);
+    assert_eq!(run.plan.settings.rtol, 1e-7);
+    assert!(run.plan.how.contains("accuracy 1e-9 m"), "{}", run.plan.how);
+    let (horizon, t, reference) = references(&case);
+    let worst = worst_in_horizon(&run.trajectory, horizon, &t, &reference);
+    assert!(worst <= 1e-9, "{worst:e} m");
+}
+
+#[test]
+fn accuracy_requests_it_cannot_meet_are_refused_with_the_rule() {
+    let case = scene("case-study", &[]);
+    let err = |options: SimulationOptions| {
+        simulate_scene(&case, &options, &Silent)
+            .unwrap_err()
+            .to_string()
+    };
+    for bad in [0.0, -1e-6, 1e3, f64::NAN, 1e-12] {
+        let e = err(SimulationOptions {
+            accuracy: Some(bad),
+            ..SimulationOptions::default()
+        });
+        assert!(
+            e.contains("SimulationOptions::accuracy") && e.contains("1e-11 to 1e-2 m"),
+            "{bad}: {e}"
+        );
+    }
+    // inside the range but finer than any measured run on a scene with impacts
+    let e = err(SimulationOptions {
+        accuracy: Some(5e-11),
+        ..SimulationOptions::default()
+    });
+    assert!(
+        e.contains("finer than any measured run") && e.contains("1e-10"),
+        "{e}"
+    );
+    let e = err(SimulationOptions {
+        accuracy: Some(1e-6),
+        method: MethodChoice::Method(Method::Dopri5),
+        ..SimulationOptions::default()
+    });
+    assert!(
+        e.contains("SimulationOptions::accuracy") && e.contains("dopri5"),
+        "{e}"
+    );
+    let e = err(SimulationOptions {
+        accuracy: Some(1e-6),
+        rtol: Some(1e-8),
+        ..SimulationOptions::default()
+    });
+    assert!(e.contains("not both"), "{e}");
+    // a step longer than the scene, fixed or as an adaptive method's first trial
+    for method in [Method::Rk4, Method::Imex] {
+        let e = err(SimulationOptions {
+            method: MethodChoice::Method(method),
+            dt: Some(100.0),
+            ..SimulationOptions::default()
+        });
+        assert!(
+            e.contains("SimulationOptions::dt") && e.contains("longer than the scene's span"),
+            "{method}: {e}"
+        );
+    }
+}
