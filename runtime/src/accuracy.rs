@@ -96,7 +96,7 @@ pub const MEASURED: [MeasuredRun; 6] = [
         method: "imex",
         rtol: 1e-6,
         error_m: 1.9e-7,
-        wall_s: 0.090,
+        wall_s: 0.074,
     },
     MeasuredRun {
         kind: SceneKind::ContactsAlwaysClosed,
@@ -104,7 +104,7 @@ pub const MEASURED: [MeasuredRun; 6] = [
         method: "dop853",
         rtol: 1e-5,
         error_m: 1.6e-12,
-        wall_s: 0.20,
+        wall_s: 0.14,
     },
     MeasuredRun {
         kind: SceneKind::Impacts,
@@ -180,11 +180,8 @@ pub fn plan_for_accuracy(
         row.wall_s,
         row.scene
     );
-    // no hand-over from imex: its state's rates along the contact modes are not the exact
-    // flow's (4e-4 m/s off the reference at 12 s on case-study-no-clearance), and exact
-    // stepping from there drifted 7e-5 m from it within 0.5 s
     let exact_from = match exact_tail_start(params, span) {
-        Some(t) if method != Method::Exact && method != Method::Imex => {
+        Some(t) if method != Method::Exact => {
             why.push_str(&format!(
                 "; exact stepping from t = {t} s on (positions at rest)"
             ));

@@ -22,6 +22,8 @@ pub(super) struct Driver<'m> {
     span: TimeSpan,
     /// Times where the drive or a position profile is not smooth, inside the span, sorted.
     breakpoints: Vec<f64>,
+    /// Whether a profile is not smooth exactly at the span's end.
+    end_is_break: bool,
     /// `(section k, min, max)`: `a_k` must stay in `[min, max)`.
     position_ranges: Vec<(usize, f64, f64)>,
     /// A displacement coordinate beyond this (m) means divergence.
@@ -85,6 +87,14 @@ impl<'m> Driver<'m> {
             .collect();
         breakpoints.sort_by(f64::total_cmp);
         breakpoints.dedup();
+        // a profile that changes exactly at the end (a run handing over to exact stepping
+        // where the positions come to rest): the last step sees its left limit too
+        let end_is_break = params
+            .positions
+            .iter()
+            .flat_map(|p| p.breakpoints())
+            .chain(params.drive_profile().breakpoints())
+            .any(|b| b == span.end);
         let position_ranges = (1..params.sections.len())
             .map(|k| {
                 let (below, above) = (params.sections[k - 1].length, params.sections[k].length);
@@ -115,6 +125,7 @@ impl<'m> Driver<'m> {
             settings: *settings,
             span: *span,
             breakpoints,
+            end_is_break,
             position_ranges,
             size_limit,
             t: span.start,
@@ -209,7 +220,7 @@ impl<'m> Driver<'m> {
                 self.h
             };
             let to_stop = h == remaining;
-            let toward_break = to_stop && t_stop == t_break && t_break < end;
+            let toward_break = to_stop && t_stop == t_break && (t_break < end || self.end_is_break);
             // the profiles' left limits apply up to a discontinuity
             self.sys.time_cap = if toward_break {
                 t_break.next_down()
