@@ -195,3 +195,37 @@ fn accuracy_requests_it_cannot_meet_are_refused_with_the_rule() {
         );
     }
 }
+
+/// A run that ends where a profile stops changing (case-study-no-clearance: `a_2` rests from
+/// 12 s, the first part of `auto`'s hand-over to exact stepping) ends on the profile's left
+/// limit, as a step toward that time inside a longer run does: the state at 12 s is the same
+/// in both (before the fix, imex's last step saw the right limit and the vehicle's speed
+/// differed by 2.5e-4 m/s there).
+#[test]
+fn a_run_ending_on_a_breakpoint_ends_on_the_left_limit() {
+    let run = |end: &str| {
+        let scene = scene("case-study-no-clearance", &[&format!("time.end={end}")]);
+        let options = SimulationOptions {
+            method: MethodChoice::Method(Method::Imex),
+            ..SimulationOptions::default()
+        };
+        simulate_scene(&scene, &options, &Silent)
+            .unwrap()
+            .trajectory
+    };
+    let (short, long) = (run("12.0"), run("12.5"));
+    let at_12 = |t: &Trajectory| {
+        t.rows
+            .iter()
+            .find(|r| (r[0] - 12.0).abs() < 1e-9)
+            .unwrap()
+            .clone()
+    };
+    let (a, b) = (at_12(&short), at_12(&long));
+    for (name, (x, y)) in short.names.iter().zip(a[1..].iter().zip(&b[1..])) {
+        assert!(
+            (x - y).abs() <= 1e-12 * y.abs().max(1.0),
+            "{name} at 12 s: {x} (run ending there) vs {y}"
+        );
+    }
+}
