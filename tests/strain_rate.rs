@@ -45,16 +45,25 @@ fn the_strain_rate_law_damps_case_study_with_clearance_from_the_machine_sensors(
     let law = sampled.strain_rate.as_ref().expect("strain-rate law");
     assert_eq!(sampled.estimator, "none");
     assert!(sampled.points.is_empty());
-    // the gain follows the physics it is built from: m 2 zeta omega_1 r at every point
-    for p in &law.points {
-        let expected = controller.total_mass_kg
-            * 2.0
-            * law.added_damping
-            * std::f64::consts::TAU
-            * p.first_mode_hz;
-        assert!((p.gain - expected * p.tip_per_curvature_m2).abs() <= 1e-9 * p.gain.abs());
-        assert!(p.tip_per_curvature_m2 > 0.0, "{p:?}");
+    // the first mode from the symmetric modal analysis equals the design's, taken from the
+    // eigenvalues of the state matrix (another path); tip per root curvature grows as the
+    // telescope extends (a longer cantilever bends more at the tip per curvature at the foot)
+    for (p, point) in law.points.iter().zip(&controller.schedule) {
+        assert!(
+            (p.first_mode_hz - point.first_mode_hz).abs() <= 1e-6 * point.first_mode_hz,
+            "{} Hz against {} Hz",
+            p.first_mode_hz,
+            point.first_mode_hz
+        );
+        assert!(p.tip_per_curvature_m2 > 0.0 && p.gain > 0.0, "{p:?}");
     }
+    assert!(
+        law.points
+            .windows(2)
+            .all(|w| w[1].tip_per_curvature_m2 > w[0].tip_per_curvature_m2),
+        "{:?}",
+        law.points
+    );
     assert_eq!(
         Controller::from_json(&controller.to_json()).unwrap(),
         controller

@@ -299,22 +299,27 @@ const LONG: &str = r#"set = ["time.end=5.0"]
 "masses.load" = [5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0]
 "#;
 
-/// Starts `sweep FILE --out OUT --jobs 1`, waits until its work file holds `rows` rows, and
-/// sends it `sig`.
-fn stop_midway(path: &Path, out: &Path, rows: usize, sig: i32) -> std::process::Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+/// Starts `sweep FILE --jobs JOBS --out OUT` in the background, standard output discarded.
+fn spawn_sweep(path: &Path, out: &Path, jobs: &str, stderr: Stdio) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_telescopic"))
         .args([
             "sweep",
             path.to_str().unwrap(),
             "--jobs",
-            "1",
+            jobs,
             "--out",
             out.to_str().unwrap(),
         ])
         .stdout(Stdio::null())
-        .stderr(Stdio::piped())
+        .stderr(stderr)
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Starts `sweep FILE --out OUT --jobs 1`, waits until its work file holds `rows` rows, and
+/// sends it `sig`.
+fn stop_midway(path: &Path, out: &Path, rows: usize, sig: i32) -> std::process::Output {
+    let mut child = spawn_sweep(path, out, "1", Stdio::piped());
     let partial = out.with_file_name(format!(
         "{}.partial",
         out.file_name().unwrap().to_str().unwrap()
@@ -999,18 +1004,7 @@ fn a_second_sweep_on_the_same_output_refuses() {
     let dir = scratch("sweep-lock");
     let path = sweep_file(&dir, "s.toml", "adams-clearance", LONG);
     let out = dir.join("r.csv");
-    let mut first = Command::new(env!("CARGO_BIN_EXE_telescopic"))
-        .args([
-            "sweep",
-            path.to_str().unwrap(),
-            "--jobs",
-            "1",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut first = spawn_sweep(&path, &out, "1", Stdio::null());
     let partial = dir.join("r.csv.partial");
     let start = Instant::now();
     while std::fs::read_to_string(&partial).map_or(0, |t| t.lines().count()) < 3 {
@@ -1073,19 +1067,7 @@ fn jobs_are_bounded_and_signals_are_honoured_promptly() {
     // starts), the second ends the sweep within a second
     for sig in [libc::SIGTERM, libc::SIGINT] {
         let _ = std::fs::remove_file(dir.join("r.csv.partial"));
-        let mut child = Command::new(env!("CARGO_BIN_EXE_telescopic"))
-            .args([
-                "sweep",
-                path.to_str().unwrap(),
-                "--jobs",
-                "256",
-                "--out",
-                out.to_str().unwrap(),
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+        let mut child = spawn_sweep(&path, &out, "256", Stdio::piped());
         // stderr line by line, as it comes
         let (lines, received) = std::sync::mpsc::channel::<String>();
         let stderr = child.stderr.take().unwrap();

@@ -191,7 +191,12 @@ pub fn plan_for_accuracy(
     };
     Ok(AccuracyPlan {
         method,
-        rtol: if row.rtol > 0.0 { row.rtol } else { 1e-6 },
+        // exact stepping has no tolerance: the default one stands
+        rtol: if row.rtol > 0.0 {
+            row.rtol
+        } else {
+            crate::Settings::default().rtol
+        },
         exact_from,
         why,
     })

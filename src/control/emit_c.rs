@@ -106,50 +106,110 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
             ),
         ));
     }
-    let (n, m, p) = (
-        file.states.len(),
-        sampled.sensors.len(),
-        file.schedule.len(),
-    );
+    let n = file.states.len();
     let banner = banner(file, "an LQR on a discrete Kalman filter");
-    let header = format!(
-        "{banner}#ifndef TELESCOPIC_CONTROLLER_H\n#define TELESCOPIC_CONTROLLER_H\n\n\
-         #define TC_STATES {n}  /* the model's states, x = [z, z'] */\n\
-         #define TC_SENSORS {m} /* measurements: {} */\n\
-         #define TC_POINTS {p}  /* design points of the schedule */\n\n\
-         /* The controller's memory: the state estimate and the force now applied (N). */\n\
-         typedef struct {{\n    double x_hat[TC_STATES];\n    double u;\n}} tc_state;\n\n\
-         /* Starts the controller at rest, with no force applied. */\n\
-         void tc_init(tc_state *s);\n\n\
-         /* One tick at time t (s): the measurements y (in the order above, SI units) and the\n \
-         * scheduled telescopic position a (m); returns the force (N) to apply from the next\n \
-         * tick on, within +-{} N. */\n\
-         double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a);\n\n\
-         #endif\n",
-        sampled.sensors.join(", "),
-        lit(file.force_limit_n)
+    let header = header(
+        file,
+        &banner,
+        &format!("#define TC_STATES {n}  /* the model's states, x = [z, z'] */\n"),
+        "the state estimate and the force now applied (N)",
+        "    double x_hat[TC_STATES];\n    double u;\n",
     );
     let source = source(file, &banner, start, end);
     Ok((header, source))
 }
 
-/// The C source: the tables, then the functions.
+/// The C source: the common part, the filter's and the LQR's tables, its functions.
 fn source(file: &Controller, banner: &str, start: f64, end: f64) -> String {
     let sampled = file.sampled.as_ref().expect("checked by the caller");
-    let positions = file.schedule_positions();
-    let mut s = String::from(banner);
-    s.push_str("#include \"telescopic_controller.h\"\n#include <math.h>\n\n");
+    let mut s = source_start(file, banner, start, end);
     let (n, m, p) = (
         file.states.len(),
         sampled.sensors.len(),
         file.schedule.len(),
     );
-    let table = |s: &mut String, decl: &str, values: Vec<f64>| {
-        let _ = writeln!(s, "{decl} = {};", list(values, "    "));
+    let flat = |f: &dyn Fn(&super::sampled::DiscretePoint) -> &Vec<Vec<f64>>| -> Vec<f64> {
+        sampled
+            .points
+            .iter()
+            .flat_map(|p| f(p).iter().flatten().copied())
+            .collect()
     };
-    let array = |s: &mut String, decl: &str, values: Vec<f64>, dims: &[usize]| {
-        let _ = writeln!(s, "{decl} = {};", nested(&values, dims, ""));
-    };
+    let gains: Vec<f64> = file
+        .schedule
+        .iter()
+        .flat_map(|p| p.k[0].iter().copied())
+        .collect();
+    s.push_str(
+        "\n/* per design point: Ad, Bd, C, L of the discrete filter and the LQR gain K */\n",
+    );
+    for (decl, values, dims) in [
+        (
+            "AD[TC_POINTS][TC_STATES][TC_STATES]",
+            flat(&|p| &p.ad),
+            vec![p, n, n],
+        ),
+        ("BD[TC_POINTS][TC_STATES]", flat(&|p| &p.bd), vec![p, n]),
+        (
+            "CM[TC_POINTS][TC_SENSORS][TC_STATES]",
+            flat(&|p| &p.c),
+            vec![p, m, n],
+        ),
+        (
+            "LK[TC_POINTS][TC_STATES][TC_SENSORS]",
+            flat(&|p| &p.l),
+            vec![p, n, m],
+        ),
+        ("K[TC_POINTS][TC_STATES]", gains, vec![p, n]),
+    ] {
+        let _ = writeln!(
+            s,
+            "static const double {decl} = {};",
+            nested(&values, &dims, "")
+        );
+    }
+    s.push_str(FILTER_FUNCTIONS);
+    s
+}
+
+/// The header of an emitted controller: its `defines` beside the sensors' and the design
+/// points', its memory `tc_state` (`what` it holds, its `fields`), `tc_init` and `tc_step`.
+pub(crate) fn header(
+    file: &Controller,
+    banner: &str,
+    defines: &str,
+    what: &str,
+    fields: &str,
+) -> String {
+    let sampled = file.sampled.as_ref().expect("checked by the caller");
+    format!(
+        "{banner}#ifndef TELESCOPIC_CONTROLLER_H\n#define TELESCOPIC_CONTROLLER_H\n\n\
+         {defines}\
+         #define TC_SENSORS {m} /* measurements: {names} */\n\
+         #define TC_POINTS {p}  /* design points of the schedule */\n\n\
+         /* The controller's memory: {what}. */\n\
+         typedef struct {{\n{fields}}} tc_state;\n\n\
+         /* Starts the controller at rest, with no force applied. */\n\
+         void tc_init(tc_state *s);\n\n\
+         /* One tick at time t (s): the measurements y (in the order above, SI units) and the\n \
+         * scheduled telescopic position a (m); returns the force (N) to apply from the next\n \
+         * tick on, within +-{limit} N. */\n\
+         double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a);\n\n\
+         #endif\n",
+        m = sampled.sensors.len(),
+        names = sampled.sensors.join(", "),
+        p = file.schedule.len(),
+        limit = lit(file.force_limit_n)
+    )
+}
+
+/// The part every emitted source starts with: the banner, the includes, the period, the
+/// force limit, the schedule's positions, the feedforward's and the rigid reference's
+/// tables, and the helpers that read them.
+pub(crate) fn source_start(file: &Controller, banner: &str, start: f64, end: f64) -> String {
+    let sampled = file.sampled.as_ref().expect("checked by the caller");
+    let mut s = String::from(banner);
+    s.push_str("#include \"telescopic_controller.h\"\n#include <math.h>\n\n");
     let _ = writeln!(s, "/* controller period (s) and force limit (N) */");
     let _ = writeln!(
         s,
@@ -162,64 +222,18 @@ fn source(file: &Controller, banner: &str, start: f64, end: f64) -> String {
         lit(file.force_limit_n)
     );
     let _ = writeln!(s, "/* the scheduled position of each design point (m) */");
-    table(
-        &mut s,
-        "static const double POSITIONS[TC_POINTS]",
-        positions,
-    );
-    let flat = |f: &dyn Fn(&super::sampled::DiscretePoint) -> &Vec<Vec<f64>>| -> Vec<f64> {
-        sampled
-            .points
-            .iter()
-            .flat_map(|p| f(p).iter().flatten().copied())
-            .collect()
-    };
-    s.push_str(
-        "\n/* per design point: Ad, Bd, C, L of the discrete filter and the LQR gain K */\n",
-    );
-    array(
-        &mut s,
-        "static const double AD[TC_POINTS][TC_STATES][TC_STATES]",
-        flat(&|p| &p.ad),
-        &[p, n, n],
-    );
-    array(
-        &mut s,
-        "static const double BD[TC_POINTS][TC_STATES]",
-        flat(&|p| &p.bd),
-        &[p, n],
-    );
-    array(
-        &mut s,
-        "static const double CM[TC_POINTS][TC_SENSORS][TC_STATES]",
-        flat(&|p| &p.c),
-        &[p, m, n],
-    );
-    array(
-        &mut s,
-        "static const double LK[TC_POINTS][TC_STATES][TC_SENSORS]",
-        flat(&|p| &p.l),
-        &[p, n, m],
-    );
-    let gains: Vec<f64> = file
-        .schedule
-        .iter()
-        .flat_map(|p| p.k[0].iter().copied())
-        .collect();
-    array(
-        &mut s,
-        "static const double K[TC_POINTS][TC_STATES]",
-        gains,
-        &[p, n],
+    let _ = writeln!(
+        s,
+        "static const double POSITIONS[TC_POINTS] = {};",
+        list(file.schedule_positions(), "    ")
     );
     append_profiles(&mut s, file, start, end);
-    s.push_str(FILTER_FUNCTIONS);
     s
 }
 
 /// The feedforward's and the rigid reference's tables over `[start, end]` s, then the shared
 /// helpers that read them.
-pub(crate) fn append_profiles(s: &mut String, file: &Controller, start: f64, end: f64) {
+fn append_profiles(s: &mut String, file: &Controller, start: f64, end: f64) {
     let reference = super::sampled::reference(file, start, end);
     let nodes: Vec<(f64, f64, f64, f64)> = reference.nodes().collect();
     let (ff_times, ff_values) = file.feedforward_steps().map_or(

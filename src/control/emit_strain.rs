@@ -3,7 +3,7 @@
 //! [`super::strain::StrainRateController`] computes, operation for operation.
 
 use super::design::Controller;
-use super::emit_c::{append_profiles, banner, list, lit};
+use super::emit_c::{banner, header, list, lit, source_start};
 use super::strain::StrainRateLaw;
 use std::fmt::Write as _;
 
@@ -26,32 +26,17 @@ pub(crate) fn emit_strain_rate(
         file,
         "the strain-rate law (the strain gauge's rate fed to the drive, a PD on the vehicle)",
     );
-    let header = format!(
-        "{banner}#ifndef TELESCOPIC_CONTROLLER_H\n#define TELESCOPIC_CONTROLLER_H\n\n\
-         #define TC_SENSORS {m} /* measurements: {names} */\n\
-         #define TC_POINTS {p}  /* design points of the schedule */\n\n\
-         /* The controller's memory: the previous measurements, the filtered rates and the\n \
-         * force now applied (N). */\n\
-         typedef struct {{\n    int started;\n    double vehicle_prev;    /* m */\n    \
-         double kappa_prev;      /* 1/m */\n    double vehicle_rate;    /* m/s */\n    \
-         double kappa_rate;      /* 1/(m s) */\n    double u;\n}} tc_state;\n\n\
-         /* Starts the controller at rest, with no force applied. */\n\
-         void tc_init(tc_state *s);\n\n\
-         /* One tick at time t (s): the measurements y (in the order above, SI units) and the\n \
-         * scheduled telescopic position a (m); returns the force (N) to apply from the next\n \
-         * tick on, within +-{limit} N. */\n\
-         double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a);\n\n\
-         #endif\n",
-        m = sampled.sensors.len(),
-        names = sampled.sensors.join(", "),
-        p = file.schedule.len(),
-        limit = lit(file.force_limit_n)
+    let header = header(
+        file,
+        &banner,
+        "",
+        "the previous measurements, the filtered rates and the force now applied (N)",
+        "    int started;\n    double vehicle_prev;    /* m */\n    double kappa_prev;      \
+         /* 1/m */\n    double vehicle_rate;    /* m/s */\n    double kappa_rate;      \
+         /* 1/(m s) */\n    double u;\n",
     );
-    let mut s = banner;
-    s.push_str("#include \"telescopic_controller.h\"\n#include <math.h>\n\n");
+    let mut s = source_start(file, &banner, start, end);
     let constants = [
-        ("PERIOD", 1.0 / sampled.rate_hz, "controller period (s)"),
-        ("LIMIT", file.force_limit_n, "force limit (N)"),
         (
             "KP",
             law.vehicle_stiffness_n_per_m,
@@ -63,11 +48,12 @@ pub(crate) fn emit_strain_rate(
             "vehicle loop damping (N s/m)",
         ),
         (
-            "TAU",
-            law.filter_time_constant_s,
-            "rate filters' time constant (s)",
+            "ALPHA",
+            law.filter_weight(sampled.rate_hz),
+            "the rate filters' weight per tick, PERIOD / (tau + PERIOD)",
         ),
     ];
+    s.push('\n');
     for (name, value, what) in constants {
         let _ = writeln!(
             s,
@@ -81,12 +67,6 @@ pub(crate) fn emit_strain_rate(
         column("vehicle"),
         column("kappa_1_0")
     );
-    let _ = writeln!(s, "/* the scheduled position of each design point (m) */");
-    let _ = writeln!(
-        s,
-        "static const double POSITIONS[TC_POINTS] = {};",
-        list(file.schedule_positions(), "    ")
-    );
     let _ = writeln!(
         s,
         "/* the gain on the curvature's rate at each design point (N per 1/(m s)) */"
@@ -96,7 +76,6 @@ pub(crate) fn emit_strain_rate(
         "static const double GAIN[TC_POINTS] = {};",
         list(law.points.iter().map(|p| p.gain), "    ")
     );
-    append_profiles(&mut s, file, start, end);
     s.push_str(STRAIN_FUNCTIONS);
     (header, s)
 }
@@ -117,12 +96,11 @@ double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
 {
     const double u = y[VEHICLE];
     const double kappa = y[KAPPA];
-    const double alpha = PERIOD / (TAU + PERIOD);
     if (s->started) {
         const double v = (u - s->vehicle_prev) / PERIOD;
         const double kappa_dot = (kappa - s->kappa_prev) / PERIOD;
-        s->vehicle_rate += alpha * (v - s->vehicle_rate);
-        s->kappa_rate += alpha * (kappa_dot - s->kappa_rate);
+        s->vehicle_rate += ALPHA * (v - s->vehicle_rate);
+        s->kappa_rate += ALPHA * (kappa_dot - s->kappa_rate);
     }
     s->started = 1;
     s->vehicle_prev = u;

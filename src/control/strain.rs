@@ -54,6 +54,15 @@ pub struct StrainRateLaw {
     pub points: Vec<StrainRatePoint>,
 }
 
+impl StrainRateLaw {
+    /// The rate filters' weight per tick at `rate_hz`: `T / (tau + T)` (first-order low-pass
+    /// by backward Euler), the same number in the library and the emitted C.
+    pub fn filter_weight(&self, rate_hz: f64) -> f64 {
+        let period = 1.0 / rate_hz;
+        period / (self.filter_time_constant_s + period)
+    }
+}
+
 /// The strain-rate law at one design point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StrainRatePoint {
@@ -66,13 +75,12 @@ pub struct StrainRatePoint {
 }
 
 /// `tip_rel` per `kappa_1_0` (m^2) in the first elastic mode of the closed-contact linear model
-/// at `positions`, and that mode's frequency (Hz).
+/// `lpv` of `model` at `positions`, and that mode's frequency (Hz).
 ///
 /// # Errors
 /// [`Error::Model`] when the linear model or its modes cannot be formed.
-pub fn tip_per_curvature(model: &dyn Model, positions: &[f64]) -> Result<(f64, f64)> {
+pub fn tip_per_curvature(model: &dyn Model, lpv: &Lpv, positions: &[f64]) -> Result<(f64, f64)> {
     let model_error = |e: &dyn std::fmt::Display| Error::Model(e.to_string());
-    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| model_error(&e))?;
     let rates = vec![0.0; positions.len()];
     let full = lpv.at(positions, &rates).map_err(|e| model_error(&e))?;
     let (k_e, _) = lpv
@@ -122,9 +130,10 @@ pub fn design_strain_rate(
     }
     let mass = controller.total_mass_kg;
     let tau = std::f64::consts::TAU;
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
     let mut points = Vec::with_capacity(controller.schedule.len());
     for p in &controller.schedule {
-        let (ratio, f1) = tip_per_curvature(model, &p.positions)?;
+        let (ratio, f1) = tip_per_curvature(model, &lpv, &p.positions)?;
         points.push(StrainRatePoint {
             tip_per_curvature_m2: ratio,
             first_mode_hz: f1,
@@ -155,6 +164,8 @@ pub struct StrainRateController {
     reference: super::controlled::Reference,
     feedforward: telescopic_runtime::Profile,
     period: f64,
+    /// The rate filters' weight per tick.
+    alpha: f64,
     limit: f64,
     /// Where `vehicle` and `kappa_1_0` are among the measurements.
     columns: (usize, usize),
@@ -196,6 +207,7 @@ impl StrainRateController {
             reference: super::sampled::reference(file, start, end),
             feedforward: file.feedforward.clone(),
             period: 1.0 / sampled.rate_hz,
+            alpha: law.filter_weight(sampled.rate_hz),
             limit: file.force_limit_n,
             columns: (column("vehicle")?, column("kappa_1_0")?),
             previous: None,
@@ -208,7 +220,7 @@ impl StrainRateController {
 impl SampledController for StrainRateController {
     fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64 {
         let (u, kappa) = (y[self.columns.0], y[self.columns.1]);
-        let alpha = self.period / (self.law.filter_time_constant_s + self.period);
+        let alpha = self.alpha;
         if let Some((u_prev, kappa_prev)) = self.previous {
             let v = (u - u_prev) / self.period;
             let kappa_dot = (kappa - kappa_prev) / self.period;

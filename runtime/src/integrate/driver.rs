@@ -113,7 +113,9 @@ impl<'m> Driver<'m> {
         let mut f0 = vec![0.0; 2 * n];
         sys.rhs(span.start, y0, &mut f0);
         let step_cap = if settings.step_cap {
-            closed_contact_step_cap(model, method, span)
+            settings
+                .known_step_cap
+                .or_else(|| closed_contact_step_cap(model, method, span))
         } else {
             None
         };

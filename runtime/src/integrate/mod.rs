@@ -280,6 +280,10 @@ pub struct Settings {
     /// Cap dop853's step below its stable step while a contact is closed
     /// ([`stability::closed_contact_step_cap`]; other methods are never capped).
     pub step_cap: bool,
+    /// That cap (s), when the caller has it already: a scene integrated piece by piece (a
+    /// sampled controller's ticks) computes it once instead of once per piece (`None`: the
+    /// run computes it).
+    pub known_step_cap: Option<f64>,
 }
 
 impl Default for Settings {
@@ -291,6 +295,7 @@ impl Default for Settings {
             max_steps: 50_000_000,
             exact_from: None,
             step_cap: true,
+            known_step_cap: None,
         }
     }
 }
