@@ -45,6 +45,8 @@
 
 #![warn(missing_docs)]
 
+pub mod bode;
+mod bode_plot;
 pub mod budget;
 pub mod control;
 pub mod converge;
@@ -54,6 +56,7 @@ pub mod interrupt;
 pub mod linear;
 pub mod memory;
 pub mod metrics;
+pub mod mode_plot;
 pub mod models;
 pub mod modes;
 mod named;
@@ -65,6 +68,7 @@ pub mod run;
 pub mod shape_errors;
 pub mod simulation;
 pub mod stability;
+pub mod stress;
 pub mod sweep;
 pub mod work_precision;
 

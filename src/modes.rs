@@ -17,7 +17,10 @@ use crate::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use serde::Serialize;
 use std::fmt::Write as _;
-use telescopic_runtime::{Scene, modal_analysis, sample_shape};
+use telescopic_runtime::nalgebra::DMatrix;
+use telescopic_runtime::{
+    CONTACT_MODE_SHARE, ModalAnalysis, Model, Scene, damped_modes, modal_analysis, sample_shape,
+};
 
 /// Options of [`compute_modes`].
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -55,6 +58,18 @@ pub struct ReferenceColumn {
     pub frequencies_hz: Vec<f64>,
 }
 
+/// What carries a mode: the beams, or the contact springs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModeKind {
+    /// Most of the mode's strain energy is in the sections' bending.
+    Structural,
+    /// Most of it (more than [`CONTACT_MODE_SHARE`]) is in the contact springs: a section
+    /// rocking in its guide, its frequency set by the contact stiffness `c` (and at the mercy
+    /// of the clearance in a run).
+    Contact,
+}
+
 /// The result of [`compute_modes`]; its JSON form is `telescopic modes --json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModesReport {
@@ -66,6 +81,17 @@ pub struct ModesReport {
     pub model: String,
     /// Natural frequencies (Hz), ascending, rigid modes excluded.
     pub frequencies_hz: Vec<f64>,
+    /// Damped natural frequencies (Hz), one per frequency: structural damping and the closed
+    /// contacts' damping `d` (see [`telescopic_runtime::damped_modes()`]).
+    pub damped_frequencies_hz: Vec<f64>,
+    /// Damping ratios (1), one per frequency.
+    pub damping_ratios: Vec<f64>,
+    /// Share of each mode's strain energy in the contact springs, `c sum (g_c . v)^2 / omega^2`.
+    pub contact_energy_shares: Vec<f64>,
+    /// Each mode's kind: contact when its contact share exceeds [`CONTACT_MODE_SHARE`].
+    pub kinds: Vec<ModeKind>,
+    /// The scene's structural damping, in words.
+    pub structural_damping: String,
     /// Rigid-body modes (zero frequency), counted, not listed.
     pub rigid_modes: usize,
     /// Growth rates (1/s) of modes buckled by the axial load.
@@ -78,6 +104,9 @@ pub struct ModesReport {
     /// Contact stiffness `c` (N/m).
     #[serde(skip)]
     pub contact_stiffness: f64,
+    /// Contact damping `d` (N s/m).
+    #[serde(skip)]
+    pub contact_damping: f64,
     /// Published columns to print beside ours.
     #[serde(skip)]
     pub references: Vec<ReferenceColumn>,
@@ -126,6 +155,11 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         .count
         .unwrap_or(modal.frequencies_hz.len())
         .min(modal.frequencies_hz.len());
+    let damped = damped_modes(model, &modal).map_err(|error| Error::Eigen {
+        scene: scene.name.clone(),
+        error,
+    })?;
+    let shares = contact_energy_shares(model, &modal);
     let mode_shapes = options.shapes.map(|points| {
         modal.shapes[..count]
             .iter()
@@ -149,11 +183,26 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         time_s: t,
         model: chosen.description.clone(),
         frequencies_hz: modal.frequencies_hz[..count].to_vec(),
+        damped_frequencies_hz: damped[..count].iter().map(|d| d.damped_hz).collect(),
+        damping_ratios: damped[..count].iter().map(|d| d.ratio).collect(),
+        kinds: shares[..count]
+            .iter()
+            .map(|&s| {
+                if s > CONTACT_MODE_SHARE {
+                    ModeKind::Contact
+                } else {
+                    ModeKind::Structural
+                }
+            })
+            .collect(),
+        contact_energy_shares: shares[..count].to_vec(),
+        structural_damping: scene.params.damping.describe(),
         rigid_modes: modal.rigid_modes,
         unstable_growth_rates_per_s: modal.unstable_growth_rates.clone(),
         modes_per_section: scene.params.modes(),
         dof: model.dof(),
         contact_stiffness: scene.params.contact.stiffness,
+        contact_damping: scene.params.contact.damping,
         references: scene
             .references
             .iter()
@@ -165,6 +214,15 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         mode_shapes,
         note: chosen.note,
     })
+}
+
+/// The share of each mode's strain energy stored in the contact springs.
+fn contact_energy_shares(model: &dyn Model, modal: &ModalAnalysis) -> Vec<f64> {
+    let (n, nc) = (model.dof(), model.layout().contact_count());
+    let mut g = DMatrix::zeros(n, nc);
+    let mut gdot = DMatrix::zeros(n, nc);
+    model.contact_vectors(modal.time, &mut g, &mut gdot);
+    telescopic_runtime::contact_energy_shares(modal, &g, model.params().contact.stiffness)
 }
 
 impl ModesReport {
@@ -199,13 +257,31 @@ impl ModesReport {
                 self.unstable_growth_rates_per_s
             );
         }
-        let mut header = format!("{:>5} {:>14}", "mode", "ours [Hz]");
+        let _ = writeln!(
+            s,
+            "structural damping: {}; contact damping d = {} N s/m",
+            self.structural_damping, self.contact_damping
+        );
+        let mut header = format!(
+            "{:>5} {:>14} {:>14} {:>10} {:>10}",
+            "mode", "ours [Hz]", "damped [Hz]", "zeta", "kind"
+        );
         for r in &self.references {
             let _ = write!(header, " {:>16} {:>8}", format!("{} [Hz]", r.label), "diff");
         }
         let _ = writeln!(s, "{header}");
         for (i, f) in self.frequencies_hz.iter().enumerate() {
-            let mut line = format!("{:>5} {:>14.6}", format!("f{}", i + 1), f);
+            let mut line = format!(
+                "{:>5} {:>14.6} {:>14.6} {:>10.3e} {:>10}",
+                format!("f{}", i + 1),
+                f,
+                self.damped_frequencies_hz[i],
+                self.damping_ratios[i],
+                match self.kinds[i] {
+                    ModeKind::Structural => "structural",
+                    ModeKind::Contact => "contact",
+                }
+            );
             for r in &self.references {
                 match r.frequencies_hz.get(i) {
                     // difference as the paper's Table I states it: (reference - ours) / reference
@@ -218,6 +294,14 @@ impl ModesReport {
                 }
             }
             let _ = writeln!(s, "{line}");
+        }
+        if self.kinds.contains(&ModeKind::Contact) {
+            let _ = writeln!(
+                s,
+                "contact: more than half of the mode's strain energy is in the contact springs (a \
+                 section rocking in its guide; with clearance the run never sees it as a steady \
+                 mode)"
+            );
         }
         if !self.references.is_empty() {
             let _ = writeln!(

@@ -18,6 +18,7 @@
 use crate::models::ChosenModel;
 use crate::report::Reporter;
 use crate::simulation::{Plan, Simulation, SimulationOptions, Trajectory, plan};
+use crate::stress::StationRows;
 use crate::{Error, Result};
 use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
 use telescopic_runtime::{
@@ -32,6 +33,8 @@ pub struct PreparedRun<'s> {
     pub chosen: ChosenModel,
     /// The method and settings.
     pub plan: Plan,
+    /// The stations whose moments and stresses are output columns.
+    pub stations: StationRows,
 }
 
 impl<'s> PreparedRun<'s> {
@@ -46,6 +49,7 @@ impl<'s> PreparedRun<'s> {
         reporter: &dyn Reporter,
     ) -> Result<Self> {
         let plan = plan(scene, options)?;
+        let stations = StationRows::new(scene, &options.stations)?;
         let chosen = options.models.build(&scene.params, options.model)?;
         if let Some(note) = &chosen.note {
             reporter.note(note);
@@ -54,6 +58,7 @@ impl<'s> PreparedRun<'s> {
             scene,
             chosen,
             plan,
+            stations,
         })
     }
 
@@ -72,6 +77,7 @@ impl<'s> PreparedRun<'s> {
                 how: String::new(),
                 settings,
             },
+            stations: StationRows::new(scene, &[]).expect("no stations to check"),
         }
     }
 
@@ -104,7 +110,14 @@ impl<'s> PreparedRun<'s> {
         let (method, settings) = (self.plan.method, &self.plan.settings);
         crate::memory::check_runs(&[self.scene])?;
         crate::budget::check_run(self.scene, budget_model, method, settings)?;
-        integrate_from_rest(self.scene, model, method, settings, reporter)
+        integrate_from_rest(
+            self.scene,
+            model,
+            method,
+            settings,
+            &self.stations,
+            reporter,
+        )
     }
 
     /// The finished simulation of this run with `trajectory`.
@@ -128,26 +141,32 @@ impl<'s> PreparedRun<'s> {
 }
 
 /// Integrates `scene` on `model` from rest with `method` and `settings`, collecting every
-/// output sample; no budget check (that is [`PreparedRun::integrate`]'s).
+/// output sample (the model's outputs, the sensors, then the stations'); no budget check
+/// (that is [`PreparedRun::integrate`]'s).
 fn integrate_from_rest(
     scene: &Scene,
     model: &dyn Model,
     method: Method,
     settings: &Settings,
+    stations: &StationRows,
     reporter: &dyn Reporter,
 ) -> Result<Trajectory> {
     let mut names = model.output_names();
     let own = names.len();
     names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
+    let with_sensors = names.len();
+    names.extend(stations.names());
     let sensors = Sensors::new(model);
     let dof = model.dof();
     let mut rows: Vec<Vec<f64>> = Vec::with_capacity(crate::budget::sample_count(&scene.time));
     let mut out = vec![0.0; names.len()];
     let mut bad_output: Option<(f64, String)> = None;
     let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
-        let (model_outputs, sensor_outputs) = out.split_at_mut(own);
+        let (model_outputs, rest) = out.split_at_mut(own);
+        let (sensor_outputs, station_outputs) = rest.split_at_mut(with_sensors - own);
         model.outputs(t, y, ydot, model_outputs);
         sensors.values(dof, y, ydot, sensor_outputs);
+        stations.values(y, station_outputs);
         if bad_output.is_none()
             && let Some(i) = out.iter().position(|v| !v.is_finite())
         {

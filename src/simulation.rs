@@ -77,6 +77,8 @@ pub struct SimulationOptions {
     /// ([`telescopic_runtime::accuracy`]); `None`: the default accuracy, 1e-6 m, unless a
     /// method or tolerance is given.
     pub accuracy: Option<f64>,
+    /// Stations whose bending moment (and stress) become output columns (default none).
+    pub stations: Vec<crate::stress::Station>,
 }
 
 impl Default for SimulationOptions {
@@ -90,6 +92,7 @@ impl Default for SimulationOptions {
             model: ModelChoice::Auto,
             models: ModelRegistry::default(),
             accuracy: None,
+            stations: Vec::new(),
         }
     }
 }
@@ -284,6 +287,20 @@ impl Simulation {
         } else {
             self.specializations.join("; ")
         };
+        let stress = match crate::stress::StressEnvelope::of(&self.trajectory) {
+            Some(envelope) => format!("\n{}", envelope.describe()),
+            None if self
+                .trajectory
+                .names
+                .iter()
+                .any(|n| n.starts_with("moment_")) =>
+            {
+                "\nstresses: none (the scene gives neither sections.section_modulus nor \
+                 sections.height)"
+                    .to_string()
+            }
+            None => String::new(),
+        };
         format!(
             "{} on the {}: method {} ({}{tol}), t = {} .. {} s, {} samples\n\
              specializations: {special}\n\
@@ -303,7 +320,7 @@ impl Simulation {
             s.factorizations,
             s.switches,
             s.wall.as_secs_f64()
-        )
+        ) + &stress
     }
 }
 

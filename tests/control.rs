@@ -310,7 +310,8 @@ fn controller_files_are_checked_field_by_field() {
 
 // ---- the sampled output-feedback controller ----
 
-use telescopic::control::sampled::{kalman_gain, zero_order_hold};
+use telescopic::control::sampled::kalman_gain;
+use telescopic::linear::zero_order_hold;
 
 #[test]
 fn zero_order_hold_of_a_double_integrator_is_exact() {

@@ -389,3 +389,113 @@ fn pdflatex_compiles_the_latex_export() {
     assert!(dir.join("model.pdf").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+#[ignore = "needs python-control, NumPy and SciPy: run ./scripts/test"]
+fn bode_equals_python_control_and_the_discrete_model_equals_scipys_cont2discrete() {
+    use telescopic::bode::{BodeOptions, frequency_response};
+    let dir = scratch("clients-bode");
+    // damped structure, both inputs, an output with feedthrough (acc_load)
+    let scene = Scene::load(
+        "scenes/case-study.toml".as_ref(),
+        &["sections.damping_ratio=0.02".to_string()],
+    )
+    .unwrap();
+    let linear = LinearizeOptions {
+        positions: vec![(2, 0.8)],
+        disturbance: true,
+        ..LinearizeOptions::default()
+    };
+    let options = BodeOptions {
+        linear: LinearizeOptions {
+            disturbance: false,
+            ..linear.clone()
+        },
+        outputs: vec!["tip_rel".into(), "kappa_1_0".into(), "acc_load".into()],
+        inputs: vec!["F".into(), "F_load".into()],
+        ..BodeOptions::default()
+    };
+    let ours = frequency_response(&scene, &options).unwrap();
+    let dt = 1e-3;
+    let export = linearize(
+        &scene,
+        &LinearizeOptions {
+            discrete: Some(dt),
+            ..linear
+        },
+    )
+    .unwrap();
+    assert_eq!(export.inputs[1].name, "F_load");
+    write(&export, Format::Python, &dir.join("model.py"));
+    let f: Vec<String> = ours.f_hz.iter().map(|f| format!("{f:e}")).collect();
+    std::fs::write(
+        dir.join("check.py"),
+        format!(
+            "import json, warnings, numpy as np, control, scipy.signal\n\
+             warnings.simplefilter('ignore')\n\
+             from model import sys, sysd, A, B, C, D, Ad, Bd, dt, outputs, inputs\n\
+             w = 2 * np.pi * np.array([{}])\n\
+             r = control.frequency_response(sys, omega=w, squeeze=False)\n\
+             H = r.complex\n\
+             ad, bd, _, _, _ = scipy.signal.cont2discrete((A, B, C, D), dt, method='zoh')\n\
+             print(json.dumps({{'re': H.real.tolist(), 'im': H.imag.tolist(), \
+             'outputs': outputs, 'inputs': inputs, 'Ad': ad.tolist(), 'Bd': bd.tolist(), \
+             'sysd_dt': float(sysd.dt)}}))\n",
+            f.join(", ")
+        ),
+    )
+    .unwrap();
+    let out = run(
+        &python(),
+        "python-control and SciPy (TELESCOPIC_PYTHON)",
+        &["check.py"],
+        &dir,
+    );
+    let v: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+    let index = |key: &str, name: &str| {
+        v[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|s| s == name)
+            .unwrap()
+    };
+    for curve in &ours.curves {
+        let (o, i) = (
+            index("outputs", &curve.output),
+            index("inputs", &curve.input),
+        );
+        let scale = curve.magnitude.iter().fold(0.0_f64, |m, x| m.max(*x));
+        let mut worst = 0.0_f64;
+        for (k, (mag, phase)) in curve.magnitude.iter().zip(&curve.phase_deg).enumerate() {
+            let theirs = Complex::new(
+                v["re"][o][i][k].as_f64().unwrap(),
+                v["im"][o][i][k].as_f64().unwrap(),
+            );
+            let ours = Complex::from_polar(*mag, phase.to_radians());
+            // relative to the point's own size, with a floor far below the curve's peak
+            worst = worst.max((ours - theirs).norm() / theirs.norm().max(1e-9 * scale));
+        }
+        eprintln!(
+            "{} from {}: worst relative difference {worst:.2e}",
+            curve.output, curve.input
+        );
+        assert!(
+            worst < 1e-6,
+            "{} from {}: {worst}",
+            curve.output,
+            curve.input
+        );
+    }
+    let (ad, bd) = &export.discrete.as_ref().unwrap().points[0];
+    for (name, ours) in [("Ad", ad), ("Bd", bd)] {
+        let rows: Vec<Vec<f64>> = serde_json::from_value(v[name].clone()).unwrap();
+        let theirs =
+            DMatrix::from_row_iterator(rows.len(), rows[0].len(), rows.into_iter().flatten());
+        let diff = (ours - &theirs).abs().max() / theirs.abs().max();
+        eprintln!("{name}: largest difference from cont2discrete {diff:.2e} of its largest entry");
+        assert!(diff < 1e-9, "{name}: {diff}");
+    }
+    assert_eq!(v["sysd_dt"].as_f64().unwrap(), dt);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -27,6 +27,7 @@ fn params(config: &ModelConfig) -> (ModelParams, HashMap<String, f64>) {
     env.insert("m_l".into(), 17.897);
     env.insert("g".into(), 9.81);
     let p = ModelParams {
+        damping: Default::default(),
         sections,
         vehicle_mass: 100.0,
         load_mass: 17.897,

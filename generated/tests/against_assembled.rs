@@ -9,7 +9,7 @@ use telescopic_generated::{CONFIGURATIONS, prepare};
 use telescopic_runtime::configuration_key as key_for;
 use telescopic_runtime::{
     AssembledModel, ContactLaw, ContactState, Drive, Model, ModelParams, Profile, SectionParams,
-    ShapedProfile,
+    ShapedProfile, StructuralDamping,
 };
 
 fn configs() -> Vec<ModelConfig> {
@@ -31,7 +31,7 @@ fn params_for(c: &ModelConfig, variant: usize) -> ModelParams {
             modes: c.modes[k],
         })
         .collect();
-    let positions = (0..n.saturating_sub(1))
+    let positions: Vec<Profile> = (0..n.saturating_sub(1))
         .map(|k| match c.positions {
             Positions::Fixed => Profile::Constant(0.95 - 0.1 * k as f64 + 0.02 * v),
             Positions::Moving => Profile::Shaped(ShapedProfile::Smoothstep {
@@ -43,6 +43,18 @@ fn params_for(c: &ModelConfig, variant: usize) -> ModelParams {
         })
         .collect();
     ModelParams {
+        // structural damping in the template's code path: none, modal, Rayleigh
+        damping: match variant {
+            0 => StructuralDamping::None,
+            1 => StructuralDamping::Modal {
+                ratios: vec![0.03, 0.01, 0.05],
+                positions: positions.iter().map(|p: &Profile| p.value(0.0)).collect(),
+            },
+            _ => StructuralDamping::Rayleigh {
+                alpha: 0.4,
+                beta: 2e-4,
+            },
+        },
         sections,
         vehicle_mass: 100.0 + 10.0 * v,
         load_mass: 17.897,
@@ -120,7 +132,7 @@ fn every_listed_configuration_was_generated_and_is_found_by_key() {
 fn generated_models_agree_with_the_assembled_model() {
     let mut rng = Rng(0x2545f4914f6cdd1d);
     for c in configs() {
-        for variant in 0..2 {
+        for variant in 0..3 {
             let p = params_for(&c, variant);
             let generated = prepare(&p).unwrap().unwrap();
             let assembled = AssembledModel::new(&p).unwrap();
@@ -144,6 +156,11 @@ fn generated_models_agree_with_the_assembled_model() {
                 assembled.drive_vector(),
                 "{key}: b"
             );
+            match (generated.damping_matrix(), assembled.damping_matrix()) {
+                (None, None) => assert_eq!(variant, 0, "{key}: damping given, none built"),
+                (Some(d1), Some(d2)) => assert_close(&format!("{key}: D_s"), d1, d2, 1e-10),
+                _ => panic!("{key}: one model has structural damping, the other not"),
+            }
             // moving positions: the generated model interpolates its contact vectors from a
             // table (telescopic_runtime::ContactTable), exact at the nodes (compared to 1e-12
             // there) and within the table's tolerances between them

@@ -15,6 +15,7 @@ fn params(
 ) -> ModelParams {
     let n = modes.len();
     ModelParams {
+        damping: Default::default(),
         sections: modes
             .iter()
             .enumerate()

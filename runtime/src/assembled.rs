@@ -3,6 +3,7 @@
 //! reference the generated models are tested against.
 
 use crate::contact::ContactState;
+use crate::damping::structural_damping;
 use crate::layout::{ContactPoint, Layout};
 use crate::model::Model;
 use crate::params::{Drive, ModelParams, SectionParams};
@@ -148,6 +149,8 @@ pub struct AssembledModel {
     bases: Vec<Vec<(usize, LocalBasis)>>,
     mass: DMatrix<f64>,
     stiffness: DMatrix<f64>,
+    /// Structural damping `D_s` ([`crate::damping`]), when the scene has any.
+    damping: Option<DMatrix<f64>>,
     drive: DVector<f64>,
     mass_factor: Cholesky<f64, Dyn>,
     /// Cholesky factor of `M` without row and column 0 (prescribed vehicle motion).
@@ -242,6 +245,7 @@ impl AssembledModel {
             bases,
             mass,
             stiffness,
+            damping: None,
             drive,
             mass_factor,
             relative_mass_factor,
@@ -258,6 +262,8 @@ impl AssembledModel {
                 .collect();
             model.fixed_contacts = Some(fixed);
         }
+        model.damping = structural_damping(&model)
+            .map_err(|e| ModelError::Invalid(format!("structural damping: {e}")))?;
         Ok(model)
     }
 
@@ -356,6 +362,10 @@ impl Model for AssembledModel {
         &self.stiffness
     }
 
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
+        self.damping.as_ref()
+    }
+
     fn drive_vector(&self) -> &DVector<f64> {
         &self.drive
     }
@@ -403,6 +413,9 @@ impl Model for AssembledModel {
         acc.fill(0.0);
         let mut acc = DVectorViewMut::from_slice(acc, n);
         acc.gemv(-1.0, &self.stiffness, &DVectorView::from_slice(z, n), 0.0);
+        if let Some(d) = &self.damping {
+            acc.gemv(-1.0, d, &DVectorView::from_slice(zd, n), 1.0);
+        }
         self.for_each_contact(t, |c, e| {
             let (xi, xid) = e.gap(z, zd);
             let f = self.contact_force(c, xi, xid, states).force;
@@ -436,6 +449,9 @@ impl Model for AssembledModel {
         }
         // lower rows first hold [K + sum f_xi g g' + f_xidot g gdot' | sum f_xidot g g'] ...
         jac.view_mut((n, 0), (n, n)).copy_from(&self.stiffness);
+        if let Some(d) = &self.damping {
+            jac.view_mut((n, n), (n, n)).copy_from(d);
+        }
         self.for_each_contact(t, |c, e| {
             let (xi, xid) = e.gap(z, zd);
             let f = self.contact_force(c, xi, xid, states);
@@ -482,14 +498,12 @@ impl Model for AssembledModel {
             out[3 + nc + c] = self.contact_force(c, xi, xid, None).force;
         });
         if matches!(self.params.drive, Drive::Motion(_)) {
-            // reaction: row 0 of M zdd = F (K's row 0 and every g_c[0] vanish)
-            out[3 + 2 * nc] = self
-                .mass
-                .row(0)
-                .iter()
-                .zip(&ydot[n..])
-                .map(|(a, b)| a * b)
-                .sum();
+            // reaction: row 0 of M zdd + D_s zd = F (K's row 0 and every g_c[0] vanish)
+            let row = |m: &DMatrix<f64>, v: &[f64]| -> f64 {
+                m.row(0).iter().zip(v).map(|(a, b)| a * b).sum()
+            };
+            out[3 + 2 * nc] =
+                row(&self.mass, &ydot[n..]) + self.damping.as_ref().map_or(0.0, |d| row(d, zd));
         }
     }
 }

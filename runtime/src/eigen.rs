@@ -289,7 +289,8 @@ pub struct FastestRates {
     /// Largest `omega` of `K_eff v = omega^2 M v` (rad/s; `inf` when it does not fit in
     /// double precision).
     pub omega_max: f64,
-    /// Largest `delta` of `D v = delta M v`, `D = d sum_c g_c g_c'` (1/s; `inf` likewise).
+    /// Largest `delta` of `D v = delta M v`, `D = D_s + d sum_c g_c g_c'` (1/s; `inf`
+    /// likewise).
     pub damping_rate: f64,
 }
 
@@ -342,15 +343,19 @@ pub fn fastest_rates(model: &dyn Model, t: f64) -> Result<FastestRates, EigenErr
     })?;
     let mut damping_rate = 0.0;
     let d = model.params().contact.damping;
+    let mut damping = model.damping_matrix().cloned();
     if nc > 0 && d > 0.0 {
         let mut g = DMatrix::zeros(n, nc);
         let mut gdot = DMatrix::zeros(n, nc);
         model.contact_vectors(t, &mut g, &mut gdot);
-        let ggt = &g * g.transpose();
-        let rate = largest_pencil_eigenvalue(&ggt, &l).ok_or(EigenError::NoConvergence {
-            operation: "largest eigenvalue of (D, M)",
-        })?;
-        damping_rate = d * rate;
+        let contacts = d * &g * g.transpose();
+        damping = Some(damping.map_or(contacts.clone(), |ds| ds + contacts));
+    }
+    if let Some(damping) = damping {
+        damping_rate =
+            largest_pencil_eigenvalue(&damping, &l).ok_or(EigenError::NoConvergence {
+                operation: "largest eigenvalue of (D, M)",
+            })?;
     }
     Ok(FastestRates {
         time: t,

@@ -26,6 +26,8 @@ pub mod check;
 pub mod configuration;
 pub mod contact;
 pub mod contact_table;
+pub mod damped_modes;
+pub mod damping;
 pub mod eigen;
 pub mod input;
 pub mod integrate;
@@ -47,6 +49,10 @@ pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use configuration::{DriveKind, ModelConfig, Positions, configuration_key, models_toml_entry};
 pub use contact::{ContactForce, ContactLaw, ContactState};
 pub use contact_table::ContactTable;
+pub use damped_modes::{DampedMode, damped_modes};
+pub use damping::{
+    CONTACT_MODE_SHARE, StructuralDamping, contact_energy_shares, structural_damping,
+};
 pub use eigen::{
     EigenError, FastestRates, ModalAnalysis, closed_contact_eigenvalues, eigenvalues,
     fastest_rates, modal_analysis, modal_analysis_with, sample_shape,

@@ -17,7 +17,9 @@
 //! | `<name>_dot` | m/s, rad/s | the rate of each of the above, same order |
 //!
 //! **Inputs:** `F` (N), the drive force, for a force-driven scene; `a_vehicle` (m/s^2), the
-//! vehicle's acceleration, for a prescribed motion.
+//! vehicle's acceleration, for a prescribed motion. With [`Lpv::with_disturbance`], a second
+//! input `F_load` (N): a horizontal disturbance force on the load at the top of section `n`
+//! (wind, a push), entering as the generalized force `w_n(l_n)` per coordinate.
 //!
 //! **Outputs:** `vehicle`, `tip_rel`, `top1_rel` (m), `xi_k_j` (m) for every contact, and
 //! `f_k_j` (N) for every contact when the contacts are closed.
@@ -81,11 +83,11 @@ pub struct LinearModel {
     pub rates: Vec<f64>,
     /// State matrix (`2 dof x 2 dof`).
     pub a: DMatrix<f64>,
-    /// Input matrix (`2 dof x 1`).
+    /// Input matrix (`2 dof x inputs`).
     pub b: DMatrix<f64>,
     /// Output matrix.
     pub c: DMatrix<f64>,
-    /// Feedthrough (zero for these outputs).
+    /// Feedthrough (`outputs x inputs`; nonzero only for `acc_load`).
     pub d: DMatrix<f64>,
 }
 
@@ -132,6 +134,8 @@ pub struct Lpv<'m> {
     rigid_rows: DMatrix<f64>,
     /// The rows of the sensor outputs (the last two).
     sensors: Sensors,
+    /// Whether the disturbance input `F_load` follows the drive input.
+    disturbance: bool,
 }
 
 impl<'m> Lpv<'m> {
@@ -267,7 +271,22 @@ impl<'m> Lpv<'m> {
             outputs,
             sensors,
             rigid_rows,
+            disturbance: false,
         })
+    }
+
+    /// Adds the second input `F_load` (N), a horizontal force on the load (see the module
+    /// documentation).
+    pub fn with_disturbance(mut self) -> Self {
+        if !self.disturbance {
+            self.disturbance = true;
+            self.inputs.push(signal(
+                "F_load".into(),
+                "N",
+                "horizontal disturbance force on the load at the top of section n".into(),
+            ));
+        }
+        self
     }
 
     /// The states, in the order of the matrices.
@@ -295,13 +314,18 @@ impl<'m> Lpv<'m> {
         self.model.params().position_range(index)
     }
 
-    /// `K_e` and `D` of `M z'' + D z' + K_e z = b u` with the linear law on every closed
-    /// contact, `f = c g'z + d (g'z' + gdot'z)`, for contact vectors `g`, `gdot`.
+    /// `K_e` and `D` of `M z'' + D z' + K_e z = b u`: the structural damping `D_s` and the
+    /// linear law on every closed contact, `f = c g'z + d (g'z' + gdot'z)`, for contact vectors `g`, `gdot`.
     fn second_order(&self, g: &DMatrix<f64>, gdot: &DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
         let n = self.model.dof();
         let law = &self.model.params().contact;
         let mut k_e = self.model.stiffness_matrix().clone();
-        let mut d = DMatrix::zeros(n, n);
+        // the sections' structural damping, then the closed contacts' own
+        let mut d = self
+            .model
+            .damping_matrix()
+            .cloned()
+            .unwrap_or_else(|| DMatrix::zeros(n, n));
         if self.contacts == ContactMode::Closed && g.ncols() > 0 {
             k_e += law.stiffness * g * g.transpose() + law.damping * g * gdot.transpose();
             d += law.damping * g * g.transpose();
@@ -387,7 +411,7 @@ impl<'m> Lpv<'m> {
         let law = &model.params().contact;
         let (k_e, d) = self.second_order(&g, &gdot);
         let mut a = DMatrix::zeros(2 * n, 2 * n);
-        let mut b = DMatrix::zeros(2 * n, 1);
+        let mut b = DMatrix::zeros(2 * n, self.inputs.len());
         for i in 0..n {
             a[(i, n + i)] = 1.0;
         }
@@ -402,12 +426,21 @@ impl<'m> Lpv<'m> {
             b[(n, 0)] = 1.0;
             let bp = -(mpp_inv * m.view((1, 0), (r, 1)));
             b.view_mut((n + 1, 0), (r, 1)).copy_from(&bp);
+            if self.disturbance {
+                // the held vehicle takes the load's push as a reaction
+                let load = DMatrix::from_column_slice(r, 1, &self.sensors.load[1..n]);
+                b.view_mut((n + 1, 1), (r, 1)).copy_from(&(mpp_inv * load));
+            }
         } else {
             a.view_mut((n, 0), (n, n))
                 .copy_from(&(-(&self.minv * &k_e)));
             a.view_mut((n, n), (n, n)).copy_from(&(-(&self.minv * &d)));
             let bz = &self.minv * model.drive_vector();
             b.view_mut((n, 0), (n, 1)).copy_from(&bz);
+            if self.disturbance {
+                let load = DMatrix::from_column_slice(n, 1, &self.sensors.load[..n]);
+                b.view_mut((n, 1), (n, 1)).copy_from(&(&self.minv * load));
+            }
         }
         let mut c = DMatrix::zeros(self.outputs.len(), 2 * n);
         c.view_mut((0, 0), (3, n)).copy_from(&self.rigid_rows);
@@ -420,7 +453,7 @@ impl<'m> Lpv<'m> {
                 }
             }
         }
-        let mut d_mat = DMatrix::zeros(self.outputs.len(), 1);
+        let mut d_mat = DMatrix::zeros(self.outputs.len(), self.inputs.len());
         // the sensors: curvature from the coordinates, the load's acceleration from x'
         let (kappa_row, acc_row) = (self.outputs.len() - 2, self.outputs.len() - 1);
         for j in 0..n {
@@ -429,7 +462,11 @@ impl<'m> Lpv<'m> {
         for col in 0..2 * n {
             c[(acc_row, col)] = (0..n).map(|j| self.sensors.load[j] * a[(n + j, col)]).sum();
         }
-        d_mat[(acc_row, 0)] = (0..n).map(|j| self.sensors.load[j] * b[(n + j, 0)]).sum();
+        for input in 0..self.inputs.len() {
+            d_mat[(acc_row, input)] = (0..n)
+                .map(|j| self.sensors.load[j] * b[(n + j, input)])
+                .sum();
+        }
         Ok(LinearModel {
             positions: positions.to_vec(),
             rates: rates.to_vec(),

@@ -45,6 +45,10 @@ pub trait Model {
     /// Stiffness matrix `K` (elastic minus prestress) in computing coordinates.
     fn stiffness_matrix(&self) -> &DMatrix<f64>;
 
+    /// Structural damping matrix `D_s` in computing coordinates ([`crate::damping`]); `None`
+    /// without structural damping (the contacts' damping is not part of it).
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>>;
+
     /// Drive vector `b` (the force `F` enters as `b F`); `e_0` in computing coordinates.
     fn drive_vector(&self) -> &DVector<f64>;
 
@@ -73,7 +77,7 @@ pub trait Model {
     fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]);
 
     /// Right-hand side `ydot = f(t, y)` of the first-order system
-    /// `zd' = M^-1 (b F(t) - K z - sum_c f_c g_c)` (or, for a prescribed motion, `u'' = s''(t)`
+    /// `zd' = M^-1 (b F(t) - K z - D_s zd - sum_c f_c g_c)` (or, for a prescribed motion, `u'' = s''(t)`
     /// and the rest with the reaction eliminated). `states`: `None` lets the contact law pick
     /// each branch from the gap; `Some` fixes the branch per contact (event-driven
     /// integration keeps the law smooth within a step).

@@ -65,6 +65,8 @@ pub struct ModelParams {
     pub positions: Vec<Profile>,
     /// The drive.
     pub drive: Drive,
+    /// Structural damping of the sections (none by default).
+    pub damping: crate::damping::StructuralDamping,
 }
 
 impl ModelParams {

@@ -26,6 +26,7 @@ fn two_sections(modes: [usize; 2], gravity: f64, vehicle: f64, load: f64) -> Mod
         modes: modes[1],
     };
     ModelParams {
+        damping: Default::default(),
         gravity,
         vehicle_mass: vehicle,
         load_mass: load,

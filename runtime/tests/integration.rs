@@ -380,6 +380,9 @@ impl Model for WrongJacobian {
     fn stiffness_matrix(&self) -> &DMatrix<f64> {
         self.0.stiffness_matrix()
     }
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
+        self.0.damping_matrix()
+    }
     fn drive_vector(&self) -> &DVector<f64> {
         self.0.drive_vector()
     }

@@ -291,6 +291,9 @@ impl Model for Controlled<'_> {
     fn stiffness_matrix(&self) -> &DMatrix<f64> {
         self.base.stiffness_matrix()
     }
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
+        self.base.damping_matrix()
+    }
     fn drive_vector(&self) -> &DVector<f64> {
         self.base.drive_vector()
     }
@@ -431,6 +434,9 @@ impl Model for Observed<'_> {
     }
     fn stiffness_matrix(&self) -> &DMatrix<f64> {
         self.inner.stiffness_matrix()
+    }
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
+        self.inner.damping_matrix()
     }
     fn drive_vector(&self) -> &DVector<f64> {
         self.inner.drive_vector()

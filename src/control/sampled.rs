@@ -86,24 +86,6 @@ fn linear() -> String {
 /// The estimators a sampled controller may run.
 pub const ESTIMATORS: [&str; 2] = ["linear", "extended"];
 
-/// `(Ad, Bd)`: the zero-order-hold discretization of `(A, B)` with period `period` (s), from
-/// the exponential of the augmented matrix `[A B; 0 0] T`.
-pub fn zero_order_hold(
-    a: &DMatrix<f64>,
-    b: &DMatrix<f64>,
-    period: f64,
-) -> (DMatrix<f64>, DMatrix<f64>) {
-    let (n, m) = (a.nrows(), b.ncols());
-    let mut aug = DMatrix::zeros(n + m, n + m);
-    aug.view_mut((0, 0), (n, n)).copy_from(&(a * period));
-    aug.view_mut((0, n), (n, m)).copy_from(&(b * period));
-    let e = aug.exp();
-    (
-        e.view((0, 0), (n, n)).into_owned(),
-        e.view((0, n), (n, m)).into_owned(),
-    )
-}
-
 /// The steady predictor-form Kalman gain `L = Ad P C' (C P C' + R)^-1` with `P` the
 /// stabilizing solution of the filter's discrete Riccati equation, by the structured doubling
 /// algorithm (quadratic convergence; hand-written: nalgebra has no discrete Riccati solver).
@@ -200,7 +182,7 @@ pub fn design_sampled(
         let linear = lpv
             .at(&point.positions, &vec![0.0; npos])
             .map_err(|e| Error::Model(e.to_string()))?;
-        let (ad, bd) = zero_order_hold(&linear.a, &linear.b, period);
+        let (ad, bd) = crate::linear::zero_order_hold(&linear.a, &linear.b, period);
         let c = DMatrix::from_fn(rows.len(), linear.a.ncols(), |i, j| linear.c[(rows[i], j)]);
         // a measured output that feeds through the input (acc_load) is measured before the
         // new force acts: its D term is part of the one-sample delay

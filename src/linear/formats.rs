@@ -1,8 +1,8 @@
 //! The export formats of a [`LinearExport`]: JSON (with a reader, for round trips and for
 //! tools), a MATLAB/Octave script, NumPy's `.npz`, a python-control script and LaTeX.
 
-use super::LinearExport;
 use super::npy::{self, Array};
+use super::{DiscreteModels, LinearExport};
 use crate::rows::{from_rows, to_rows};
 use crate::{Error, Result};
 use serde_json::{Value, json};
@@ -74,6 +74,13 @@ impl LinearExport {
     /// # Errors
     /// [`Error::Option`] for LaTeX of a model too large to write out.
     pub fn check_format(&self, format: Format) -> Result<()> {
+        if format == Format::Latex && self.discrete.is_some() {
+            return Err(Error::option(
+                "LinearExport format latex",
+                "writes the continuous-time model only; the discrete-time model is in json, \
+                 matlab, npz and python",
+            ));
+        }
         if format == Format::Latex && self.states.len() > MAX_LATEX_STATES {
             return Err(Error::option(
                 "LinearExport format latex",
@@ -110,7 +117,8 @@ impl LinearExport {
         let points: Vec<Value> = self
             .points
             .iter()
-            .map(|p| {
+            .enumerate()
+            .map(|(k, p)| {
                 let named = |v: &[f64]| {
                     Value::Object(
                         pos_names
@@ -120,11 +128,16 @@ impl LinearExport {
                             .collect(),
                     )
                 };
-                json!({
+                let mut point = json!({
                     "positions": named(&p.positions),
                     "rates": named(&p.rates),
                     "A": to_rows(&p.a), "B": to_rows(&p.b), "C": to_rows(&p.c), "D": to_rows(&p.d),
-                })
+                });
+                if let Some(d) = &self.discrete {
+                    point["Ad"] = json!(to_rows(&d.points[k].0));
+                    point["Bd"] = json!(to_rows(&d.points[k].1));
+                }
+                point
             })
             .collect();
         json!({
@@ -142,6 +155,11 @@ impl LinearExport {
             "outputs": signals_json(&self.outputs),
             "grid": self.grid.as_ref().map(|(n, v)| json!({"parameter": n, "values": v})),
             "points": points,
+            "discrete": self.discrete.as_ref().map(|d| json!({
+                "dt": d.dt,
+                "equations": "x[k+1] = Ad x[k] + Bd u[k], y[k] = C x[k] + D u[k] (zero-order hold; \
+                              Ad, Bd in each point)",
+            })),
         })
     }
 
@@ -208,6 +226,20 @@ impl LinearExport {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
+        let discrete = match &v["discrete"] {
+            Value::Null => None,
+            d => Some(DiscreteModels {
+                dt: d["dt"]
+                    .as_f64()
+                    .ok_or_else(|| bad("`discrete.dt` is not a number"))?,
+                points: v["points"]
+                    .as_array()
+                    .ok_or_else(|| bad("`points` is not a list"))?
+                    .iter()
+                    .map(|p| Ok((matrix(&p["Ad"], "Ad")?, matrix(&p["Bd"], "Bd")?)))
+                    .collect::<Result<Vec<_>>>()?,
+            }),
+        };
         let grid = match &v["grid"] {
             Value::Null => None,
             g => Some((
@@ -233,6 +265,7 @@ impl LinearExport {
             grid,
             operating_point: text_of(&v["operating_point"], "operating_point")?,
             points,
+            discrete,
         })
     }
 
@@ -307,6 +340,15 @@ impl LinearExport {
                     s += &format!("{name} = {};\n", mat(m));
                 }
                 s += &format!("sys = ss(A, B, C, D, {names});\n");
+                if let Some(d) = &self.discrete {
+                    s += &format!(
+                        "% zero-order-hold discrete-time model, sample period dt (s)\ndt = {};\n\
+                         Ad = {};\nBd = {};\nsysd = ss(Ad, Bd, C, D, dt, {names});\n",
+                        num(d.dt),
+                        mat(&d.points[0].0),
+                        mat(&d.points[0].1)
+                    );
+                }
             }
             Some((param, values)) => {
                 let grid: Vec<String> = values.iter().map(|v| num(*v)).collect();
@@ -315,6 +357,21 @@ impl LinearExport {
                     for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
                         s += &format!("{name}(:, :, {}) = {};\n", k + 1, mat(m));
                     }
+                    if let Some(d) = &self.discrete {
+                        let (ad, bd) = &d.points[k];
+                        s += &format!(
+                            "Ad(:, :, {0}) = {1};\nBd(:, :, {0}) = {2};\n",
+                            k + 1,
+                            mat(ad),
+                            mat(bd)
+                        );
+                    }
+                }
+                if let Some(d) = &self.discrete {
+                    s += &format!(
+                        "% zero-order-hold discrete-time models Ad, Bd (with C, D), sample period dt (s)\ndt = {};\n",
+                        num(d.dt)
+                    );
                 }
                 s += &format!(
                     "if exist('OCTAVE_VERSION', 'builtin')\n  sys = cell(1, numel({param}));\n  \
@@ -355,6 +412,7 @@ impl LinearExport {
             list(&names(&self.outputs))
         );
         let ss = "control.ss(A, B, C, D, states=states, inputs=inputs, outputs=outputs)";
+        let ssd = "control.ss(Ad, Bd, C, D, dt, states=states, inputs=inputs, outputs=outputs)";
         match &self.grid {
             None => {
                 let p = &self.points[0];
@@ -362,6 +420,15 @@ impl LinearExport {
                     s += &format!("{name} = {}\n", arr(m));
                 }
                 s += &format!("sys = {ss}\n");
+                if let Some(d) = &self.discrete {
+                    s += &format!(
+                        "# zero-order-hold discrete-time model, sample period dt (s)\ndt = {}\n\
+                         Ad = {}\nBd = {}\nsysd = {ssd}\n",
+                        num(d.dt),
+                        arr(&d.points[0].0),
+                        arr(&d.points[0].1)
+                    );
+                }
             }
             Some((param, values)) => {
                 let grid: Vec<String> = values.iter().map(|v| num(*v)).collect();
@@ -369,11 +436,21 @@ impl LinearExport {
                     "grid_parameter = {param:?}\ngrid = np.array([{}])\nsys = []\n",
                     grid.join(", ")
                 );
-                for p in &self.points {
+                if let Some(d) = &self.discrete {
+                    s += &format!(
+                        "# zero-order-hold discrete-time models, sample period dt (s)\ndt = {}\nsysd = []\n",
+                        num(d.dt)
+                    );
+                }
+                for (k, p) in self.points.iter().enumerate() {
                     for (name, m) in [("A", &p.a), ("B", &p.b), ("C", &p.c), ("D", &p.d)] {
                         s += &format!("{name} = {}\n", arr(m));
                     }
                     s += &format!("sys.append({ss})\n");
+                    if let Some(d) = &self.discrete {
+                        let (ad, bd) = &d.points[k];
+                        s += &format!("Ad = {}\nBd = {}\nsysd.append({ssd})\n", arr(ad), arr(bd));
+                    }
                 }
             }
         }
@@ -419,6 +496,35 @@ impl LinearExport {
         ] {
             let (shape, data) = stacked(pick);
             add(name, Array::Float { shape, data: &data })?;
+        }
+        if let Some(d) = &self.discrete {
+            for (name, pick) in [
+                (
+                    "Ad",
+                    (|p: &(DMatrix<f64>, DMatrix<f64>)| &p.0)
+                        as fn(&(DMatrix<f64>, DMatrix<f64>)) -> &DMatrix<f64>,
+                ),
+                ("Bd", |p| &p.1),
+            ] {
+                let first = pick(&d.points[0]);
+                let mut shape = vec![first.nrows(), first.ncols()];
+                if self.grid.is_some() {
+                    shape.insert(0, d.points.len());
+                }
+                let data: Vec<f64> = d
+                    .points
+                    .iter()
+                    .flat_map(|p| to_rows(pick(p)).into_iter().flatten())
+                    .collect();
+                add(name, Array::Float { shape, data: &data })?;
+            }
+            add(
+                "dt",
+                Array::Float {
+                    shape: vec![],
+                    data: &[d.dt],
+                },
+            )?;
         }
         let npos = self.points[0].positions.len();
         for (name, pick) in [

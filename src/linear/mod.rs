@@ -23,6 +23,7 @@ pub use formats::{Format, MAX_LATEX_STATES};
 use crate::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use std::str::FromStr;
+use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactMode, LinearModel, Lpv, Scene, Signal, configuration_key};
 
 /// Bytes a linear model's number takes in memory and in its written text, together
@@ -134,6 +135,20 @@ pub struct LinearizeOptions {
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
     pub models: ModelRegistry,
+    /// Add the disturbance input `F_load` (N), a horizontal force on the load.
+    pub disturbance: bool,
+    /// Also give the zero-order-hold discrete-time model at this sample period (s).
+    pub discrete: Option<f64>,
+}
+
+/// The zero-order-hold discrete-time models of a [`LinearExport`]:
+/// `x[k+1] = Ad x[k] + Bd u[k]`, `y[k] = C x[k] + D u[k]` with the continuous `C`, `D`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiscreteModels {
+    /// Sample period (s).
+    pub dt: f64,
+    /// `(Ad, Bd)` per operating point.
+    pub points: Vec<(DMatrix<f64>, DMatrix<f64>)>,
 }
 
 /// A linear model, or a grid of them, with everything needed to read it elsewhere.
@@ -163,6 +178,8 @@ pub struct LinearExport {
     pub operating_point: String,
     /// One linear model per operating point (one without a grid).
     pub points: Vec<LinearModel>,
+    /// The discrete-time models, when asked for.
+    pub discrete: Option<DiscreteModels>,
 }
 
 /// The linear model of `scene` at the operating point or grid of `options`.
@@ -173,7 +190,18 @@ pub struct LinearExport {
 pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExport> {
     let chosen = options.models.build(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
-    let lpv = Lpv::new(model, options.contacts).map_err(|e| Error::Model(e.to_string()))?;
+    let mut lpv = Lpv::new(model, options.contacts).map_err(|e| Error::Model(e.to_string()))?;
+    if options.disturbance {
+        lpv = lpv.with_disturbance();
+    }
+    if let Some(dt) = options.discrete
+        && !(dt.is_finite() && dt > 0.0)
+    {
+        return Err(Error::option(
+            "LinearizeOptions::discrete",
+            format!("the sample period must be a finite number of seconds > 0 (got {dt})"),
+        ));
+    }
     let npos = scene.params.sections.len() - 1;
     let t = options.at_time.unwrap_or(scene.time.start);
     if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
@@ -250,6 +278,13 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
             (Some((format!("a_{}", g.section), values)), points)
         }
     };
+    let discrete = options.discrete.map(|dt| DiscreteModels {
+        dt,
+        points: points
+            .iter()
+            .map(|p| zero_order_hold(&p.a, &p.b, dt))
+            .collect(),
+    });
     Ok(LinearExport {
         scene: scene.name.clone(),
         scene_file: String::new(),
@@ -263,6 +298,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         grid,
         operating_point,
         points,
+        discrete,
     })
 }
 
@@ -270,4 +306,22 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
 fn at(lpv: &Lpv, positions: &[f64], rates: &[f64], option: &str) -> Result<LinearModel> {
     lpv.at(positions, rates)
         .map_err(|e| Error::option(option, e.to_string()))
+}
+
+/// `(Ad, Bd)`: the zero-order-hold discretization of `(A, B)` with period `period` (s), from
+/// the exponential of the augmented matrix `[A B; 0 0] T`.
+pub fn zero_order_hold(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    period: f64,
+) -> (DMatrix<f64>, DMatrix<f64>) {
+    let (n, m) = (a.nrows(), b.ncols());
+    let mut aug = DMatrix::zeros(n + m, n + m);
+    aug.view_mut((0, 0), (n, n)).copy_from(&(a * period));
+    aug.view_mut((0, n), (n, m)).copy_from(&(b * period));
+    let e = aug.exp();
+    (
+        e.view((0, 0), (n, n)).into_owned(),
+        e.view((0, n), (n, m)).into_owned(),
+    )
 }

@@ -50,6 +50,13 @@ pub struct LinearizeArgs {
     /// Which model's matrices: auto, generated or assembled.
     #[arg(long, default_value = "auto", value_name = "MODEL")]
     pub model: ModelChoice,
+    /// Add a second input, F_load (N): a horizontal disturbance force on the load.
+    #[arg(long)]
+    pub disturbance: bool,
+    /// Also write the zero-order-hold discrete-time model at this sample period (s): Ad, Bd
+    /// with the same C, D (json, matlab, npz, python).
+    #[arg(long, value_name = "DT")]
+    pub discrete: Option<f64>,
 }
 
 /// Runs `telescopic linearize`.
@@ -73,6 +80,8 @@ pub fn linearize(args: &LinearizeArgs) -> anyhow::Result<()> {
         grid: args.grid.clone(),
         model: args.model,
         models: Default::default(),
+        disturbance: args.disturbance,
+        discrete: args.discrete,
     };
     let mut export = run_linearize(&scene, &options)?;
     export.scene_file = args.scene.scene.display().to_string();

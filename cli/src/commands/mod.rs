@@ -2,6 +2,7 @@
 //! prints. Nothing in the library depends on this module.
 
 mod analysis;
+mod bode;
 mod control;
 mod modes;
 mod progress;
@@ -44,6 +45,10 @@ enum Command {
     /// stable state, input and output names, at one operating point or over a grid; as JSON,
     /// MATLAB/Octave, NumPy (.npz), python-control or LaTeX.
     Linearize(control::LinearizeArgs),
+    /// Frequency response of the linear model from the drive (and a disturbance force at
+    /// the load) to chosen outputs: magnitude and phase as CSV, and a Bode plot with the
+    /// natural frequencies marked.
+    Bode(bode::BodeArgs),
     /// Design a vibration-suppressing controller (gain-scheduled LQR, input shaper, or both)
     /// on the linear models, write it as JSON, and compare the variants on the full model.
     Design(control::DesignArgs),
@@ -110,6 +115,7 @@ impl Cli {
             Command::Converge(args) => analysis::converge(&args),
             Command::ShapeErrors(args) => analysis::shape_errors(&args),
             Command::Linearize(args) => control::linearize(&args),
+            Command::Bode(args) => bode::bode(&args),
             Command::Design(args) => control::design(&args),
             Command::Sweep(args) => sweep::sweep(&args),
             Command::SweepMerge(args) => sweep::merge(&args),

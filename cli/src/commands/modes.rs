@@ -1,9 +1,11 @@
 //! `telescopic modes` and `telescopic equations`: the scene's linear model, as
 //! eigenfrequencies or as the derived equations.
 
-use super::SceneArgs;
+use super::{SceneArgs, check_chart};
 use clap::Args;
+use std::path::PathBuf;
 use telescopic::equations::{EquationFormat, equations as rendered_equations};
+use telescopic::mode_plot::ModeShapeFigure;
 use telescopic::models::ModelChoice;
 use telescopic::modes::{ModesOptions, compute_modes};
 use telescopic::output::write_to;
@@ -28,22 +30,40 @@ pub struct ModesArgs {
     /// Which model computes the matrices: auto, generated or assembled.
     #[arg(long, default_value = "auto", value_name = "MODEL")]
     model: ModelChoice,
+    /// Draw the mode shapes (the first 8 of those listed) to an SVG or PNG file (by
+    /// extension): the telescope upright, each section along its own axis.
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
+    plot: Option<PathBuf>,
 }
+
+/// Points per section of a plotted mode shape.
+const PLOT_POINTS: usize = 61;
 
 /// Runs `telescopic modes`.
 pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
     telescopic::output::check_stdout_open()?;
-    let scene = args.scene.load()?;
-    let report = compute_modes(
-        &scene,
-        &ModesOptions {
-            at: args.at,
-            count: args.count,
-            shapes: args.shapes,
-            model: args.model,
-            models: Default::default(),
-        },
+    check_chart(
+        "--plot",
+        args.plot.as_deref(),
+        &[args.scene.scene.as_path()],
     )?;
+    let scene = args.scene.load()?;
+    let options = ModesOptions {
+        at: args.at,
+        count: args.count,
+        shapes: args.shapes,
+        model: args.model,
+        models: Default::default(),
+    };
+    let report = compute_modes(&scene, &options)?;
+    if let Some(path) = &args.plot {
+        let sampled = ModesOptions {
+            shapes: Some(PLOT_POINTS),
+            ..options
+        };
+        ModeShapeFigure::new(&scene, &compute_modes(&scene, &sampled)?)?.save(path)?;
+        eprintln!("wrote {}", path.display());
+    }
     if let Some(note) = &report.note {
         eprintln!("{note}");
     }

@@ -11,6 +11,7 @@ use telescopic::metrics::drive_stop;
 use telescopic::models::ModelChoice;
 use telescopic::plot::{Curve, Marks, Role, clearance_label, plot};
 use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
+use telescopic::stress::Station;
 
 /// Options of `telescopic simulate`.
 #[derive(Debug, Args)]
@@ -64,6 +65,12 @@ pub struct SimulateArgs {
     /// Which model computes the right-hand side: auto, generated or assembled.
     #[arg(long, default_value = "auto", value_name = "MODEL")]
     pub model: ModelChoice,
+    /// Add the bending moment (and, when the scene gives sections.section_modulus or
+    /// sections.height, the stress) at these stations as columns moment_K_X (N m) and
+    /// stress_K_X (Pa): section K at X metres from its foot, e.g. 1:0,1:0.675,2:0; the
+    /// summary gives the stress envelope.
+    #[arg(long, value_name = "K:X,...")]
+    pub stations: Option<String>,
 }
 
 /// Runs `telescopic simulate`.
@@ -105,6 +112,10 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         step_cap: !args.no_step_cap,
         model: args.model,
         accuracy: args.accuracy,
+        stations: match &args.stations {
+            Some(text) => Station::parse_list(text)?,
+            None => Vec::new(),
+        },
         ..SimulationOptions::default()
     };
     let progress = Progress::new();

@@ -86,8 +86,12 @@ fn free_items(d: &Derivation) -> TokenStream {
             layout: Layout,
             mass: DMatrix<f64>,
             stiffness: DMatrix<f64>,
+            damping: Option<DMatrix<f64>>,
             drive: DVector<f64>,
             k: [[f64; DOF]; DOF],
+            /// Structural damping `D_s`, used when `damped`.
+            d: [[f64; DOF]; DOF],
+            damped: bool,
             minv: [[f64; DOF]; DOF],
             mass_col0: [f64; DOF],
             lengths: [f64; SECTIONS],
@@ -140,6 +144,7 @@ fn prepare_fn(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
             drive[0] = 1.0;
             let mut k = [[0.0; DOF]; DOF];
             for i in 0..DOF { for j in 0..DOF { k[i][j] = stiffness[(i, j)]; } }
+
             let mut minv = [[0.0; DOF]; DOF];
             #minv_build
             let mut mass_col0 = [0.0; DOF];
@@ -157,8 +162,11 @@ fn prepare_fn(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
                 layout: Layout::new(&MODES, params.contact_points),
                 mass,
                 stiffness,
+                damping: None,
                 drive,
                 k,
+                d: [[0.0; DOF]; DOF],
+                damped: false,
                 minv,
                 mass_col0,
                 lengths,
@@ -168,6 +176,15 @@ fn prepare_fn(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
                 top1,
             };
             #geometry_finish
+            // structural damping is a numeric matrix (modal damping needs the modes)
+            let mut model = model;
+            let damping = telescopic_runtime::structural_damping(&model)
+                .map_err(|e| format!("structural damping: {e}"))?;
+            if let Some(ds) = &damping {
+                for i in 0..DOF { for j in 0..DOF { model.d[i][j] = ds[(i, j)]; } }
+            }
+            model.damped = damping.is_some();
+            model.damping = damping;
             Ok(model)
         }
     }
@@ -238,6 +255,7 @@ fn model_impl(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
             fn params(&self) -> &ModelParams { &self.params }
             fn mass_matrix(&self) -> &DMatrix<f64> { &self.mass }
             fn stiffness_matrix(&self) -> &DMatrix<f64> { &self.stiffness }
+            fn damping_matrix(&self) -> Option<&DMatrix<f64>> { self.damping.as_ref() }
             fn drive_vector(&self) -> &DVector<f64> { &self.drive }
 
             #table_accessor
@@ -273,6 +291,9 @@ fn model_impl(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
                 #(#force_temps)*
                 let mut q = [0.0; DOF];
                 #(#force_sets)*
+                if self.damped {
+                    for i in 0..DOF { let mut s = 0.0; for j in 0..DOF { s += self.d[i][j] * zd[j]; } q[i] -= s; }
+                }
                 #accel
                 ydot[..DOF].copy_from_slice(zd);
                 ydot[DOF..2 * DOF].copy_from_slice(&acc);
@@ -288,6 +309,9 @@ fn model_impl(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
                 let mut dq = [[0.0; 2 * DOF]; DOF];
                 #(#jac_temps)*
                 #(#jac_sets)*
+                if self.damped {
+                    for i in 0..DOF { for j in 0..DOF { dq[i][DOF + j] -= self.d[i][j]; } }
+                }
                 jac.fill(0.0);
                 for j in 0..DOF { jac[(j, DOF + j)] = 1.0; }
                 for i in 0..DOF {

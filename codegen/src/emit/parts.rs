@@ -351,7 +351,10 @@ pub(super) fn drive_code(c: &ModelConfig) -> DriveCode {
             let inv = rel.cholesky().ok_or("the mass matrix is not positive definite")?.inverse();
             for i in 1..DOF { for j in 1..DOF { minv[i][j] = inv[(i - 1, j - 1)]; } }
         },
-        drive_force_out: quote! { out[3 + 2 * CONTACTS] = (0..DOF).map(|j| self.mass_col0[j] * ydot[DOF + j]).sum(); },
+        drive_force_out: quote! {
+            // reaction: row 0 of M zdd + D_s zd (K's row 0 and every g_c[0] vanish)
+            out[3 + 2 * CONTACTS] = (0..DOF).map(|j| self.mass_col0[j] * ydot[DOF + j] + self.d[0][j] * zd[j]).sum();
+        },
     }
 }
 

@@ -410,8 +410,12 @@ pub struct GeneratedModel {
     layout: Layout,
     mass: DMatrix<f64>,
     stiffness: DMatrix<f64>,
+    damping: Option<DMatrix<f64>>,
     drive: DVector<f64>,
     k: [[f64; DOF]; DOF],
+    /// Structural damping `D_s`, used when `damped`.
+    d: [[f64; DOF]; DOF],
+    damped: bool,
     minv: [[f64; DOF]; DOF],
     mass_col0: [f64; DOF],
     lengths: [f64; SECTIONS],
@@ -484,8 +488,11 @@ impl GeneratedModel {
             layout: Layout::new(&MODES, params.contact_points),
             mass,
             stiffness,
+            damping: None,
             drive,
             k,
+            d: [[0.0; DOF]; DOF],
+            damped: false,
             minv,
             mass_col0,
             lengths,
@@ -504,6 +511,18 @@ impl GeneratedModel {
                 gd.copy_from_slice(geo.gd.as_flattened());
             },
         );
+        let mut model = model;
+        let damping = telescopic_runtime::structural_damping(&model)
+            .map_err(|e| format!("structural damping: {e}"))?;
+        if let Some(ds) = &damping {
+            for i in 0..DOF {
+                for j in 0..DOF {
+                    model.d[i][j] = ds[(i, j)];
+                }
+            }
+        }
+        model.damped = damping.is_some();
+        model.damping = damping;
         Ok(model)
     }
     /// Contact vectors at time `t` (s), evaluated from the shape functions.
@@ -644,6 +663,9 @@ impl Model for GeneratedModel {
     fn stiffness_matrix(&self) -> &DMatrix<f64> {
         &self.stiffness
     }
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
+        self.damping.as_ref()
+    }
     fn drive_vector(&self) -> &DVector<f64> {
         &self.drive
     }
@@ -728,6 +750,15 @@ impl Model for GeneratedModel {
         {
             q[6] = -f[0] * geo.g[0][6] - f[1] * geo.g[1][6] - self.k[6][4] * z[4]
                 - self.k[6][5] * z[5] - self.k[6][6] * z[6];
+        }
+        if self.damped {
+            for i in 0..DOF {
+                let mut s = 0.0;
+                for j in 0..DOF {
+                    s += self.d[i][j] * zd[j];
+                }
+                q[i] -= s;
+            }
         }
         let s_acc = self.drive_input(t);
         for j in 1..DOF {
@@ -944,6 +975,13 @@ impl Model for GeneratedModel {
         dq[6][11] = t55;
         dq[6][12] = t56;
         dq[6][13] = -law[0].d_rate * t40 - law[1].d_rate * t41;
+        if self.damped {
+            for i in 0..DOF {
+                for j in 0..DOF {
+                    dq[i][DOF + j] -= self.d[i][j];
+                }
+            }
+        }
         jac.fill(0.0);
         for j in 0..DOF {
             jac[(j, DOF + j)] = 1.0;
@@ -990,7 +1028,7 @@ impl Model for GeneratedModel {
             out[3 + CONTACTS + c] = self.contact_force(c, xi[c], xi_dot[c], None).force;
         }
         out[3 + 2 * CONTACTS] = (0..DOF)
-            .map(|j| self.mass_col0[j] * ydot[DOF + j])
+            .map(|j| self.mass_col0[j] * ydot[DOF + j] + self.d[0][j] * zd[j])
             .sum();
     }
 }

@@ -694,8 +694,12 @@ pub struct GeneratedModel {
     layout: Layout,
     mass: DMatrix<f64>,
     stiffness: DMatrix<f64>,
+    damping: Option<DMatrix<f64>>,
     drive: DVector<f64>,
     k: [[f64; DOF]; DOF],
+    /// Structural damping `D_s`, used when `damped`.
+    d: [[f64; DOF]; DOF],
+    damped: bool,
     minv: [[f64; DOF]; DOF],
     mass_col0: [f64; DOF],
     lengths: [f64; SECTIONS],
@@ -768,8 +772,11 @@ impl GeneratedModel {
             layout: Layout::new(&MODES, params.contact_points),
             mass,
             stiffness,
+            damping: None,
             drive,
             k,
+            d: [[0.0; DOF]; DOF],
+            damped: false,
             minv,
             mass_col0,
             lengths,
@@ -783,6 +790,18 @@ impl GeneratedModel {
         };
         let mut model = model;
         model.fixed_geometry = model.exact_geometry(0.0);
+        let mut model = model;
+        let damping = telescopic_runtime::structural_damping(&model)
+            .map_err(|e| format!("structural damping: {e}"))?;
+        if let Some(ds) = &damping {
+            for i in 0..DOF {
+                for j in 0..DOF {
+                    model.d[i][j] = ds[(i, j)];
+                }
+            }
+        }
+        model.damped = damping.is_some();
+        model.damping = damping;
         Ok(model)
     }
     /// Contact vectors at time `t` (s), evaluated from the shape functions.
@@ -970,6 +989,9 @@ impl Model for GeneratedModel {
     fn stiffness_matrix(&self) -> &DMatrix<f64> {
         &self.stiffness
     }
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
+        self.damping.as_ref()
+    }
     fn drive_vector(&self) -> &DVector<f64> {
         &self.drive
     }
@@ -1079,6 +1101,15 @@ impl Model for GeneratedModel {
         {
             q[11] = -f[2] * geo.g[2][11] - f[3] * geo.g[3][11] - self.k[11][10] * z[10]
                 - self.k[11][11] * z[11] - self.k[11][9] * z[9];
+        }
+        if self.damped {
+            for i in 0..DOF {
+                let mut s = 0.0;
+                for j in 0..DOF {
+                    s += self.d[i][j] * zd[j];
+                }
+                q[i] -= s;
+            }
         }
         let mut acc = [0.0; DOF];
         for i in 0..DOF {
@@ -1679,6 +1710,13 @@ impl Model for GeneratedModel {
         dq[11][21] = t169;
         dq[11][22] = t170;
         dq[11][23] = -law[2].d_rate * t126 - law[3].d_rate * t127;
+        if self.damped {
+            for i in 0..DOF {
+                for j in 0..DOF {
+                    dq[i][DOF + j] -= self.d[i][j];
+                }
+            }
+        }
         jac.fill(0.0);
         for j in 0..DOF {
             jac[(j, DOF + j)] = 1.0;

@@ -1290,8 +1290,12 @@ pub struct GeneratedModel {
     layout: Layout,
     mass: DMatrix<f64>,
     stiffness: DMatrix<f64>,
+    damping: Option<DMatrix<f64>>,
     drive: DVector<f64>,
     k: [[f64; DOF]; DOF],
+    /// Structural damping `D_s`, used when `damped`.
+    d: [[f64; DOF]; DOF],
+    damped: bool,
     minv: [[f64; DOF]; DOF],
     mass_col0: [f64; DOF],
     lengths: [f64; SECTIONS],
@@ -1364,8 +1368,11 @@ impl GeneratedModel {
             layout: Layout::new(&MODES, params.contact_points),
             mass,
             stiffness,
+            damping: None,
             drive,
             k,
+            d: [[0.0; DOF]; DOF],
+            damped: false,
             minv,
             mass_col0,
             lengths,
@@ -1379,6 +1386,18 @@ impl GeneratedModel {
         };
         let mut model = model;
         model.fixed_geometry = model.exact_geometry(0.0);
+        let mut model = model;
+        let damping = telescopic_runtime::structural_damping(&model)
+            .map_err(|e| format!("structural damping: {e}"))?;
+        if let Some(ds) = &damping {
+            for i in 0..DOF {
+                for j in 0..DOF {
+                    model.d[i][j] = ds[(i, j)];
+                }
+            }
+        }
+        model.damped = damping.is_some();
+        model.damping = damping;
         Ok(model)
     }
     /// Contact vectors at time `t` (s), evaluated from the shape functions.
@@ -1580,6 +1599,9 @@ impl Model for GeneratedModel {
     fn stiffness_matrix(&self) -> &DMatrix<f64> {
         &self.stiffness
     }
+    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
+        self.damping.as_ref()
+    }
     fn drive_vector(&self) -> &DVector<f64> {
         &self.drive
     }
@@ -1731,6 +1753,15 @@ impl Model for GeneratedModel {
             q[17] = -f[2] * geo.g[2][17] - f[3] * geo.g[3][17] - self.k[17][13] * z[13]
                 - self.k[17][14] * z[14] - self.k[17][15] * z[15]
                 - self.k[17][16] * z[16] - self.k[17][17] * z[17];
+        }
+        if self.damped {
+            for i in 0..DOF {
+                let mut s = 0.0;
+                for j in 0..DOF {
+                    s += self.d[i][j] * zd[j];
+                }
+                q[i] -= s;
+            }
         }
         let mut acc = [0.0; DOF];
         for i in 0..DOF {
@@ -3113,6 +3144,13 @@ impl Model for GeneratedModel {
         dq[17][33] = t392;
         dq[17][34] = t393;
         dq[17][35] = -law[2].d_rate * t286 - law[3].d_rate * t287;
+        if self.damped {
+            for i in 0..DOF {
+                for j in 0..DOF {
+                    dq[i][DOF + j] -= self.d[i][j];
+                }
+            }
+        }
         jac.fill(0.0);
         for j in 0..DOF {
             jac[(j, DOF + j)] = 1.0;

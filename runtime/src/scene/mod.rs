@@ -116,6 +116,20 @@ impl SceneError {
 }
 
 impl Scene {
+    /// The section moduli `W_k` (m^3), bottom up, from `sections.section_modulus` or from
+    /// `sections.height` (`W = 2 I / h`); `None` when the scene gives neither.
+    pub fn section_moduli(&self) -> Option<Vec<f64>> {
+        let s = &self.file.sections;
+        let n = self.params.sections.len();
+        if let Some(w) = &s.section_modulus {
+            return (1..=n).map(|k| w.get(k)).collect();
+        }
+        let h = s.height.as_ref()?;
+        (1..=n)
+            .map(|k| Some(2.0 * s.inertia.get(k)? / h.get(k)?))
+            .collect()
+    }
+
     /// Reads, overrides and validates a scene file. `overrides` are `KEY=VALUE` strings with
     /// dotted TOML keys (`contact.clearance=0.01`, `sections.length.1=1.2`).
     ///

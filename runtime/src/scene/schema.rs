@@ -57,6 +57,24 @@ pub struct SectionsSpec {
     pub youngs_modulus: PerSection<f64>,
     /// Shape functions per section `N_k`, 1..=30.
     pub modes: PerSection<usize>,
+    /// Modal structural damping ratio (1), in `[0, 1)`: one number for every elastic mode of the
+    /// open-contact structure, or a list by mode in ascending frequency (modes beyond the
+    /// list take its last value). Default: no structural damping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_ratio: Option<PerSection<f64>>,
+    /// Rayleigh damping's mass coefficient `alpha` (1/s), >= 0; not with `damping_ratio`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rayleigh_alpha: Option<f64>,
+    /// Rayleigh damping's stiffness coefficient `beta` (s), >= 0; not with `damping_ratio`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rayleigh_beta: Option<f64>,
+    /// Section moduli `W_k` (m^3) for bending stresses `M / W`; or give `height`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section_modulus: Option<PerSection<f64>>,
+    /// Section heights `h_k` (m) in the bending plane, for a section symmetric about its
+    /// bending axis: `W = 2 I / h`. Not with `section_modulus`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<PerSection<f64>>,
 }
 
 /// `[masses]`.

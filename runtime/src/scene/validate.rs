@@ -3,9 +3,10 @@
 use super::limits::{
     MAX_CONTACT_POINTS, MAX_OUTPUT_VALUES, MAX_SECTIONS, output_columns, sample_count,
 };
-use super::schema::{ContactSpec, DriveSpec, PerSection, SceneFile, TimeSpec};
+use super::schema::{ContactSpec, DriveSpec, PerSection, SceneFile, SectionsSpec, TimeSpec};
 use super::{FieldError, Scene, SceneError, TimeSpan};
 use crate::contact::ContactLaw;
+use crate::damping::StructuralDamping;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile};
 use crate::shape::MAX_MODES;
@@ -165,6 +166,10 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     } else {
         None
     };
+    let damping = damping_rules(&mut r, s);
+    if n_fits {
+        section_modulus_rules(&mut r, s, n);
+    }
     r.non_negative("masses.vehicle", file.masses.vehicle);
     r.non_negative("masses.load", file.masses.load);
     r.non_negative("gravity.g", file.gravity.g);
@@ -207,7 +212,15 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         moduli.expect("checked"),
         modes.expect("checked"),
     );
-    let params = model_params(&file, sections, contact, positions, drive.expect("checked"));
+    let mut params = model_params(&file, sections, contact, positions, drive.expect("checked"));
+    params.damping = match damping {
+        // the modes of modal damping are those at the scene's start
+        StructuralDamping::Modal { ratios, .. } => StructuralDamping::Modal {
+            ratios,
+            positions: params.positions.iter().map(|p| p.value(t.start)).collect(),
+        },
+        other => other,
+    };
     let implausible = super::plausibility::check(&params);
     if !implausible.is_empty() {
         return Err(SceneError::Invalid {
@@ -227,6 +240,72 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         references: file.reference.clone(),
         file,
     })
+}
+
+/// Structural damping: modal ratios in `[0, 1)` or Rayleigh coefficients >= 0, not both.
+fn damping_rules(r: &mut Rules, s: &SectionsSpec) -> StructuralDamping {
+    let rayleigh = s.rayleigh_alpha.is_some() || s.rayleigh_beta.is_some();
+    let ratio_rule = |r: &mut Rules, field: &str, v: f64| {
+        if !(v.is_finite() && (0.0..1.0).contains(&v)) {
+            r.fail(
+                field,
+                format!("must be a damping ratio in [0, 1) (got {v})"),
+            );
+        }
+    };
+    match (&s.damping_ratio, rayleigh) {
+        (Some(_), true) => {
+            r.fail(
+                "sections.damping_ratio",
+                "give either modal damping (damping_ratio) or Rayleigh damping (rayleigh_alpha, \
+                 rayleigh_beta), not both",
+            );
+            StructuralDamping::None
+        }
+        (Some(PerSection::Shared(v)), false) => {
+            ratio_rule(r, "sections.damping_ratio", *v);
+            StructuralDamping::Modal {
+                ratios: vec![*v],
+                positions: Vec::new(),
+            }
+        }
+        (Some(PerSection::Each(list)), false) => {
+            if list.is_empty() {
+                r.fail("sections.damping_ratio", "must not be an empty list");
+            }
+            for (i, &v) in list.iter().enumerate() {
+                ratio_rule(r, &format!("sections.damping_ratio[{i}]"), v);
+            }
+            StructuralDamping::Modal {
+                ratios: list.clone(),
+                positions: Vec::new(),
+            }
+        }
+        (None, true) => {
+            let alpha = s.rayleigh_alpha.unwrap_or(0.0);
+            let beta = s.rayleigh_beta.unwrap_or(0.0);
+            r.non_negative("sections.rayleigh_alpha", alpha);
+            r.non_negative("sections.rayleigh_beta", beta);
+            StructuralDamping::Rayleigh { alpha, beta }
+        }
+        (None, false) => StructuralDamping::None,
+    }
+}
+
+/// Section moduli or heights (for stresses): positive, one per section, not both.
+fn section_modulus_rules(r: &mut Rules, s: &SectionsSpec, n: usize) {
+    if s.section_modulus.is_some() && s.height.is_some() {
+        r.fail(
+            "sections.height",
+            "give either section_modulus or height (W = 2 I / h), not both",
+        );
+    }
+    if let Some(w) = &s.section_modulus {
+        r.per_section("sections.section_modulus", w, n, |r, f, v| r.positive(f, v));
+    }
+    if let Some(h) = &s.height {
+        r.per_section("sections.height", h, n, |r, f, v| r.positive(f, v));
+    }
 }
 
 /// The time span's rules.
@@ -478,5 +557,6 @@ fn model_params(
         },
         positions,
         drive,
+        damping: StructuralDamping::None,
     }
 }

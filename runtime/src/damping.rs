@@ -1,0 +1,151 @@
+//! Structural damping of the sections: the damping matrix `D_s` of
+//! `M z'' + D_s z' + K z = ...` (docs/model.md section 4, "Structural damping").
+//!
+//! * **Modal** (`sections.damping_ratio`): `D_s = M Phi diag(2 zeta_i omega_i) Phi' M` over the
+//!   structural modes `Phi` (mass-normalized) of the telescope with its contacts closed, at
+//!   the telescopic positions of the scene's start: each of those modes decays at exactly its
+//!   ratio `zeta_i` there (what a modal test of the structure would measure). Contact modes
+//!   (most strain energy in the contact springs, see [`contact_energy_shares`]) get none:
+//!   their damping is the contacts' own `d`. The vehicle's travel is not damped. Where the
+//!   telescope moves away from the start geometry or a contact opens, the same `D_s` stays:
+//!   the ratios there are close to, not exactly, `zeta` (`telescopic modes --at T` shows them).
+//! * **Rayleigh** (`sections.rayleigh_alpha`, `sections.rayleigh_beta`): `D_s = alpha M +
+//!   beta K` with the sections' own stiffness `K`; a mode of the sections alone (one section,
+//!   or contacts open) gets `zeta = alpha / (2 omega) + beta omega / 2`. `alpha M` damps the
+//!   rigid travel too (a drag on the whole telescope).
+//!
+//! The default is no structural damping, the paper's worst case for control; the contacts'
+//! own damping `d` is separate and always present.
+
+use crate::eigen::{EigenError, ModalAnalysis, modal_analysis_with};
+use crate::model::Model;
+use nalgebra::DMatrix;
+
+/// The structural damping of a model.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum StructuralDamping {
+    /// No structural damping (the default).
+    #[default]
+    None,
+    /// Modal damping ratios (1) of the closed-contact modes at `positions`.
+    Modal {
+        /// The `i`-th value for mode `f_{i+1}` of `telescopic modes` at `positions`; modes
+        /// beyond the list take its last value; contact modes take none.
+        ratios: Vec<f64>,
+        /// The telescopic positions `a_2..a_n` (m) of the modes (the scene's start).
+        positions: Vec<f64>,
+    },
+    /// Rayleigh damping `alpha M + beta K`: `alpha` (1/s), `beta` (s).
+    Rayleigh {
+        /// Mass-proportional coefficient (1/s).
+        alpha: f64,
+        /// Stiffness-proportional coefficient (s).
+        beta: f64,
+    },
+}
+
+impl StructuralDamping {
+    /// True when there is no structural damping.
+    pub fn is_none(&self) -> bool {
+        match self {
+            StructuralDamping::None => true,
+            StructuralDamping::Modal { ratios, .. } => ratios.iter().all(|&z| z == 0.0),
+            StructuralDamping::Rayleigh { alpha, beta } => *alpha == 0.0 && *beta == 0.0,
+        }
+    }
+
+    /// The modal ratio of mode `index` (0-based, ascending frequency), for
+    /// [`StructuralDamping::Modal`]; 0 otherwise.
+    pub fn modal_ratio(&self, index: usize) -> f64 {
+        match self {
+            StructuralDamping::Modal { ratios, .. } if !ratios.is_empty() => {
+                ratios[index.min(ratios.len() - 1)]
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// A short description for run summaries and tables.
+    pub fn describe(&self) -> String {
+        match self {
+            _ if self.is_none() => "none".into(),
+            StructuralDamping::Modal { ratios, positions } => {
+                let at = if positions.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (closed-contact modes at a = {positions:?} m)")
+                };
+                if ratios.len() == 1 {
+                    format!("modal, zeta = {}{at}", ratios[0])
+                } else {
+                    format!("modal, zeta = {ratios:?} by mode{at}")
+                }
+            }
+            StructuralDamping::Rayleigh { alpha, beta } => {
+                format!("Rayleigh, alpha = {alpha} 1/s, beta = {beta} s")
+            }
+            StructuralDamping::None => unreachable!("handled by is_none"),
+        }
+    }
+}
+
+/// Share of a mode's strain energy in the contact springs above which it is a contact mode.
+pub const CONTACT_MODE_SHARE: f64 = 0.5;
+
+/// The share of each mode's strain energy stored in the contact springs,
+/// `c sum_c (g_c . v)^2 / omega^2` for mass-normalized shapes `v` (contact vectors `g`, one
+/// column per contact, at the modes' geometry; contact stiffness `c` in N/m).
+pub fn contact_energy_shares(modal: &ModalAnalysis, g: &DMatrix<f64>, c: f64) -> Vec<f64> {
+    modal
+        .shapes
+        .iter()
+        .zip(&modal.frequencies_hz)
+        .map(|(v, f)| {
+            let omega2 = (2.0 * std::f64::consts::PI * f).powi(2);
+            let springs: f64 = g.column_iter().map(|gc| gc.dot(v).powi(2)).sum();
+            c * springs / omega2
+        })
+        .collect()
+}
+
+/// The structural damping matrix `D_s` (N s/m in computing coordinates) of `model`'s
+/// `params().damping`, from its mass and stiffness matrices (and, for modal damping, its
+/// closed-contact modes); `None` without structural damping. The model's own damping matrix
+/// is not used.
+///
+/// # Errors
+/// [`EigenError`] when the modes cannot be had (modal damping).
+pub fn structural_damping(model: &dyn Model) -> Result<Option<DMatrix<f64>>, EigenError> {
+    let damping = &model.params().damping;
+    if damping.is_none() {
+        return Ok(None);
+    }
+    let (m, k) = (model.mass_matrix(), model.stiffness_matrix());
+    let StructuralDamping::Modal { positions, .. } = damping else {
+        let StructuralDamping::Rayleigh { alpha, beta } = damping else {
+            unreachable!("not none")
+        };
+        return Ok(Some(*alpha * m + *beta * k));
+    };
+    let (n, nc) = (model.dof(), model.layout().contact_count());
+    let mut g = DMatrix::zeros(n, nc);
+    let mut gdot = DMatrix::zeros(n, nc);
+    let mut k_closed = k.clone();
+    let c = model.params().contact.stiffness;
+    if nc > 0 {
+        model.contact_vectors_at(positions, &vec![0.0; positions.len()], &mut g, &mut gdot);
+        k_closed += c * &g * g.transpose();
+    }
+    let modal = modal_analysis_with(model, &k_closed)?;
+    let shares = contact_energy_shares(&modal, &g, c);
+    let mut d = DMatrix::zeros(n, n);
+    for (i, (v, f)) in modal.shapes.iter().zip(&modal.frequencies_hz).enumerate() {
+        if shares[i] > CONTACT_MODE_SHARE {
+            continue;
+        }
+        let mv = m * v;
+        let weight = 2.0 * damping.modal_ratio(i) * 2.0 * std::f64::consts::PI * f;
+        d += weight * &mv * mv.transpose();
+    }
+    Ok(Some(0.5 * (&d + d.transpose())))
+}

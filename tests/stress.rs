@@ -1,0 +1,216 @@
+//! Bending moments and stresses at stations: a single section as a cantilever under a static
+//! tip force (analytic `M(x) = F (l - x)`) and under its own weight (the inertial load of a
+//! steady acceleration, `q (l - x)^2 / 2`), the generated model's moments against the
+//! assembled model's, stresses as `M / W`, and the documented refusals.
+
+use std::path::Path;
+use telescopic::models::ModelChoice;
+use telescopic::simulation::{SimulationOptions, simulate_scene};
+use telescopic::stress::{Station, StressEnvelope};
+use telescopic::{Error, Scene, Silent};
+
+/// A single section on a vehicle pushed by a constant force; heavily damped (zeta = 0.5) so
+/// that after 4 s it bends quasi-statically under the inertia of the steady acceleration.
+fn pushed_cantilever(extra: &[String]) -> Scene {
+    let text = r#"
+name = "pushed-cantilever"
+[sections]
+count = 1
+length = 1.35
+area = 0.001
+inertia = 0.83e-8
+density = 7850.0
+youngs_modulus = 2.1e11
+modes = 5
+damping_ratio = 0.5
+[masses]
+vehicle = 100.0
+load = 5.0
+[gravity]
+g = 0.0
+[drive]
+force = 200.0
+[time]
+end = 4.0
+sample = 0.001
+"#;
+    Scene::from_toml_str(text, Path::new("pushed-cantilever.toml"), extra).unwrap()
+}
+
+/// The relative errors of the final moments at `fractions` of the length against the
+/// analytic static moment `-a (m_L (l - x) + rhoA (l - x)^2 / 2)`, `a = F / m_total`.
+fn static_moment_errors(modes: usize, density: f64, load: f64, fractions: &[f64]) -> Vec<f64> {
+    let scene = pushed_cantilever(&[
+        format!("sections.modes={modes}"),
+        format!("sections.density={density}"),
+        format!("masses.load={load}"),
+    ]);
+    let l = scene.params.sections[0].length;
+    let stations: Vec<Station> = fractions
+        .iter()
+        .map(|f| Station {
+            section: 1,
+            x: f * l,
+        })
+        .collect();
+    let options = SimulationOptions {
+        stations: stations.clone(),
+        ..SimulationOptions::default()
+    };
+    let sim = simulate_scene(&scene, &options, &Silent).unwrap();
+    let rho_a = scene.params.sections[0].mass_per_length;
+    let a = 200.0 / scene.params.total_mass();
+    let last = sim.trajectory.rows.last().unwrap();
+    stations
+        .iter()
+        .map(|s| {
+            let got = last[sim.trajectory.index(&s.moment_name()).unwrap()];
+            let want = -a * (load * (l - s.x) + rho_a * (l - s.x).powi(2) / 2.0);
+            got / want - 1.0
+        })
+        .collect()
+}
+
+#[test]
+fn the_moment_converges_to_the_cantilevers_static_moment() {
+    let fractions = [0.0, 0.25, 0.5, 0.75];
+    // a tip force alone (the section nearly massless), then the section's own load alone
+    for (what, density, load) in [("tip force", 1.0, 5.0), ("own weight", 7850.0, 0.0)] {
+        let five = static_moment_errors(5, density, load, &fractions);
+        let twenty = static_moment_errors(20, density, load, &fractions);
+        eprintln!(
+            "{what}: relative errors at x/l = {fractions:?}: 5 modes {five:.5?}, 20 modes {twenty:.5?}"
+        );
+        // the foot, where the series converges slowest (docs/model.md section 7)
+        assert!(
+            five[0].abs() < 0.12,
+            "{what}: 5 modes at the foot {}",
+            five[0]
+        );
+        assert!(
+            twenty[0].abs() < 0.03,
+            "{what}: 20 modes at the foot {}",
+            twenty[0]
+        );
+        assert!(
+            twenty[0].abs() < five[0].abs() / 3.0,
+            "{what}: no convergence at the foot"
+        );
+        // inside the span
+        for i in 1..3 {
+            assert!(
+                five[i].abs() < 0.02,
+                "{what}: 5 modes at x/l = {}: {}",
+                fractions[i],
+                five[i]
+            );
+            assert!(
+                twenty[i].abs() < 0.004,
+                "{what}: 20 modes at x/l = {}: {}",
+                fractions[i],
+                twenty[i]
+            );
+        }
+    }
+}
+
+#[test]
+fn generated_and_assembled_moments_agree_and_stresses_are_moment_over_modulus() {
+    let over = [
+        "time.end=0.5".to_string(),
+        "sections.height=0.04".to_string(),
+    ];
+    let scene = Scene::load("scenes/adams-linear.toml".as_ref(), &over).unwrap();
+    let stations = Station::parse_list("1:0,1:0.3,1:0.2,2:0.675,2:1.2").unwrap();
+    let run = |model| {
+        let options = SimulationOptions {
+            stations: stations.clone(),
+            model,
+            ..SimulationOptions::default()
+        };
+        simulate_scene(&scene, &options, &Silent).unwrap()
+    };
+    let (generated, assembled) = (run(ModelChoice::Generated), run(ModelChoice::Assembled));
+    assert!(generated.model.contains("generated"), "{}", generated.model);
+    let w = 2.0 * 0.83e-8 / 0.04;
+    for s in &stations {
+        let a = generated.trajectory.column(&s.moment_name()).unwrap();
+        let b = assembled.trajectory.column(&s.moment_name()).unwrap();
+        let scale = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let worst = a
+            .iter()
+            .zip(&b)
+            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+        eprintln!(
+            "{}: max |M| {scale:.4e} N m, generated vs assembled {worst:.2e}",
+            s.moment_name()
+        );
+        assert!(scale > 1.0, "{}: the section bends", s.moment_name());
+        assert!(
+            worst < 1e-7 * scale,
+            "{}: {worst} of {scale}",
+            s.moment_name()
+        );
+        let stress = generated.trajectory.column(&s.stress_name()).unwrap();
+        for (m, sigma) in a.iter().zip(&stress) {
+            assert!((sigma - m / w).abs() <= 1e-12 * (m / w).abs().max(1.0));
+        }
+    }
+    // the envelope is the largest stress of any station at any time
+    let envelope = StressEnvelope::of(&generated.trajectory).unwrap();
+    let largest = stations
+        .iter()
+        .flat_map(|s| generated.trajectory.column(&s.stress_name()).unwrap())
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    assert_eq!(envelope.max_abs_stress, largest);
+    assert!(
+        generated.summary().contains("stress envelope"),
+        "{}",
+        generated.summary()
+    );
+    // a section modulus given directly
+    let over = [
+        "time.end=0.1".to_string(),
+        "sections.section_modulus=[1e-6, 2e-6]".to_string(),
+    ];
+    let scene = Scene::load("scenes/adams-linear.toml".as_ref(), &over).unwrap();
+    assert_eq!(scene.section_moduli(), Some(vec![1e-6, 2e-6]));
+}
+
+#[test]
+fn bad_stations_and_section_moduli_are_refused_by_name() {
+    let scene = Scene::load("scenes/adams-linear.toml".as_ref(), &[]).unwrap();
+    for (text, rule) in [
+        ("3:0", "section 3 does not exist"),
+        ("1:1.5", "outside section 1"),
+        ("1:-0.1", "outside section 1"),
+    ] {
+        let options = SimulationOptions {
+            stations: Station::parse_list(text).unwrap(),
+            ..SimulationOptions::default()
+        };
+        let e = simulate_scene(&scene, &options, &Silent).unwrap_err();
+        assert!(matches!(e, Error::Option { .. }), "{e}");
+        assert!(
+            e.to_string().contains("SimulationOptions::stations") && e.to_string().contains(rule),
+            "{e}"
+        );
+    }
+    for text in ["1", "a:0", "1:x", "1:0;2:0"] {
+        let e = Station::parse_list(text).unwrap_err();
+        assert!(e.to_string().contains("SECTION:X"), "{e}");
+    }
+    for (set, field) in [
+        ("sections.section_modulus=-1e-6", "sections.section_modulus"),
+        ("sections.height=0", "sections.height"),
+    ] {
+        let e = Scene::load("scenes/adams-linear.toml".as_ref(), &[set.to_string()]).unwrap_err();
+        assert!(e.to_string().contains(field), "{e}");
+    }
+    let both = [
+        "sections.height=0.04".to_string(),
+        "sections.section_modulus=1e-6".to_string(),
+    ];
+    let e = Scene::load("scenes/adams-linear.toml".as_ref(), &both).unwrap_err();
+    assert!(e.to_string().contains("not both"), "{e}");
+}
