@@ -52,6 +52,7 @@ pub mod control;
 pub mod converge;
 pub mod equations;
 mod error;
+pub mod fmu;
 pub mod interrupt;
 pub mod linear;
 pub mod memory;

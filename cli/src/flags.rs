@@ -61,6 +61,7 @@ const FLAGS: &[(&str, &str)] = &[
     ("BodeOptions::to_hz", "--to"),
     ("BodeOptions::points", "--points"),
     ("LinearizeOptions::discrete", "--discrete"),
+    ("fmu library", "--library"),
     ("ModesOptions::at", "--at"),
     ("ModesOptions::shapes", "--shapes"),
     ("model choice `generated`", "--model generated"),

@@ -210,3 +210,46 @@ fn linearize_adds_the_disturbance_input_and_the_discrete_model() {
         &["--format latex", "continuous-time model only"],
     );
 }
+
+#[test]
+fn fmu_refuses_what_it_cannot_export_and_leaves_no_file() {
+    let dir = scratch("cli-fmu");
+    let out = dir.join("x.fmu");
+    let o = out.to_str().unwrap();
+    fails_with(
+        &[
+            "fmu",
+            "scenes/adams-linear.toml",
+            "--out",
+            dir.join("x.zip").to_str().unwrap(),
+        ],
+        &["--out", ".fmu"],
+    );
+    fails_with(
+        &[
+            "fmu",
+            "scenes/adams-linear.toml",
+            "--out",
+            o,
+            "--library",
+            "/nonexistent/lib.so",
+        ],
+        &[
+            "--library",
+            "/nonexistent/lib.so",
+            "cargo build --release -p telescopic-fmu",
+        ],
+    );
+    // a prescribed motion: the FMU's input is a force
+    let motion = dir.join("motion.toml");
+    let text = std::fs::read_to_string("scenes/adams-linear.toml")
+        .unwrap()
+        .replace("force = 100.0            # N from t = 0", "motion = 0.0");
+    std::fs::write(&motion, text).unwrap();
+    fails_with(
+        &["fmu", motion.to_str().unwrap(), "--out", o],
+        &["prescribes the vehicle's motion"],
+    );
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -4,6 +4,7 @@
 mod analysis;
 mod bode;
 mod control;
+mod fmu;
 mod modes;
 mod progress;
 mod simulate;
@@ -49,6 +50,10 @@ enum Command {
     /// the load) to chosen outputs: magnitude and phase as CSV, and a Bode plot with the
     /// natural frequencies marked.
     Bode(bode::BodeArgs),
+    /// The nonlinear model with clearance as an FMI 2.0 FMU (co-simulation and/or model
+    /// exchange) for Simulink, Dymola, OpenModelica, FMPy: input F, the outputs, the scene's
+    /// parameters.
+    Fmu(fmu::FmuArgs),
     /// Design a vibration-suppressing controller (gain-scheduled LQR, input shaper, or both)
     /// on the linear models, write it as JSON, and compare the variants on the full model.
     Design(control::DesignArgs),
@@ -116,6 +121,7 @@ impl Cli {
             Command::ShapeErrors(args) => analysis::shape_errors(&args),
             Command::Linearize(args) => control::linearize(&args),
             Command::Bode(args) => bode::bode(&args),
+            Command::Fmu(args) => fmu::fmu(&args),
             Command::Design(args) => control::design(&args),
             Command::Sweep(args) => sweep::sweep(&args),
             Command::SweepMerge(args) => sweep::merge(&args),

@@ -1,0 +1,464 @@
+//! One FMU instance, in safe Rust: the scene read from the FMU's resources, the parameters set
+//! by the importer (checked like `--set`), and the model with its held drive force, stepped
+//! by the library's integrators (co-simulation) or evaluated for the importer's integrator
+//! (model exchange). Every instance owns everything it uses: two instances in one process
+//! are independent.
+
+use std::path::{Path, PathBuf};
+use telescopic::fmu::held::HeldForce;
+use telescopic::fmu::{Causality, FmuVariables, SCENE_RESOURCE, scene_guid};
+use telescopic::models::{ModelChoice, ModelRegistry};
+use telescopic::runtime::sensors::Sensors;
+use telescopic::runtime::{
+    Drive, Method, Model, Profile, Scene, Settings, TimeSpan, rest_state, simulate,
+};
+use telescopic::simulation::{SimulationOptions, plan};
+
+/// What an instance is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// The importer integrates.
+    ModelExchange,
+    /// `fmi2DoStep` integrates.
+    CoSimulation,
+}
+
+/// Where an instance is in its life (FMI 2.0's state machine, simplified).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// Instantiated: parameters may be set.
+    Instantiated,
+    /// Between `fmi2EnterInitializationMode` and `fmi2ExitInitializationMode`.
+    Initialization,
+    /// Stepping (co-simulation) or in continuous-time / event mode (model exchange).
+    Running,
+    /// After `fmi2Terminate`.
+    Terminated,
+}
+
+/// The model and the integration of a running instance.
+struct Running {
+    model: HeldForce,
+    sensors: Sensors,
+    method: Method,
+    settings: Settings,
+    /// `[z, zd]`.
+    y: Vec<f64>,
+    ydot: Vec<f64>,
+    outputs: Vec<f64>,
+    xi: Vec<f64>,
+    xi_dot: Vec<f64>,
+    half_band: f64,
+}
+
+/// One FMU instance.
+pub struct Instance {
+    /// The instance name the importer gave (for the logger).
+    pub name: String,
+    kind: Kind,
+    scene_text: String,
+    scene_path: PathBuf,
+    /// The scene with the parameters set so far.
+    scene: Scene,
+    vars: FmuVariables,
+    /// `(scene key, value)` of every parameter set, in order.
+    overrides: Vec<(String, f64)>,
+    phase: Phase,
+    time: f64,
+    force: f64,
+    running: Option<Running>,
+}
+
+/// An error for the importer's logger: the message names what was wrong.
+pub type Failure = String;
+
+impl Instance {
+    /// Reads the scene from the FMU's resources at `resources` (a `file:` URI or a path) and
+    /// checks that the FMU's description (`guid`) is this scene's.
+    ///
+    /// # Errors
+    /// A message naming the missing file, the invalid scene or the GUID mismatch.
+    pub fn new(name: &str, kind: Kind, fmu_guid: &str, resources: &str) -> Result<Self, Failure> {
+        let dir = resource_dir(resources)?;
+        let scene_path = dir.join(SCENE_RESOURCE);
+        let scene_text = std::fs::read_to_string(&scene_path)
+            .map_err(|e| format!("reading the FMU's scene {}: {e}", scene_path.display()))?;
+        let scene =
+            Scene::from_toml_str(&scene_text, &scene_path, &[]).map_err(|e| e.to_string())?;
+        let vars = FmuVariables::of(&scene).map_err(|e| e.to_string())?;
+        let ours = scene_guid(&scene).map_err(|e| e.to_string())?;
+        if ours != fmu_guid {
+            return Err(format!(
+                "the FMU's GUID {fmu_guid} is not its scene's ({ours}): the modelDescription.xml \
+                 and resources/{SCENE_RESOURCE} come from different exports"
+            ));
+        }
+        let force = vars.variables[0].start.unwrap_or(0.0);
+        Ok(Instance {
+            name: name.to_string(),
+            kind,
+            scene_text,
+            scene_path,
+            time: scene.time.start,
+            scene,
+            vars,
+            overrides: Vec::new(),
+            phase: Phase::Instantiated,
+            force,
+            running: None,
+        })
+    }
+
+    /// `fmi2SetupExperiment`: the start time (s).
+    pub fn setup_experiment(&mut self, start: f64) -> Result<(), Failure> {
+        if !start.is_finite() {
+            return Err(format!("the start time must be finite (got {start})"));
+        }
+        self.time = start;
+        Ok(())
+    }
+
+    /// `fmi2EnterInitializationMode`.
+    pub fn enter_initialization(&mut self) -> Result<(), Failure> {
+        self.phase = Phase::Initialization;
+        Ok(())
+    }
+
+    /// `fmi2ExitInitializationMode`: builds the model with the parameters set.
+    pub fn exit_initialization(&mut self) -> Result<(), Failure> {
+        let mut params = self.scene.params.clone();
+        // the input replaces the scene's profile: the base model is driven by nothing
+        params.drive = Drive::Force(Profile::Constant(0.0));
+        let chosen = ModelRegistry::default()
+            .build(&params, ModelChoice::Auto)
+            .map_err(|e| e.to_string())?;
+        let model = HeldForce::new(chosen.model, self.force).map_err(|e| e.to_string())?;
+        let mut planned = self.scene.clone();
+        planned.params.drive = Drive::Force(Profile::Constant(self.force));
+        let plan = plan(&planned, &SimulationOptions::default()).map_err(|e| e.to_string())?;
+        let span = self.scene.time;
+        let known_step_cap = if plan.settings.step_cap {
+            telescopic::runtime::integrate::stability::closed_contact_step_cap(
+                &model,
+                plan.method,
+                &span,
+            )
+        } else {
+            None
+        };
+        let settings = Settings {
+            exact_from: None,
+            known_step_cap,
+            ..plan.settings
+        };
+        let n = model.dof();
+        let nc = model.layout().contact_count();
+        let outputs = self.vars.outputs;
+        self.running = Some(Running {
+            sensors: Sensors::new(&model),
+            y: rest_state(&model, self.time),
+            half_band: self.scene.params.contact.half_band(),
+            model,
+            method: plan.method,
+            settings,
+            ydot: vec![0.0; 2 * n],
+            outputs: vec![0.0; outputs],
+            xi: vec![0.0; nc],
+            xi_dot: vec![0.0; nc],
+        });
+        self.phase = Phase::Running;
+        Ok(())
+    }
+
+    /// The running model, or an error naming `call`.
+    fn running(&mut self, call: &str) -> Result<&mut Running, Failure> {
+        self.running.as_mut().ok_or_else(|| {
+            format!("{call} needs an initialized instance (fmi2ExitInitializationMode)")
+        })
+    }
+
+    /// `fmi2SetReal`.
+    pub fn set_real(&mut self, refs: &[u32], values: &[f64]) -> Result<(), Failure> {
+        for (&vr, &v) in refs.iter().zip(values) {
+            let var = self
+                .vars
+                .variables
+                .get(vr as usize)
+                .ok_or_else(|| format!("no variable has value reference {vr}"))?;
+            match var.causality {
+                Causality::Input => {
+                    if !v.is_finite() {
+                        return Err(format!("the input F must be finite (got {v})"));
+                    }
+                    self.force = v;
+                    if let Some(r) = &mut self.running {
+                        r.model.set_force(v);
+                    }
+                }
+                Causality::Parameter => {
+                    if self.phase == Phase::Running || self.phase == Phase::Terminated {
+                        return Err(format!(
+                            "parameter {} can only be set before fmi2ExitInitializationMode",
+                            var.name
+                        ));
+                    }
+                    let key = var.name.clone();
+                    self.set_parameter(&key, v)?;
+                }
+                _ => {
+                    return Err(format!(
+                        "{} is not settable (only F and the parameters are)",
+                        var.name
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets parameter `key` to `value` after checking the scene with it, like `--set`.
+    fn set_parameter(&mut self, key: &str, value: f64) -> Result<(), Failure> {
+        let mut overrides = self.overrides.clone();
+        overrides.retain(|(k, _)| k != key);
+        overrides.push((key.to_string(), value));
+        let texts: Vec<String> = overrides
+            .iter()
+            .map(|(k, v)| format!("{k}={v:e}"))
+            .collect();
+        let scene = Scene::from_toml_str(&self.scene_text, &self.scene_path, &texts)
+            .map_err(|e| format!("parameter {key} = {value}: {e}"))?;
+        self.scene = scene;
+        self.overrides = overrides;
+        Ok(())
+    }
+
+    /// `fmi2GetReal`.
+    pub fn get_real(&mut self, refs: &[u32], values: &mut [f64]) -> Result<(), Failure> {
+        let first_state = self.vars.first_state as usize;
+        let states = self.vars.states;
+        let outputs = self.vars.outputs;
+        let (time, force) = (self.time, self.force);
+        let params: Vec<(u32, f64)> = self
+            .vars
+            .variables
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+            .map(|v| (v.reference, self.parameter_value(&v.name, v.start)))
+            .collect();
+        if let Some(r) = &mut self.running {
+            r.evaluate(time);
+        }
+        for (&vr, value) in refs.iter().zip(values.iter_mut()) {
+            let i = vr as usize;
+            *value = match i {
+                0 => force,
+                i if (1..=outputs).contains(&i) => {
+                    self.running.as_ref().map_or(0.0, |r| r.outputs[i - 1])
+                }
+                i if i >= first_state && i < first_state + states => {
+                    self.running.as_ref().map_or(0.0, |r| r.y[i - first_state])
+                }
+                i if i >= first_state + states && i < first_state + 2 * states => self
+                    .running
+                    .as_ref()
+                    .map_or(0.0, |r| r.ydot[i - first_state - states]),
+                _ => params
+                    .iter()
+                    .find(|(r, _)| *r == vr)
+                    .map(|(_, v)| *v)
+                    .ok_or_else(|| format!("no variable has value reference {vr}"))?,
+            };
+        }
+        Ok(())
+    }
+
+    /// The current value of parameter `key` (set, else its start value).
+    fn parameter_value(&self, key: &str, start: Option<f64>) -> f64 {
+        self.overrides
+            .iter()
+            .rev()
+            .find(|(k, _)| k == key)
+            .map_or(start.unwrap_or(0.0), |(_, v)| *v)
+    }
+
+    /// `fmi2DoStep`: integrates from `t` to `t + h` (s) with `F` held.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), Failure> {
+        if self.kind != Kind::CoSimulation {
+            return Err("fmi2DoStep is for co-simulation instances".into());
+        }
+        let now = self.time;
+        if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
+            return Err(format!(
+                "fmi2DoStep from t = {t} s, but the FMU is at t = {now} s"
+            ));
+        }
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("the communication step must be > 0 s (got {h})"));
+        }
+        let r = self.running("fmi2DoStep")?;
+        let span = TimeSpan {
+            start: t,
+            end: t + h,
+            sample: h,
+        };
+        let mut last = r.y.clone();
+        simulate(
+            &r.model,
+            &r.y,
+            &span,
+            r.method,
+            &r.settings,
+            &mut |_, s, _| last.copy_from_slice(s),
+            None,
+        )
+        .map_err(|e| format!("the step from t = {t} s to {} s failed: {e}", t + h))?;
+        r.y.copy_from_slice(&last);
+        self.time = t + h;
+        Ok(())
+    }
+
+    /// `fmi2SetTime` (model exchange).
+    pub fn set_time(&mut self, t: f64) -> Result<(), Failure> {
+        if !t.is_finite() {
+            return Err(format!("the time must be finite (got {t})"));
+        }
+        self.time = t;
+        Ok(())
+    }
+
+    /// `fmi2SetContinuousStates`.
+    pub fn set_states(&mut self, x: &[f64]) -> Result<(), Failure> {
+        let r = self.running("fmi2SetContinuousStates")?;
+        if x.len() != r.y.len() {
+            return Err(format!(
+                "{} states given, the model has {}",
+                x.len(),
+                r.y.len()
+            ));
+        }
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(format!("state {i} is not finite ({})", x[i]));
+        }
+        r.y.copy_from_slice(x);
+        Ok(())
+    }
+
+    /// `fmi2GetContinuousStates`.
+    pub fn get_states(&mut self, x: &mut [f64]) -> Result<(), Failure> {
+        let r = self.running("fmi2GetContinuousStates")?;
+        let n = x.len().min(r.y.len());
+        x[..n].copy_from_slice(&r.y[..n]);
+        Ok(())
+    }
+
+    /// `fmi2GetDerivatives`.
+    pub fn get_derivatives(&mut self, dx: &mut [f64]) -> Result<(), Failure> {
+        let t = self.time;
+        let r = self.running("fmi2GetDerivatives")?;
+        r.model.rhs(t, &r.y, None, &mut r.ydot);
+        let n = dx.len().min(r.ydot.len());
+        dx[..n].copy_from_slice(&r.ydot[..n]);
+        Ok(())
+    }
+
+    /// `fmi2GetEventIndicators`: `xi_c - l_S/2` and `xi_c + l_S/2` of every contact (the
+    /// band's edges, where the contact law switches).
+    pub fn get_event_indicators(&mut self, z: &mut [f64]) -> Result<(), Failure> {
+        let t = self.time;
+        let r = self.running("fmi2GetEventIndicators")?;
+        r.model.contact_gaps(t, &r.y, &mut r.xi, &mut r.xi_dot);
+        for (c, &xi) in r.xi.iter().enumerate() {
+            if let Some(slot) = z.get_mut(2 * c) {
+                *slot = xi - r.half_band;
+            }
+            if let Some(slot) = z.get_mut(2 * c + 1) {
+                *slot = xi + r.half_band;
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of continuous states.
+    pub fn state_count(&self) -> usize {
+        self.vars.states
+    }
+
+    /// Number of event indicators.
+    pub fn indicator_count(&self) -> usize {
+        self.vars.event_indicators
+    }
+
+    /// The time (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// `fmi2Terminate`.
+    pub fn terminate(&mut self) {
+        self.phase = Phase::Terminated;
+    }
+
+    /// `fmi2Reset`: back to just instantiated, parameters at their start values.
+    pub fn reset(&mut self) -> Result<(), Failure> {
+        self.scene = Scene::from_toml_str(&self.scene_text, &self.scene_path, &[])
+            .map_err(|e| e.to_string())?;
+        self.overrides.clear();
+        self.running = None;
+        self.phase = Phase::Instantiated;
+        self.time = self.scene.time.start;
+        self.force = self.vars.variables[0].start.unwrap_or(0.0);
+        Ok(())
+    }
+}
+
+impl Running {
+    /// Outputs and derivatives at time `t` and the current state.
+    fn evaluate(&mut self, t: f64) {
+        let n = self.model.dof();
+        self.model.rhs(t, &self.y, None, &mut self.ydot);
+        let own = self.model.output_names().len();
+        let (model_out, sensor_out) = self.outputs.split_at_mut(own);
+        self.model.outputs(t, &self.y, &self.ydot, model_out);
+        self.sensors.values(n, &self.y, &self.ydot, sensor_out);
+    }
+}
+
+/// The directory of a `fmuResourceLocation`: a `file:` URI (`file:///dir`, `file:/dir`,
+/// percent-encoded) or a plain path.
+fn resource_dir(location: &str) -> Result<PathBuf, Failure> {
+    let path = match location.strip_prefix("file://") {
+        Some(rest) => rest.strip_prefix("localhost").unwrap_or(rest).to_string(),
+        None => location
+            .strip_prefix("file:")
+            .unwrap_or(location)
+            .to_string(),
+    };
+    let decoded = percent_decode(&path)?;
+    let dir = Path::new(&decoded);
+    if !dir.is_dir() {
+        return Err(format!(
+            "the FMU's resource location {location} is not a directory"
+        ));
+    }
+    Ok(dir.to_path_buf())
+}
+
+/// `%XX` escapes decoded (hand-written: a URI's path is all an FMU needs decoded).
+fn percent_decode(text: &str) -> Result<String, Failure> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            let hex = std::str::from_utf8(&bytes[i + 1..i + 3]).map_err(|e| e.to_string())?;
+            let b = u8::from_str_radix(hex, 16)
+                .map_err(|_| format!("bad escape %{hex} in the resource location"))?;
+            out.push(b);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).map_err(|e| e.to_string())
+}

@@ -1,0 +1,289 @@
+//! The FMI 2.0 C functions called as an importer calls them (through their C signatures, a
+//! logger callback collecting the messages): a co-simulation instance equals
+//! `telescopic simulate`, a parameter that breaks the scene is an `fmi2Error` whose message
+//! names the field, two instances in one process do not share anything, and misuse is an
+//! error, never a crash.
+
+use std::ffi::{CStr, CString, c_char, c_void};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use telescopic::fmu::{FmuVariables, SCENE_RESOURCE, scene_guid, scene_text};
+use telescopic::simulation::{SimulationOptions, simulate_scene};
+use telescopic::{Scene, Silent};
+use telescopic_fmu::ffi::{CallbackFunctions, ERROR, Logger, OK};
+use telescopic_fmu::*;
+
+/// Messages the logger received: `(status, message)`.
+static MESSAGES: Mutex<Vec<(i32, String)>> = Mutex::new(Vec::new());
+
+/// The test's logger. An importer's logger is C-variadic (`message` is a format); this
+/// library always calls it with the format `"%s"` and the message as the one variadic
+/// argument, which on x86-64 System V (the platform of the FMU's binaries/linux64) arrives
+/// where a sixth fixed argument would: so a plain six-argument function can read it (Rust
+/// cannot define C-variadic functions on stable).
+unsafe extern "C" fn collect(
+    _env: *mut c_void,
+    _name: *const c_char,
+    status: i32,
+    _category: *const c_char,
+    _format: *const c_char,
+    message: *const c_char,
+) {
+    // SAFETY: the library passes a NUL-terminated message
+    let text = unsafe { CStr::from_ptr(message) }
+        .to_string_lossy()
+        .into_owned();
+    MESSAGES.lock().unwrap().push((status, text));
+}
+
+fn callbacks() -> CallbackFunctions {
+    type Six = unsafe extern "C" fn(
+        *mut c_void,
+        *const c_char,
+        i32,
+        *const c_char,
+        *const c_char,
+        *const c_char,
+    );
+    type Variadic =
+        unsafe extern "C" fn(*mut c_void, *const c_char, i32, *const c_char, *const c_char, ...);
+    // SAFETY: see `collect`
+    let logger: Logger = Some(unsafe { std::mem::transmute::<Six, Variadic>(collect as Six) });
+    CallbackFunctions {
+        logger,
+        allocate_memory: None,
+        free_memory: None,
+        step_finished: None,
+        component_environment: std::ptr::null_mut(),
+    }
+}
+
+/// An unpacked FMU of `scene`: its resources directory and GUID.
+fn unpacked(scene: &Scene, name: &str) -> (PathBuf, CString) {
+    let dir = std::env::temp_dir().join(format!("telescopic-fmu-{name}-{}", std::process::id()));
+    let resources = dir.join("resources");
+    std::fs::create_dir_all(&resources).unwrap();
+    let (text, back) = scene_text(scene).unwrap();
+    std::fs::write(resources.join(SCENE_RESOURCE), text).unwrap();
+    (resources, CString::new(scene_guid(&back).unwrap()).unwrap())
+}
+
+/// A shipped scene (the tests run in `fmu/`).
+fn scene_file(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/{name}.toml"))
+}
+
+fn uri(dir: &Path) -> CString {
+    CString::new(format!("file://{}", dir.display())).unwrap()
+}
+
+/// A co-simulation instance of `scene`, initialized, with `F` = `force`.
+unsafe fn co_simulation(scene: &Scene, name: &str, sets: &[(u32, f64)]) -> *mut c_void {
+    let (resources, guid) = unpacked(scene, name);
+    let functions = callbacks();
+    let c = unsafe {
+        fmi2Instantiate(
+            c"test".as_ptr(),
+            ffi::CO_SIMULATION,
+            guid.as_ptr(),
+            uri(&resources).as_ptr(),
+            &functions,
+            0,
+            0,
+        )
+    };
+    assert!(!c.is_null(), "{:?}", MESSAGES.lock().unwrap());
+    unsafe {
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, scene.time.start, 0, 0.0), OK);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        for &(vr, v) in sets {
+            assert_eq!(
+                fmi2SetReal(c, &vr, 1, &v),
+                OK,
+                "{:?}",
+                MESSAGES.lock().unwrap()
+            );
+        }
+        assert_eq!(
+            fmi2ExitInitializationMode(c),
+            OK,
+            "{:?}",
+            MESSAGES.lock().unwrap()
+        );
+    }
+    c
+}
+
+/// `tip_rel` (value reference 2) after every one of `steps` steps of `h`.
+unsafe fn run(c: *mut c_void, h: f64, steps: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(steps);
+    for k in 0..steps {
+        let mut tip = 0.0;
+        unsafe {
+            assert_eq!(
+                fmi2DoStep(c, k as f64 * h, h, 1),
+                OK,
+                "{:?}",
+                MESSAGES.lock().unwrap()
+            );
+            assert_eq!(fmi2GetReal(c, &2, 1, &mut tip), OK);
+        }
+        out.push(tip);
+    }
+    out
+}
+
+fn reference(scene: &Scene) -> Vec<f64> {
+    let sim = simulate_scene(scene, &SimulationOptions::default(), &Silent).unwrap();
+    sim.trajectory.column("tip_rel").unwrap()
+}
+
+fn worst(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn co_simulation_equals_simulate_and_instances_are_independent() {
+    let over = |s: &str| vec!["time.end=0.3".to_string(), s.to_string()];
+    let clearance = Scene::load(
+        &scene_file("adams-clearance"),
+        &over("contact.clearance=0.01"),
+    )
+    .unwrap();
+    let linear = Scene::load(&scene_file("adams-linear"), &over("masses.load=17.897")).unwrap();
+    unsafe {
+        let a = co_simulation(&clearance, "a", &[]);
+        let b = co_simulation(&linear, "b", &[]);
+        // interleaved: each instance's steps between the other's
+        let (mut ta, mut tb) = (Vec::new(), Vec::new());
+        for k in 0..300 {
+            for (c, out) in [(a, &mut ta), (b, &mut tb)] {
+                let mut tip = 0.0;
+                assert_eq!(fmi2DoStep(c, k as f64 * 1e-3, 1e-3, 1), OK);
+                assert_eq!(fmi2GetReal(c, &2, 1, &mut tip), OK);
+                out.push(tip);
+            }
+        }
+        let (ra, rb) = (reference(&clearance), reference(&linear));
+        let (ea, eb) = (worst(&ta, &ra[1..]), worst(&tb, &rb[1..]));
+        eprintln!("co-simulation against simulate: clearance {ea:.2e} m, linear {eb:.2e} m");
+        assert!(ea < 1e-9 && eb < 1e-9, "{ea} {eb}");
+        // they differ from each other (no shared state)
+        assert!(worst(&ta, &tb) > 1e-3);
+        fmi2FreeInstance(a);
+        fmi2FreeInstance(b);
+    }
+}
+
+#[test]
+fn a_parameter_is_a_set_and_a_bad_one_is_an_error_naming_the_field() {
+    let scene = Scene::load(
+        &scene_file("adams-clearance"),
+        &["time.end=0.2".to_string()],
+    )
+    .unwrap();
+    let vars = FmuVariables::of(&scene).unwrap();
+    let vr = |key: &str| vars.parameters().find(|(_, k)| *k == key).unwrap().0;
+    unsafe {
+        // a valid parameter equals --set
+        let c = co_simulation(&scene, "set", &[(vr("contact.clearance"), 0.004)]);
+        let tip = run(c, 1e-3, 200);
+        let set = Scene::load(
+            &scene_file("adams-clearance"),
+            &[
+                "time.end=0.2".to_string(),
+                "contact.clearance=0.004".to_string(),
+            ],
+        )
+        .unwrap();
+        let e = worst(&tip, &reference(&set)[1..]);
+        assert!(e < 1e-9, "{e}");
+        assert!(
+            worst(&tip, &reference(&scene)[1..]) > 1e-6,
+            "the parameter changed the run"
+        );
+        let mut got = 0.0;
+        assert_eq!(fmi2GetReal(c, &vr("contact.clearance"), 1, &mut got), OK);
+        assert_eq!(got, 0.004);
+        // after initialization a parameter cannot be set
+        let v = 0.002;
+        assert_eq!(fmi2SetReal(c, &vr("contact.clearance"), 1, &v), ERROR);
+        fmi2FreeInstance(c);
+
+        // a value that breaks the scene's rules: fmi2Error, the field named to the logger
+        let (resources, guid) = unpacked(&scene, "bad");
+        let functions = callbacks();
+        let c = fmi2Instantiate(
+            c"bad".as_ptr(),
+            ffi::CO_SIMULATION,
+            guid.as_ptr(),
+            uri(&resources).as_ptr(),
+            &functions,
+            0,
+            0,
+        );
+        assert!(!c.is_null());
+        MESSAGES.lock().unwrap().clear();
+        let bad = -1.0;
+        assert_eq!(fmi2SetReal(c, &vr("contact.clearance"), 1, &bad), ERROR);
+        let messages = MESSAGES.lock().unwrap().clone();
+        assert!(
+            messages
+                .iter()
+                .any(|(s, m)| *s == ERROR && m.contains("contact.clearance") && m.contains(">= 0")),
+            "{messages:?}"
+        );
+        // the instance is still usable: a valid value, then a run
+        let good = 0.01;
+        assert_eq!(fmi2SetReal(c, &vr("contact.clearance"), 1, &good), OK);
+        assert_eq!(
+            fmi2DoStep(c, 0.0, 1e-3, 1),
+            ERROR,
+            "stepping before initialization"
+        );
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 1), OK);
+        assert_eq!(
+            fmi2DoStep(c, 0.5, 1e-3, 1),
+            ERROR,
+            "a step from the wrong time"
+        );
+        assert_eq!(fmi2DoStep(c, 1e-3, -1.0, 1), ERROR, "a negative step");
+        let unknown = 999;
+        let mut v = 0.0;
+        assert_eq!(fmi2GetReal(c, &unknown, 1, &mut v), ERROR);
+        assert_eq!(
+            fmi2GetReal(c, &0, 1, std::ptr::null_mut()),
+            ERROR,
+            "null values"
+        );
+        fmi2FreeInstance(c);
+
+        // a description from another scene: no instance, and the logger says why
+        MESSAGES.lock().unwrap().clear();
+        let c = fmi2Instantiate(
+            c"wrong".as_ptr(),
+            ffi::CO_SIMULATION,
+            c"{0}".as_ptr(),
+            uri(&resources).as_ptr(),
+            &functions,
+            0,
+            0,
+        );
+        assert!(c.is_null());
+        assert!(
+            MESSAGES
+                .lock()
+                .unwrap()
+                .iter()
+                .any(|(_, m)| m.contains("GUID"))
+        );
+        // null instances are errors, not crashes
+        assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 1), ERROR);
+        fmi2FreeInstance(std::ptr::null_mut());
+    }
+}

@@ -1,0 +1,236 @@
+//! The variables of a scene's FMU, in value-reference order: the one table that both the
+//! `modelDescription.xml` writer and the FMU's shared library build from the scene, so their
+//! value references cannot disagree.
+//!
+//! | value references | what |
+//! |---|---|
+//! | 0 | `F` (N), input: the drive force, held over a communication step |
+//! | 1 .. | the outputs of `telescopic simulate` (`vehicle`, `tip_rel`, `top1_rel`, gaps `xi_k_j`, contact forces `f_k_j`, `kappa_1_0`, `acc_load`) |
+//! | then | parameters, named by their scene keys (`masses.load`, `contact.clearance`, ...) |
+//! | then | the continuous states (`u`, `q_1_2`, ..., `u_dot`, ...: docs/linear.md) |
+//! | then | their derivatives `der(u)`, ... |
+
+use crate::{Error, Result};
+use telescopic_runtime::linear::state_names;
+use telescopic_runtime::sensors::SENSOR_OUTPUTS;
+use telescopic_runtime::{Drive, Layout, Scene, StructuralDamping};
+
+/// What a variable is to the importing tool.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    /// Set by the importer every step (`F`).
+    Input,
+    /// Computed by the FMU.
+    Output,
+    /// Set before initialization.
+    Parameter,
+    /// A continuous state or its derivative.
+    Local,
+}
+
+/// One scalar variable (all are `Real`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Variable {
+    /// Name (flat naming convention; parameters are the scene keys of `--set`).
+    pub name: String,
+    /// Value reference.
+    pub reference: u32,
+    /// Causality.
+    pub causality: Causality,
+    /// SI unit (empty for none).
+    pub unit: String,
+    /// What it is.
+    pub description: String,
+    /// Start value (inputs, parameters, states).
+    pub start: Option<f64>,
+    /// For a derivative, the index (1-based, as in the XML) of its state's variable.
+    pub derivative_of: Option<usize>,
+}
+
+/// The parameters an FMU exposes: `(scene key, unit, description)`. They do not change the
+/// model's configuration, except `contact.clearance` between zero and nonzero (the FMU then
+/// runs on the assembled model).
+const PARAMETERS: [(&str, &str, &str); 7] = [
+    ("masses.vehicle", "kg", "vehicle mass m_T"),
+    (
+        "masses.load",
+        "kg",
+        "load mass m_L at the top of the last section",
+    ),
+    ("gravity.g", "m/s2", "gravitational acceleration"),
+    ("contact.stiffness", "N/m", "contact stiffness c"),
+    ("contact.damping", "N.s/m", "contact damping d"),
+    (
+        "contact.clearance",
+        "m",
+        "total clearance l_S of every overlap",
+    ),
+    (
+        "sections.damping_ratio",
+        "1",
+        "modal structural damping ratio of every mode",
+    ),
+];
+
+/// The variables of `scene`'s FMU.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FmuVariables {
+    /// Every variable, in value-reference order (index = value reference).
+    pub variables: Vec<Variable>,
+    /// Number of outputs (value references `1..=outputs`).
+    pub outputs: usize,
+    /// Value reference of the first parameter.
+    pub first_parameter: u32,
+    /// Value reference of the first state.
+    pub first_state: u32,
+    /// Number of continuous states.
+    pub states: usize,
+    /// Number of event indicators (two per contact with clearance: the band's edges).
+    pub event_indicators: usize,
+}
+
+impl FmuVariables {
+    /// The variables of `scene`.
+    ///
+    /// # Errors
+    /// [`Error::Option`] for a scene an FMU cannot take: a prescribed vehicle motion.
+    pub fn of(scene: &Scene) -> Result<Self> {
+        let p = &scene.params;
+        if matches!(p.drive, Drive::Motion(_)) {
+            return Err(Error::option(
+                "fmu",
+                "the scene prescribes the vehicle's motion; the FMU's input is the drive \
+                 force F, so export a force-driven scene (drive.force)",
+            ));
+        }
+        let layout = Layout::new(&p.modes(), p.contact_points);
+        let mut variables = vec![Variable {
+            name: "F".into(),
+            reference: 0,
+            causality: Causality::Input,
+            unit: "N".into(),
+            description: "drive force on the vehicle, replacing the scene's profile".into(),
+            start: Some(p.drive_profile().value(scene.time.start)),
+            derivative_of: None,
+        }];
+        let mut names = layout.output_names(false);
+        names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
+        for name in &names {
+            variables.push(Variable {
+                reference: variables.len() as u32,
+                causality: Causality::Output,
+                unit: output_unit(name).into(),
+                description: output_description(name),
+                start: None,
+                derivative_of: None,
+                name: name.clone(),
+            });
+        }
+        let outputs = names.len();
+        let first_parameter = variables.len() as u32;
+        for (key, unit, description) in PARAMETERS {
+            let Some(value) = parameter_value(scene, key) else {
+                continue;
+            };
+            variables.push(Variable {
+                name: key.into(),
+                reference: variables.len() as u32,
+                causality: Causality::Parameter,
+                unit: unit.into(),
+                description: description.into(),
+                start: Some(value),
+                derivative_of: None,
+            });
+        }
+        let first_state = variables.len() as u32;
+        let state_names = state_names(&p.modes());
+        for name in &state_names {
+            variables.push(Variable {
+                name: name.clone(),
+                reference: variables.len() as u32,
+                causality: Causality::Local,
+                unit: String::new(),
+                description: "continuous state (docs/linear.md)".into(),
+                start: Some(0.0),
+                derivative_of: None,
+            });
+        }
+        for (i, name) in state_names.iter().enumerate() {
+            variables.push(Variable {
+                name: format!("der({name})"),
+                reference: variables.len() as u32,
+                causality: Causality::Local,
+                unit: String::new(),
+                description: format!("time derivative of {name}"),
+                start: None,
+                derivative_of: Some(first_state as usize + i + 1),
+            });
+        }
+        let event_indicators = if p.contact.clearance > 0.0 {
+            2 * layout.contact_count()
+        } else {
+            0
+        };
+        Ok(FmuVariables {
+            outputs,
+            first_parameter,
+            first_state,
+            states: state_names.len(),
+            event_indicators,
+            variables,
+        })
+    }
+
+    /// The parameters, as `(value reference, scene key)`.
+    pub fn parameters(&self) -> impl Iterator<Item = (u32, &str)> {
+        self.variables
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+            .map(|v| (v.reference, v.name.as_str()))
+    }
+}
+
+/// The scene's value of parameter `key`; `None` when the scene has no such value (no
+/// contacts in a single section, Rayleigh damping instead of modal).
+fn parameter_value(scene: &Scene, key: &str) -> Option<f64> {
+    let p = &scene.params;
+    let contacts = p.sections.len() > 1;
+    match key {
+        "masses.vehicle" => Some(p.vehicle_mass),
+        "masses.load" => Some(p.load_mass),
+        "gravity.g" => Some(p.gravity),
+        "contact.stiffness" if contacts => Some(p.contact.stiffness),
+        "contact.damping" if contacts => Some(p.contact.damping),
+        "contact.clearance" if contacts => Some(p.contact.clearance),
+        "sections.damping_ratio" => match &p.damping {
+            StructuralDamping::None => Some(0.0),
+            StructuralDamping::Modal { ratios, .. } if ratios.len() == 1 => Some(ratios[0]),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// The SI unit of an output (FMI unit names).
+fn output_unit(name: &str) -> &'static str {
+    match name {
+        n if n.starts_with("f_") || n == "drive_force" => "N",
+        "kappa_1_0" => "1/m",
+        "acc_load" => "m/s2",
+        _ => "m",
+    }
+}
+
+/// What an output is (docs/model.md section 5).
+fn output_description(name: &str) -> String {
+    match name {
+        "vehicle" => "vehicle position w_1(0,t)".into(),
+        "tip_rel" => "load relative to the foot, w_n(l_n,t) - w_1(0,t)".into(),
+        "top1_rel" => "top of section 1 relative to the foot".into(),
+        "kappa_1_0" => "bending curvature of section 1 at its foot".into(),
+        "acc_load" => "absolute horizontal acceleration of the load".into(),
+        n if n.starts_with("xi_") => format!("gap at contact {}", &n[3..]),
+        n if n.starts_with("f_") => format!("force at contact {}", &n[2..]),
+        n => n.to_string(),
+    }
+}
