@@ -424,6 +424,20 @@ pub enum SimError {
     Settings(String),
 }
 
+impl SimError {
+    /// Where a numerical failure happened: its time (s) and method; `None` for bad settings.
+    pub fn at(&self) -> Option<(f64, &str)> {
+        match self {
+            SimError::Diverged { t, method, .. }
+            | SimError::StepUnderflow { t, method, .. }
+            | SimError::NewtonFailure { t, method, .. }
+            | SimError::PositionOutOfRange { t, method, .. }
+            | SimError::TooManySteps { t, method, .. } => Some((*t, method.as_str())),
+            SimError::Settings(_) => None,
+        }
+    }
+}
+
 /// The right-hand side with the contact branches held fixed, and its evaluation counts.
 pub struct System<'m> {
     /// The model.

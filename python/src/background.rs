@@ -1,0 +1,128 @@
+//! Long calls off the interpreter: the work runs on a thread of its own without the GIL
+//! (two Python threads simulating at once use two cores), while the calling thread wakes
+//! every 50 ms to hand progress to the caller's callable and to check for Ctrl-C. A Ctrl-C
+//! asks a sweep to stop between runs (`telescopic::interrupt`) and, once the work has
+//! stopped, raises `KeyboardInterrupt`; a panic in the work becomes a `TelescopicError`.
+
+use pyo3::prelude::*;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+use telescopic::report::Reporter;
+
+/// How often the waiting thread wakes when the work goes on: the bound on Ctrl-C's latency
+/// besides a run's own, and the progress callable's rate. The end of the work wakes it at
+/// once.
+const POLL: Duration = Duration::from_millis(50);
+
+/// A [`Reporter`] that keeps the latest progress for the waiting thread to pass on.
+#[derive(Default)]
+pub struct Progress {
+    /// The fraction done of the current run, as bits of an `f64`.
+    fraction: AtomicU64,
+    /// Finished runs of a multi-run call, and their total.
+    runs: Mutex<(usize, usize)>,
+    /// The current run's name.
+    what: Mutex<String>,
+}
+
+impl Reporter for Progress {
+    fn start(&self, what: &str) {
+        *self.what.lock().unwrap_or_else(|e| e.into_inner()) = what.to_string();
+        self.fraction.store(0f64.to_bits(), Ordering::Relaxed);
+    }
+    fn progress(&self, fraction: f64) {
+        self.fraction.store(fraction.to_bits(), Ordering::Relaxed);
+    }
+    fn runs(&self, done: usize, total: usize) {
+        *self.runs.lock().unwrap_or_else(|e| e.into_inner()) = (done, total);
+    }
+}
+
+impl Progress {
+    /// The fraction of the whole call done: runs done plus the current run's share.
+    fn overall(&self) -> f64 {
+        let (done, total) = *self.runs.lock().unwrap_or_else(|e| e.into_inner());
+        let current = f64::from_bits(self.fraction.load(Ordering::Relaxed)).clamp(0.0, 1.0);
+        if total > 0 {
+            (done as f64 / total as f64).clamp(0.0, 1.0)
+        } else {
+            current
+        }
+    }
+}
+
+/// Runs `work` (given the reporter) off the GIL, passing progress to `callback(fraction)`
+/// (a Python callable, or `None`), raising `KeyboardInterrupt` after a Ctrl-C.
+pub fn run<T: Send>(
+    py: Python<'_>,
+    callback: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(&Progress) -> Result<T, telescopic::Error> + Send,
+) -> PyResult<T> {
+    let progress = Progress::default();
+    let mut interrupted = false;
+    let outcome = std::thread::scope(|scope| {
+        let (done, mut finished) = std::sync::mpsc::channel();
+        let progress = &progress;
+        scope.spawn(move || {
+            let _ = done.send(catch_unwind(AssertUnwindSafe(|| work(progress))));
+        });
+        let mut last = -1.0;
+        loop {
+            // the GIL is released while waiting; the result wakes the wait at once
+            // the receiver travels into the GIL-free wait and back (it is Send, not Sync)
+            let (received, back) = py.detach(move || (finished.recv_timeout(POLL), finished));
+            finished = back;
+            match received {
+                Ok(result) => break Ok(result),
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                    break Err(crate::errors::TelescopicError::new_err(
+                        "internal error: the worker thread ended without a result",
+                    ));
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+            }
+            if let Err(error) = py.check_signals() {
+                if error.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
+                    // a sweep stops between runs; a single run finishes first
+                    telescopic::interrupt::request();
+                    interrupted = true;
+                } else {
+                    return Err(error);
+                }
+            }
+            if let Some(cb) = callback {
+                let f = progress.overall();
+                if f != last {
+                    cb.call1((f,))?;
+                    last = f;
+                }
+            }
+        }
+    })?;
+    if interrupted {
+        return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
+            "interrupted (the call stopped; nothing was written)",
+        ));
+    }
+    match outcome {
+        Ok(Ok(value)) => {
+            if let Some(cb) = callback {
+                cb.call1((1.0,))?;
+            }
+            Ok(value)
+        }
+        Ok(Err(error)) => Err(crate::errors::to_python(error)),
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| panic.downcast_ref::<&str>().copied())
+                .unwrap_or("unknown");
+            Err(crate::errors::TelescopicError::new_err(format!(
+                "internal error (a bug in telescopic; please report it): {what}"
+            )))
+        }
+    }
+}

@@ -1,0 +1,390 @@
+//! The library's entry points for Python: each checks its arguments (errors name them), runs
+//! the work off the GIL ([`crate::background::run`]) and returns plain data (NumPy arrays,
+//! lists, dicts) that `telescopic/__init__.py` wraps in the objects users see.
+
+use crate::background::run;
+use crate::errors::{argument, to_python};
+use crate::scene::PyScene;
+use numpy::{PyArray1, PyArray2, ndarray::Array2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+use std::str::FromStr;
+use telescopic::control::{Controller, ControllerKind, DesignOptions, design as run_design};
+use telescopic::linear::{Grid, LinearizeOptions, linearize as run_linearize};
+use telescopic::models::ModelChoice;
+use telescopic::modes::{ModeKind, ModesOptions, compute_modes};
+use telescopic::runtime::ContactMode;
+use telescopic::simulation::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
+use telescopic::stress::Station;
+
+/// `value` parsed by `FromStr`, or an error naming `name`.
+fn parsed<T: FromStr>(name: &str, value: &str) -> PyResult<T>
+where
+    T::Err: std::fmt::Display,
+{
+    value.parse().map_err(|e| argument(name, e))
+}
+
+/// A finite positive number, or an error naming `name`.
+fn positive(name: &str, v: Option<f64>) -> PyResult<Option<f64>> {
+    match v {
+        Some(x) if !(x.is_finite() && x > 0.0) => Err(argument(
+            name,
+            format!("must be a finite number > 0 (got {x})"),
+        )),
+        _ => Ok(v),
+    }
+}
+
+/// A simulation for Python: `(columns, data, summary)`, `data` samples x (1 + columns).
+type SimulationData<'py> = (Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, PyDict>);
+
+/// A simulation as `(columns, data, summary)`: `data` is samples x (1 + columns), `t` first.
+fn simulation_data<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<SimulationData<'py>> {
+    let traj = &sim.trajectory;
+    let width = traj.names.len() + 1;
+    let flat: Vec<f64> = traj.rows.iter().flatten().copied().collect();
+    let array = Array2::from_shape_vec((traj.rows.len(), width), flat)
+        .map_err(|e| crate::errors::TelescopicError::new_err(e.to_string()))?;
+    let s = &traj.stats;
+    let summary = PyDict::new(py);
+    summary.set_item("scene", &sim.scene)?;
+    summary.set_item("model", &sim.model)?;
+    summary.set_item("method", sim.plan.method.name())?;
+    summary.set_item("how", &sim.plan.how)?;
+    summary.set_item("rtol", sim.plan.settings.rtol)?;
+    summary.set_item("atol", sim.plan.settings.atol)?;
+    summary.set_item("steps", s.steps)?;
+    summary.set_item("rejected", s.rejected)?;
+    summary.set_item("rhs_evaluations", s.rhs_evals)?;
+    summary.set_item("jacobian_evaluations", s.jacobian_evals)?;
+    summary.set_item("factorizations", s.factorizations)?;
+    summary.set_item("matrix_exponentials", s.exponentials)?;
+    summary.set_item("switches", s.switches)?;
+    summary.set_item("wall_s", s.wall.as_secs_f64())?;
+    summary.set_item("samples", traj.rows.len())?;
+    summary.set_item("specializations", sim.specializations.clone())?;
+    summary.set_item("text", sim.summary())?;
+    Ok((
+        traj.names.clone(),
+        PyArray2::from_owned_array(py, array),
+        summary,
+    ))
+}
+
+/// Simulates a scene (see `telescopic.simulate`).
+#[pyfunction]
+#[pyo3(signature = (scene, method = "auto", rtol = None, atol = None, dt = None, accuracy = None,
+    controller = None, stations = None, model = "auto", progress = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    method: &str,
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    dt: Option<f64>,
+    accuracy: Option<f64>,
+    controller: Option<String>,
+    stations: Option<Vec<(usize, f64)>>,
+    model: &str,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<SimulationData<'py>> {
+    let options = SimulationOptions {
+        method: parsed::<MethodChoice>("method", method)?,
+        rtol: positive("rtol", rtol)?,
+        atol: positive("atol", atol)?,
+        dt: positive("dt", dt)?,
+        accuracy: positive("accuracy", accuracy)?,
+        model: parsed::<ModelChoice>("model", model)?,
+        stations: stations
+            .unwrap_or_default()
+            .into_iter()
+            .map(|(section, x)| Station { section, x })
+            .collect(),
+        ..SimulationOptions::default()
+    };
+    let controller = match controller {
+        Some(text) => Some(Controller::from_json(&text).map_err(to_python)?),
+        None => None,
+    };
+    let scene = &scene.scene;
+    let sim = run(py, progress, |reporter| match &controller {
+        Some(c) => telescopic::control::simulate_controlled(scene, c, &options, reporter),
+        None => simulate_scene(scene, &options, reporter),
+    })?;
+    simulation_data(py, &sim)
+}
+
+/// Natural frequencies, damping and mode shapes (see `telescopic.modes`).
+#[pyfunction]
+#[pyo3(signature = (scene, at = None, count = None, points = 51, model = "auto"))]
+pub fn modes<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    at: Option<f64>,
+    count: Option<usize>,
+    points: usize,
+    model: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = ModesOptions {
+        at,
+        count,
+        shapes: Some(points),
+        model: parsed("model", model)?,
+        ..ModesOptions::default()
+    };
+    let scene = &scene.scene;
+    let report = run(py, None, |_| compute_modes(scene, &options))?;
+    let out = PyDict::new(py);
+    out.set_item("scene", &report.scene)?;
+    out.set_item("time_s", report.time_s)?;
+    out.set_item("model", &report.model)?;
+    out.set_item(
+        "frequencies_hz",
+        PyArray1::from_slice(py, &report.frequencies_hz),
+    )?;
+    out.set_item(
+        "damped_frequencies_hz",
+        PyArray1::from_slice(py, &report.damped_frequencies_hz),
+    )?;
+    out.set_item(
+        "damping_ratios",
+        PyArray1::from_slice(py, &report.damping_ratios),
+    )?;
+    let kinds: Vec<&str> = report
+        .kinds
+        .iter()
+        .map(|k| match k {
+            ModeKind::Structural => "structural",
+            ModeKind::Contact => "contact",
+        })
+        .collect();
+    out.set_item("kinds", kinds)?;
+    out.set_item("rigid_modes", report.rigid_modes)?;
+    let shapes: Vec<Vec<Bound<'py, PyArray1<f64>>>> = report
+        .mode_shapes
+        .iter()
+        .flatten()
+        .map(|m| {
+            m.sections
+                .iter()
+                .map(|w| PyArray1::from_slice(py, w))
+                .collect()
+        })
+        .collect();
+    out.set_item("shapes", shapes)?;
+    out.set_item("table", report.to_table())?;
+    Ok(out)
+}
+
+/// `{"a2": 0.8}` as `[(2, 0.8)]`.
+fn positions(map: Option<Vec<(String, f64)>>) -> PyResult<Vec<(usize, f64)>> {
+    let text: Vec<String> = map
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    if text.is_empty() {
+        return Ok(Vec::new());
+    }
+    telescopic::linear::parse_positions(&text.join(",")).map_err(|e| argument("positions", e))
+}
+
+/// Linear models (see `telescopic.linearize`).
+#[pyfunction]
+#[pyo3(signature = (scene, positions = None, at_time = None, contacts = "closed", grid = None,
+    disturbance = false, discrete = None, model = "auto"))]
+#[allow(clippy::too_many_arguments)]
+pub fn linearize<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    positions: Option<Vec<(String, f64)>>,
+    at_time: Option<f64>,
+    contacts: &str,
+    grid: Option<(String, (f64, f64, usize))>,
+    disturbance: bool,
+    discrete: Option<f64>,
+    model: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let contacts = match contacts {
+        "closed" => ContactMode::Closed,
+        "open" => ContactMode::Open,
+        other => {
+            return Err(argument(
+                "contacts",
+                format!("`{other}` is not closed or open"),
+            ));
+        }
+    };
+    let grid = match grid {
+        Some((name, (from, to, count))) => Some(
+            Grid::from_str(&format!("{name}={from}:{to}:{count}"))
+                .map_err(|e| argument("grid", e))?,
+        ),
+        None => None,
+    };
+    let options = LinearizeOptions {
+        positions: self::positions(positions)?,
+        at_time,
+        contacts,
+        grid,
+        model: parsed("model", model)?,
+        disturbance,
+        discrete,
+        ..LinearizeOptions::default()
+    };
+    let scene = &scene.scene;
+    let export = run(py, None, |_| run_linearize(scene, &options))?;
+    let out = PyDict::new(py);
+    let names = |s: &[telescopic::runtime::Signal]| -> Vec<String> {
+        s.iter().map(|x| x.name.clone()).collect()
+    };
+    out.set_item("states", names(&export.states))?;
+    out.set_item("inputs", names(&export.inputs))?;
+    out.set_item("outputs", names(&export.outputs))?;
+    out.set_item("operating_point", &export.operating_point)?;
+    out.set_item("model", &export.model)?;
+    let matrix = |m: &telescopic::runtime::nalgebra::DMatrix<f64>| {
+        let rows: Vec<Vec<f64>> = m.row_iter().map(|r| r.iter().copied().collect()).collect();
+        PyArray2::from_vec2(py, &rows)
+            .map_err(|e| crate::errors::TelescopicError::new_err(e.to_string()))
+    };
+    let mut points = Vec::new();
+    for (k, p) in export.points.iter().enumerate() {
+        let d = PyDict::new(py);
+        d.set_item("A", matrix(&p.a)?)?;
+        d.set_item("B", matrix(&p.b)?)?;
+        d.set_item("C", matrix(&p.c)?)?;
+        d.set_item("D", matrix(&p.d)?)?;
+        let named = PyDict::new(py);
+        for (i, a) in p.positions.iter().enumerate() {
+            named.set_item(format!("a{}", i + 2), a)?;
+        }
+        d.set_item("positions", named)?;
+        if let Some(disc) = &export.discrete {
+            d.set_item("Ad", matrix(&disc.points[k].0)?)?;
+            d.set_item("Bd", matrix(&disc.points[k].1)?)?;
+            d.set_item("dt", disc.dt)?;
+        }
+        points.push(d);
+    }
+    out.set_item("points", points)?;
+    out.set_item("grid", export.grid.clone())?;
+    out.set_item(
+        "json",
+        serde_json::to_string(&export.to_json()).unwrap_or_default(),
+    )?;
+    Ok(out)
+}
+
+/// Designs a controller; returns its JSON (see `telescopic.design`).
+#[pyfunction]
+#[pyo3(signature = (scene, controller = "lqr+shaper", force_limit = 300.0, sensors = None,
+    rate_hz = None, law = None, model = "auto", progress = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn design(
+    py: Python<'_>,
+    scene: &PyScene,
+    controller: &str,
+    force_limit: f64,
+    sensors: Option<Vec<String>>,
+    rate_hz: Option<f64>,
+    law: Option<String>,
+    model: &str,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let defaults = DesignOptions::default();
+    let options = DesignOptions {
+        kind: parsed::<ControllerKind>("controller", controller)?,
+        force_limit,
+        sensors: sensors.unwrap_or(defaults.sensors.clone()),
+        rate_hz: rate_hz.unwrap_or(defaults.rate_hz),
+        law: law.unwrap_or(defaults.law.clone()),
+        model: parsed("model", model)?,
+        ..defaults
+    };
+    let scene = &scene.scene;
+    let controller = run(py, progress, |_| run_design(scene, &options))?;
+    Ok(controller.to_json())
+}
+
+/// Checks a controller's JSON; returns it (see `telescopic.Controller.from_json`).
+#[pyfunction]
+pub fn check_controller(text: &str) -> PyResult<String> {
+    Controller::from_json(text)
+        .map(|c| c.to_json())
+        .map_err(to_python)
+}
+
+/// Runs a sweep file into `out`; returns `(columns, rows)` of the result (see
+/// `telescopic.sweep`).
+#[pyfunction]
+#[pyo3(signature = (path, out, jobs = None, progress = None))]
+pub fn sweep(
+    py: Python<'_>,
+    path: PathBuf,
+    out: PathBuf,
+    jobs: Option<usize>,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(String, Vec<String>)> {
+    if jobs == Some(0) {
+        return Err(argument("jobs", "must be 1 or more"));
+    }
+    let options = telescopic::sweep::SweepOptions {
+        out: out.clone(),
+        jobs: jobs.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+        }),
+        shard: telescopic::sweep::Shard::whole(),
+        resume: false,
+    };
+    telescopic::interrupt::stop_between_runs();
+    let result = run(py, progress, |reporter| {
+        let sweep = telescopic::sweep::Sweep::load(&path)?;
+        telescopic::sweep::run_sweep(&sweep, &options, reporter)?;
+        telescopic::sweep::read_table(&out)
+    });
+    match result {
+        Ok(table) => Ok((
+            table.columns,
+            table.rows.into_iter().map(|(_, r)| r).collect(),
+        )),
+        Err(e) => {
+            // nothing of an interrupted or failed sweep stays
+            let _ = std::fs::remove_file(&out);
+            let mut partial = out.into_os_string();
+            partial.push(".partial");
+            let _ = std::fs::remove_file(PathBuf::from(partial));
+            Err(e)
+        }
+    }
+}
+
+/// The derived equations as text, LaTeX, Rust or JSON (see `telescopic.equations`).
+#[pyfunction]
+#[pyo3(signature = (scene, format = "latex"))]
+pub fn equations(scene: &PyScene, format: &str) -> PyResult<String> {
+    let format = parsed::<telescopic::equations::EquationFormat>("format", format)?;
+    telescopic::equations::equations(&scene.scene, format, &Default::default())
+        .map(str::to_string)
+        .map_err(to_python)
+}
+
+/// Benchmark aid: wall times (s) of `repeat` calls of the library's `simulate_scene` on
+/// `scene`, measured in Rust (no Python in the loop), against which `telescopic.simulate`'s
+/// overhead is measured (python/benchmarks/overhead.py).
+#[pyfunction]
+pub fn _time_simulate(py: Python<'_>, scene: &PyScene, repeat: usize) -> PyResult<Vec<f64>> {
+    let scene = &scene.scene;
+    run(py, None, |reporter| {
+        (0..repeat)
+            .map(|_| {
+                let start = std::time::Instant::now();
+                simulate_scene(scene, &SimulationOptions::default(), reporter)?;
+                Ok(start.elapsed().as_secs_f64())
+            })
+            .collect()
+    })
+}

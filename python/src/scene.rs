@@ -1,0 +1,180 @@
+//! `telescopic.Scene`: a validated scene with the text and overrides it came from, so that
+//! `with_set` re-validates from the source like `--set` does.
+
+use crate::errors::{argument, to_python};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use std::path::{Path, PathBuf};
+use telescopic::Scene;
+
+/// A scene: geometry, materials, masses, contacts, telescopic positions, drive and time span.
+#[pyclass(name = "Scene", module = "telescopic._telescopic", frozen)]
+pub struct PyScene {
+    /// The validated scene.
+    pub scene: Scene,
+    text: String,
+    origin: PathBuf,
+    overrides: Vec<String>,
+}
+
+/// A Python value as a TOML value's text (numbers, booleans, strings, lists).
+fn toml_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {
+    if value.is_instance_of::<PyBool>() {
+        return Ok(value.extract::<bool>()?.to_string());
+    }
+    if value.is_instance_of::<PyInt>() {
+        return Ok(value.extract::<i64>()?.to_string());
+    }
+    if value.is_instance_of::<PyFloat>() {
+        let v: f64 = value.extract()?;
+        if !v.is_finite() {
+            return Err(argument(
+                &format!("set[{key:?}]"),
+                format!("{v} is not a finite number"),
+            ));
+        }
+        return Ok(format!("{v:e}"));
+    }
+    if value.is_instance_of::<PyString>() {
+        return Ok(toml::Value::String(value.extract()?).to_string());
+    }
+    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let items: Vec<String> = value
+            .try_iter()?
+            .map(|item| toml_value(key, &item?))
+            .collect::<PyResult<_>>()?;
+        return Ok(format!("[{}]", items.join(", ")));
+    }
+    // numpy scalars and anything else with a float value
+    match value.extract::<f64>() {
+        Ok(v) => Ok(format!("{v:e}")),
+        Err(_) => Err(argument(
+            &format!("set[{key:?}]"),
+            format!(
+                "{} is not a number, string, bool or list",
+                value.get_type().name()?
+            ),
+        )),
+    }
+}
+
+/// `{"contact.clearance": 0.005}` as `["contact.clearance=5e-3"]`.
+pub fn overrides(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
+    let Some(set) = set else {
+        return Ok(Vec::new());
+    };
+    set.iter()
+        .map(|(k, v)| {
+            let key: String = k
+                .extract()
+                .map_err(|_| argument("set", "keys are dotted scene keys (strings)"))?;
+            Ok(format!("{key}={}", toml_value(&key, &v)?))
+        })
+        .collect()
+}
+
+impl PyScene {
+    fn build(text: String, origin: PathBuf, overrides: Vec<String>) -> PyResult<Self> {
+        let scene = Scene::from_toml_str(&text, &origin, &overrides)
+            .map_err(|e| to_python(telescopic::Error::Scene(e)))?;
+        Ok(PyScene {
+            scene,
+            text,
+            origin,
+            overrides,
+        })
+    }
+}
+
+#[pymethods]
+impl PyScene {
+    /// Reads and validates a scene file, with `set` overrides (`{"contact.clearance": 0.005}`,
+    /// the keys of `--set`).
+    #[staticmethod]
+    #[pyo3(signature = (path, set = None))]
+    fn load(path: PathBuf, set: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let overrides = overrides(set)?;
+        let text = telescopic::runtime::input::read_text(
+            &path,
+            telescopic::runtime::input::MAX_TEXT_INPUT_BYTES,
+        )
+        .map_err(|error| {
+            to_python(telescopic::Error::Scene(
+                telescopic::runtime::SceneError::Io {
+                    path: path.clone(),
+                    error,
+                },
+            ))
+        })?;
+        Self::build(text, path, overrides)
+    }
+
+    /// A scene from TOML text, with `set` overrides.
+    #[staticmethod]
+    #[pyo3(signature = (text, set = None))]
+    fn from_toml(text: String, set: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        Self::build(text, PathBuf::from("<string>"), overrides(set)?)
+    }
+
+    /// A new scene: this one with more overrides (checked like `--set`).
+    fn with_set(&self, set: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let mut all = self.overrides.clone();
+        all.extend(overrides(Some(set))?);
+        Self::build(self.text.clone(), self.origin.clone(), all)
+    }
+
+    /// The scene as TOML, overrides applied.
+    fn to_toml(&self) -> PyResult<String> {
+        toml::to_string(&self.scene.file)
+            .map_err(|e| crate::errors::TelescopicError::new_err(e.to_string()))
+    }
+
+    /// Short name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.scene.name
+    }
+
+    /// One line on what the scene is.
+    #[getter]
+    fn description(&self) -> &str {
+        &self.scene.description
+    }
+
+    /// `(start, end, sample)` (s).
+    #[getter]
+    fn time(&self) -> (f64, f64, f64) {
+        let t = &self.scene.time;
+        (t.start, t.end, t.sample)
+    }
+
+    /// The overrides applied, as `KEY=VALUE` strings.
+    #[getter]
+    fn overrides(&self) -> Vec<String> {
+        self.overrides.clone()
+    }
+
+    /// The file it was read from (`<string>` for text).
+    #[getter]
+    fn path(&self) -> &Path {
+        &self.origin
+    }
+
+    fn __repr__(&self) -> String {
+        let p = &self.scene.params;
+        let set = if self.overrides.is_empty() {
+            String::new()
+        } else {
+            format!(", set {:?}", self.overrides)
+        };
+        format!(
+            "Scene({:?}: {} section(s), modes {:?}, clearance {} m, t = {} .. {} s{set})",
+            self.scene.name,
+            p.sections.len(),
+            p.modes(),
+            p.contact.clearance,
+            self.scene.time.start,
+            self.scene.time.end
+        )
+    }
+}

@@ -1,0 +1,367 @@
+"""Telescopic multi-section beams with clearance, in Python.
+
+The Rust library of the ``telescopic`` project (Barthelis & Wauer's telescopic beams with
+clearance: derived Galerkin equations, the clearance contact law, integrators, modes,
+linear models, controllers, sweeps), with results as NumPy arrays, pandas DataFrames and
+python-control state-space models. Long calls release the GIL, report progress to a callable
+(``progress=``) and stop on Ctrl-C with ``KeyboardInterrupt``. See docs/python.md.
+
+>>> import telescopic
+>>> scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.5})
+>>> sim = telescopic.simulate(scene)
+>>> sim["tip_rel"].shape
+(501,)
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import tempfile
+from typing import Any, Callable, Iterable, Mapping, Sequence
+
+import numpy as np
+
+from . import _telescopic
+from ._telescopic import (
+    OptionError,
+    Scene,
+    SceneError,
+    SolverError,
+    TelescopicError,
+    __version__,
+)
+
+__all__ = [
+    "Scene",
+    "Simulation",
+    "Modes",
+    "Controller",
+    "simulate",
+    "modes",
+    "linearize",
+    "design",
+    "sweep",
+    "equations",
+    "TelescopicError",
+    "SceneError",
+    "OptionError",
+    "SolverError",
+    "__version__",
+]
+
+
+def _progress(progress: Any) -> Callable[[float], None] | None:
+    """A progress callable: the caller's, a tqdm bar for ``True`` (when tqdm is installed)."""
+    if progress is None or progress is False:
+        return None
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm  # type: ignore
+        except ImportError:
+            return None
+        bar = tqdm(total=1.0, bar_format="{l_bar}{bar}| {n:.0%}")
+
+        def update(fraction: float) -> None:
+            bar.n = fraction
+            bar.refresh()
+            if fraction >= 1.0:
+                bar.close()
+
+        return update
+    if not callable(progress):
+        raise OptionError(f"progress: {progress!r} is not callable (or True for tqdm)")
+    return progress
+
+
+class Simulation:
+    """A finished simulation: ``t`` and every output column as NumPy arrays.
+
+    ``sim["tip_rel"]`` is a column (m), ``sim.columns`` their names (the CLI's CSV columns
+    after ``t``), ``sim.summary`` what ran (method, steps, switches, wall time, ...).
+    """
+
+    def __init__(self, columns: list[str], data: np.ndarray, summary: dict[str, Any]):
+        self.columns: list[str] = list(columns)
+        self._data = data
+        self.summary: dict[str, Any] = summary
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times (s)."""
+        return self._data[:, 0]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name == "t":
+            return self.t
+        try:
+            return self._data[:, 1 + self.columns.index(name)]
+        except ValueError:
+            raise KeyError(f"{name!r} is not a column; the columns are {self.columns}") from None
+
+    def __contains__(self, name: str) -> bool:
+        return name == "t" or name in self.columns
+
+    def to_numpy(self) -> np.ndarray:
+        """All samples: one row per time, ``t`` then the columns."""
+        return self._data
+
+    def to_pandas(self):
+        """A pandas DataFrame of the columns, indexed by ``t`` (s)."""
+        import pandas as pd
+
+        frame = pd.DataFrame(self._data[:, 1:], columns=self.columns)
+        frame.index = pd.Index(self.t, name="t")
+        return frame
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return (
+            f"Simulation({s['scene']!r}: {s['samples']} samples of {len(self.columns)} columns, "
+            f"method {s['method']}, {s['steps']} steps, {s['switches']} contact switches, "
+            f"{s['wall_s']:.3f} s)"
+        )
+
+
+class Modes:
+    """Natural frequencies (Hz), damping and mode shapes of a scene, contacts closed."""
+
+    def __init__(self, data: dict[str, Any]):
+        self.frequencies_hz: np.ndarray = data["frequencies_hz"]
+        self.damped_frequencies_hz: np.ndarray = data["damped_frequencies_hz"]
+        self.damping_ratios: np.ndarray = data["damping_ratios"]
+        self.kinds: list[str] = data["kinds"]
+        self.rigid_modes: int = data["rigid_modes"]
+        #: per mode, per section: the deflection along the section, largest |w| = 1
+        self.shapes: list[list[np.ndarray]] = data["shapes"]
+        self.time_s: float = data["time_s"]
+        self.model: str = data["model"]
+        self._table: str = data["table"]
+
+    def __len__(self) -> int:
+        return len(self.frequencies_hz)
+
+    def __str__(self) -> str:
+        return self._table
+
+    def __repr__(self) -> str:
+        listed = ", ".join(f"{f:.4g}" for f in self.frequencies_hz[:5])
+        more = ", ..." if len(self) > 5 else ""
+        return f"Modes({len(self)} modes: [{listed}{more}] Hz, {self.rigid_modes} rigid)"
+
+
+class Controller:
+    """A controller of ``design``: its JSON is the controller file of ``telescopic design``."""
+
+    def __init__(self, text: str):
+        self._json = _telescopic.check_controller(text)
+
+    @classmethod
+    def from_json(cls, text: str) -> "Controller":
+        """A controller from the JSON of a controller file (checked)."""
+        return cls(text)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> "Controller":
+        """Reads a controller file."""
+        with open(path, encoding="utf-8") as f:
+            return cls(f.read())
+
+    def to_json(self) -> str:
+        """The controller file's JSON."""
+        return self._json
+
+    def __repr__(self) -> str:
+        import json
+
+        doc = json.loads(self._json)
+        return f"Controller({doc.get('kind', '?')!r}, force limit {doc.get('force_limit_n', '?')} N)"
+
+
+def simulate(
+    scene: Scene,
+    method: str = "auto",
+    rtol: float | None = None,
+    atol: float | None = None,
+    dt: float | None = None,
+    accuracy: float | None = None,
+    controller: Controller | None = None,
+    stations: Iterable[tuple[int, float]] | None = None,
+    model: str = "auto",
+    progress: Any = None,
+) -> Simulation:
+    """Integrates ``scene`` from rest with the clearance contact law (``telescopic simulate``).
+
+    ``method`` is one of the CLI's (``auto``, ``exact``, ``dopri5``, ``dop853``, ``imex``, ...);
+    ``accuracy`` (m) picks the cheapest method reaching it; ``controller`` drives the scene
+    with a designed controller; ``stations`` adds bending moments (and stresses) at
+    ``(section, x)``; ``progress`` is a callable taking the fraction done (or ``True`` for a
+    tqdm bar). Raises ``SolverError`` (with ``.time`` and ``.method``) when the integration
+    fails, ``OptionError`` for a bad argument.
+    """
+    if not isinstance(scene, Scene):
+        raise OptionError(f"scene: expected a telescopic.Scene, got {type(scene).__name__}")
+    text = controller.to_json() if controller is not None else None
+    columns, data, summary = _telescopic.simulate(
+        scene,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        dt=dt,
+        accuracy=accuracy,
+        controller=text,
+        stations=list(stations) if stations is not None else None,
+        model=model,
+        progress=_progress(progress),
+    )
+    return Simulation(columns, data, summary)
+
+
+def modes(scene: Scene, at: float | None = None, count: int | None = None, points: int = 51,
+          model: str = "auto") -> Modes:
+    """Natural frequencies (Hz), damped frequencies, damping ratios, kinds (structural or
+    contact) and mode shapes sampled at ``points`` per section, contacts closed, positions at
+    time ``at`` (default the start)."""
+    return Modes(_telescopic.modes(scene, at=at, count=count, points=points, model=model))
+
+
+def _state_space(point: dict[str, Any], names: dict[str, Any], discrete: bool = False):
+    try:
+        import control
+    except ImportError:
+        raise TelescopicError(
+            "linearize returns python-control StateSpace models: pip install control "
+            "(or call telescopic.linearize(..., as_arrays=True) for the NumPy matrices)"
+        ) from None
+    a, b = (point["Ad"], point["Bd"]) if discrete else (point["A"], point["B"])
+    args = (a, b, point["C"], point["D"]) + ((point["dt"],) if discrete else ())
+    return control.ss(*args, states=names["states"], inputs=names["inputs"],
+                      outputs=names["outputs"])
+
+
+def linearize(
+    scene: Scene,
+    positions: Mapping[str, float] | None = None,
+    at_time: float | None = None,
+    contacts: str = "closed",
+    grid: Mapping[str, tuple[float, float, int]] | None = None,
+    disturbance: bool = False,
+    discrete: float | None = None,
+    model: str = "auto",
+    as_arrays: bool = False,
+):
+    """The linear model ``x' = A x + B u, y = C x + D u`` about the straight configuration
+    (``telescopic linearize``), as a python-control ``StateSpace`` with the state, input and
+    output names of the JSON export.
+
+    ``positions={"a2": 0.8}`` sets positions at rest; ``grid={"a2": (0.35, 1.15, 5)}`` gives a
+    list of ``(positions, StateSpace)``; ``disturbance=True`` adds the input ``F_load``;
+    ``discrete=DT`` returns the zero-order-hold model instead. ``as_arrays=True`` returns the
+    plain dict of NumPy matrices and names (no python-control needed).
+    """
+    if grid is not None and len(grid) != 1:
+        raise OptionError("grid: give one position, e.g. {'a2': (0.35, 1.15, 5)}")
+    data = _telescopic.linearize(
+        scene,
+        positions=list(positions.items()) if positions else None,
+        at_time=at_time,
+        contacts=contacts,
+        grid=next(iter(grid.items())) if grid else None,
+        disturbance=disturbance,
+        discrete=discrete,
+        model=model,
+    )
+    if as_arrays:
+        return data
+    systems = [_state_space(p, data, discrete is not None) for p in data["points"]]
+    if grid is None:
+        return systems[0]
+    return [(p["positions"], s) for p, s in zip(data["points"], systems)]
+
+
+def design(
+    scene: Scene,
+    controller: str = "lqr+shaper",
+    force_limit: float = 300.0,
+    sensors: Sequence[str] | None = None,
+    rate_hz: float | None = None,
+    law: str | None = None,
+    model: str = "auto",
+    progress: Any = None,
+) -> Controller:
+    """Designs a vibration-suppressing controller (``telescopic design``): ``lqr``,
+    ``shaper``, ``lqr+shaper`` or ``lqr+shaper+kalman``; with ``sensors`` (e.g.
+    ``["vehicle", "kappa_1_0"]``) a sampled output-feedback controller at ``rate_hz``."""
+    text = _telescopic.design(
+        scene,
+        controller=controller,
+        force_limit=force_limit,
+        sensors=list(sensors) if sensors is not None else None,
+        rate_hz=rate_hz,
+        law=law,
+        model=model,
+        progress=_progress(progress),
+    )
+    return Controller(text)
+
+
+def _sweep_file(spec: Mapping[str, Any], directory: str) -> str:
+    """A sweep file for ``spec`` (the sweep file's keys) in ``directory``; relative scene
+    paths are taken from the current directory."""
+    import json
+
+    def value(v: Any) -> str:
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, (list, tuple)):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        if isinstance(v, Mapping):
+            return "{ " + ", ".join(f"{json.dumps(k)} = {value(x)}" for k, x in v.items()) + " }"
+        return repr(float(v)) if isinstance(v, float) else str(v)
+
+    lines = []
+    tables = []
+    for key, v in spec.items():
+        if key == "scene":
+            v = os.path.abspath(os.fspath(v))
+        if isinstance(v, Mapping):
+            tables.append((key, v))
+        else:
+            lines.append(f"{key} = {value(v)}")
+    for key, table in tables:
+        lines.append(f"\n[{key}]")
+        lines.extend(f"{json.dumps(k)} = {value(x)}" for k, x in table.items())
+    path = os.path.join(directory, "sweep.toml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+def sweep(spec: str | os.PathLike | Mapping[str, Any], jobs: int | None = None,
+          progress: Any = None):
+    """Runs a parameter study (``telescopic sweep``) and returns a pandas DataFrame with the
+    result file's columns, one row per run.
+
+    ``spec`` is a sweep file or a dict of its keys, e.g.
+    ``{"scene": "scenes/case-study.toml", "grid": {"contact.clearance": [0.005, 0.01]}}``.
+    Runs on ``jobs`` threads (default: every core). Ctrl-C stops between runs and raises
+    ``KeyboardInterrupt``; no file is left.
+    """
+    import pandas as pd
+
+    with tempfile.TemporaryDirectory(prefix="telescopic-sweep-") as directory:
+        if isinstance(spec, Mapping):
+            path = _sweep_file(spec, directory)
+        else:
+            path = os.fspath(spec)
+        out = os.path.join(directory, "result.csv")
+        columns, rows = _telescopic.sweep(path, out, jobs=jobs, progress=_progress(progress))
+    return pd.read_csv(io.StringIO("\n".join([columns, *rows])))
+
+
+def equations(scene: Scene, format: str = "latex") -> str:
+    """The derived equations of motion of the scene's generated model: ``text``, ``latex``,
+    ``rust`` or ``json``."""
+    return _telescopic.equations(scene, format=format)

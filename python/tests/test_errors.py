@@ -1,0 +1,94 @@
+"""Each documented exception, with the field or argument it names; a Ctrl-C in a long sweep."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import pytest
+
+import telescopic
+
+
+def test_a_scene_error_names_the_field_and_the_rule():
+    with pytest.raises(telescopic.SceneError) as e:
+        telescopic.Scene.load("scenes/adams-linear.toml", set={"contact.clearance": -1})
+    assert ("contact.clearance", "must be a finite number >= 0 (got -1)") in e.value.errors
+    with pytest.raises(telescopic.SceneError, match="no-such-scene"):
+        telescopic.Scene.load("scenes/no-such-scene.toml")
+    with pytest.raises(telescopic.SceneError, match="nonsense"):
+        telescopic.Scene.load("scenes/adams-linear.toml", set={"contact.nonsense": 1})
+    with pytest.raises(telescopic.SceneError):
+        telescopic.Scene.from_toml("this is not toml")
+    assert issubclass(telescopic.SceneError, telescopic.TelescopicError)
+
+
+@pytest.mark.parametrize(
+    "kwargs, argument",
+    [
+        ({"method": "nonsense"}, "method"),
+        ({"rtol": -1e-6}, "rtol"),
+        ({"atol": 0.0}, "atol"),
+        ({"model": "other"}, "model"),
+        ({"stations": [(3, 0.0)]}, "stations"),
+    ],
+)
+def test_a_bad_argument_is_an_option_error_naming_it(kwargs, argument):
+    scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.1})
+    with pytest.raises(telescopic.OptionError, match=argument):
+        telescopic.simulate(scene, **kwargs)
+
+
+def test_a_solver_error_has_the_time_and_the_method():
+    scene = telescopic.Scene.load("scenes/adams-clearance.toml", set={"time.end": 0.5})
+    with pytest.raises(telescopic.SolverError) as e:
+        telescopic.simulate(scene, method="rk4", dt=1e-3)
+    assert e.value.method == "rk4" and 0 < e.value.time < 0.5
+    assert "stable" in str(e.value)
+
+
+def test_other_arguments_are_checked():
+    scene = telescopic.Scene.load("scenes/case-study.toml")
+    with pytest.raises(telescopic.OptionError, match="contacts"):
+        telescopic.linearize(scene, contacts="half")
+    with pytest.raises(telescopic.OptionError, match="positions"):
+        telescopic.linearize(scene, positions={"b2": 0.8})
+    with pytest.raises(telescopic.OptionError, match="controller"):
+        telescopic.design(scene, controller="pid")
+    with pytest.raises(telescopic.OptionError, match="format"):
+        telescopic.equations(scene, format="pdf")
+    with pytest.raises(telescopic.OptionError, match="jobs"):
+        telescopic.sweep({"scene": "scenes/case-study.toml", "grid": {"masses.load": [1.0]}}, jobs=0)
+    with pytest.raises(telescopic.TelescopicError):
+        telescopic.Controller.from_json("{}")
+    with pytest.raises(KeyError, match="columns"):
+        telescopic.simulate(telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.1}))["nope"]
+
+
+def test_ctrl_c_in_a_long_sweep_raises_keyboard_interrupt_and_leaves_no_file(tmp_path):
+    script = textwrap.dedent(
+        """
+        import sys, time, telescopic
+        print("started", flush=True)
+        try:
+            telescopic.sweep({"scene": "scenes/case-study.toml",
+                              "grid": {"masses.load": [float(x) for x in range(10, 60)]}}, jobs=1)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(7)
+        """
+    )
+    env = dict(os.environ, TMPDIR=str(tmp_path))
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True, env=env)
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.5)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=30)
+    waited = time.monotonic() - sent
+    assert p.returncode == 7 and "interrupted" in out
+    # a case-study run takes about 0.3 s: the sweep stops after the one in progress
+    assert waited < 2.0, waited
+    assert list(tmp_path.iterdir()) == [], "no file left behind"
