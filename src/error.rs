@@ -94,6 +94,16 @@ pub enum Error {
 }
 
 impl Error {
+    /// The error of a caught panic (a bug): [`Error::Panicked`] with the panic's message.
+    pub fn from_panic(payload: &(dyn std::any::Any + Send)) -> Self {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        Error::Panicked(what)
+    }
+
     /// An [`Error::Option`] for `option` breaking `rule`.
     pub fn option(option: &str, rule: impl Into<String>) -> Self {
         Error::Option {

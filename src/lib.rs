@@ -72,6 +72,7 @@ pub mod stability;
 pub mod stress;
 pub mod sweep;
 pub mod work_precision;
+mod wrapped;
 
 pub use error::{Error, Result};
 pub use report::{Reporter, Silent};

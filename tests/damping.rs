@@ -3,7 +3,8 @@
 //! damped eigenvalues carry it exactly, Rayleigh damping's ratios follow
 //! `alpha / (2 omega) + beta omega / 2`, and the linear model's `A` carries the damping.
 
-use std::path::Path;
+mod common;
+
 use telescopic::Silent;
 use telescopic::runtime::{
     AssembledModel, ContactMode, Lpv, Scene, damped_modes, eigenvalues, modal_analysis,
@@ -12,29 +13,9 @@ use telescopic::simulation::{SimulationOptions, simulate_scene};
 
 /// A single section on its vehicle (no contacts), knocked by a 5 ms force pulse.
 fn cantilever(extra: &[&str]) -> Scene {
-    let text = r#"
-name = "cantilever"
-[sections]
-count = 1
-length = 1.35
-area = 0.001
-inertia = 0.83e-8
-density = 7850.0
-youngs_modulus = 2.1e11
-modes = 5
-[masses]
-vehicle = 100.0
-load = 5.0
-[gravity]
-g = 0.0
-[drive]
-force = { kind = "piecewise-constant", times = [0, 0.005], values = [400, 0] }
-[time]
-end = 4.0
-sample = 0.0002
-"#;
     let o: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
-    Scene::from_toml_str(text, Path::new("cantilever.toml"), &o).unwrap()
+    let pulse = r#"force = { kind = "piecewise-constant", times = [0, 0.005], values = [400, 0] }"#;
+    common::single_section("cantilever", pulse, 4.0, 0.0002, &o)
 }
 
 /// The damping ratio of the ring-down of `x` (sampled at `dt`) after `from` s: a least-squares

@@ -2,35 +2,19 @@
 //! at its foot, pushed at its tip by `F_load`, bends at zero frequency by the cantilever's
 //! `F l^3 / (3 EI)`; the CSV's columns; the refusals.
 
-use std::path::Path;
+mod common;
+
 use telescopic::bode::{BodeOptions, frequency_response};
 use telescopic::linear::LinearizeOptions;
 use telescopic::{Error, Scene};
 
+/// A single section held at its foot (a prescribed motion at rest), lightly damped.
 fn held_cantilever() -> Scene {
-    let text = r#"
-name = "held-cantilever"
-[sections]
-count = 1
-length = 1.35
-area = 0.001
-inertia = 0.83e-8
-density = 7850.0
-youngs_modulus = 2.1e11
-modes = 8
-damping_ratio = 0.02
-[masses]
-vehicle = 100.0
-load = 5.0
-[gravity]
-g = 0.0
-[drive]
-motion = 0.0
-[time]
-end = 1.0
-sample = 0.001
-"#;
-    Scene::from_toml_str(text, Path::new("held-cantilever.toml"), &[]).unwrap()
+    let o = [
+        "sections.modes=8".to_string(),
+        "sections.damping_ratio=0.02".to_string(),
+    ];
+    common::single_section("held-cantilever", "motion = 0.0", 1.0, 0.001, &o)
 }
 
 #[test]

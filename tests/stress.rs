@@ -3,7 +3,8 @@
 //! steady acceleration, `q (l - x)^2 / 2`), the generated model's moments against the
 //! assembled model's, stresses as `M / W`, and the documented refusals.
 
-use std::path::Path;
+mod common;
+
 use telescopic::models::ModelChoice;
 use telescopic::simulation::{SimulationOptions, simulate_scene};
 use telescopic::stress::{Station, StressEnvelope};
@@ -12,29 +13,9 @@ use telescopic::{Error, Scene, Silent};
 /// A single section on a vehicle pushed by a constant force; heavily damped (zeta = 0.5) so
 /// that after 4 s it bends quasi-statically under the inertia of the steady acceleration.
 fn pushed_cantilever(extra: &[String]) -> Scene {
-    let text = r#"
-name = "pushed-cantilever"
-[sections]
-count = 1
-length = 1.35
-area = 0.001
-inertia = 0.83e-8
-density = 7850.0
-youngs_modulus = 2.1e11
-modes = 5
-damping_ratio = 0.5
-[masses]
-vehicle = 100.0
-load = 5.0
-[gravity]
-g = 0.0
-[drive]
-force = 200.0
-[time]
-end = 4.0
-sample = 0.001
-"#;
-    Scene::from_toml_str(text, Path::new("pushed-cantilever.toml"), extra).unwrap()
+    let mut o = vec!["sections.damping_ratio=0.5".to_string()];
+    o.extend_from_slice(extra);
+    common::single_section("pushed-cantilever", "force = 200.0", 4.0, 0.001, &o)
 }
 
 /// The relative errors of the final moments at `fractions` of the length against the

@@ -110,17 +110,12 @@ unsafe fn with(
             ERROR
         }
         Err(panic) => {
-            let what = panic
-                .downcast_ref::<String>()
-                .map(String::as_str)
-                .or_else(|| panic.downcast_ref::<&str>().copied())
-                .unwrap_or("unknown");
             log(
                 logger,
                 env,
                 &w.instance.name,
                 FATAL,
-                &format!("{call}: internal error (a bug in telescopic; please report it): {what}"),
+                &format!("{call}: {}", telescopic::Error::from_panic(panic.as_ref())),
             );
             FATAL
         }

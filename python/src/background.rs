@@ -114,15 +114,8 @@ pub fn run<T: Send>(
             Ok(value)
         }
         Ok(Err(error)) => Err(crate::errors::to_python(error)),
-        Err(panic) => {
-            let what = panic
-                .downcast_ref::<String>()
-                .map(String::as_str)
-                .or_else(|| panic.downcast_ref::<&str>().copied())
-                .unwrap_or("unknown");
-            Err(crate::errors::TelescopicError::new_err(format!(
-                "internal error (a bug in telescopic; please report it): {what}"
-            )))
-        }
+        Err(panic) => Err(crate::errors::TelescopicError::new_err(
+            telescopic::Error::from_panic(panic.as_ref()).to_string(),
+        )),
     }
 }

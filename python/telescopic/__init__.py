@@ -114,6 +114,14 @@ class Simulation:
         frame.index = pd.Index(self.t, name="t")
         return frame
 
+    def _repr_latex_(self) -> str:
+        """A one-line summary as LaTeX (Jupyter shows it)."""
+        s = self.summary
+        return (
+            f"$\\text{{{s['scene']}: {s['samples']} samples, method {s['method']}, "
+            f"{s['steps']} steps, {s['switches']} contact switches}}$"
+        )
+
     def __repr__(self) -> str:
         s = self.summary
         return (
@@ -143,6 +151,19 @@ class Modes:
 
     def __str__(self) -> str:
         return self._table
+
+    def _repr_latex_(self) -> str:
+        """The table as LaTeX (Jupyter shows it)."""
+        rows = " \\\\ ".join(
+            f"f_{{{i + 1}}} & {f:.6g} & {d:.6g} & {z:.3g} & \\text{{{k}}}"
+            for i, (f, d, z, k) in enumerate(
+                zip(self.frequencies_hz, self.damped_frequencies_hz, self.damping_ratios, self.kinds)
+            )
+        )
+        return (
+            "$\\begin{array}{lrrrl} & f\\ [\\mathrm{Hz}] & f_d\\ [\\mathrm{Hz}] & \\zeta & "
+            f"\\text{{kind}} \\\\ \\hline {rows} \\end{{array}}$"
+        )
 
     def __repr__(self) -> str:
         listed = ", ".join(f"{f:.4g}" for f in self.frequencies_hz[:5])

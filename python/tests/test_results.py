@@ -131,5 +131,7 @@ def test_modes_and_equations():
     assert m.kinds[0] == "structural" and "contact" in m.kinds
     assert len(m.shapes[0]) == 2 and m.shapes[0][0].shape == (51,)
     assert "f1" in str(m)
+    latex = m._repr_latex_()
+    assert latex.startswith("$\\begin{array}") and "0.498275" in latex and "contact" in latex
     latex = telescopic.equations(telescopic.Scene.load("scenes/adams-linear.toml"))
     assert latex.startswith("\\documentclass") or "\\begin" in latex

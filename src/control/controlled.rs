@@ -278,42 +278,17 @@ impl<'m> Controlled<'m> {
     }
 }
 
-impl Model for Controlled<'_> {
-    fn layout(&self) -> &Layout {
-        self.base.layout()
+impl Controlled<'_> {
+    /// The model the controller drives.
+    fn wrapped(&self) -> &dyn Model {
+        self.base
     }
+}
+
+impl Model for Controlled<'_> {
+    crate::wrapped::pass_through_model!();
     fn params(&self) -> &ModelParams {
         &self.params
-    }
-    fn mass_matrix(&self) -> &DMatrix<f64> {
-        self.base.mass_matrix()
-    }
-    fn stiffness_matrix(&self) -> &DMatrix<f64> {
-        self.base.stiffness_matrix()
-    }
-    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
-        self.base.damping_matrix()
-    }
-    fn drive_vector(&self) -> &DVector<f64> {
-        self.base.drive_vector()
-    }
-    fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
-        self.base.contact_vectors(t, g, gdot)
-    }
-    fn contact_vectors_at(
-        &self,
-        positions: &[f64],
-        rates: &[f64],
-        g: &mut DMatrix<f64>,
-        gdot: &mut DMatrix<f64>,
-    ) {
-        self.base.contact_vectors_at(positions, rates, g, gdot)
-    }
-    fn contact_table(&self) -> Option<&ContactTable> {
-        self.base.contact_table()
-    }
-    fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
-        self.base.contact_gaps(t, y, xi, xi_dot)
     }
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
         let force = self.law.force(t, y).0;
@@ -329,9 +304,6 @@ impl Model for Controlled<'_> {
                 }
             }
         }
-    }
-    fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
-        self.base.displacement(section, x, z)
     }
     fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
         let last = out.len() - 1;

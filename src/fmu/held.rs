@@ -3,8 +3,8 @@
 
 use crate::Result;
 use crate::control::controlled::DriveResponse;
-use telescopic_runtime::nalgebra::{DMatrix, DVector};
-use telescopic_runtime::{ContactState, ContactTable, Drive, Layout, Model, ModelParams, Profile};
+use telescopic_runtime::nalgebra::DMatrix;
+use telescopic_runtime::{ContactState, Drive, Model, ModelParams, Profile};
 
 /// `base` with its drive force replaced by a held value `F` (N): `zd' += M^-1 b (F - F_base(t))`.
 /// Its parameters say `drive = F` (a constant), so exact stepping sees a time-invariant
@@ -34,7 +34,7 @@ impl HeldForce {
     }
 
     /// The model whose force is held.
-    pub fn base(&self) -> &dyn Model {
+    pub fn wrapped(&self) -> &dyn Model {
         self.base.as_ref()
     }
 
@@ -51,41 +51,9 @@ impl HeldForce {
 }
 
 impl Model for HeldForce {
-    fn layout(&self) -> &Layout {
-        self.base.layout()
-    }
+    crate::wrapped::pass_through_model!();
     fn params(&self) -> &ModelParams {
         &self.params
-    }
-    fn mass_matrix(&self) -> &DMatrix<f64> {
-        self.base.mass_matrix()
-    }
-    fn stiffness_matrix(&self) -> &DMatrix<f64> {
-        self.base.stiffness_matrix()
-    }
-    fn damping_matrix(&self) -> Option<&DMatrix<f64>> {
-        self.base.damping_matrix()
-    }
-    fn drive_vector(&self) -> &DVector<f64> {
-        self.base.drive_vector()
-    }
-    fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
-        self.base.contact_vectors(t, g, gdot)
-    }
-    fn contact_vectors_at(
-        &self,
-        positions: &[f64],
-        rates: &[f64],
-        g: &mut DMatrix<f64>,
-        gdot: &mut DMatrix<f64>,
-    ) {
-        self.base.contact_vectors_at(positions, rates, g, gdot)
-    }
-    fn contact_table(&self) -> Option<&ContactTable> {
-        self.base.contact_table()
-    }
-    fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
-        self.base.contact_gaps(t, y, xi, xi_dot)
     }
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
         self.drive
@@ -93,9 +61,6 @@ impl Model for HeldForce {
     }
     fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
         self.base.jacobian(t, y, states, jac);
-    }
-    fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
-        self.base.displacement(section, x, z)
     }
     fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
         self.base.outputs(t, y, ydot, out)

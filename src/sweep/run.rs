@@ -167,15 +167,8 @@ fn row(sweep: &Sweep, run: &Run, gate: &MemoryGate) -> (String, bool) {
         Ok((cells, note))
     };
     // a panic in one run (a bug) is that run's error, not the end of the sweep
-    let outcome =
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(measure)).unwrap_or_else(|payload| {
-            let what = payload
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".into());
-            Err(Error::Panicked(what))
-        });
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(measure))
+        .unwrap_or_else(|payload| Err(Error::from_panic(payload.as_ref())));
     let mut cells = vec![run.index.to_string()];
     cells.extend(run.values.iter().map(|v| match v {
         Some(toml::Value::String(s)) => csv_text(s),

@@ -1,30 +1,20 @@
 //! `telescopic bode`: the frequency response of the linear model, as CSV and a Bode plot.
 
-use super::control::Contacts;
+use super::control::OperatingPointArgs;
 use super::{SceneArgs, check_chart, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::bode::{BodeOptions, DEFAULT_POINTS, frequency_response};
-use telescopic::linear::{LinearizeOptions, parse_positions};
 use telescopic::models::ModelChoice;
 use telescopic::output::{check_stdout_open, write_to};
-use telescopic::runtime::ContactMode;
 
 /// Options of `telescopic bode`.
 #[derive(Debug, Args)]
 pub struct BodeArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Telescopic positions of the operating point, e.g. `a2=0.8` (m; at rest); the others
-    /// come from the scene.
-    #[arg(long, value_name = "a2=V,...", conflicts_with = "at_time")]
-    pub positions: Option<String>,
-    /// Take the positions and their speeds of the scene at this time (s); default: its start.
-    #[arg(long, value_name = "T")]
-    pub at_time: Option<f64>,
-    /// Contacts closed (linear law) or open.
-    #[arg(long, value_enum, default_value = "closed")]
-    pub contacts: Contacts,
+    #[command(flatten)]
+    pub point: OperatingPointArgs,
     /// Outputs of the linear model, comma-separated (see `telescopic linearize`).
     #[arg(
         long,
@@ -70,21 +60,8 @@ pub fn bode(args: &BodeArgs) -> anyhow::Result<()> {
         check_stdout_open()?;
     }
     let scene = args.scene.load()?;
-    let positions = match &args.positions {
-        Some(p) => parse_positions(p).map_err(|e| anyhow::anyhow!("--positions: {e}"))?,
-        None => Vec::new(),
-    };
     let options = BodeOptions {
-        linear: LinearizeOptions {
-            positions,
-            at_time: args.at_time,
-            contacts: match args.contacts {
-                Contacts::Closed => ContactMode::Closed,
-                Contacts::Open => ContactMode::Open,
-            },
-            model: args.model,
-            ..LinearizeOptions::default()
-        },
+        linear: args.point.options(args.model)?,
         outputs: args.outputs.clone(),
         inputs: args.inputs.clone(),
         from_hz: args.from,

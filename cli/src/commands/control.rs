@@ -21,13 +21,11 @@ pub enum Contacts {
     Open,
 }
 
-/// Options of `telescopic linearize`.
+/// The operating point of a linear model: shared by `linearize` and `bode`.
 #[derive(Debug, Args)]
-pub struct LinearizeArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Telescopic positions to linearize at, e.g. `a2=1.15` or `a2=1.0,a3=0.9` (m; at rest);
-    /// the others come from the scene.
+pub struct OperatingPointArgs {
+    /// Telescopic positions of the operating point, e.g. `a2=1.15` or `a2=1.0,a3=0.9` (m; at
+    /// rest); the others come from the scene.
     #[arg(long, value_name = "a2=V,...", conflicts_with = "at_time")]
     pub positions: Option<String>,
     /// Take the positions and their speeds of the scene at this time (s); default: its start.
@@ -36,6 +34,35 @@ pub struct LinearizeArgs {
     /// Contacts closed (linear law) or open.
     #[arg(long, value_enum, default_value = "closed")]
     pub contacts: Contacts,
+}
+
+impl OperatingPointArgs {
+    /// The library's options for this point, with `model`.
+    pub fn options(&self, model: ModelChoice) -> anyhow::Result<LinearizeOptions> {
+        let positions = match &self.positions {
+            Some(p) => parse_positions(p).map_err(|e| anyhow::anyhow!("--positions: {e}"))?,
+            None => Vec::new(),
+        };
+        Ok(LinearizeOptions {
+            positions,
+            at_time: self.at_time,
+            contacts: match self.contacts {
+                Contacts::Closed => ContactMode::Closed,
+                Contacts::Open => ContactMode::Open,
+            },
+            model,
+            ..LinearizeOptions::default()
+        })
+    }
+}
+
+/// Options of `telescopic linearize`.
+#[derive(Debug, Args)]
+pub struct LinearizeArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub point: OperatingPointArgs,
     /// Sample the linear parameter-varying model over a grid of one position, e.g.
     /// `a2=0.35:1.15:9` (m; speeds zero).
     #[arg(long, value_name = "a2=FROM:TO:COUNT")]
@@ -66,22 +93,11 @@ pub fn linearize(args: &LinearizeArgs) -> anyhow::Result<()> {
         check_stdout_open()?;
     }
     let scene = args.scene.load()?;
-    let positions = match &args.positions {
-        Some(p) => parse_positions(p).map_err(|e| anyhow::anyhow!("--positions: {e}"))?,
-        None => Vec::new(),
-    };
     let options = LinearizeOptions {
-        positions,
-        at_time: args.at_time,
-        contacts: match args.contacts {
-            Contacts::Closed => ContactMode::Closed,
-            Contacts::Open => ContactMode::Open,
-        },
         grid: args.grid.clone(),
-        model: args.model,
-        models: Default::default(),
         disturbance: args.disturbance,
         discrete: args.discrete,
+        ..args.point.options(args.model)?
     };
     let mut export = run_linearize(&scene, &options)?;
     export.scene_file = args.scene.scene.display().to_string();

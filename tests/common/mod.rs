@@ -1,0 +1,23 @@
+//! What several test files share: a single section of the test rig's data on its vehicle.
+
+use std::path::Path;
+use telescopic::Scene;
+
+/// One section of the test rig (1.35 m steel, A = 0.001 m^2, I = 0.83e-8 m^4) on a 100 kg
+/// vehicle with a 5 kg load, gravity off; `drive` is the `[drive]` table's body, `end` and
+/// `sample` the time span (s); `overrides` as `--set` (modes, damping, ...).
+pub fn single_section(
+    name: &str,
+    drive: &str,
+    end: f64,
+    sample: f64,
+    overrides: &[String],
+) -> Scene {
+    let text = format!(
+        "name = \"{name}\"\n[sections]\ncount = 1\nlength = 1.35\narea = 0.001\n\
+         inertia = 0.83e-8\ndensity = 7850.0\nyoungs_modulus = 2.1e11\nmodes = 5\n\
+         [masses]\nvehicle = 100.0\nload = 5.0\n[gravity]\ng = 0.0\n[drive]\n{drive}\n\
+         [time]\nend = {end}\nsample = {sample}\n"
+    );
+    Scene::from_toml_str(&text, Path::new(&format!("{name}.toml")), overrides).unwrap()
+}
