@@ -94,11 +94,21 @@ fn fmpy_validates_and_co_simulates_adams_clearance_like_simulate() {
     let both = export(&dir, "scenes/adams-clearance.toml", "both", "both");
     let cs = export(&dir, "scenes/adams-clearance.toml", "cs", "cs");
     let me = export(&dir, "scenes/adams-linear.toml", "me", "me");
+    // a prescribed motion: input a_vehicle, output drive_force
+    let moved = dir.join("moved.toml");
+    let text = std::fs::read_to_string("scenes/adams-linear.toml")
+        .unwrap()
+        .replace(
+            "force = 100.0            # N from t = 0",
+            r#"motion = { kind = "smoothstep", start = 0, end = 2, from = 0, to = 1 }"#,
+        );
+    std::fs::write(&moved, text).unwrap();
+    let motion = export(&dir, moved.to_str().unwrap(), "both", "motion");
     let v = fmpy(
         &dir,
         &format!(
             "{PRELUDE}problems = {{k: [str(p) for p in validate_fmu(f)] for k, f in \
-             [('both', '{both}'), ('cs', '{cs}'), ('me', '{me}')]}}\n\
+             [('both', '{both}'), ('cs', '{cs}'), ('me', '{me}'), ('motion', '{motion}')]}}\n\
              r = fmpy.simulate_fmu('{cs}', fmi_type='CoSimulation', stop_time=0.3, step_size=1e-3, \
              output_interval=1e-3, input=drive, output=['tip_rel'])\n\
              s = fmpy.simulate_fmu('{both}', fmi_type='CoSimulation', stop_time=0.3, step_size=1e-3, \
@@ -108,7 +118,7 @@ fn fmpy_validates_and_co_simulates_adams_clearance_like_simulate() {
              'set': s['tip_rel'].tolist()}}))\n"
         ),
     );
-    for kind in ["both", "cs", "me"] {
+    for kind in ["both", "cs", "me", "motion"] {
         assert_eq!(
             v["problems"][kind],
             serde_json::json!([]),

@@ -5,7 +5,7 @@
 //! are independent.
 
 use std::path::{Path, PathBuf};
-use telescopic::fmu::held::HeldForce;
+use telescopic::fmu::held::HeldDrive;
 use telescopic::fmu::{Causality, FmuVariables, SCENE_RESOURCE, scene_guid};
 use telescopic::models::{ModelChoice, ModelRegistry};
 use telescopic::runtime::sensors::Sensors;
@@ -38,7 +38,7 @@ enum Phase {
 
 /// The model and the integration of a running instance.
 struct Running {
-    model: HeldForce,
+    model: HeldDrive,
     sensors: Sensors,
     method: Method,
     settings: Settings,
@@ -127,14 +127,24 @@ impl Instance {
     /// `fmi2ExitInitializationMode`: builds the model with the parameters set.
     pub fn exit_initialization(&mut self) -> Result<(), Failure> {
         let mut params = self.scene.params.clone();
-        // the input replaces the scene's profile: the base model is driven by nothing
-        params.drive = Drive::Force(Profile::Constant(0.0));
+        // the input replaces the scene's drive: the base model is driven by nothing
+        let (base_drive, planned_drive) = match params.drive {
+            Drive::Force(_) => (
+                Drive::Force(Profile::Constant(0.0)),
+                Drive::Force(Profile::Constant(self.force)),
+            ),
+            Drive::Motion(_) => (
+                Drive::Motion(Profile::Constant(0.0)),
+                Drive::Motion(Profile::Constant(0.0)),
+            ),
+        };
+        params.drive = base_drive;
         let chosen = ModelRegistry::default()
             .build(&params, ModelChoice::Auto)
             .map_err(|e| e.to_string())?;
-        let model = HeldForce::new(chosen.model, self.force).map_err(|e| e.to_string())?;
+        let model = HeldDrive::new(chosen.model, self.force).map_err(|e| e.to_string())?;
         let mut planned = self.scene.clone();
-        planned.params.drive = Drive::Force(Profile::Constant(self.force));
+        planned.params.drive = planned_drive;
         let plan = plan(&planned, &SimulationOptions::default()).map_err(|e| e.to_string())?;
         let span = self.scene.time;
         let known_step_cap = if plan.settings.step_cap {
@@ -188,11 +198,11 @@ impl Instance {
             match var.causality {
                 Causality::Input => {
                     if !v.is_finite() {
-                        return Err(format!("the input F must be finite (got {v})"));
+                        return Err(format!("the input {} must be finite (got {v})", var.name));
                     }
                     self.force = v;
                     if let Some(r) = &mut self.running {
-                        r.model.set_force(v);
+                        r.model.set_input(v);
                     }
                 }
                 Causality::Parameter => {

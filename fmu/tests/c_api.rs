@@ -287,3 +287,53 @@ fn a_parameter_is_a_set_and_a_bad_one_is_an_error_naming_the_field() {
         fmi2FreeInstance(std::ptr::null_mut());
     }
 }
+
+/// adams-linear with the vehicle following a quintic smoothstep from 0 to 1 m over [0, 2] s.
+fn moved_scene() -> Scene {
+    let text = std::fs::read_to_string(scene_file("adams-linear"))
+        .unwrap()
+        .replace(
+            "force = 100.0            # N from t = 0",
+            r#"motion = { kind = "smoothstep", start = 0, end = 2, from = 0, to = 1 }"#,
+        );
+    Scene::from_toml_str(&text, Path::new("moved.toml"), &["time.end=1".to_string()]).unwrap()
+}
+
+#[test]
+fn a_prescribed_motion_takes_the_vehicle_acceleration_as_input() {
+    let scene = moved_scene();
+    let vars = FmuVariables::of(&scene).unwrap();
+    assert_eq!(vars.variables[0].name, "a_vehicle");
+    assert!(vars.variables.iter().any(|v| v.name == "drive_force"));
+    let reference = reference(&scene);
+    let s = scene.params.drive_profile().clone();
+    let mut errors = Vec::new();
+    for (h, every) in [(1e-3_f64, 1), (5e-4, 2)] {
+        unsafe {
+            let c = co_simulation(&scene, &format!("moved-{every}"), &[]);
+            let mut tip = Vec::new();
+            for k in 0..(1.0 / h).round() as usize {
+                let t = k as f64 * h;
+                // the acceleration at the step's midpoint, held over the step
+                let a = s.acceleration(t + h / 2.0);
+                assert_eq!(fmi2SetReal(c, &0, 1, &a), OK);
+                assert_eq!(fmi2DoStep(c, t, h, 1), OK, "{:?}", MESSAGES.lock().unwrap());
+                if (k + 1) % every == 0 {
+                    let mut v = 0.0;
+                    assert_eq!(fmi2GetReal(c, &2, 1, &mut v), OK);
+                    tip.push(v);
+                }
+            }
+            fmi2FreeInstance(c);
+            errors.push(worst(&tip, &reference[1..]));
+        }
+    }
+    let scale = reference.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    eprintln!(
+        "prescribed motion through a_vehicle held per step: {:.2e} m (1 ms), {:.2e} m (0.5 ms) of {scale:.2e} m",
+        errors[0], errors[1]
+    );
+    // the hold of a smooth acceleration is second order in the step
+    assert!(errors[0] < 1e-3 * scale, "{errors:?}");
+    assert!(errors[1] < errors[0] / 3.0, "{errors:?}");
+}

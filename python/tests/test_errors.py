@@ -89,6 +89,7 @@ def test_ctrl_c_in_a_long_sweep_raises_keyboard_interrupt_and_leaves_no_file(tmp
     out, _ = p.communicate(timeout=30)
     waited = time.monotonic() - sent
     assert p.returncode == 7 and "interrupted" in out
-    # a case-study run takes about 0.3 s: the sweep stops after the one in progress
-    assert waited < 2.0, waited
+    # a case-study run takes 0.2-0.3 s: the sweep stops after the one in progress (measured
+    # 0.23-0.37 s from the signal to the exception)
+    assert waited < 1.0, waited
     assert list(tmp_path.iterdir()) == [], "no file left behind"

@@ -183,46 +183,70 @@ impl ControlLaw {
     }
 }
 
-/// Where a change of the drive force goes: `M^-1 b`. The one place that replaces a model's
-/// own drive force by another (a controller's, a held one, an estimator's).
+/// Where a change of the drive input goes: `M^-1 b` for a force; for a prescribed motion,
+/// `[1; -M_pp^-1 M_p0]` for its acceleration (the vehicle follows it, the rest feels its
+/// inertia). The one place that replaces a model's own drive by another (a controller's, a
+/// held one, an estimator's).
 #[derive(Debug, Clone)]
 pub(crate) struct DriveResponse(Vec<f64>);
 
 impl DriveResponse {
-    /// `M^-1 b` of `model`.
+    /// The response of `model`'s drive input: force or prescribed acceleration.
     ///
     /// # Errors
     /// [`Error::Model`] when the mass matrix cannot be factored.
     pub(crate) fn of(model: &dyn Model) -> Result<Self> {
-        let response = model
-            .mass_matrix()
-            .clone()
-            .cholesky()
-            .ok_or_else(|| Error::Model("the mass matrix is not positive definite".into()))?
-            .solve(model.drive_vector());
+        let not_definite = || Error::Model("the mass matrix is not positive definite".into());
+        let m = model.mass_matrix();
+        let response = match model.params().drive {
+            Drive::Force(_) => m
+                .clone()
+                .cholesky()
+                .ok_or_else(not_definite)?
+                .solve(model.drive_vector()),
+            Drive::Motion(_) => {
+                let n = model.dof();
+                let inertia = m
+                    .view((1, 1), (n - 1, n - 1))
+                    .into_owned()
+                    .cholesky()
+                    .ok_or_else(not_definite)?
+                    .solve(&m.view((1, 0), (n - 1, 1)).into_owned());
+                let mut r = telescopic_runtime::nalgebra::DVector::zeros(n);
+                r[0] = 1.0;
+                for j in 1..n {
+                    r[j] = -inertia[(j - 1, 0)];
+                }
+                r
+            }
+        };
         Ok(DriveResponse(response.iter().copied().collect()))
     }
 
-    /// The entries of `M^-1 b`.
+    /// The entries of the response.
     pub(crate) fn entries(&self) -> &[f64] {
         &self.0
     }
 
-    /// `ydot` of `model` at `t`, `y` with the drive force `force` (N) in place of the scene's.
+    /// `ydot` of `model` at `t`, `y` with the drive input `input` (N, or m/s^2 for a
+    /// prescribed motion) in place of the scene's.
     pub(crate) fn rhs_with(
         &self,
         model: &dyn Model,
         t: f64,
         y: &[f64],
         states: Option<&[ContactState]>,
-        force: f64,
+        input: f64,
         ydot: &mut [f64],
     ) {
         model.rhs(t, y, states, ydot);
         let n = self.0.len();
-        let change = force - model.params().drive_profile().value(t);
+        let own = match &model.params().drive {
+            Drive::Force(f) => f.value(t),
+            Drive::Motion(s) => s.acceleration(t),
+        };
         for (a, r) in ydot[n..].iter_mut().zip(&self.0) {
-            *a += r * change;
+            *a += r * (input - own);
         }
     }
 }

@@ -1,63 +1,69 @@
-//! A model whose drive force is an input set from outside between steps: what an FMU's `F`
-//! input and a co-simulation master's held value are.
+//! A model whose drive input is set from outside between steps: what an FMU's input (`F`, or
+//! `a_vehicle` for a prescribed motion) and a co-simulation master's held value are.
 
 use crate::Result;
 use crate::control::controlled::DriveResponse;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactState, Drive, Model, ModelParams, Profile};
 
-/// `base` with its drive force replaced by a held value `F` (N): `zd' += M^-1 b (F - F_base(t))`.
-/// Its parameters say `drive = F` (a constant), so exact stepping sees a time-invariant
-/// scene between two settings of the force.
-pub struct HeldForce {
+/// `base` with its drive input replaced by a held value: a force `F` (N) for a force-driven
+/// model (`zd' += M^-1 b (F - F_base(t))`), the vehicle's acceleration `a` (m/s^2) for a
+/// prescribed motion (`u'' = a`, the other coordinates feel `-M_p0 a`). Its parameters say
+/// `drive = F` (a constant) for a force, so exact stepping sees a time-invariant scene
+/// between two settings of the input; for a motion they keep the base's profile, and `auto`
+/// never picks exact stepping for a prescribed motion.
+pub struct HeldDrive {
     base: Box<dyn Model>,
     params: ModelParams,
     drive: DriveResponse,
-    force: f64,
+    input: f64,
 }
 
-impl HeldForce {
-    /// `base` with the force `force` (N) held.
+impl HeldDrive {
+    /// `base` with `input` held (N, or m/s^2 for a prescribed motion).
     ///
     /// # Errors
     /// [`crate::Error::Model`] when the mass matrix cannot be factored.
-    pub fn new(base: Box<dyn Model>, force: f64) -> Result<Self> {
-        let mut params = base.params().clone();
-        params.drive = Drive::Force(Profile::Constant(force));
+    pub fn new(base: Box<dyn Model>, input: f64) -> Result<Self> {
+        let params = base.params().clone();
         let drive = DriveResponse::of(base.as_ref())?;
-        Ok(HeldForce {
+        let mut held = HeldDrive {
             base,
             params,
             drive,
-            force,
-        })
+            input,
+        };
+        held.set_input(input);
+        Ok(held)
     }
 
-    /// The model whose force is held.
+    /// Holds `input` from now on.
+    pub fn set_input(&mut self, input: f64) {
+        self.input = input;
+        if let Drive::Force(_) = self.params.drive {
+            self.params.drive = Drive::Force(Profile::Constant(input));
+        }
+    }
+
+    /// The held input (N or m/s^2).
+    pub fn input(&self) -> f64 {
+        self.input
+    }
+
+    /// The model whose input is held.
     pub fn wrapped(&self) -> &dyn Model {
         self.base.as_ref()
     }
-
-    /// Holds `force` (N) from now on.
-    pub fn set_force(&mut self, force: f64) {
-        self.force = force;
-        self.params.drive = Drive::Force(Profile::Constant(force));
-    }
-
-    /// The held force (N).
-    pub fn force(&self) -> f64 {
-        self.force
-    }
 }
 
-impl Model for HeldForce {
+impl Model for HeldDrive {
     crate::wrapped::pass_through_model!();
     fn params(&self) -> &ModelParams {
         &self.params
     }
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
         self.drive
-            .rhs_with(self.base.as_ref(), t, y, states, self.force, ydot);
+            .rhs_with(self.base.as_ref(), t, y, states, self.input, ydot);
     }
     fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
         self.base.jacobian(t, y, states, jac);

@@ -1,7 +1,7 @@
 //! The nonlinear model as an FMI 2.0 FMU (`telescopic fmu`, docs/fmu.md): the variables of a
 //! scene ([`variables`]), its `modelDescription.xml` ([`description`]), the zip
-//! ([`write_fmu`]), and the model with a held drive force the FMU's shared library steps
-//! ([`held::HeldForce`]). The shared library itself is the crate `telescopic-fmu` (`fmu/`),
+//! ([`write_fmu`]), and the model with a held drive input the FMU's shared library steps
+//! ([`held::HeldDrive`]). The shared library itself is the crate `telescopic-fmu` (`fmu/`),
 //! which exports the FMI C functions over this library.
 //!
 //! ```

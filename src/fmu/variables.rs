@@ -4,13 +4,13 @@
 //!
 //! | value references | what |
 //! |---|---|
-//! | 0 | `F` (N), input: the drive force, held over a communication step |
-//! | 1 .. | the outputs of `telescopic simulate` (`vehicle`, `tip_rel`, `top1_rel`, gaps `xi_k_j`, contact forces `f_k_j`, `kappa_1_0`, `acc_load`) |
+//! | 0 | `F` (N), input: the drive force, held over a communication step (`a_vehicle`, m/s^2, the vehicle's acceleration, for a prescribed motion) |
+//! | 1 .. | the outputs of `telescopic simulate` (`vehicle`, `tip_rel`, `top1_rel`, gaps `xi_k_j`, contact forces `f_k_j`, `drive_force` for a prescribed motion, `kappa_1_0`, `acc_load`) |
 //! | then | parameters, named by their scene keys (`masses.load`, `contact.clearance`, ...) |
 //! | then | the continuous states (`u`, `q_1_2`, ..., `u_dot`, ...: docs/linear.md) |
 //! | then | their derivatives `der(u)`, ... |
 
-use crate::{Error, Result};
+use crate::Result;
 use telescopic_runtime::linear::state_names;
 use telescopic_runtime::sensors::SENSOR_OUTPUTS;
 use telescopic_runtime::{Drive, Layout, Scene, StructuralDamping};
@@ -93,27 +93,36 @@ impl FmuVariables {
     /// The variables of `scene`.
     ///
     /// # Errors
-    /// [`Error::Option`] for a scene an FMU cannot take: a prescribed vehicle motion.
+    /// None today; the `Result` leaves room for scenes an FMU cannot take.
     pub fn of(scene: &Scene) -> Result<Self> {
         let p = &scene.params;
-        if matches!(p.drive, Drive::Motion(_)) {
-            return Err(Error::option(
-                "fmu",
-                "the scene prescribes the vehicle's motion; the FMU's input is the drive \
-                 force F, so export a force-driven scene (drive.force)",
-            ));
-        }
+        let motion = matches!(p.drive, Drive::Motion(_));
         let layout = Layout::new(&p.modes(), p.contact_points);
+        let (input, unit, description, start) = if motion {
+            (
+                "a_vehicle",
+                "m/s2",
+                "the vehicle's acceleration, replacing the scene's prescribed motion",
+                p.drive_profile().acceleration(scene.time.start),
+            )
+        } else {
+            (
+                "F",
+                "N",
+                "drive force on the vehicle, replacing the scene's profile",
+                p.drive_profile().value(scene.time.start),
+            )
+        };
         let mut variables = vec![Variable {
-            name: "F".into(),
+            name: input.into(),
             reference: 0,
             causality: Causality::Input,
-            unit: "N".into(),
-            description: "drive force on the vehicle, replacing the scene's profile".into(),
-            start: Some(p.drive_profile().value(scene.time.start)),
+            unit: unit.into(),
+            description: description.into(),
+            start: Some(start),
             derivative_of: None,
         }];
-        let mut names = layout.output_names(false);
+        let mut names = layout.output_names(motion);
         names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
         for name in &names {
             variables.push(Variable {

@@ -58,7 +58,7 @@ pub fn fmu(args: &FmuArgs) -> anyhow::Result<()> {
     let library = library(args)?;
     write_fmu(&scene, &library, args.kind, &args.out)?;
     eprintln!(
-        "{}: FMI 2.0 FMU ({}) with input F, {} outputs, {} parameters, {} states, {} event \
+        "{}: FMI 2.0 FMU ({}) with input {}, {} outputs, {} parameters, {} states, {} event \
          indicators; library {}\nwrote {}",
         scene.name,
         match args.kind {
@@ -66,6 +66,7 @@ pub fn fmu(args: &FmuArgs) -> anyhow::Result<()> {
             FmuKind::ModelExchange => "model exchange",
             FmuKind::Both => "co-simulation and model exchange",
         },
+        vars.variables[0].name,
         vars.outputs,
         vars.parameters().count(),
         vars.states,
