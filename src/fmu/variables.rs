@@ -238,8 +238,17 @@ fn output_description(name: &str) -> String {
         "top1_rel" => "top of section 1 relative to the foot".into(),
         "kappa_1_0" => "bending curvature of section 1 at its foot".into(),
         "acc_load" => "absolute horizontal acceleration of the load".into(),
-        n if n.starts_with("xi_") => format!("gap at contact {}", &n[3..]),
-        n if n.starts_with("f_") => format!("force at contact {}", &n[2..]),
+        n if n.starts_with("xi_") => format!("gap {}", contact_words(&n[3..])),
+        n if n.starts_with("f_") => format!("force {}", contact_words(&n[2..])),
+        "drive_force" => "force the prescribed motion takes (the drive's reaction)".into(),
         n => n.to_string(),
+    }
+}
+
+/// `k_j` as `at contact j of overlap k` (docs/model.md section 5).
+fn contact_words(kj: &str) -> String {
+    match kj.split_once('_') {
+        Some((k, j)) => format!("at contact {j} of overlap {k}"),
+        None => format!("at contact {kj}"),
     }
 }
