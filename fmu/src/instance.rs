@@ -49,6 +49,10 @@ struct Running {
     xi: Vec<f64>,
     xi_dot: Vec<f64>,
     half_band: f64,
+    /// The model's own outputs (the sensors follow them).
+    own_outputs: usize,
+    /// The state at the end of a step, written by the integrator's observer.
+    last: Vec<f64>,
 }
 
 /// One FMU instance.
@@ -164,7 +168,10 @@ impl Instance {
         let n = model.dof();
         let nc = model.layout().contact_count();
         let outputs = self.vars.outputs;
+        let own_outputs = model.output_names().len();
         self.running = Some(Running {
+            own_outputs,
+            last: vec![0.0; 2 * n],
             sensors: Sensors::new(&model),
             y: rest_state(&model, self.time),
             half_band: self.scene.params.contact.half_band(),
@@ -311,7 +318,7 @@ impl Instance {
             end: t + h,
             sample: h,
         };
-        let mut last = r.y.clone();
+        let last = &mut r.last;
         simulate(
             &r.model,
             &r.y,
@@ -322,7 +329,7 @@ impl Instance {
             None,
         )
         .map_err(|e| format!("the step from t = {t} s to {} s failed: {e}", t + h))?;
-        r.y.copy_from_slice(&last);
+        r.y.copy_from_slice(&r.last);
         self.time = t + h;
         Ok(())
     }
@@ -426,8 +433,7 @@ impl Running {
     fn evaluate(&mut self, t: f64) {
         let n = self.model.dof();
         self.model.rhs(t, &self.y, None, &mut self.ydot);
-        let own = self.model.output_names().len();
-        let (model_out, sensor_out) = self.outputs.split_at_mut(own);
+        let (model_out, sensor_out) = self.outputs.split_at_mut(self.own_outputs);
         self.model.outputs(t, &self.y, &self.ydot, model_out);
         self.sensors.values(n, &self.y, &self.ydot, sensor_out);
     }
