@@ -144,6 +144,18 @@ fn generated_and_assembled_moments_agree_and_stresses_are_moment_over_modulus() 
         .flat_map(|s| generated.trajectory.column(&s.stress_name()).unwrap())
         .fold(0.0_f64, |m, v| m.max(v.abs()));
     assert_eq!(envelope.max_abs_stress, largest);
+    // and it names the station and the time where that stress stands
+    let column = generated
+        .trajectory
+        .index(&envelope.station.stress_name())
+        .unwrap();
+    let row = generated
+        .trajectory
+        .rows
+        .iter()
+        .find(|r| r[0] == envelope.t)
+        .unwrap();
+    assert_eq!(row[column], envelope.stress);
     assert!(
         generated.summary().contains("stress envelope"),
         "{}",

@@ -255,13 +255,6 @@ impl Instance {
         let states = self.vars.states;
         let outputs = self.vars.outputs;
         let (time, force) = (self.time, self.force);
-        let params: Vec<(u32, f64)> = self
-            .vars
-            .variables
-            .iter()
-            .filter(|v| v.causality == Causality::Parameter)
-            .map(|v| (v.reference, self.parameter_value(&v.name, v.start)))
-            .collect();
         if let Some(r) = &mut self.running {
             r.evaluate(time);
         }
@@ -279,11 +272,12 @@ impl Instance {
                     .running
                     .as_ref()
                     .map_or(0.0, |r| r.ydot[i - first_state - states]),
-                _ => params
-                    .iter()
-                    .find(|(r, _)| *r == vr)
-                    .map(|(_, v)| *v)
-                    .ok_or_else(|| format!("no variable has value reference {vr}"))?,
+                i => match self.vars.variables.get(i) {
+                    Some(v) if v.causality == Causality::Parameter => {
+                        self.parameter_value(&v.name, v.start)
+                    }
+                    _ => return Err(format!("no variable has value reference {vr}")),
+                },
             };
         }
         Ok(())

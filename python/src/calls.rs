@@ -26,17 +26,6 @@ where
     value.parse().map_err(|e| argument(name, e))
 }
 
-/// A finite positive number, or an error naming `name`.
-fn positive(name: &str, v: Option<f64>) -> PyResult<Option<f64>> {
-    match v {
-        Some(x) if !(x.is_finite() && x > 0.0) => Err(argument(
-            name,
-            format!("must be a finite number > 0 (got {x})"),
-        )),
-        _ => Ok(v),
-    }
-}
-
 /// A simulation for Python: `(columns, data, summary)`, `data` samples x (1 + columns).
 type SimulationData<'py> = (Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, PyDict>);
 
@@ -93,10 +82,10 @@ pub fn simulate<'py>(
 ) -> PyResult<SimulationData<'py>> {
     let options = SimulationOptions {
         method: parsed::<MethodChoice>("method", method)?,
-        rtol: positive("rtol", rtol)?,
-        atol: positive("atol", atol)?,
-        dt: positive("dt", dt)?,
-        accuracy: positive("accuracy", accuracy)?,
+        rtol,
+        atol,
+        dt,
+        accuracy,
         model: parsed::<ModelChoice>("model", model)?,
         stations: stations
             .unwrap_or_default()
@@ -329,9 +318,6 @@ pub fn sweep(
     jobs: Option<usize>,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(String, Vec<String>)> {
-    if jobs == Some(0) {
-        return Err(argument("jobs", "must be 1 or more"));
-    }
     let options = telescopic::sweep::SweepOptions {
         out: out.clone(),
         jobs: jobs.unwrap_or_else(|| {

@@ -46,9 +46,10 @@ pub fn to_python(error: telescopic::Error) -> PyErr {
             let _ = err.value(py).setattr("errors", fields);
             err
         }
-        Error::Option { option, .. } => {
-            let err = OptionError::new_err(message);
-            let _ = err.value(py).setattr("option", option.clone());
+        Error::Option { option, rule } => {
+            let argument = argument_name(option);
+            let err = OptionError::new_err(format!("{argument}: {rule}"));
+            let _ = err.value(py).setattr("option", argument);
             err
         }
         Error::Simulation { error: sim, .. } => {
@@ -62,6 +63,20 @@ pub fn to_python(error: telescopic::Error) -> PyErr {
         Error::Unaffordable { .. } | Error::NonFiniteOutput { .. } => SolverError::new_err(message),
         _ => TelescopicError::new_err(message),
     })
+}
+
+/// The Python argument of a library option name (`SimulationOptions::rtol/atol` ->
+/// `rtol/atol`, `DesignOptions::kind` -> `controller`): what the package's functions call it.
+fn argument_name(option: &str) -> String {
+    match option {
+        "DesignOptions::kind" => "controller".into(),
+        o => match o.split_once("::") {
+            Some((holder, field)) if holder.ends_with("Options") || holder == "Settings" => {
+                field.to_string()
+            }
+            _ => o.to_string(),
+        },
+    }
 }
 
 /// An argument error naming `argument`.

@@ -4,7 +4,9 @@
 //! contact damping), each matched to the undamped mode of [`crate::modal_analysis`] nearest
 //! in `|lambda| = omega`.
 
-use crate::eigen::{EigenError, ModalAnalysis, closed_contact_stiffness, eigenvalues};
+use crate::eigen::{
+    EigenError, ModalAnalysis, closed_contact_damping, closed_contact_stiffness, eigenvalues,
+};
 use crate::model::Model;
 use crate::params::Drive;
 use nalgebra::DMatrix;
@@ -27,23 +29,6 @@ pub struct DampedMode {
 /// Largest relative mismatch of `|lambda|` and `omega` at which an eigenvalue pair counts as
 /// the undamped mode's.
 const MATCH_TOLERANCE: f64 = 0.2;
-
-/// The total damping matrix at time `t` (s): structural plus closed contacts'.
-pub fn closed_contact_damping(model: &dyn Model, t: f64) -> DMatrix<f64> {
-    let n = model.dof();
-    let nc = model.layout().contact_count();
-    let mut d = model
-        .damping_matrix()
-        .cloned()
-        .unwrap_or_else(|| DMatrix::zeros(n, n));
-    if nc > 0 {
-        let mut g = DMatrix::zeros(n, nc);
-        let mut gdot = DMatrix::zeros(n, nc);
-        model.contact_vectors(t, &mut g, &mut gdot);
-        d += model.params().contact.damping * &g * g.transpose();
-    }
-    d
-}
 
 /// The damping of every mode of `analysis` (computed by [`crate::modal_analysis`] of `model`
 /// at `analysis.time`).

@@ -103,6 +103,24 @@ pub fn closed_contact_stiffness(model: &dyn Model, t: f64) -> DMatrix<f64> {
     k
 }
 
+/// `D = D_s + d sum_c g_c g_c'` at time `t` (s): the structural damping and the closed
+/// contacts' (N s/m in computing coordinates).
+pub fn closed_contact_damping(model: &dyn Model, t: f64) -> DMatrix<f64> {
+    let n = model.dof();
+    let nc = model.layout().contact_count();
+    let mut d = model
+        .damping_matrix()
+        .cloned()
+        .unwrap_or_else(|| DMatrix::zeros(n, n));
+    if nc > 0 {
+        let mut g = DMatrix::zeros(n, nc);
+        let mut gdot = DMatrix::zeros(n, nc);
+        model.contact_vectors(t, &mut g, &mut gdot);
+        d += model.params().contact.damping * &g * g.transpose();
+    }
+    d
+}
+
 /// Natural frequencies and mode shapes at time `t` (s) with closed contacts.
 ///
 /// # Errors
@@ -329,8 +347,6 @@ fn largest_pencil_eigenvalue(a: &DMatrix<f64>, l: &DMatrix<f64>) -> Option<f64> 
 /// # Errors
 /// [`EigenError::MassNotPositiveDefinite`], or [`EigenError::NoConvergence`].
 pub fn fastest_rates(model: &dyn Model, t: f64) -> Result<FastestRates, EigenError> {
-    let n = model.dof();
-    let nc = model.layout().contact_count();
     let chol = model
         .mass_matrix()
         .clone()
@@ -341,22 +357,11 @@ pub fn fastest_rates(model: &dyn Model, t: f64) -> Result<FastestRates, EigenErr
     let omega2 = largest_pencil_eigenvalue(&k, &l).ok_or(EigenError::NoConvergence {
         operation: "largest eigenvalue of (K_eff, M)",
     })?;
-    let mut damping_rate = 0.0;
-    let d = model.params().contact.damping;
-    let mut damping = model.damping_matrix().cloned();
-    if nc > 0 && d > 0.0 {
-        let mut g = DMatrix::zeros(n, nc);
-        let mut gdot = DMatrix::zeros(n, nc);
-        model.contact_vectors(t, &mut g, &mut gdot);
-        let contacts = d * &g * g.transpose();
-        damping = Some(damping.map_or(contacts.clone(), |ds| ds + contacts));
-    }
-    if let Some(damping) = damping {
-        damping_rate =
-            largest_pencil_eigenvalue(&damping, &l).ok_or(EigenError::NoConvergence {
-                operation: "largest eigenvalue of (D, M)",
-            })?;
-    }
+    let damping_rate = largest_pencil_eigenvalue(&closed_contact_damping(model, t), &l).ok_or(
+        EigenError::NoConvergence {
+            operation: "largest eigenvalue of (D, M)",
+        },
+    )?;
     Ok(FastestRates {
         time: t,
         omega_max: omega2.max(0.0).sqrt(),

@@ -54,8 +54,8 @@ pub use damping::{
     CONTACT_MODE_SHARE, StructuralDamping, contact_energy_shares, structural_damping,
 };
 pub use eigen::{
-    EigenError, FastestRates, ModalAnalysis, closed_contact_eigenvalues, eigenvalues,
-    fastest_rates, modal_analysis, modal_analysis_with, sample_shape,
+    EigenError, FastestRates, ModalAnalysis, closed_contact_damping, closed_contact_eigenvalues,
+    eigenvalues, fastest_rates, modal_analysis, modal_analysis_with, sample_shape,
 };
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};

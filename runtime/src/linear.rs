@@ -32,7 +32,7 @@
 use crate::eigen::EigenError;
 use crate::model::Model;
 use crate::params::Drive;
-use crate::sensors::Sensors;
+use crate::sensors::{SENSOR_OUTPUTS, Sensors};
 use nalgebra::DMatrix;
 
 /// How the contacts enter a linear model.
@@ -230,36 +230,15 @@ impl<'m> Lpv<'m> {
         } else {
             signal("F".into(), "N", "drive force on the vehicle".into())
         }];
-        let mut outputs = vec![
-            signal("vehicle".into(), "m", "vehicle position w_1(0,t)".into()),
-            signal(
-                "tip_rel".into(),
-                "m",
-                "load relative to the foot, w_n(l_n,t) - w_1(0,t)".into(),
-            ),
-            signal(
-                "top1_rel".into(),
-                "m",
-                "top of section 1 relative to the foot, w_1(l_1,t) - w_1(0,t)".into(),
-            ),
-        ];
-        for c in layout.contacts() {
-            outputs.push(signal(
-                format!("xi_{}_{}", c.overlap, c.point),
-                "m",
-                format!("gap at contact {} of overlap {}", c.point, c.overlap),
-            ));
-        }
-        if contacts == ContactMode::Closed {
-            for c in layout.contacts() {
-                outputs.push(signal(
-                    format!("f_{}_{}", c.overlap, c.point),
-                    "N",
-                    format!("force at contact {} of overlap {}", c.point, c.overlap),
-                ));
-            }
-        }
-        outputs.extend(sensor_signals());
+        // the contact forces only with closed contacts, no drive_force (the input)
+        let outputs = layout
+            .output_names(false)
+            .iter()
+            .map(String::as_str)
+            .filter(|name| contacts == ContactMode::Closed || !name.starts_with("f_"))
+            .chain(SENSOR_OUTPUTS)
+            .map(output_signal)
+            .collect();
         let sensors = Sensors::new(model);
         Ok(Lpv {
             model,
@@ -478,22 +457,43 @@ impl<'m> Lpv<'m> {
     }
 }
 
-/// The sensor outputs, last of every linear model's outputs.
-fn sensor_signals() -> [Signal; 2] {
-    [
-        Signal {
-            name: "kappa_1_0".into(),
-            unit: "1/m".into(),
-            description: "bending curvature of section 1 at its foot, w_1''(0,t) (a strain \
-                          gauge reads it times half the section's height)"
-                .into(),
-        },
-        Signal {
-            name: "acc_load".into(),
-            unit: "m/s^2".into(),
-            description: "absolute horizontal acceleration of the load, d^2/dt^2 w_n(l_n,t)".into(),
-        },
-    ]
+/// The unit and description of an output of a run or a linear model, by its name
+/// (docs/model.md section 5): `vehicle`, `tip_rel`, `top1_rel`, `xi_k_j`, `f_k_j`,
+/// `drive_force`, `kappa_1_0`, `acc_load`.
+pub fn output_signal(name: &str) -> Signal {
+    let contact = |kj: &str| match kj.split_once('_') {
+        Some((k, j)) => format!("contact {j} of overlap {k}"),
+        None => format!("contact {kj}"),
+    };
+    let (unit, description) = match name {
+        "vehicle" => ("m", "vehicle position w_1(0,t)".to_string()),
+        "tip_rel" => (
+            "m",
+            "load relative to the foot, w_n(l_n,t) - w_1(0,t)".to_string(),
+        ),
+        "top1_rel" => (
+            "m",
+            "top of section 1 relative to the foot, w_1(l_1,t) - w_1(0,t)".to_string(),
+        ),
+        "drive_force" => (
+            "N",
+            "force the prescribed motion takes (the drive's reaction)".into(),
+        ),
+        "kappa_1_0" => (
+            "1/m",
+            "bending curvature of section 1 at its foot, w_1''(0,t) (a strain gauge reads it \
+             times half the section's height)"
+                .to_string(),
+        ),
+        "acc_load" => (
+            "m/s^2",
+            "absolute horizontal acceleration of the load, d^2/dt^2 w_n(l_n,t)".to_string(),
+        ),
+        n if n.starts_with("xi_") => ("m", format!("gap at {}", contact(&n[3..]))),
+        n if n.starts_with("f_") => ("N", format!("force at {}", contact(&n[2..]))),
+        n => ("", n.to_string()),
+    };
+    signal(name.to_string(), unit, description)
 }
 
 /// The name of generalized coordinate `i` of section `k` (both 1-based): `u` (the vehicle),

@@ -55,7 +55,7 @@ fn escape(text: &str) -> String {
 /// As [`FmuVariables::of`].
 pub fn model_description(scene: &Scene, kind: FmuKind) -> Result<String> {
     let vars = FmuVariables::of(scene)?;
-    let guid = scene_guid(scene)?;
+    let guid = guid(&description_body(scene, &vars, FmuKind::Both));
     Ok(description_body(scene, &vars, kind).replace("{GUID}", &guid))
 }
 

@@ -11,7 +11,7 @@
 //! | then | their derivatives `der(u)`, ... |
 
 use crate::Result;
-use telescopic_runtime::linear::state_names;
+use telescopic_runtime::linear::{output_signal, state_names};
 use telescopic_runtime::sensors::SENSOR_OUTPUTS;
 use telescopic_runtime::{Drive, Layout, Scene, StructuralDamping};
 
@@ -125,11 +125,13 @@ impl FmuVariables {
         let mut names = layout.output_names(motion);
         names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
         for name in &names {
+            let signal = output_signal(name);
             variables.push(Variable {
                 reference: variables.len() as u32,
                 causality: Causality::Output,
-                unit: output_unit(name).into(),
-                description: output_description(name),
+                // FMI's unit names have no caret
+                unit: signal.unit.replace('^', ""),
+                description: signal.description,
                 start: None,
                 derivative_of: None,
                 name: name.clone(),
@@ -217,38 +219,5 @@ fn parameter_value(scene: &Scene, key: &str) -> Option<f64> {
             _ => None,
         },
         _ => None,
-    }
-}
-
-/// The SI unit of an output (FMI unit names).
-fn output_unit(name: &str) -> &'static str {
-    match name {
-        n if n.starts_with("f_") || n == "drive_force" => "N",
-        "kappa_1_0" => "1/m",
-        "acc_load" => "m/s2",
-        _ => "m",
-    }
-}
-
-/// What an output is (docs/model.md section 5).
-fn output_description(name: &str) -> String {
-    match name {
-        "vehicle" => "vehicle position w_1(0,t)".into(),
-        "tip_rel" => "load relative to the foot, w_n(l_n,t) - w_1(0,t)".into(),
-        "top1_rel" => "top of section 1 relative to the foot".into(),
-        "kappa_1_0" => "bending curvature of section 1 at its foot".into(),
-        "acc_load" => "absolute horizontal acceleration of the load".into(),
-        n if n.starts_with("xi_") => format!("gap {}", contact_words(&n[3..])),
-        n if n.starts_with("f_") => format!("force {}", contact_words(&n[2..])),
-        "drive_force" => "force the prescribed motion takes (the drive's reaction)".into(),
-        n => n.to_string(),
-    }
-}
-
-/// `k_j` as `at contact j of overlap k` (docs/model.md section 5).
-fn contact_words(kj: &str) -> String {
-    match kj.split_once('_') {
-        Some((k, j)) => format!("at contact {j} of overlap {k}"),
-        None => format!("at contact {kj}"),
     }
 }
