@@ -68,10 +68,9 @@ fn the_strain_rate_law_damps_case_study_with_clearance_from_the_machine_sensors(
         Controller::from_json(&controller.to_json()).unwrap(),
         controller
     );
-    // measured 8.0x at 172 N and +0.20 % travel (docs/control.md); the 10x is not
-    // reached on this window (the shaped braking lasts until 13.3 s)
+    // measured 18.5x at 188 N and +0.18 % travel (docs/control.md): the 10x
     let (reduction, peak, travel) = run(&nominal, &controller);
-    assert!(reduction >= 7.0, "{reduction}x");
+    assert!(reduction >= 10.0, "{reduction}x");
     assert!(peak <= 300.0 + 1e-9, "{peak} N");
     assert!(travel.abs() <= 0.01, "travel {travel}");
 }
@@ -79,16 +78,21 @@ fn the_strain_rate_law_damps_case_study_with_clearance_from_the_machine_sensors(
 #[test]
 fn the_strain_rate_law_holds_on_plants_it_was_not_designed_for() {
     let controller = design(&scene(&[]), &sensors()).unwrap();
-    // measured 7.1x, 10.7x and 7.8x (docs/control.md): at least 5x each within the limit
+    // measured 5.2x, 18.0x, 21.6x, 18.0x and 5.3x (docs/control.md): at least 5x each
+    // within the limit; the travel within 1 % of that plant's open loop except for the
+    // heavier load, which the vehicle loop drives to the nominal rigid travel (+9.3 %)
     for change in [
+        "masses.load=30",
         "contact.clearance=0.005",
         "contact.clearance=0.02",
         "contact.stiffness=0.11875e9",
+        "sections.youngs_modulus=1.89e11",
     ] {
         let (reduction, peak, travel) = run(&scene(&[change]), &controller);
         assert!(reduction >= 5.0, "{change}: {reduction}x");
         assert!(peak <= 300.0 + 1e-9, "{change}: {peak} N");
-        assert!(travel.abs() <= 0.01, "{change}: travel {travel}");
+        let bound = if change.starts_with("masses.load") { 0.1 } else { 0.01 };
+        assert!(travel.abs() <= bound, "{change}: travel {travel}");
     }
 }
 

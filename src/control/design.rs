@@ -15,7 +15,7 @@
 //! linearly in the moving position between the grid points.
 
 use super::riccati::care;
-use super::shaper::{ShaperKind, jumps, shape};
+use super::shaper::{ShaperKind, ShaperTiming, jumps, shape, shape_within};
 use crate::linear::Grid;
 use crate::models::{ModelChoice, ModelRegistry};
 use crate::rows::to_rows;
@@ -90,6 +90,8 @@ pub struct DesignOptions {
     pub design_modes: usize,
     /// The shaper's kind (default ZVD).
     pub shaper: ShaperKind,
+    /// Where the shaped trains sit: inside the profile's span (default) or after each jump.
+    pub shaper_timing: ShaperTiming,
     /// Kalman filter: standard deviation of the measurement noise of `vehicle` and
     /// `tip_rel` (m; default 1e-3).
     pub sensor_noise: f64,
@@ -130,6 +132,7 @@ impl Default for DesignOptions {
             grid_points: 5,
             design_modes: 3,
             shaper: ShaperKind::Zvd,
+            shaper_timing: ShaperTiming::Within,
             sensor_noise: 1e-3,
             force_noise: 30.0,
             model: ModelChoice::Auto,
@@ -254,12 +257,20 @@ pub struct Controller {
     pub schedule: Vec<SchedulePoint>,
     /// The shaper, if any.
     pub shaper: Option<ShaperKind>,
+    /// Where its trains sit (files before 2026-11-25: `delayed`).
+    #[serde(default = "delayed_timing")]
+    pub shaper_timing: ShaperTiming,
     /// The feedforward force: the drive profile, shaped or not.
     pub feedforward: Profile,
     /// The sampled output-feedback part: sensors, rate and discrete Kalman filters (absent
     /// for a continuous full-state controller).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sampled: Option<super::sampled::SampledDesign>,
+}
+
+/// The timing of controller files written before the timing was a setting.
+fn delayed_timing() -> ShaperTiming {
+    ShaperTiming::Delayed
 }
 
 /// The first elastic mode of `A`: frequency (Hz) and damping ratio, from the eigenvalue pair
@@ -432,7 +443,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         schedule.push(point);
     }
     let states: Vec<String> = lpv.states().iter().map(|s| s.name.clone()).collect();
-    let feedforward = feedforward(scene, force, &schedule, parameter, options)?;
+    let (feedforward, shaper_timing) = feedforward(scene, force, &schedule, parameter, options)?;
     let mut controller = Controller {
         format: "telescopic controller".into(),
         version: 1,
@@ -448,6 +459,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         schedule_parameter: parameter.map(|k| format!("a_{k}")),
         schedule,
         shaper: options.kind.has_shaper().then_some(options.shaper),
+        shaper_timing,
         feedforward,
         sampled: None,
     };
@@ -759,33 +771,38 @@ fn design_point(
 }
 
 /// The shaped feed-forward force (the scene's force when the variant has no shaper), the
-/// shaper tuned to the scheduled first mode.
+/// shaper tuned to the scheduled first mode, and the timing its trains got (`within` falls
+/// back to `delayed` for a profile that is not rest to rest or too short for its trains).
 fn feedforward(
     scene: &Scene,
     force: &Profile,
     schedule: &[SchedulePoint],
     parameter: Option<usize>,
     options: &DesignOptions,
-) -> Result<Profile> {
-    Ok(if options.kind.has_shaper() {
-        let j =
-            jumps(force, scene.time.start).map_err(|e| Error::option("DesignOptions::kind", e))?;
-        let scheduled: Vec<f64> = parameter.map_or_else(
-            || vec![0.0; schedule.len()],
-            |k| schedule.iter().map(|p| p.positions[k - 2]).collect(),
-        );
-        let at = |t: f64| -> (f64, f64) {
-            let (a, b, w) = schedule_weights(&scheduled, parameter, &scene.params.positions, t);
-            let lerp = |x: f64, y: f64| x + w * (y - x);
-            let (pa, pb) = (&schedule[a], &schedule[b]);
-            (
-                2.0 * std::f64::consts::PI * lerp(pa.first_mode_hz, pb.first_mode_hz),
-                lerp(pa.first_mode_damping, pb.first_mode_damping),
-            )
-        };
-        shape(&j, options.shaper, at)
-    } else {
-        force.clone()
+) -> Result<(Profile, ShaperTiming)> {
+    if !options.kind.has_shaper() {
+        return Ok((force.clone(), options.shaper_timing));
+    }
+    let j = jumps(force, scene.time.start).map_err(|e| Error::option("DesignOptions::kind", e))?;
+    let scheduled: Vec<f64> = parameter.map_or_else(
+        || vec![0.0; schedule.len()],
+        |k| schedule.iter().map(|p| p.positions[k - 2]).collect(),
+    );
+    let at = |t: f64| -> (f64, f64) {
+        let (a, b, w) = schedule_weights(&scheduled, parameter, &scene.params.positions, t);
+        let lerp = |x: f64, y: f64| x + w * (y - x);
+        let (pa, pb) = (&schedule[a], &schedule[b]);
+        (
+            2.0 * std::f64::consts::PI * lerp(pa.first_mode_hz, pb.first_mode_hz),
+            lerp(pa.first_mode_damping, pb.first_mode_damping),
+        )
+    };
+    Ok(match options.shaper_timing {
+        ShaperTiming::Delayed => (shape(&j, options.shaper, at), ShaperTiming::Delayed),
+        ShaperTiming::Within => match shape_within(&j, options.shaper, at) {
+            (profile, None) => (profile, ShaperTiming::Within),
+            (profile, Some(_)) => (profile, ShaperTiming::Delayed),
+        },
     })
 }
 

@@ -28,7 +28,7 @@ pub mod strain;
 
 pub use controlled::{ControlLaw, Controlled, Observed};
 pub use design::{Controller, ControllerKind, DesignOptions, design};
-pub use shaper::ShaperKind;
+pub use shaper::{ShaperKind, ShaperTiming};
 
 use crate::metrics::{RunMetrics, drive_stop, metrics};
 use crate::report::Reporter;

@@ -76,19 +76,109 @@ pub fn shape(jumps: &[(f64, f64)], kind: ShaperKind, mode: impl Fn(f64) -> (f64,
     let mut shaped: Vec<(f64, f64)> = Vec::new();
     // every train's mean delay is the first one's: a common delay keeps the rigid travel
     // (to first order) whatever the local frequency, and the first train starts at its jump
-    let mean = |imp: &[(f64, f64)]| imp.iter().map(|(a, d)| a * d).sum::<f64>();
     let common = jumps.first().map_or(0.0, |&(t0, _)| {
         let (omega, zeta) = mode(t0);
-        mean(&impulses(kind, omega, zeta))
+        mean_delay(&impulses(kind, omega, zeta))
     });
     for &(t, d) in jumps {
         let (omega, zeta) = mode(t);
         let imp = impulses(kind, omega, zeta);
-        let shift = common - mean(&imp);
+        let shift = common - mean_delay(&imp);
         for (amplitude, delay) in imp {
             shaped.push((t + delay + shift, amplitude * d));
         }
     }
+    levels(shaped)
+}
+
+/// How a shaped profile is placed in time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShaperTiming {
+    /// Every train after its jump, with a common mean delay ([`shape`]): the shaped profile
+    /// ends up to one damped period after the original's last change.
+    Delayed,
+    /// Inside the original's span ([`shape_within`]): the first train starts at the first
+    /// jump, the last ends at the last jump; the rest-to-rest travel is kept.
+    #[default]
+    Within,
+}
+
+crate::named::named_enum!(ShaperTiming, "a shaper timing", {
+    Delayed => "delayed",
+    Within => "within",
+});
+
+/// The shaped force inside the original profile's span, for a rest-to-rest profile (the
+/// force ends at zero, `sum dF = 0`, and so does the velocity, `sum dF t = 0`): the jump
+/// times are mapped by `tau = tau_1 + c (t - t_1)` so that the first train starts at the
+/// first jump and the last train ends at the last jump, every train centred on its `tau`
+/// (its mean delay) and scaled by `1 / c^2`. The compression by `c` and that scale keep
+/// the rest-to-rest property and the rigid travel `sum dF t^2 / (2 m)` exactly (up to the
+/// trains' own spread, as for [`shape`]). Any other profile, or one too short for its
+/// trains, is shaped by [`shape`], and the reason comes with it.
+pub fn shape_within(
+    jumps: &[(f64, f64)],
+    kind: ShaperKind,
+    mode: impl Fn(f64) -> (f64, f64),
+) -> (Profile, Option<&'static str>) {
+    let train = |t: f64| {
+        let (omega, zeta) = mode(t);
+        let imp = impulses(kind, omega, zeta);
+        let mean = mean_delay(&imp);
+        (imp, mean)
+    };
+    let (Some(&(t_first, _)), Some(&(t_last, _))) = (jumps.first(), jumps.last()) else {
+        return (Profile::Constant(0.0), None);
+    };
+    let scale = jumps.iter().map(|(_, d)| d.abs()).fold(0.0, f64::max);
+    let force_end: f64 = jumps.iter().map(|(_, d)| d).sum();
+    let velocity_end: f64 = jumps.iter().map(|(t, d)| d * (t - t_first)).sum();
+    let span = t_last - t_first;
+    if jumps.len() < 2
+        || force_end.abs() > 1e-9 * scale
+        || velocity_end.abs() > 1e-9 * scale * span
+    {
+        let why = "the profile is not rest to rest (its force or its velocity does not end                    at zero): shaped with delayed trains";
+        return (shape(jumps, kind, mode), Some(why));
+    }
+    let tau_first = t_first + train(t_first).1;
+    // the last train ends at the last jump: its centre sits its spread after the mean
+    let mut tau_last = t_last;
+    for _ in 0..3 {
+        let (imp, mean) = train(tau_last);
+        tau_last = t_last - (imp.last().map_or(0.0, |&(_, d)| d) - mean);
+    }
+    if tau_last <= tau_first + 0.1 * span {
+        let why = "the profile is too short for its trains: shaped with delayed trains";
+        return (shape(jumps, kind, mode), Some(why));
+    }
+    let c = (tau_last - tau_first) / span;
+    let mut shaped: Vec<(f64, f64)> = Vec::new();
+    for &(t, d) in jumps {
+        let tau = tau_first + c * (t - t_first);
+        let (imp, mean) = train(tau);
+        for (amplitude, delay) in imp {
+            shaped.push((tau + delay - mean, amplitude * d / (c * c)));
+        }
+    }
+    // the ends exactly at the original's, not at the rounding of the map
+    if let Some(first) = shaped.iter_mut().min_by(|a, b| a.0.total_cmp(&b.0)) {
+        first.0 = first.0.max(t_first);
+    }
+    if let Some(last) = shaped.iter_mut().max_by(|a, b| a.0.total_cmp(&b.0)) {
+        last.0 = last.0.min(t_last);
+    }
+    (levels(shaped), None)
+}
+
+/// Mean delay (s) of a train of impulses whose amplitudes sum to one.
+fn mean_delay(imp: &[(f64, f64)]) -> f64 {
+    imp.iter().map(|(a, d)| a * d).sum()
+}
+
+/// The piecewise-constant profile of the jumps `(time, change)`, zero before the first.
+fn levels(mut shaped: Vec<(f64, f64)>) -> Profile {
     shaped.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut times: Vec<f64> = Vec::new();
     let mut values: Vec<f64> = Vec::new();
@@ -161,5 +251,67 @@ mod tests {
         assert!(shaped.value(14.0).abs() < 1e-12);
         // inside the first transition: a quarter of the force
         assert!((shaped.value(0.2) - 25.0).abs() < 1e-12);
+    }
+
+    /// Rigid final velocity and position (per unit mass) of a piecewise-constant force that
+    /// ends at zero, from its jumps: the exact double integral.
+    fn rigid_end(profile: &Profile, end: f64) -> (f64, f64) {
+        let Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values }) = profile else {
+            panic!("piecewise constant");
+        };
+        let (mut level, mut v, mut x) = (0.0, 0.0, 0.0);
+        for (i, &t) in times.iter().enumerate() {
+            let dt = times.get(i + 1).copied().unwrap_or(end) - t;
+            level = values[i];
+            x += v * dt + 0.5 * level * dt * dt;
+            v += level * dt;
+        }
+        assert_eq!(level, values[values.len() - 1]);
+        (v, x)
+    }
+
+    #[test]
+    fn trains_within_the_span_keep_the_rest_to_rest_travel_and_cancel_the_mode() {
+        let profile = Profile::Shaped(ShapedProfile::PiecewiseConstant {
+            times: vec![0.0, 4.0, 8.0, 12.0],
+            values: vec![100.0, 0.0, -100.0, 0.0],
+        });
+        let j = jumps(&profile, 0.0).unwrap();
+        let omega = 2.0 * PI * 0.8;
+        for kind in [ShaperKind::Zv, ShaperKind::Zvd] {
+            let (within, why) = shape_within(&j, kind, |_| (omega, 0.0));
+            assert!(why.is_none(), "{why:?}");
+            let delayed = shape(&j, kind, |_| (omega, 0.0));
+            // the original's span: nothing before 0 s, the force back at zero by 12 s, where
+            // the delayed trains still brake
+            assert_eq!(within.value(-1e-9), 0.0);
+            assert!(within.value(12.0).abs() < 1e-9, "{kind}: {}", within.value(12.0));
+            assert!(delayed.value(12.0).abs() > 10.0);
+            // rest to rest, and the rigid travel of the original (per unit mass)
+            let (v0, x0) = rigid_end(&profile, 20.0);
+            let (v, x) = rigid_end(&within, 20.0);
+            assert!(v0.abs() < 1e-9 && v.abs() < 1e-9, "{kind}: {v0}, {v}");
+            assert!((x - x0).abs() < 1e-9 * x0.abs(), "{kind}: {x} against {x0}");
+            // an undamped oscillator at the mode is left at rest after 12 s: the sum of its
+            // step responses' phasors vanishes, where the original leaves an amplitude
+            let phasor = |p: &Profile| {
+                let Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values }) = p
+                else {
+                    panic!("piecewise constant");
+                };
+                let steps = (0..times.len()).map(|i| {
+                    let before = if i == 0 { 0.0 } else { values[i - 1] };
+                    (values[i] - before, times[i])
+                });
+                residual(&steps.collect::<Vec<_>>(), omega)
+            };
+            assert!(phasor(&within) < 1e-9 * 100.0, "{kind}: {}", phasor(&within));
+            assert!(phasor(&profile) > 10.0);
+        }
+        // a profile that is not rest to rest keeps the delayed trains, and says so
+        let coasting = vec![(0.0, 100.0), (4.0, -100.0)];
+        let (p, why) = shape_within(&coasting, ShaperKind::Zvd, |_| (omega, 0.0));
+        assert!(why.is_some_and(|w| w.contains("rest to rest")));
+        assert_eq!(p, shape(&coasting, ShaperKind::Zvd, |_| (omega, 0.0)));
     }
 }

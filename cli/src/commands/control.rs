@@ -150,6 +150,10 @@ pub struct DesignArgs {
     /// The shaper: zv or zvd.
     #[arg(long, default_value = "zvd", value_name = "KIND")]
     pub shaper: telescopic::control::ShaperKind,
+    /// Where the shaper's trains sit: within (inside the profile's span, its rest-to-rest
+    /// travel kept; the default) or delayed (after each jump, ending up to a period late).
+    #[arg(long, default_value = "within", value_name = "TIMING")]
+    pub shaper_timing: telescopic::control::ShaperTiming,
     /// Kalman filter (lqr+shaper+kalman): measurement noise of vehicle and tip_rel (m).
     #[arg(long, default_value_t = DesignOptions::default().sensor_noise, value_name = "M")]
     pub sensor_noise: f64,
@@ -213,6 +217,7 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         grid_points: args.grid_points,
         design_modes: args.design_modes,
         shaper: args.shaper,
+        shaper_timing: args.shaper_timing,
         sensor_noise: args.sensor_noise,
         force_noise: args.force_noise,
         sensors: args.sensors.clone(),
@@ -231,6 +236,13 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         }
     }
     let controller = telescopic::control::design(&scene, &options)?;
+    if controller.shaper.is_some() && controller.shaper_timing != options.shaper_timing {
+        eprintln!(
+            "note: the shaper's trains are {} (asked: {}): the drive profile is not rest to rest \
+             (force and velocity back at zero) or too short for its trains",
+            controller.shaper_timing, options.shaper_timing
+        );
+    }
     if let Some(dir) = &args.emit_c {
         telescopic::control::emit_c::write_c(&controller, scene.time.start, scene.time.end, dir)?;
         eprintln!(
