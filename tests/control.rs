@@ -576,7 +576,7 @@ fn the_extended_filter_matches_the_full_state_law_without_clearance() {
 
 #[test]
 fn the_load_accelerometer_at_10_khz_damps_the_case_study_with_clearance() {
-    // above twice the contact modes the accelerometer's signal is not aliased: measured 3.7x
+    // above twice the contact modes the accelerometer's signal is not aliased: measured 3.5x
     // at 10 kHz on the nominal plant (docs/control.md); a regression guard, not a target
     let plant = scene("case-study", &[]);
     let controller = design(

@@ -271,7 +271,7 @@ pub fn linearize<'py>(
 /// Designs a controller; returns its JSON (see `telescopic.design`).
 #[pyfunction]
 #[pyo3(signature = (scene, controller = "lqr+shaper", force_limit = 300.0, sensors = None,
-    rate_hz = None, law = None, model = "auto", progress = None))]
+    rate_hz = None, law = None, shaper_timing = "within", model = "auto", progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn design(
     py: Python<'_>,
@@ -281,6 +281,7 @@ pub fn design(
     sensors: Option<Vec<String>>,
     rate_hz: Option<f64>,
     law: Option<String>,
+    shaper_timing: &str,
     model: &str,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
@@ -291,6 +292,7 @@ pub fn design(
         sensors: sensors.unwrap_or(defaults.sensors.clone()),
         rate_hz: rate_hz.unwrap_or(defaults.rate_hz),
         law: law.unwrap_or(defaults.law.clone()),
+        shaper_timing: parsed("shaper_timing", shaper_timing)?,
         model: parsed("model", model)?,
         ..defaults
     };

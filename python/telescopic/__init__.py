@@ -307,12 +307,15 @@ def design(
     sensors: Sequence[str] | None = None,
     rate_hz: float | None = None,
     law: str | None = None,
+    shaper_timing: str = "within",
     model: str = "auto",
     progress: Any = None,
 ) -> Controller:
     """Designs a vibration-suppressing controller (``telescopic design``): ``lqr``,
     ``shaper``, ``lqr+shaper`` or ``lqr+shaper+kalman``; with ``sensors`` (e.g.
-    ``["vehicle", "kappa_1_0"]``) a sampled output-feedback controller at ``rate_hz``."""
+    ``["vehicle", "kappa_1_0"]``) a sampled output-feedback controller at ``rate_hz``;
+    ``shaper_timing`` ``within`` (the shaper's trains inside the profile's span) or
+    ``delayed``."""
     text = _telescopic.design(
         scene,
         controller=controller,
@@ -320,6 +323,7 @@ def design(
         sensors=list(sensors) if sensors is not None else None,
         rate_hz=rate_hz,
         law=law,
+        shaper_timing=shaper_timing,
         model=model,
         progress=_progress(progress),
     )

@@ -100,6 +100,7 @@ def design(
     sensors: list[str] | None = None,
     rate_hz: float | None = None,
     law: str | None = None,
+    shaper_timing: str = "within",
     model: str = "auto",
     progress: Callable[[float], None] | None = None,
 ) -> str:

@@ -57,6 +57,8 @@ def test_other_arguments_are_checked():
         telescopic.linearize(scene, positions={"b2": 0.8})
     with pytest.raises(telescopic.OptionError, match="controller"):
         telescopic.design(scene, controller="pid")
+    with pytest.raises(telescopic.OptionError, match="shaper_timing"):
+        telescopic.design(scene, shaper_timing="early")
     with pytest.raises(telescopic.OptionError, match="format"):
         telescopic.equations(scene, format="pdf")
     with pytest.raises(telescopic.OptionError, match="jobs"):

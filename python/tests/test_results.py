@@ -118,6 +118,16 @@ def test_progress_reaches_one_and_a_controller_round_trips():
     assert fractions and fractions[-1] == 1.0
     assert all(b >= a for a, b in zip(fractions, fractions[1:]))
     c = telescopic.design(scene, controller="shaper")
+    # the shaped force is back at zero by the profile's last change (12 s), and with the
+    # delayed trains it is not
+    within = json.loads(c.to_json())
+    assert within["shaper_timing"] == "within"
+    assert within["feedforward"]["times"][-1] <= 12.0 + 1e-9
+    delayed = json.loads(
+        telescopic.design(scene, controller="shaper", shaper_timing="delayed").to_json()
+    )
+    assert delayed["shaper_timing"] == "delayed"
+    assert delayed["feedforward"]["times"][-1] > 13.0
     again = telescopic.Controller.from_json(c.to_json())
     assert again.to_json() == c.to_json()
     with_controller = telescopic.simulate(scene, controller=again)
