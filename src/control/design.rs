@@ -257,7 +257,7 @@ pub struct Controller {
     pub schedule: Vec<SchedulePoint>,
     /// The shaper, if any.
     pub shaper: Option<ShaperKind>,
-    /// Where its trains sit (files before 2026-11-25: `delayed`).
+    /// Where its trains sit (`delayed` in files written before it was recorded).
     #[serde(default = "delayed_timing")]
     pub shaper_timing: ShaperTiming,
     /// The feedforward force: the drive profile, shaped or not.
