@@ -112,6 +112,9 @@ pub struct DesignOptions {
     pub rate_hz: f64,
     /// The sampled controller's estimator: `linear` (default) or `extended`.
     pub estimator: String,
+    /// The extended filter's process-noise floor (variance per period added to every state,
+    /// state units squared; default [`super::sampled::DEFAULT_PROCESS_NOISE_FLOOR`]).
+    pub process_noise_floor: f64,
     /// Seed of the simulated measurement noise (default 1): the same seed, the same run.
     pub noise_seed: u64,
     /// The sampled law: `auto` (default: `strain-rate` when the sensors include `vehicle`
@@ -141,6 +144,7 @@ impl Default for DesignOptions {
             sensor_noises: Vec::new(),
             rate_hz: super::sampled::DEFAULT_RATE_HZ,
             estimator: "linear".into(),
+            process_noise_floor: super::sampled::DEFAULT_PROCESS_NOISE_FLOOR,
             noise_seed: 1,
             law: "auto".into(),
             added_damping: super::strain::DEFAULT_ADDED_DAMPING,
@@ -540,6 +544,7 @@ fn sampled_part(
     )?;
     sampled.estimator = options.estimator.clone();
     sampled.seed = options.noise_seed;
+    sampled.process_noise_floor = options.process_noise_floor;
     Ok(sampled)
 }
 
@@ -593,6 +598,7 @@ fn strain_rate_part(
         force_noise: options.force_noise,
         seed: options.noise_seed,
         estimator: "none".into(),
+        process_noise_floor: options.process_noise_floor,
         points: Vec::new(),
         strain_rate: Some(law),
     })
@@ -607,6 +613,9 @@ pub const SCALE_RANGE: (f64, f64) = (1e-4, 1e3);
 
 /// The usable range of the Kalman filter's measurement noise (m).
 pub const SENSOR_NOISE_RANGE: (f64, f64) = (1e-12, 1e3);
+
+/// The usable range of the extended filter's process-noise floor (variance per period).
+pub const PROCESS_NOISE_FLOOR_RANGE: (f64, f64) = (1e-20, 1.0);
 
 /// Checks the design settings' ranges.
 fn check_options(options: &DesignOptions) -> Result<()> {
@@ -640,6 +649,12 @@ fn check_options(options: &DesignOptions) -> Result<()> {
             options.force_noise,
             FORCE_LIMIT_RANGE,
             "N",
+        ),
+        (
+            "DesignOptions::process_noise_floor",
+            options.process_noise_floor,
+            PROCESS_NOISE_FLOOR_RANGE,
+            "(state units squared per period)",
         ),
     ] {
         if !(low..=high).contains(&v) {

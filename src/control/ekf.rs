@@ -67,8 +67,10 @@ impl ExtendedKalman {
             bd[i] = 0.5 * period * period * response[i];
             bd[n + i] = period * response[i];
         }
+        // the floor keeps the filter from growing certain of the motion it cannot see (the
+        // upper section inside its band): without it the loop diverges with clearance
         let q = &bd * bd.transpose() * sampled.force_noise.powi(2)
-            + DMatrix::identity(2 * n, 2 * n) * 1e-16;
+            + DMatrix::identity(2 * n, 2 * n) * sampled.process_noise_floor;
         Ok(ExtendedKalman {
             drive,
             c,
@@ -138,7 +140,9 @@ impl SampledController for ExtendedKalman {
             let gain = &self.p * self.c.transpose() * s_inv;
             self.x += &gain * innovation;
             let n = self.x.len();
-            self.p = (DMatrix::identity(n, n) - &gain * &self.c) * &self.p;
+            // Joseph's form: the covariance stays symmetric positive semi-definite
+            let keep = DMatrix::identity(n, n) - &gain * &self.c;
+            self.p = &keep * &self.p * keep.transpose() + &gain * &self.r * gain.transpose();
         }
         // the covariance through the exact Jacobian of the estimate's contact state
         self.model

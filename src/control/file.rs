@@ -206,6 +206,16 @@ impl Controller {
                 format!("must be finite numbers > 0 (got {v})"),
             ));
         }
+        let (low, high) = super::design::PROCESS_NOISE_FLOOR_RANGE;
+        if !(low..=high).contains(&sampled.process_noise_floor) {
+            return Err(field(
+                "sampled.process_noise_floor",
+                format!(
+                    "must be {low:e} to {high:e} (got {:e})",
+                    sampled.process_noise_floor
+                ),
+            ));
+        }
         if !(sampled.rate_hz.is_finite() && (1.0..=1e6).contains(&sampled.rate_hz)) {
             return Err(field(
                 "sampled.rate_hz",

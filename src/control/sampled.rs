@@ -53,6 +53,11 @@ pub struct SampledDesign {
     /// contact law, [`super::ekf::ExtendedKalman`]).
     #[serde(default = "linear")]
     pub estimator: String,
+    /// The extended filter's process-noise floor: a variance added to every state per
+    /// period (state units squared; files without it: 1e-16, the floor before it was a
+    /// setting).
+    #[serde(default = "old_floor")]
+    pub process_noise_floor: f64,
     /// One discrete filter per design point, in the schedule's order (none for the
     /// strain-rate law).
     pub points: Vec<DiscretePoint>,
@@ -79,6 +84,16 @@ pub struct DiscretePoint {
 }
 
 /// The default estimator's name.
+/// The process-noise floor of files written before it was recorded.
+fn old_floor() -> f64 {
+    1e-16
+}
+
+/// The extended filter's default process-noise floor (per period, state units squared): below
+/// some 3e-11 the filter grows overconfident in the motion it cannot see and the loop chatters
+/// or diverges on case-study (docs/control.md).
+pub const DEFAULT_PROCESS_NOISE_FLOOR: f64 = 1e-10;
+
 fn linear() -> String {
     "linear".into()
 }
@@ -203,6 +218,7 @@ pub fn design_sampled(
         force_noise,
         seed: 1,
         estimator: linear(),
+        process_noise_floor: DEFAULT_PROCESS_NOISE_FLOOR,
         points,
         strain_rate: None,
     })

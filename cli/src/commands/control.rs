@@ -181,6 +181,10 @@ pub struct DesignArgs {
     /// the nonlinear model with the contact law).
     #[arg(long, default_value = "linear", value_name = "linear|extended")]
     pub estimator: String,
+    /// The extended filter's process-noise floor: a variance added to every state per
+    /// period (state units squared).
+    #[arg(long, default_value_t = DesignOptions::default().process_noise_floor, value_name = "VAR")]
+    pub process_noise_floor: f64,
     /// The sampled law: auto (strain-rate when the sensors include vehicle and kappa_1_0,
     /// else lqr), lqr (the LQR on the estimator's state) or strain-rate (the strain gauge's
     /// rate fed to the drive and a PD on the vehicle, no estimator; --controller then only
@@ -224,6 +228,7 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         sensor_noises: args.measurement_noise.clone(),
         rate_hz: args.rate,
         estimator: args.estimator.clone(),
+        process_noise_floor: args.process_noise_floor,
         noise_seed: args.noise_seed,
         law: args.law.clone(),
         added_damping: args.added_damping,
