@@ -271,7 +271,9 @@ pub fn linearize<'py>(
 /// Designs a controller; returns its JSON (see `telescopic.design`).
 #[pyfunction]
 #[pyo3(signature = (scene, controller = "lqr+shaper", force_limit = 300.0, sensors = None,
-    rate_hz = None, law = None, shaper_timing = "within", model = "auto", progress = None))]
+    rate_hz = None, law = None, shaper_timing = "within", tip_scale = None, vehicle_scale = None,
+    estimator = None, process_noise_floor = None, added_damping = None, model = "auto",
+    progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn design(
     py: Python<'_>,
@@ -282,6 +284,11 @@ pub fn design(
     rate_hz: Option<f64>,
     law: Option<String>,
     shaper_timing: &str,
+    tip_scale: Option<f64>,
+    vehicle_scale: Option<f64>,
+    estimator: Option<String>,
+    process_noise_floor: Option<f64>,
+    added_damping: Option<f64>,
     model: &str,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
@@ -293,6 +300,11 @@ pub fn design(
         rate_hz: rate_hz.unwrap_or(defaults.rate_hz),
         law: law.unwrap_or(defaults.law.clone()),
         shaper_timing: parsed("shaper_timing", shaper_timing)?,
+        tip_scale: tip_scale.unwrap_or(defaults.tip_scale),
+        vehicle_scale: vehicle_scale.unwrap_or(defaults.vehicle_scale),
+        estimator: estimator.unwrap_or(defaults.estimator.clone()),
+        process_noise_floor: process_noise_floor.unwrap_or(defaults.process_noise_floor),
+        added_damping: added_damping.unwrap_or(defaults.added_damping),
         model: parsed("model", model)?,
         ..defaults
     };

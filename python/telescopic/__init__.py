@@ -308,6 +308,11 @@ def design(
     rate_hz: float | None = None,
     law: str | None = None,
     shaper_timing: str = "within",
+    tip_scale: float | None = None,
+    vehicle_scale: float | None = None,
+    estimator: str | None = None,
+    process_noise_floor: float | None = None,
+    added_damping: float | None = None,
     model: str = "auto",
     progress: Any = None,
 ) -> Controller:
@@ -315,7 +320,9 @@ def design(
     ``shaper``, ``lqr+shaper`` or ``lqr+shaper+kalman``; with ``sensors`` (e.g.
     ``["vehicle", "kappa_1_0"]``) a sampled output-feedback controller at ``rate_hz``;
     ``shaper_timing`` ``within`` (the shaper's trains inside the profile's span) or
-    ``delayed``."""
+    ``delayed``; the rest as ``telescopic design``'s flags of the same names (``None``: their
+    defaults), e.g. ``estimator="extended", tip_scale=0.05`` for the extended Kalman filter
+    that models the clearance."""
     text = _telescopic.design(
         scene,
         controller=controller,
@@ -324,6 +331,11 @@ def design(
         rate_hz=rate_hz,
         law=law,
         shaper_timing=shaper_timing,
+        tip_scale=tip_scale,
+        vehicle_scale=vehicle_scale,
+        estimator=estimator,
+        process_noise_floor=process_noise_floor,
+        added_damping=added_damping,
         model=model,
         progress=_progress(progress),
     )

@@ -101,6 +101,11 @@ def design(
     rate_hz: float | None = None,
     law: str | None = None,
     shaper_timing: str = "within",
+    tip_scale: float | None = None,
+    vehicle_scale: float | None = None,
+    estimator: str | None = None,
+    process_noise_floor: float | None = None,
+    added_damping: float | None = None,
     model: str = "auto",
     progress: Callable[[float], None] | None = None,
 ) -> str:

@@ -59,6 +59,11 @@ def test_other_arguments_are_checked():
         telescopic.design(scene, controller="pid")
     with pytest.raises(telescopic.OptionError, match="shaper_timing"):
         telescopic.design(scene, shaper_timing="early")
+    with pytest.raises(telescopic.OptionError, match="^process_noise_floor: must be"):
+        telescopic.design(scene, sensors=["vehicle", "kappa_1_0"], estimator="extended",
+                          process_noise_floor=-1.0)
+    with pytest.raises(telescopic.OptionError, match="^tip_scale: must be"):
+        telescopic.design(scene, tip_scale=0.0)
     with pytest.raises(telescopic.OptionError, match="format"):
         telescopic.equations(scene, format="pdf")
     with pytest.raises(telescopic.OptionError, match="jobs"):

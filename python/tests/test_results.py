@@ -128,6 +128,19 @@ def test_progress_reaches_one_and_a_controller_round_trips():
     )
     assert delayed["shaper_timing"] == "delayed"
     assert delayed["feedforward"]["times"][-1] > 13.0
+    # the design's settings reach the file as the CLI's flags do
+    ekf = json.loads(
+        telescopic.design(
+            scene,
+            sensors=["vehicle", "kappa_1_0"],
+            estimator="extended",
+            tip_scale=0.05,
+            process_noise_floor=3e-10,
+        ).to_json()
+    )
+    assert ekf["tip_scale_m"] == 0.05
+    assert ekf["sampled"]["estimator"] == "extended"
+    assert ekf["sampled"]["process_noise_floor"] == 3e-10
     again = telescopic.Controller.from_json(c.to_json())
     assert again.to_json() == c.to_json()
     with_controller = telescopic.simulate(scene, controller=again)
