@@ -44,6 +44,10 @@ const FLAGS: &[(&str, &str)] = &[
     ("DesignOptions::rate_hz", "--rate"),
     ("DesignOptions::law", "--law"),
     ("DesignOptions::added_damping", "--added-damping"),
+    (
+        "DesignOptions::process_noise_floor",
+        "--process-noise-floor",
+    ),
     ("DesignOptions::sensor_noise", "--sensor-noise"),
     ("DesignOptions::force_noise", "--force-noise"),
     ("DesignOptions::grid_points", "--grid-points"),

@@ -149,6 +149,36 @@ fn design_then_simulate_with_the_controller() {
         ],
         &["--controller", "designed for configuration"],
     );
+    // the design's settings are refused by their flags, and nothing is written
+    let bad = dir.join("bad.json");
+    fails_with(
+        &[
+            "design",
+            "scenes/case-study.toml",
+            "--sensors",
+            "vehicle,kappa_1_0",
+            "--estimator",
+            "extended",
+            "--process-noise-floor",
+            "0",
+            "--no-table",
+            "--out",
+            bad.to_str().unwrap(),
+        ],
+        &["--process-noise-floor: must be"],
+    );
+    fails_with(
+        &[
+            "design",
+            "scenes/case-study.toml",
+            "--shaper-timing",
+            "early",
+            "--out",
+            bad.to_str().unwrap(),
+        ],
+        &["--shaper-timing", "delayed or within"],
+    );
+    assert!(!bad.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
