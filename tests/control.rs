@@ -615,7 +615,7 @@ fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors(
     assert_eq!(sampled.estimator, "extended");
     assert_eq!(
         sampled.process_noise_floor,
-        telescopic::control::sampled::DEFAULT_PROCESS_NOISE_FLOOR
+        Some(telescopic::control::sampled::DEFAULT_PROCESS_NOISE_FLOOR)
     );
     let sim = SimulationOptions::default();
     for (plant, least) in [
@@ -649,11 +649,19 @@ fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors(
         .unwrap_err()
         .to_string();
     assert!(err.contains("`sampled.process_noise_floor`"), "{err}");
-    // a file written before the floor was recorded keeps the floor it ran with then
+    // a file written before the floor was recorded reads without it (and runs with the
+    // floor of then); a floor on another estimator is refused
     v.as_object_mut().unwrap()["sampled"]
         .as_object_mut()
         .unwrap()
         .remove("process_noise_floor");
     let old = Controller::from_json(&v.to_string()).unwrap();
-    assert_eq!(old.sampled.unwrap().process_noise_floor, 1e-16);
+    assert_eq!(old.sampled.unwrap().process_noise_floor, None);
+    v["sampled"]["estimator"] = "linear".into();
+    v["sampled"]["process_noise_floor"] = 1e-10.into();
+    let err = Controller::from_json(&v.to_string())
+        .and_then(|c| c.check_fits(&nominal))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("extended estimator only"), "{err}");
 }

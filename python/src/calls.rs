@@ -197,16 +197,7 @@ pub fn linearize<'py>(
     discrete: Option<f64>,
     model: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let contacts = match contacts {
-        "closed" => ContactMode::Closed,
-        "open" => ContactMode::Open,
-        other => {
-            return Err(argument(
-                "contacts",
-                format!("`{other}` is not closed or open"),
-            ));
-        }
-    };
+    let contacts = parsed::<ContactMode>("contacts", contacts)?;
     let grid = match grid {
         Some((name, (from, to, count))) => Some(
             Grid::from_str(&format!("{name}={from}:{to}:{count}"))
@@ -353,10 +344,7 @@ pub fn sweep(
         )),
         Err(e) => {
             // nothing of an interrupted or failed sweep stays
-            let _ = std::fs::remove_file(&out);
-            let mut partial = out.into_os_string();
-            partial.push(".partial");
-            let _ = std::fs::remove_file(PathBuf::from(partial));
+            telescopic::sweep::discard_sweep(&out);
             Err(e)
         }
     }

@@ -55,6 +55,18 @@ impl ContactMode {
     }
 }
 
+impl std::str::FromStr for ContactMode {
+    type Err = String;
+
+    /// `closed` or `open`, as [`ContactMode::name`] writes them.
+    fn from_str(s: &str) -> Result<Self, String> {
+        [ContactMode::Closed, ContactMode::Open]
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| format!("`{s}` is not closed or open"))
+    }
+}
+
 /// A named signal: a state, an input or an output.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Signal {

@@ -544,7 +544,8 @@ fn sampled_part(
     )?;
     sampled.estimator = options.estimator.clone();
     sampled.seed = options.noise_seed;
-    sampled.process_noise_floor = options.process_noise_floor;
+    sampled.process_noise_floor =
+        (options.estimator == "extended").then_some(options.process_noise_floor);
     Ok(sampled)
 }
 
@@ -598,7 +599,7 @@ fn strain_rate_part(
         force_noise: options.force_noise,
         seed: options.noise_seed,
         estimator: "none".into(),
-        process_noise_floor: options.process_noise_floor,
+        process_noise_floor: None,
         points: Vec::new(),
         strain_rate: Some(law),
     })
@@ -787,7 +788,7 @@ fn design_point(
 
 /// The shaped feed-forward force (the scene's force when the variant has no shaper), the
 /// shaper tuned to the scheduled first mode, and the timing its trains got (`within` falls
-/// back to `delayed` for a profile that is not rest to rest or too short for its trains).
+/// back to `delayed` where [`shape_within`] says the trains cannot sit within the span).
 fn feedforward(
     scene: &Scene,
     force: &Profile,
@@ -812,13 +813,12 @@ fn feedforward(
             lerp(pa.first_mode_damping, pb.first_mode_damping),
         )
     };
-    Ok(match options.shaper_timing {
-        ShaperTiming::Delayed => (shape(&j, options.shaper, at), ShaperTiming::Delayed),
-        ShaperTiming::Within => match shape_within(&j, options.shaper, at) {
-            (profile, None) => (profile, ShaperTiming::Within),
-            (profile, Some(_)) => (profile, ShaperTiming::Delayed),
-        },
-    })
+    if options.shaper_timing == ShaperTiming::Within
+        && let Ok(profile) = shape_within(&j, options.shaper, at)
+    {
+        return Ok((profile, ShaperTiming::Within));
+    }
+    Ok((shape(&j, options.shaper, at), ShaperTiming::Delayed))
 }
 
 /// The two schedule points around time `t` and the weight of the second, `(i, j, w)`, for a

@@ -70,7 +70,10 @@ impl ExtendedKalman {
         // the floor keeps the filter from growing certain of the motion it cannot see (the
         // upper section inside its band): without it the loop diverges with clearance
         let q = &bd * bd.transpose() * sampled.force_noise.powi(2)
-            + DMatrix::identity(2 * n, 2 * n) * sampled.process_noise_floor;
+            + DMatrix::identity(2 * n, 2 * n)
+                * sampled
+                    .process_noise_floor
+                    .unwrap_or(super::sampled::FORMER_PROCESS_NOISE_FLOOR);
         Ok(ExtendedKalman {
             drive,
             c,

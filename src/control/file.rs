@@ -207,14 +207,19 @@ impl Controller {
             ));
         }
         let (low, high) = super::design::PROCESS_NOISE_FLOOR_RANGE;
-        if !(low..=high).contains(&sampled.process_noise_floor) {
-            return Err(field(
-                "sampled.process_noise_floor",
-                format!(
-                    "must be {low:e} to {high:e} (got {:e})",
-                    sampled.process_noise_floor
-                ),
-            ));
+        if let Some(floor) = sampled.process_noise_floor {
+            if sampled.estimator != "extended" {
+                return Err(field(
+                    "sampled.process_noise_floor",
+                    "is a setting of the extended estimator only",
+                ));
+            }
+            if !(low..=high).contains(&floor) {
+                return Err(field(
+                    "sampled.process_noise_floor",
+                    format!("must be {low:e} to {high:e} (got {floor:e})"),
+                ));
+            }
         }
         if !(sampled.rate_hz.is_finite() && (1.0..=1e6).contains(&sampled.rate_hz)) {
             return Err(field(

@@ -54,10 +54,10 @@ pub struct SampledDesign {
     #[serde(default = "linear")]
     pub estimator: String,
     /// The extended filter's process-noise floor: a variance added to every state per
-    /// period (state units squared; files without it: 1e-16, the floor before it was a
-    /// setting).
-    #[serde(default = "old_floor")]
-    pub process_noise_floor: f64,
+    /// period (state units squared); only with the extended estimator (an extended file
+    /// without it ran with [`FORMER_PROCESS_NOISE_FLOOR`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub process_noise_floor: Option<f64>,
     /// One discrete filter per design point, in the schedule's order (none for the
     /// strain-rate law).
     pub points: Vec<DiscretePoint>,
@@ -83,17 +83,15 @@ pub struct DiscretePoint {
     pub l: Vec<Vec<f64>>,
 }
 
-/// The default estimator's name.
-/// The process-noise floor of files written before it was recorded.
-fn old_floor() -> f64 {
-    1e-16
-}
+/// The extended filter's floor in files written before the floor was recorded.
+pub const FORMER_PROCESS_NOISE_FLOOR: f64 = 1e-16;
 
 /// The extended filter's default process-noise floor (per period, state units squared): below
 /// some 3e-11 the filter grows overconfident in the motion it cannot see and the loop chatters
 /// or diverges on case-study (docs/control.md).
 pub const DEFAULT_PROCESS_NOISE_FLOOR: f64 = 1e-10;
 
+/// The default estimator's name.
 fn linear() -> String {
     "linear".into()
 }
@@ -218,7 +216,7 @@ pub fn design_sampled(
         force_noise,
         seed: 1,
         estimator: linear(),
-        process_noise_floor: DEFAULT_PROCESS_NOISE_FLOOR,
+        process_noise_floor: None,
         points,
         strain_rate: None,
     })

@@ -115,13 +115,16 @@ crate::named::named_enum!(ShaperTiming, "a shaper timing", {
 /// first jump and the last train ends at the last jump, every train centred on its `tau`
 /// (its mean delay) and scaled by `1 / c^2`. The compression by `c` and that scale keep
 /// the rest-to-rest property and the rigid travel `sum dF t^2 / (2 m)` exactly (up to the
-/// trains' own spread, as for [`shape`]). Any other profile, or one too short for its
-/// trains, is shaped by [`shape`], and the reason comes with it.
+/// trains' own spread, as for [`shape`]).
+///
+/// # Errors
+/// Why the trains cannot sit within the span: the profile is not rest to rest, or too short
+/// for its trains (then [`shape`] applies).
 pub fn shape_within(
     jumps: &[(f64, f64)],
     kind: ShaperKind,
     mode: impl Fn(f64) -> (f64, f64),
-) -> (Profile, Option<&'static str>) {
+) -> Result<Profile, &'static str> {
     let train = |t: f64| {
         let (omega, zeta) = mode(t);
         let imp = impulses(kind, omega, zeta);
@@ -129,7 +132,7 @@ pub fn shape_within(
         (imp, mean)
     };
     let (Some(&(t_first, _)), Some(&(t_last, _))) = (jumps.first(), jumps.last()) else {
-        return (Profile::Constant(0.0), None);
+        return Ok(Profile::Constant(0.0));
     };
     let scale = jumps.iter().map(|(_, d)| d.abs()).fold(0.0, f64::max);
     let force_end: f64 = jumps.iter().map(|(_, d)| d).sum();
@@ -137,8 +140,10 @@ pub fn shape_within(
     let span = t_last - t_first;
     if jumps.len() < 2 || force_end.abs() > 1e-9 * scale || velocity_end.abs() > 1e-9 * scale * span
     {
-        let why = "the profile is not rest to rest (its force or its velocity does not end at zero): shaped with delayed trains";
-        return (shape(jumps, kind, mode), Some(why));
+        return Err(
+            "the profile is not rest to rest (its force or its velocity does not end \
+                    at zero)",
+        );
     }
     let tau_first = t_first + train(t_first).1;
     // the last train ends at the last jump: its centre sits its spread after the mean
@@ -155,8 +160,7 @@ pub fn shape_within(
         }
     }
     if tau_last <= tau_first + 0.1 * span {
-        let why = "the profile is too short for its trains: shaped with delayed trains";
-        return (shape(jumps, kind, mode), Some(why));
+        return Err("the profile is too short for its trains");
     }
     let c = (tau_last - tau_first) / span;
     let mut shaped: Vec<(f64, f64)> = Vec::new();
@@ -174,7 +178,7 @@ pub fn shape_within(
     if let Some(last) = shaped.iter_mut().max_by(|a, b| a.0.total_cmp(&b.0)) {
         last.0 = last.0.min(t_last);
     }
-    (levels(shaped), None)
+    Ok(levels(shaped))
 }
 
 /// Mean delay (s) of a train of impulses whose amplitudes sum to one.
@@ -292,8 +296,7 @@ mod tests {
         let j = jumps(&profile, 0.0).unwrap();
         let omega = 2.0 * PI * 0.8;
         for kind in [ShaperKind::Zv, ShaperKind::Zvd] {
-            let (within, why) = shape_within(&j, kind, |_| (omega, 0.0));
-            assert!(why.is_none(), "{why:?}");
+            let within = shape_within(&j, kind, |_| (omega, 0.0)).unwrap();
             let delayed = shape(&j, kind, |_| (omega, 0.0));
             // the original's span: nothing before 0 s, the force back at zero by 12 s, where
             // the delayed trains still brake
@@ -326,10 +329,9 @@ mod tests {
             );
             assert!(phasor(&profile) > 10.0);
         }
-        // a profile that is not rest to rest keeps the delayed trains, and says so
+        // a profile that is not rest to rest has no trains within its span, and says why
         let coasting = vec![(0.0, 100.0), (4.0, -100.0)];
-        let (p, why) = shape_within(&coasting, ShaperKind::Zvd, |_| (omega, 0.0));
-        assert!(why.is_some_and(|w| w.contains("rest to rest")));
-        assert_eq!(p, shape(&coasting, ShaperKind::Zvd, |_| (omega, 0.0)));
+        let why = shape_within(&coasting, ShaperKind::Zvd, |_| (omega, 0.0)).unwrap_err();
+        assert!(why.contains("rest to rest"), "{why}");
     }
 }

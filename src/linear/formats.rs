@@ -254,11 +254,9 @@ impl LinearExport {
                 .map_err(|e| bad(&e.to_string()))?,
             configuration: text_of(&v["configuration"], "configuration")?,
             model: text_of(&v["model"], "model")?,
-            contacts: match v["contacts"].as_str() {
-                Some("closed") => ContactMode::Closed,
-                Some("open") => ContactMode::Open,
-                _ => return Err(bad("`contacts` is not \"closed\" or \"open\"")),
-            },
+            contacts: text_of(&v["contacts"], "contacts")?
+                .parse::<ContactMode>()
+                .map_err(|e| bad(&format!("`contacts`: {e}")))?,
             states: signals("states")?,
             inputs: signals("inputs")?,
             outputs: signals("outputs")?,

@@ -192,6 +192,14 @@ fn row(sweep: &Sweep, run: &Run, gate: &MemoryGate) -> (String, bool) {
     (cells.join(",") + "\n", failed)
 }
 
+/// Removes a sweep's result `out` and its work file (`<out>.partial`), whichever exist: what
+/// a caller that does not resume (the Python package) leaves after a failed or stopped sweep.
+pub fn discard_sweep(out: &Path) {
+    for path in [out.to_path_buf(), partial_path(out)] {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
 /// The work file beside `out`.
 fn partial_path(out: &Path) -> PathBuf {
     let mut name = out

@@ -12,15 +12,6 @@ use telescopic::models::ModelChoice;
 use telescopic::output::{check_stdout_open, write_to};
 use telescopic::runtime::ContactMode;
 
-/// `--contacts`: closed (linear law) or open.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Contacts {
-    /// Every contact with the linear law f = c xi + d xi_dot.
-    Closed,
-    /// No contacts: the sections float free of each other.
-    Open,
-}
-
 /// The operating point of a linear model: shared by `linearize` and `bode`.
 #[derive(Debug, Args)]
 pub struct OperatingPointArgs {
@@ -31,9 +22,10 @@ pub struct OperatingPointArgs {
     /// Take the positions and their speeds of the scene at this time (s); default: its start.
     #[arg(long, value_name = "T")]
     pub at_time: Option<f64>,
-    /// Contacts closed (linear law) or open.
-    #[arg(long, value_enum, default_value = "closed")]
-    pub contacts: Contacts,
+    /// Contacts: closed (every contact with the linear law f = c xi + d xi_dot) or open (the
+    /// sections float free of each other).
+    #[arg(long, default_value = "closed", value_name = "closed|open")]
+    pub contacts: ContactMode,
 }
 
 impl OperatingPointArgs {
@@ -46,10 +38,7 @@ impl OperatingPointArgs {
         Ok(LinearizeOptions {
             positions,
             at_time: self.at_time,
-            contacts: match self.contacts {
-                Contacts::Closed => ContactMode::Closed,
-                Contacts::Open => ContactMode::Open,
-            },
+            contacts: self.contacts,
             model,
             ..LinearizeOptions::default()
         })
