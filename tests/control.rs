@@ -431,24 +431,28 @@ fn sampled_output_feedback_from_vehicle_and_curvature() {
     );
 }
 
-/// The emitted C controllers (the LQR on the linear filter, and the strain-rate law), each
-/// compiled by the system's C compiler with every warning an error, loaded, and run in the
-/// loop against the simulated plant: their force histories equal the in-library
-/// controllers'.
+/// The emitted C controllers (the LQR on the linear filter, the strain-rate law, and the LQR
+/// on the extended filter of the nonlinear model with the clearance), each compiled by the
+/// system's C compiler with every warning an error, loaded, and run in the loop against the
+/// simulated plant: their force histories equal the in-library controllers'.
 #[test]
 #[ignore = "needs a C compiler (cc); the test command installs gcc"]
 fn the_emitted_c_controllers_match_the_library_in_the_loop() {
-    for (plant, law) in [
-        ("case-study-no-clearance", "lqr"),
-        ("case-study", "strain-rate"),
+    for (plant, law, estimator) in [
+        ("case-study-no-clearance", "lqr", "linear"),
+        ("case-study", "strain-rate", "linear"),
+        ("case-study", "lqr", "extended"),
+        ("adams-clearance", "lqr", "extended"),
     ] {
         let options = DesignOptions {
             sensors: vec!["vehicle".into(), "kappa_1_0".into()],
             law: law.into(),
+            estimator: estimator.into(),
+            tip_scale: 0.05,
             ..DesignOptions::default()
         };
         let worst = emitted_c_in_the_loop(&scene(plant, &[]), &options);
-        eprintln!("{plant}, {law}: largest force difference C - library {worst:e} N");
+        eprintln!("{plant}, {law} ({estimator}): largest force difference C - library {worst:e} N");
         assert!(worst <= 1e-9, "{plant}, {law}: {worst:e} N");
     }
 }
@@ -463,10 +467,14 @@ fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
 
     let controller = design(plant, options).unwrap();
     let dir = std::env::temp_dir().join(format!(
-        "telescopic-emit-c-{}-{}",
+        "telescopic-emit-c-{}-{}-{}-{}",
         std::process::id(),
-        options.law
+        plant.name,
+        options.law,
+        options.estimator
     ));
+    // (a directory of its own per controller: dlopen returns the library already loaded
+    // from the same path)
     std::fs::create_dir_all(&dir).unwrap();
     write_c(&controller, plant.time.start, plant.time.end, &dir).unwrap();
     let library = dir.join("libtc.so");
@@ -502,8 +510,9 @@ fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
     }
     impl SampledController for CController {
         fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64 {
-            // SAFETY: the state has room for either tc_state (at most TC_STATES + 1 doubles,
-            // or an int and five doubles) and y holds TC_SENSORS measurements.
+            // SAFETY: the state has room for any emitted tc_state (at most 5 TC_STATES^2 +
+            // TC_STATES + 1 doubles, or an int and five doubles) and y holds TC_SENSORS
+            // measurements.
             unsafe { (self.step)(self.state.as_mut_ptr(), t, y.as_ptr(), a) }
         }
     }
@@ -515,15 +524,19 @@ fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
         assert!(!handle.is_null(), "dlopen failed");
         let init: Init = std::mem::transmute(libc::dlsym(handle, c"tc_init".as_ptr()));
         let step: Step = std::mem::transmute(libc::dlsym(handle, c"tc_step".as_ptr()));
-        let mut state = vec![0.0; controller.states.len() + 8];
+        let w = controller.states.len();
+        let mut state = vec![0.0; 5 * w * w + w + 8];
         init(state.as_mut_ptr());
         CController { state, step }
     };
-    let prepared = || PreparedRun::new(plant, &SimulationOptions::default(), &Silent).unwrap();
+    let sim = telescopic::control::comparison_options(&SimulationOptions::default()).unwrap();
+    let prepared = || PreparedRun::new(plant, &sim, &Silent).unwrap();
     let in_library = simulate_sampled(prepared(), &controller, &Silent).unwrap();
     let in_c = run_sampled(prepared(), &controller, &mut c_controller, &Silent).unwrap();
     assert_eq!(in_library.forces.len(), in_c.forces.len());
-    assert_eq!(in_library.forces.len(), 16_000);
+    let ticks = ((plant.time.end - plant.time.start) * controller.sampled.as_ref().unwrap().rate_hz)
+        .round() as usize;
+    assert_eq!(in_library.forces.len(), ticks);
     std::fs::remove_dir_all(&dir).unwrap();
     in_library
         .forces
@@ -555,11 +568,13 @@ fn the_extended_filter_matches_the_full_state_law_without_clearance() {
     let (a, b) = (with_filter.with.residual_std, with_state.with.residual_std);
     assert!((a - b).abs() <= 0.1 * b, "filter {a} m, full state {b} m");
     assert!(with_filter.with.peak_force <= 300.0 + 1e-9);
-    // the emitted C runs the linear filter only: an extended design is refused
-    let err = telescopic::control::emit_c::emit_c(&extended, 0.0, 16.0)
+    // the file records the filter's model; one written before it was cannot be emitted as C
+    let mut old = extended.clone();
+    old.sampled.as_mut().unwrap().model = None;
+    let err = telescopic::control::emit_c::emit_c(&old, 0.0, 16.0)
         .unwrap_err()
         .to_string();
-    assert!(err.contains("`sampled.estimator`"), "{err}");
+    assert!(err.contains("`sampled.model`"), "{err}");
     // an estimator that does not exist is refused naming the option
     let err = design(
         &plant,
@@ -600,9 +615,10 @@ fn the_load_accelerometer_at_10_khz_damps_the_case_study_with_clearance() {
 #[test]
 fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors() {
     // the estimator that models the clearance: the LQR (tip scale 0.05 m) on the extended
-    // filter of the nonlinear model, from the encoder and the strain gauge at 1 kHz; measured
-    // 26.0x nominal, 48.1x with the softer contact, 44.1x with 5 mm clearance
-    // (docs/control.md); without the process-noise floor the loop diverged (0.1x)
+    // filter of the nominal nonlinear model (recorded in the file: the changed plants are
+    // unknown to it), from the encoder and the strain gauge at 1 kHz; measured 32.0x
+    // nominal, 46.7x with the softer contact, 39.4x with 5 mm clearance, 8.5x with the 30 kg
+    // load (docs/control.md); without the process-noise floor the loop diverged (0.1x)
     let nominal = scene("case-study", &[]);
     let options = DesignOptions {
         sensors: vec!["vehicle".into(), "kappa_1_0".into()],
@@ -618,10 +634,17 @@ fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors(
         Some(telescopic::control::sampled::DEFAULT_PROCESS_NOISE_FLOOR)
     );
     let sim = SimulationOptions::default();
-    for (plant, least) in [
-        (nominal.clone(), 10.0),
-        (scene("case-study", &["contact.stiffness=0.11875e9"]), 5.0),
-        (scene("case-study", &["contact.clearance=0.005"]), 5.0),
+    // (the controller tracks the rigid reference of the nominal mass: with the 30 kg load
+    // it ends 9 % beyond the heavier open loop, so the travel bound is the nominal one's)
+    for (plant, least, travel_bound) in [
+        (nominal.clone(), 10.0, 0.01),
+        (
+            scene("case-study", &["contact.stiffness=0.11875e9"]),
+            5.0,
+            0.01,
+        ),
+        (scene("case-study", &["contact.clearance=0.005"]), 5.0, 0.01),
+        (scene("case-study", &["masses.load=30"]), 5.0, 0.1),
     ] {
         let run = compare_with_open_loop(&plant, &controller, &sim, &Silent).unwrap();
         let reduction = run.without.residual_std / run.with.residual_std;
@@ -629,7 +652,7 @@ fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors(
         eprintln!("{}: {reduction:.2}x, travel {travel:+.4}", plant.name);
         assert!(reduction >= least, "{reduction}x");
         assert!(run.with.peak_force <= 300.0 + 1e-9);
-        assert!(travel.abs() <= 0.01, "travel {travel}");
+        assert!(travel.abs() <= travel_bound, "travel {travel}");
     }
     // the floor is checked in the options and in the file, by name
     let err = design(

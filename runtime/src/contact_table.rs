@@ -37,6 +37,26 @@ pub const MAX_INTERVALS: usize = 1 << 18;
 /// interval; one point keeps the check at two evaluations per interval).
 const DERIVATIVE_CHECK: f64 = 0.211_324_865_405_187_1;
 
+/// What a [`ContactTable`] stores: its grid, the columns that vary, the constant ones' values,
+/// and the varying columns' `g` and `gd` node after node.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ContactTableParts {
+    /// First node's time (s).
+    pub start: f64,
+    /// Grid step (s).
+    pub step: f64,
+    /// Number of intervals (nodes: one more).
+    pub intervals: usize,
+    /// The columns that change in time (indices into the full vectors), ascending.
+    pub varying: Vec<usize>,
+    /// The full `g` with the constant columns' values (0 at the varying ones).
+    pub constant_g: Vec<f64>,
+    /// `g` of the varying columns, node after node.
+    pub g: Vec<f64>,
+    /// `gd` (1/s) of the varying columns, node after node.
+    pub gd: Vec<f64>,
+}
+
 /// Contact vectors `g` and their time derivatives `gd` (flattened, `width` entries each) on a
 /// uniform time grid.
 #[derive(Debug, Clone)]
@@ -220,6 +240,76 @@ impl ContactTable {
         self.gd = keep(&self.gd);
         self.width = varying.len();
         self.varying = varying;
+    }
+
+    /// The stored data, for a file or another language to rebuild the same interpolant.
+    pub fn parts(&self) -> ContactTableParts {
+        ContactTableParts {
+            start: self.start,
+            step: self.step,
+            intervals: self.intervals,
+            varying: self.varying.clone(),
+            constant_g: self.constant_g.clone(),
+            g: self.g.clone(),
+            gd: self.gd.clone(),
+        }
+    }
+
+    /// The table of `parts` (as [`ContactTable::parts`] gave them); interpolates exactly as
+    /// the table they came from.
+    ///
+    /// # Errors
+    /// A message naming the part whose size or values do not fit.
+    pub fn from_parts(parts: ContactTableParts) -> Result<Self, String> {
+        let ContactTableParts {
+            start,
+            step,
+            intervals,
+            varying,
+            constant_g,
+            g,
+            gd,
+        } = parts;
+        let full = constant_g.len();
+        if !(start.is_finite() && step.is_finite() && step > 0.0 && intervals >= 1) {
+            return Err(format!(
+                "needs a finite start, a step > 0 and at least one interval (got start {start}, \
+                 step {step}, {intervals} intervals)"
+            ));
+        }
+        if varying.windows(2).any(|w| w[0] >= w[1]) || varying.iter().any(|&k| k >= full) {
+            return Err(format!(
+                "`varying` must be ascending column indices below {full}"
+            ));
+        }
+        let values = (intervals + 1) * varying.len();
+        if g.len() != values || gd.len() != values {
+            return Err(format!(
+                "`g` and `gd` need {values} entries each ({} nodes of {} columns); got {} and {}",
+                intervals + 1,
+                varying.len(),
+                g.len(),
+                gd.len()
+            ));
+        }
+        if [&constant_g, &g, &gd]
+            .iter()
+            .any(|v| v.iter().any(|x| !x.is_finite()))
+        {
+            return Err("its values must be finite".into());
+        }
+        Ok(ContactTable {
+            start,
+            step,
+            intervals,
+            width: varying.len(),
+            varying,
+            constant_g,
+            g,
+            gd,
+            error_g: f64::NAN,
+            error_gd: f64::NAN,
+        })
     }
 
     /// Number of columns that change in time (of the vectors' full width).

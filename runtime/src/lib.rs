@@ -48,7 +48,7 @@ pub use accuracy::{AccuracyPlan, DEFAULT_ACCURACY_M, plan_for_accuracy};
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use configuration::{DriveKind, ModelConfig, Positions, configuration_key, models_toml_entry};
 pub use contact::{ContactForce, ContactLaw, ContactState};
-pub use contact_table::ContactTable;
+pub use contact_table::{ContactTable, ContactTableParts};
 pub use damped_modes::{DampedMode, damped_modes};
 pub use damping::{
     CONTACT_MODE_SHARE, StructuralDamping, contact_energy_shares, structural_damping,

@@ -544,8 +544,10 @@ fn sampled_part(
     )?;
     sampled.estimator = options.estimator.clone();
     sampled.seed = options.noise_seed;
-    sampled.process_noise_floor =
-        (options.estimator == "extended").then_some(options.process_noise_floor);
+    if options.estimator == "extended" {
+        sampled.process_noise_floor = Some(options.process_noise_floor);
+        sampled.model = Some(super::estimator_model::EstimatorModel::of(model)?);
+    }
     Ok(sampled)
 }
 
@@ -602,6 +604,7 @@ fn strain_rate_part(
         process_noise_floor: None,
         points: Vec::new(),
         strain_rate: Some(law),
+        model: None,
     })
 }
 

@@ -1,162 +1,278 @@
 //! An estimator that knows the clearance: an extended Kalman filter whose prediction runs
 //! the nonlinear model itself (contact law included) over each controller period, and whose
-//! covariance follows the exact Jacobian of the contact state the estimate is in. The
-//! measurements it takes are linear in the coordinates (`vehicle`, `tip_rel`, `top1_rel`,
-//! `kappa_1_0`).
+//! covariance follows the exact Jacobian of the contact state the estimate is in. The model
+//! is the design scene's, recorded in the controller file
+//! ([`super::estimator_model::EstimatorModel`]), not the plant's. The measurements it takes
+//! are linear in the coordinates (`vehicle`, `tip_rel`, `top1_rel`, `kappa_1_0`).
+//!
+//! Every step is a fixed sequence of plain loops ([`super::small_dense`]) that the emitted C
+//! ([`super::emit_c::emit_c`]) repeats operation for operation.
 
 use super::design::Controller;
+use super::estimator_model::{EstimatorModel, PreparedEstimatorModel};
 use super::sampled::SampledController;
-use crate::rows::from_rows;
+use super::small_dense::{exponential, invert_spd, multiply, multiply_transposed};
 use crate::{Error, Result};
-use telescopic_runtime::Model;
-use telescopic_runtime::nalgebra::{DMatrix, DVector};
 
 /// Substeps of the prediction's RK4 per controller period: with 20 at 1 kHz the step is
 /// 50 us, `h omega` = 1.1 for the 3.6 kHz contact mode, inside RK4's stability limit of 2.8.
-const SUBSTEPS: usize = 20;
+pub const SUBSTEPS: usize = 20;
+
+/// The filter's initial covariance: this times the identity (the plant starts at rest).
+pub const INITIAL_COVARIANCE: f64 = 1e-8;
 
 /// The extended Kalman filter with the controller's LQR law on its estimate.
 pub struct ExtendedKalman {
-    model: Box<dyn Model>,
-    /// Where the drive force enters the accelerations.
-    drive: super::controlled::DriveResponse,
-    c: DMatrix<f64>,
-    r: DMatrix<f64>,
-    /// Process noise per period.
-    q: DMatrix<f64>,
-    x: DVector<f64>,
-    p: DMatrix<f64>,
+    model: PreparedEstimatorModel,
+    /// Measurement rows (`sensors x 2 dof`), row-major.
+    c: Vec<f64>,
+    /// Measurement noise covariance (`sensors x sensors`).
+    r: Vec<f64>,
+    /// Process noise per period (`2 dof x 2 dof`).
+    q: Vec<f64>,
+    x: Vec<f64>,
+    p: Vec<f64>,
     law: super::sampled::DiscreteController,
     period: f64,
     u: f64,
-    jac: DMatrix<f64>,
-    scratch: [Vec<f64>; 5],
-    tmp: Vec<f64>,
+    scratch: Scratch,
+}
+
+/// The per-tick work arrays, allocated once.
+struct Scratch {
+    innovation: Vec<f64>,
+    pc: Vec<f64>,
+    s: Vec<f64>,
+    s_inv: Vec<f64>,
+    factor: Vec<f64>,
+    gain: Vec<f64>,
+    gain_r: Vec<f64>,
+    keep: Vec<f64>,
+    m1: Vec<f64>,
+    m2: Vec<f64>,
+    m3: Vec<f64>,
+    rk: [Vec<f64>; 6],
+}
+
+/// The sampled part's checks shared by the filter and its C emission: the part itself and
+/// sensors linear in the coordinates.
+pub(crate) fn sampled_of(file: &Controller) -> Result<&super::sampled::SampledDesign> {
+    let sampled = file.sampled.as_ref().ok_or_else(|| {
+        Error::option("controller", "has no sampled part (design it with sensors)")
+    })?;
+    if let Some(s) = sampled.sensors.iter().find(|s| s.as_str() == "acc_load") {
+        return Err(Error::option(
+            "controller `sampled.sensors`",
+            format!("the extended filter takes outputs linear in the coordinates, not `{s}`"),
+        ));
+    }
+    Ok(sampled)
+}
+
+/// The process noise per period (`2 dof x 2 dof`, row-major): the force disturbance through
+/// the accelerations over one period, plus the floor on every state.
+pub(crate) fn process_noise(sampled: &super::sampled::SampledDesign, response: &[f64]) -> Vec<f64> {
+    let n = response.len();
+    let period = 1.0 / sampled.rate_hz;
+    let mut bd = vec![0.0; 2 * n];
+    for i in 0..n {
+        bd[i] = 0.5 * period * period * response[i];
+        bd[n + i] = period * response[i];
+    }
+    // the floor keeps the filter from growing certain of the motion it cannot see (the
+    // upper section inside its band): without it the loop diverges with clearance
+    let floor = sampled
+        .process_noise_floor
+        .unwrap_or(super::sampled::FORMER_PROCESS_NOISE_FLOOR);
+    let variance = sampled.force_noise * sampled.force_noise;
+    let mut q = vec![0.0; 4 * n * n];
+    for i in 0..2 * n {
+        for j in 0..2 * n {
+            q[i * 2 * n + j] = bd[i] * bd[j] * variance + if i == j { floor } else { 0.0 };
+        }
+    }
+    q
 }
 
 impl ExtendedKalman {
-    /// The filter of `file`'s sampled part on `model` (the scene's own model, a fresh
-    /// instance), over `[start, end]` s.
+    /// The filter of `file`'s sampled part over `[start, end]` s, on the model the file
+    /// records (`fallback`, the scene's model, for files written before it was recorded).
     ///
     /// # Errors
-    /// [`Error::Option`] for sensors that are not linear in the coordinates, [`Error::Model`]
-    /// when the mass matrix cannot be factored.
-    pub fn new(file: &Controller, model: Box<dyn Model>, start: f64, end: f64) -> Result<Self> {
-        let sampled = file.sampled.as_ref().ok_or_else(|| {
-            Error::option("controller", "has no sampled part (design it with sensors)")
-        })?;
-        if let Some(s) = sampled.sensors.iter().find(|s| s.as_str() == "acc_load") {
+    /// [`Error::Option`] for sensors that are not linear in the coordinates or a recorded
+    /// model that does not fit; [`Error::Model`] when the fallback's mass matrix cannot be
+    /// factored.
+    pub fn new(
+        file: &Controller,
+        fallback: &dyn telescopic_runtime::Model,
+        start: f64,
+        end: f64,
+    ) -> Result<Self> {
+        let sampled = sampled_of(file)?;
+        let record = match &sampled.model {
+            Some(record) => record.clone(),
+            None => EstimatorModel::of(fallback)?,
+        };
+        let model = PreparedEstimatorModel::new(&record)?;
+        let w = 2 * model.dof();
+        let m = sampled.sensors.len();
+        let rows = &sampled.points[0].c;
+        if rows.len() != m || rows.iter().any(|r| r.len() != w) {
             return Err(Error::option(
-                "controller `sampled.sensors`",
-                format!("the extended filter takes outputs linear in the coordinates, not `{s}`"),
+                "controller `sampled.points[0].C`",
+                format!("must be {m} x {w}"),
             ));
         }
-        let n = model.dof();
-        let drive = super::controlled::DriveResponse::of(model.as_ref())?;
-        let response = drive.entries();
-        let c = from_rows(&sampled.points[0].c, None)
-            .map_err(|e| Error::option("controller `sampled.points[0].C`", e))?;
-        let r = DMatrix::from_diagonal(&DVector::from_iterator(
-            sampled.noise.len(),
-            sampled.noise.iter().map(|s| s * s),
-        ));
-        let period = 1.0 / sampled.rate_hz;
-        // the force disturbance through the accelerations over one period, plus a floor
-        let mut bd = DVector::zeros(2 * n);
-        for i in 0..n {
-            bd[i] = 0.5 * period * period * response[i];
-            bd[n + i] = period * response[i];
+        let mut r = vec![0.0; m * m];
+        for (i, s) in sampled.noise.iter().enumerate() {
+            r[i * m + i] = s * s;
         }
-        // the floor keeps the filter from growing certain of the motion it cannot see (the
-        // upper section inside its band): without it the loop diverges with clearance
-        let q = &bd * bd.transpose() * sampled.force_noise.powi(2)
-            + DMatrix::identity(2 * n, 2 * n)
-                * sampled
-                    .process_noise_floor
-                    .unwrap_or(super::sampled::FORMER_PROCESS_NOISE_FLOOR);
+        let mut p = vec![0.0; w * w];
+        for i in 0..w {
+            p[i * w + i] = INITIAL_COVARIANCE;
+        }
+        let matrix = || vec![0.0; w * w];
         Ok(ExtendedKalman {
-            drive,
-            c,
+            c: rows.iter().flatten().copied().collect(),
             r,
-            q,
-            x: DVector::zeros(2 * n),
-            p: DMatrix::identity(2 * n, 2 * n) * 1e-8,
+            q: process_noise(sampled, model.drive_response()),
+            x: vec![0.0; w],
+            p,
             law: super::sampled::DiscreteController::new(file, start, end)?,
-            period,
+            period: 1.0 / sampled.rate_hz,
             u: 0.0,
-            jac: DMatrix::zeros(2 * n, 2 * n),
-            scratch: std::array::from_fn(|_| vec![0.0; 2 * n]),
-            tmp: vec![0.0; 2 * n],
+            scratch: Scratch {
+                innovation: vec![0.0; m],
+                pc: vec![0.0; w * m],
+                s: vec![0.0; m * m],
+                s_inv: vec![0.0; m * m],
+                factor: vec![0.0; m * m],
+                gain: vec![0.0; w * m],
+                gain_r: vec![0.0; w * m],
+                keep: matrix(),
+                m1: matrix(),
+                m2: matrix(),
+                m3: matrix(),
+                rk: std::array::from_fn(|_| vec![0.0; w]),
+            },
             model,
         })
     }
 
     /// The current estimate `x_hat = [z, z']` (predicted to the next tick).
     pub fn estimate(&self) -> &[f64] {
-        self.x.as_slice()
+        &self.x
     }
 
-    /// `ydot` of the model with the drive force `u` at `t`.
-    fn rhs(&self, t: f64, y: &[f64], u: f64, ydot: &mut [f64]) {
-        self.drive
-            .rhs_with(self.model.as_ref(), t, y, None, u, ydot);
+    /// The measurement update with `y`: the Kalman gain from `S = C P C^T + R` and Joseph's
+    /// form of the covariance (it stays symmetric positive semi-definite). Skipped when `S`
+    /// is not positive definite.
+    fn update(&mut self, y: &[f64]) {
+        let (w, m) = (self.x.len(), y.len());
+        let sc = &mut self.scratch;
+        for s in 0..m {
+            let mut predicted = 0.0;
+            for col in 0..w {
+                predicted += self.c[s * w + col] * self.x[col];
+            }
+            sc.innovation[s] = y[s] - predicted;
+        }
+        multiply_transposed(&self.p, &self.c, &mut sc.pc, w, w, m);
+        multiply(&self.c, &sc.pc, &mut sc.s, m, w, m);
+        for i in 0..m * m {
+            sc.s[i] += self.r[i];
+        }
+        if !invert_spd(&sc.s, m, &mut sc.factor, &mut sc.s_inv) {
+            return;
+        }
+        multiply(&sc.pc, &sc.s_inv, &mut sc.gain, w, m, m);
+        for row in 0..w {
+            let mut dx = 0.0;
+            for s in 0..m {
+                dx += sc.gain[row * m + s] * sc.innovation[s];
+            }
+            self.x[row] += dx;
+        }
+        // keep = I - G C; P = keep P keep^T + G R G^T
+        multiply(&sc.gain, &self.c, &mut sc.keep, w, m, w);
+        for row in 0..w {
+            for col in 0..w {
+                let identity = if row == col { 1.0 } else { 0.0 };
+                sc.keep[row * w + col] = identity - sc.keep[row * w + col];
+            }
+        }
+        multiply(&sc.keep, &self.p, &mut sc.m1, w, w, w);
+        multiply_transposed(&sc.m1, &sc.keep, &mut self.p, w, w, w);
+        multiply(&sc.gain, &self.r, &mut sc.gain_r, w, m, m);
+        multiply_transposed(&sc.gain_r, &sc.gain, &mut sc.m1, w, m, w);
+        for i in 0..w * w {
+            self.p[i] += sc.m1[i];
+        }
+    }
+
+    /// The covariance through one period: `F = exp(J T)` of the Jacobian at the estimate,
+    /// `P = F P F^T + Q`, symmetrized.
+    fn predict_covariance(&mut self, t: f64) {
+        let w = self.x.len();
+        let sc = &mut self.scratch;
+        self.model.jacobian(t, &self.x, &mut sc.m1);
+        for v in sc.m1.iter_mut() {
+            *v *= self.period;
+        }
+        // m2 = F (a non-finite Jacobian leaves the covariance as it is)
+        if !exponential(&sc.m1, w, &mut sc.m2, &mut sc.m3, &mut sc.keep) {
+            return;
+        }
+        multiply(&sc.m2, &self.p, &mut sc.m1, w, w, w);
+        multiply_transposed(&sc.m1, &sc.m2, &mut sc.m3, w, w, w);
+        for row in 0..w {
+            for col in 0..w {
+                self.p[row * w + col] = 0.5
+                    * ((sc.m3[row * w + col] + self.q[row * w + col])
+                        + (sc.m3[col * w + row] + self.q[col * w + row]));
+            }
+        }
     }
 
     /// Integrates the estimate over one period with the force held (classic RK4).
     fn predict_state(&mut self, t: f64) {
         let h = self.period / SUBSTEPS as f64;
-        // the buffers, taken out of self while self.rhs borrows it
-        let [mut y, mut k1, mut k2, mut k3, mut k4] = std::mem::take(&mut self.scratch);
-        let mut tmp = std::mem::take(&mut self.tmp);
-        y.copy_from_slice(self.x.as_slice());
+        let w = self.x.len();
+        let [y, k1, k2, k3, k4, tmp] = &mut self.scratch.rk;
+        y.copy_from_slice(&self.x);
         for s in 0..SUBSTEPS {
             let ts = t + s as f64 * h;
-            self.rhs(ts, &y, self.u, &mut k1);
-            for i in 0..y.len() {
+            self.model.rhs(ts, y, self.u, k1);
+            for i in 0..w {
                 tmp[i] = y[i] + 0.5 * h * k1[i];
             }
-            self.rhs(ts + 0.5 * h, &tmp, self.u, &mut k2);
-            for i in 0..y.len() {
+            self.model.rhs(ts + 0.5 * h, tmp, self.u, k2);
+            for i in 0..w {
                 tmp[i] = y[i] + 0.5 * h * k2[i];
             }
-            self.rhs(ts + 0.5 * h, &tmp, self.u, &mut k3);
-            for i in 0..y.len() {
+            self.model.rhs(ts + 0.5 * h, tmp, self.u, k3);
+            for i in 0..w {
                 tmp[i] = y[i] + h * k3[i];
             }
-            self.rhs(ts + h, &tmp, self.u, &mut k4);
-            for i in 0..y.len() {
+            self.model.rhs(ts + h, tmp, self.u, k4);
+            for i in 0..w {
                 y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
             }
         }
-        self.x.copy_from_slice(&y);
-        self.scratch = [y, k1, k2, k3, k4];
-        self.tmp = tmp;
+        self.x.copy_from_slice(y);
     }
 }
 
 impl SampledController for ExtendedKalman {
     fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64 {
-        // update with the measurements at t
-        let innovation = DVector::from_column_slice(y) - &self.c * &self.x;
-        let s = &self.c * &self.p * self.c.transpose() + &self.r;
-        if let Some(s_inv) = s.try_inverse() {
-            let gain = &self.p * self.c.transpose() * s_inv;
-            self.x += &gain * innovation;
-            let n = self.x.len();
-            // Joseph's form: the covariance stays symmetric positive semi-definite
-            let keep = DMatrix::identity(n, n) - &gain * &self.c;
-            self.p = &keep * &self.p * keep.transpose() + &gain * &self.r * gain.transpose();
-        }
-        // the covariance through the exact Jacobian of the estimate's contact state
-        self.model
-            .jacobian(t, self.x.as_slice(), None, &mut self.jac);
-        let f = (&self.jac * self.period).exp();
-        self.p = &f * &self.p * f.transpose() + &self.q;
-        self.p = (&self.p + self.p.transpose()) * 0.5;
-        // the estimate through the nonlinear model to the next tick, with the force now held
+        // update with the measurements at t, then the covariance through the exact Jacobian
+        // of the estimate's contact state, then the estimate through the nonlinear model to
+        // the next tick with the force now held
+        self.update(y);
+        self.predict_covariance(t);
         self.predict_state(t);
         // the law on the predicted state
-        self.u = self.law.force_at(t, self.x.as_slice(), a);
+        self.u = self.law.force_at(t, &self.x, a);
         self.u
     }
 }

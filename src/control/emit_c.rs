@@ -48,7 +48,7 @@ pub(crate) fn list(values: impl IntoIterator<Item = f64>, indent: &str) -> Strin
 
 /// A C initializer of an array of dimensions `dims` from its row-major `values`: nested
 /// braces, the innermost rows on lines of their own.
-fn nested(values: &[f64], dims: &[usize], indent: &str) -> String {
+pub(crate) fn nested(values: &[f64], dims: &[usize], indent: &str) -> String {
     if dims.len() <= 1 {
         return list(values.iter().copied(), indent);
     }
@@ -96,12 +96,14 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
     if let Some(law) = &sampled.strain_rate {
         return Ok(super::emit_strain::emit_strain_rate(file, law, start, end));
     }
+    if sampled.estimator == "extended" {
+        return super::emit_ekf::emit_extended(file, start, end);
+    }
     if sampled.estimator != "linear" {
         return Err(Error::option(
             "controller `sampled.estimator`",
             format!(
-                "the emitted C runs the linear filter; this controller's estimator is `{}` \
-                 (design it with the linear estimator to emit it)",
+                "the emitted C runs the linear or the extended filter, not `{}`",
                 sampled.estimator
             ),
         ));
@@ -168,6 +170,7 @@ fn source(file: &Controller, banner: &str, start: f64, end: f64) -> String {
             nested(&values, &dims, "")
         );
     }
+    s.push_str(LQR_LAW);
     s.push_str(FILTER_FUNCTIONS);
     s
 }
@@ -323,6 +326,36 @@ static void weights(double a, int *i, int *j, double *w)
 }
 "#;
 
+/// The LQR law on an estimate, shared by the linear and the extended filter's C: what
+/// `DiscreteController::law` computes.
+pub(crate) const LQR_LAW: &str = r#"
+/* The saturated LQR force for the next tick after t on the estimate x, at position a. */
+static double lqr_force(double t, const double x[TC_STATES], double a)
+{
+    int i, j;
+    double w;
+    weights(a, &i, &j, &w);
+    const double next = t + PERIOD;
+    double u_ref, v_ref;
+    reference(next, &u_ref, &v_ref);
+    double feedback = 0.0;
+    for (int q = 0; q < TC_STATES; q++) {
+        double e;
+        if (q == 0) {
+            e = x[0] - u_ref;
+        } else if (q == TC_STATES / 2) {
+            e = x[q] - v_ref;
+        } else {
+            e = x[q];
+        }
+        const double gain = K[i][q] + w * (K[j][q] - K[i][q]);
+        feedback += gain * e;
+    }
+    const double f = feedforward(next) - feedback;
+    return fmin(fmax(f, -LIMIT), LIMIT);
+}
+"#;
+
 /// The linear filter's init and step.
 const FILTER_FUNCTIONS: &str = r#"
 void tc_init(tc_state *s)
@@ -363,24 +396,7 @@ double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
     for (int r = 0; r < TC_STATES; r++) {
         s->x_hat[r] = next_x[r];
     }
-    const double next = t + PERIOD;
-    double u_ref, v_ref;
-    reference(next, &u_ref, &v_ref);
-    double feedback = 0.0;
-    for (int q = 0; q < TC_STATES; q++) {
-        double e;
-        if (q == 0) {
-            e = s->x_hat[0] - u_ref;
-        } else if (q == TC_STATES / 2) {
-            e = s->x_hat[q] - v_ref;
-        } else {
-            e = s->x_hat[q];
-        }
-        const double gain = K[i][q] + w * (K[j][q] - K[i][q]);
-        feedback += gain * e;
-    }
-    const double f = feedforward(next) - feedback;
-    s->u = fmin(fmax(f, -LIMIT), LIMIT);
+    s->u = lqr_force(t, s->x_hat, a);
     return s->u;
 }
 "#;

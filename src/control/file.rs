@@ -265,6 +265,15 @@ impl Controller {
                 }
             }
         }
+        if let Some(model) = &sampled.model {
+            if sampled.estimator != "extended" {
+                return Err(field(
+                    "sampled.model",
+                    "is the extended estimator's model only",
+                ));
+            }
+            model.check(layout.dof(), layout.contact_count())?;
+        }
         Ok(())
     }
 }

@@ -18,12 +18,15 @@ pub mod controlled;
 pub mod design;
 pub mod ekf;
 pub mod emit_c;
+mod emit_ekf;
 mod emit_strain;
+pub mod estimator_model;
 pub mod file;
 pub mod riccati;
 pub mod sampled;
 pub mod sampled_run;
 pub mod shaper;
+pub mod small_dense;
 pub mod strain;
 
 pub use controlled::{ControlLaw, Controlled, Observed};

@@ -64,6 +64,10 @@ pub struct SampledDesign {
     /// The strain-rate law, replacing the LQR on a filter's estimate (estimator `none`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strain_rate: Option<super::strain::StrainRateLaw>,
+    /// The extended filter's model of the plant: the design scene's (extended files written
+    /// before it was recorded ran the plant's own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<super::estimator_model::EstimatorModel>,
 }
 
 /// The discrete model and Kalman gain of one design point.
@@ -219,6 +223,7 @@ pub fn design_sampled(
         process_noise_floor: None,
         points,
         strain_rate: None,
+        model: None,
     })
 }
 

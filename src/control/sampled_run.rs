@@ -204,11 +204,9 @@ pub fn simulate_sampled(
         .as_ref()
         .is_some_and(|s| s.estimator == "extended");
     if extended {
-        // the filter's own instance of the scene's model
-        let own = crate::models::ModelRegistry::default()
-            .build(&run.scene.params, crate::models::ModelChoice::Auto)?
-            .model;
-        let mut controller = super::ekf::ExtendedKalman::new(file, own, start, end)?;
+        // the filter predicts with the model its file records (a file written before it
+        // was recorded: with the scene's, the plant's own)
+        let mut controller = super::ekf::ExtendedKalman::new(file, run.model(), start, end)?;
         return run_sampled(run, file, &mut controller, reporter);
     }
     if file

@@ -166,8 +166,8 @@ pub struct DesignArgs {
     #[arg(long, value_name = "DIR", requires = "sensors")]
     pub emit_c: Option<PathBuf>,
     /// The sampled controller's estimator: linear (a discrete Kalman filter of the
-    /// closed-contact model; --emit-c writes it) or extended (an extended Kalman filter on
-    /// the nonlinear model with the contact law).
+    /// closed-contact model) or extended (an extended Kalman filter on the design scene's
+    /// nonlinear model with the contact law, recorded in the file); --emit-c writes either.
     #[arg(long, default_value = "linear", value_name = "linear|extended")]
     pub estimator: String,
     /// The extended filter's process-noise floor: a variance added to every state per
