@@ -210,6 +210,13 @@ fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_rea
             .to_string();
         assert!(err.contains(field), "{field}: {err}");
     }
+    // the C emission checks the sizes of what it writes as fixed-size arrays
+    let mut short = controller.clone();
+    short.schedule[0].k[0].pop();
+    let err = telescopic::control::emit_c::emit_c(&short, 0.0, 16.0)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("`schedule[].k`"), "{err}");
 }
 
 #[test]

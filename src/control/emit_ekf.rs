@@ -25,6 +25,25 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
     let (n, nc, m) = (model.dof(), model.contacts, sampled.sensors.len());
     model.check(n, nc)?;
     let w = 2 * n;
+    // the tables below are fixed-size C arrays: a file whose sizes disagree is refused here
+    // rather than emitted as C that does not compile
+    let c_rows = sampled.points.first().map(|p| &p.c);
+    if c_rows.is_none_or(|c| c.len() != m || c.iter().any(|r| r.len() != w)) {
+        return Err(Error::option(
+            "controller `sampled.points[0].C`",
+            format!("must be {m} x {w} (sensors x the recorded model's states)"),
+        ));
+    }
+    if file
+        .schedule
+        .iter()
+        .any(|p| p.k.len() != 1 || p.k[0].len() != w)
+    {
+        return Err(Error::option(
+            "controller `schedule[].k`",
+            format!("must be one row of {w} gains per design point"),
+        ));
+    }
     let banner = banner(
         file,
         "an LQR on an extended Kalman filter of the nonlinear model with the clearance's \
