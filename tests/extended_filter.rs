@@ -45,6 +45,17 @@ fn scene(name: &str, overrides: &[&str]) -> Scene {
     Scene::load(path.as_ref(), &overrides).unwrap()
 }
 
+/// The LQR on the extended filter from the encoder and the strain gauge, tip scale `tip` (m).
+fn extended_design(plant: &Scene, tip: f64) -> Controller {
+    let options = DesignOptions {
+        sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+        estimator: "extended".into(),
+        tip_scale: tip,
+        ..DesignOptions::default()
+    };
+    design(plant, &options).unwrap()
+}
+
 fn largest(values: impl IntoIterator<Item = f64>) -> f64 {
     values.into_iter().fold(0.0, |m, v| m.max(v.abs()))
 }
@@ -123,13 +134,7 @@ fn the_filter_model_is_the_generated_model_in_every_contact_branch() {
 #[test]
 fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_reach_it() {
     let nominal = scene("case-study", &[]);
-    let options = DesignOptions {
-        sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-        estimator: "extended".into(),
-        tip_scale: 0.05,
-        ..DesignOptions::default()
-    };
-    let controller = design(&nominal, &options).unwrap();
+    let controller = extended_design(&nominal, 0.05);
     let back = Controller::from_json(&controller.to_json()).unwrap();
     assert!(back == controller, "the controller file round-trips");
     let recorded = controller.sampled.as_ref().unwrap().model.clone().unwrap();
@@ -224,15 +229,7 @@ fn the_filter_step_allocates_nothing() {
     use telescopic::control::ekf::ExtendedKalman;
     use telescopic::control::sampled::SampledController;
     let plant = scene("case-study", &[]);
-    let controller = design(
-        &plant,
-        &DesignOptions {
-            sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-            estimator: "extended".into(),
-            ..DesignOptions::default()
-        },
-    )
-    .unwrap();
+    let controller = extended_design(&plant, DesignOptions::default().tip_scale);
     let model = ModelRegistry::default()
         .build(&plant.params, ModelChoice::Auto)
         .unwrap()
