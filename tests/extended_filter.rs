@@ -186,6 +186,12 @@ fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_rea
         ),
         (
             &|v: &mut serde_json::Value| {
+                v["sampled"]["model"]["geometry_table"]["varying"] = serde_json::json!([]);
+            },
+            "`sampled.model.geometry_table.varying`",
+        ),
+        (
+            &|v: &mut serde_json::Value| {
                 v["sampled"]["model"]["contacts"] = 3.into();
             },
             "`sampled.model.contacts`",

@@ -262,7 +262,7 @@ pub fn linearize<'py>(
 /// Designs a controller; returns its JSON (see `telescopic.design`).
 #[pyfunction]
 #[pyo3(signature = (scene, controller = "lqr+shaper", force_limit = 300.0, sensors = None,
-    rate_hz = None, law = None, shaper_timing = "within", tip_scale = None, vehicle_scale = None,
+    rate_hz = None, law = None, shaper_timing = None, tip_scale = None, vehicle_scale = None,
     estimator = None, process_noise_floor = None, added_damping = None, model = "auto",
     progress = None))]
 #[allow(clippy::too_many_arguments)]
@@ -274,7 +274,7 @@ pub fn design(
     sensors: Option<Vec<String>>,
     rate_hz: Option<f64>,
     law: Option<String>,
-    shaper_timing: &str,
+    shaper_timing: Option<&str>,
     tip_scale: Option<f64>,
     vehicle_scale: Option<f64>,
     estimator: Option<String>,
@@ -290,7 +290,10 @@ pub fn design(
         sensors: sensors.unwrap_or(defaults.sensors.clone()),
         rate_hz: rate_hz.unwrap_or(defaults.rate_hz),
         law: law.unwrap_or(defaults.law.clone()),
-        shaper_timing: parsed("shaper_timing", shaper_timing)?,
+        shaper_timing: match shaper_timing {
+            Some(text) => parsed("shaper_timing", text)?,
+            None => defaults.shaper_timing,
+        },
         tip_scale: tip_scale.unwrap_or(defaults.tip_scale),
         vehicle_scale: vehicle_scale.unwrap_or(defaults.vehicle_scale),
         estimator: estimator.unwrap_or(defaults.estimator.clone()),

@@ -307,7 +307,7 @@ def design(
     sensors: Sequence[str] | None = None,
     rate_hz: float | None = None,
     law: str | None = None,
-    shaper_timing: str = "within",
+    shaper_timing: str | None = None,
     tip_scale: float | None = None,
     vehicle_scale: float | None = None,
     estimator: str | None = None,
@@ -319,7 +319,7 @@ def design(
     """Designs a vibration-suppressing controller (``telescopic design``): ``lqr``,
     ``shaper``, ``lqr+shaper`` or ``lqr+shaper+kalman``; with ``sensors`` (e.g.
     ``["vehicle", "kappa_1_0"]``) a sampled output-feedback controller at ``rate_hz``;
-    ``shaper_timing`` ``within`` (the shaper's trains inside the profile's span) or
+    ``shaper_timing`` ``within`` (the default: the shaper's trains inside the profile's span) or
     ``delayed``; the rest as ``telescopic design``'s flags of the same names (``None``: their
     defaults), e.g. ``estimator="extended", tip_scale=0.05`` for the extended Kalman filter
     that models the clearance."""

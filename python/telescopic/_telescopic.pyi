@@ -100,7 +100,7 @@ def design(
     sensors: list[str] | None = None,
     rate_hz: float | None = None,
     law: str | None = None,
-    shaper_timing: str = "within",
+    shaper_timing: str | None = None,
     tip_scale: float | None = None,
     vehicle_scale: float | None = None,
     estimator: str | None = None,

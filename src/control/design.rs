@@ -856,6 +856,16 @@ pub(crate) fn bracket(positions: &[f64], a: f64) -> (usize, usize, f64) {
 }
 
 impl Controller {
+    /// The sampled part.
+    ///
+    /// # Errors
+    /// [`Error::Option`] when the controller has none (a continuous full-state design).
+    pub fn sampled_part(&self) -> Result<&super::sampled::SampledDesign> {
+        self.sampled.as_ref().ok_or_else(|| {
+            Error::option("controller", "has no sampled part (design it with sensors)")
+        })
+    }
+
     /// The controller file (JSON).
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("plain data") + "\n"

@@ -57,9 +57,7 @@ struct Scratch {
 /// The sampled part's checks shared by the filter and its C emission: the part itself and
 /// sensors linear in the coordinates.
 pub(crate) fn sampled_of(file: &Controller) -> Result<&super::sampled::SampledDesign> {
-    let sampled = file.sampled.as_ref().ok_or_else(|| {
-        Error::option("controller", "has no sampled part (design it with sensors)")
-    })?;
+    let sampled = file.sampled_part()?;
     if let Some(s) = sampled.sensors.iter().find(|s| s.as_str() == "acc_load") {
         return Err(Error::option(
             "controller `sampled.sensors`",
@@ -67,6 +65,35 @@ pub(crate) fn sampled_of(file: &Controller) -> Result<&super::sampled::SampledDe
         ));
     }
     Ok(sampled)
+}
+
+/// The measurement rows (`sensors x w`, row-major) of the first design point: the filter's
+/// `C`, checked against the `w` states of its model.
+pub(crate) fn measurement_rows(
+    sampled: &super::sampled::SampledDesign,
+    w: usize,
+) -> Result<Vec<f64>> {
+    let m = sampled.sensors.len();
+    match sampled.points.first() {
+        Some(p) if p.c.len() == m && p.c.iter().all(|r| r.len() == w) => {
+            Ok(p.c.iter().flatten().copied().collect())
+        }
+        _ => Err(Error::option(
+            "controller `sampled.points[0].C`",
+            format!("must be {m} x {w} (sensors x the recorded model's states)"),
+        )),
+    }
+}
+
+/// The measurement noise covariance (`sensors x sensors`, row-major): the noise levels
+/// squared on the diagonal.
+pub(crate) fn measurement_noise(sampled: &super::sampled::SampledDesign) -> Vec<f64> {
+    let m = sampled.noise.len();
+    let mut r = vec![0.0; m * m];
+    for (i, s) in sampled.noise.iter().enumerate() {
+        r[i * m + i] = s * s;
+    }
+    r
 }
 
 /// The process noise per period (`2 dof x 2 dof`, row-major): the force disturbance through
@@ -116,25 +143,14 @@ impl ExtendedKalman {
         let model = PreparedEstimatorModel::new(&record)?;
         let w = 2 * model.dof();
         let m = sampled.sensors.len();
-        let rows = &sampled.points[0].c;
-        if rows.len() != m || rows.iter().any(|r| r.len() != w) {
-            return Err(Error::option(
-                "controller `sampled.points[0].C`",
-                format!("must be {m} x {w}"),
-            ));
-        }
-        let mut r = vec![0.0; m * m];
-        for (i, s) in sampled.noise.iter().enumerate() {
-            r[i * m + i] = s * s;
-        }
         let mut p = vec![0.0; w * w];
         for i in 0..w {
             p[i * w + i] = INITIAL_COVARIANCE;
         }
         let matrix = || vec![0.0; w * w];
         Ok(ExtendedKalman {
-            c: rows.iter().flatten().copied().collect(),
-            r,
+            c: measurement_rows(sampled, w)?,
+            r: measurement_noise(sampled),
             q: process_noise(sampled, model.drive_response()),
             x: vec![0.0; w],
             p,

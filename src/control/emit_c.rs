@@ -90,9 +90,7 @@ pub(crate) fn banner(file: &Controller, what: &str) -> String {
 /// # Errors
 /// [`Error::Option`] when the controller has no sampled part.
 pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String)> {
-    let sampled = file.sampled.as_ref().ok_or_else(|| {
-        Error::option("controller", "has no sampled part (design it with sensors)")
-    })?;
+    let sampled = file.sampled_part()?;
     if let Some(law) = &sampled.strain_rate {
         return Ok(super::emit_strain::emit_strain_rate(file, law, start, end));
     }

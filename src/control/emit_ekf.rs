@@ -22,18 +22,12 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
              again to emit it",
         )
     })?;
-    let (n, nc, m) = (model.dof(), model.contacts, sampled.sensors.len());
+    let (n, nc) = (model.dof(), model.contacts);
     model.check(n, nc)?;
     let w = 2 * n;
     // the tables below are fixed-size C arrays: a file whose sizes disagree is refused here
     // rather than emitted as C that does not compile
-    let c_rows = sampled.points.first().map(|p| &p.c);
-    if c_rows.is_none_or(|c| c.len() != m || c.iter().any(|r| r.len() != w)) {
-        return Err(Error::option(
-            "controller `sampled.points[0].C`",
-            format!("must be {m} x {w} (sensors x the recorded model's states)"),
-        ));
-    }
+    let c = super::ekf::measurement_rows(sampled, w)?;
     if file
         .schedule
         .iter()
@@ -49,11 +43,6 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
         "an LQR on an extended Kalman filter of the nonlinear model with the clearance's \
          contact law",
     );
-    // a table whose columns are all constant is the fixed geometry of its constant values
-    let table = model
-        .geometry_table
-        .as_ref()
-        .filter(|t| !t.varying.is_empty());
     let defines = format!(
         "#define TC_DOF {n}     /* generalized coordinates z */\n\
          #define TC_STATES {w}  /* the estimate x = [z, z'] */\n\
@@ -75,12 +64,14 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
          #define TC_TABLE {}   /* contact vectors tabulated in time (positions move) */\n\
          #define SUBSTEPS {}   /* RK4 steps of the prediction per period */\n\
          #define TAYLOR_DEGREE {}\n\
+         #define MAX_HALVINGS {}\n\
          static const double SCALED_NORM = {};\n\
          static const double INITIAL_COVARIANCE = {};",
         u8::from(model.damping.is_some()),
-        u8::from(table.is_some()),
+        u8::from(model.geometry_table.is_some()),
         super::ekf::SUBSTEPS,
         super::small_dense::TAYLOR_DEGREE,
+        super::small_dense::MAX_HALVINGS,
         lit(super::small_dense::SCALED_NORM),
         lit(super::ekf::INITIAL_COVARIANCE),
     );
@@ -118,8 +109,8 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
         lit(model.contact_damping),
         lit(model.clearance)
     );
-    append_geometry(&mut s, model, table);
-    append_filter_tables(&mut s, file, model, m, w);
+    append_geometry(&mut s, model);
+    append_filter_tables(&mut s, file, model, c, w);
     s.push_str(LQR_LAW);
     s.push_str(MODEL_FUNCTIONS);
     s.push_str(DENSE_FUNCTIONS);
@@ -129,13 +120,9 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
 
 /// The contact vectors: their table in time (cubic Hermite, as the model's) or the fixed
 /// values.
-fn append_geometry(
-    s: &mut String,
-    model: &super::estimator_model::EstimatorModel,
-    table: Option<&telescopic_runtime::ContactTableParts>,
-) {
-    match table {
-        Some(t) => {
+fn append_geometry(s: &mut String, model: &super::estimator_model::EstimatorModel) {
+    match (&model.geometry_table, &model.fixed_geometry) {
+        (Some(t), _) => {
             let width = t.varying.len();
             let _ = writeln!(
                 s,
@@ -164,35 +151,29 @@ fn append_geometry(
                 );
             }
         }
-        None => {
-            let fixed = model
-                .fixed_geometry
-                .clone()
-                .or_else(|| model.geometry_table.as_ref().map(|t| t.constant_g.clone()))
-                .expect("checked: one of the two is given");
+        (None, fixed) => {
+            let fixed = fixed.as_deref().unwrap_or_default();
             let _ = writeln!(
                 s,
                 "\n/* the contact vectors g_c (contact after contact): fixed positions */\n\
                  static const double FIXED_G[TC_CONTACTS * TC_DOF] = {};",
-                list(fixed, "    ")
+                list(fixed.iter().copied(), "    ")
             );
         }
     }
 }
 
-/// The measurement rows, the noise covariances and the LQR gains per design point.
+/// The measurement rows `c`, the noise covariances and the LQR gains per design point.
 fn append_filter_tables(
     s: &mut String,
     file: &Controller,
     model: &super::estimator_model::EstimatorModel,
-    m: usize,
+    c: Vec<f64>,
     w: usize,
 ) {
     let sampled = file.sampled.as_ref().expect("checked by the caller");
-    let mut r = vec![0.0; m * m];
-    for (i, v) in sampled.noise.iter().enumerate() {
-        r[i * m + i] = v * v;
-    }
+    let m = sampled.sensors.len();
+    let r = super::ekf::measurement_noise(sampled);
     let q = super::ekf::process_noise(sampled, &model.drive_response);
     let p = file.schedule.len();
     let gains: Vec<f64> = file
@@ -200,7 +181,6 @@ fn append_filter_tables(
         .iter()
         .flat_map(|pt| pt.k[0].iter().copied())
         .collect();
-    let c: Vec<f64> = sampled.points[0].c.iter().flatten().copied().collect();
     let _ = writeln!(
         s,
         "\n/* the filter: measurement rows C, measurement noise R, process noise Q per period;\n \
@@ -209,16 +189,14 @@ fn append_filter_tables(
     for (decl, values, dims) in [
         ("CM[TC_SENSORS][TC_STATES]", c, vec![m, w]),
         ("RN[TC_SENSORS * TC_SENSORS]", r, vec![m * m]),
-        ("QN[TC_STATES * TC_STATES]", q, vec![w, w]),
+        ("QN[TC_STATES * TC_STATES]", q, vec![w * w]),
         ("K[TC_POINTS][TC_STATES]", gains, vec![p, w]),
     ] {
-        let flat_decl = decl.contains(" * ");
-        let text = if flat_decl {
-            list(values, "    ")
-        } else {
+        let _ = writeln!(
+            s,
+            "static const double {decl} = {};",
             nested(&values, &dims, "")
-        };
-        let _ = writeln!(s, "static const double {decl} = {text};");
+        );
     }
 }
 
@@ -442,7 +420,7 @@ static int exponential(const double *a, double *out, double *t1, double *t2)
     }
     int halvings = 0;
     double scale = 1.0;
-    while (norm > SCALED_NORM && halvings < 1100) {
+    while (norm > SCALED_NORM && halvings < MAX_HALVINGS) {
         norm *= 0.5;
         scale *= 0.5;
         halvings++;

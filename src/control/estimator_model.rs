@@ -67,6 +67,10 @@ impl EstimatorModel {
         };
         let moving = model.params().positions.iter().any(|p| !p.is_constant());
         let (fixed_geometry, geometry_table) = match (moving, model.contact_table()) {
+            // a table whose every column is constant is the fixed geometry of those values
+            (_, Some(table)) if table.varying_columns() == 0 => {
+                (Some(table.parts().constant_g), None)
+            }
             (_, Some(table)) => (None, Some(table.parts())),
             (false, None) => {
                 let (mut g, mut gd) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
@@ -156,6 +160,12 @@ impl EstimatorModel {
                     return Err(field(
                         "geometry_table.constant_g",
                         format!("must have {} entries", contacts * dof),
+                    ));
+                }
+                if parts.varying.is_empty() {
+                    return Err(field(
+                        "geometry_table.varying",
+                        "must name a column that changes (else give `fixed_geometry`)".into(),
                     ));
                 }
                 ContactTable::from_parts(parts.clone()).map_err(|e| field("geometry_table", e))?;

@@ -292,9 +292,7 @@ impl DiscreteController {
     /// # Errors
     /// [`Error::Option`] naming what the file lacks.
     pub fn new(file: &Controller, start: f64, end: f64) -> Result<Self> {
-        let sampled = file.sampled.as_ref().ok_or_else(|| {
-            Error::option("controller", "has no sampled part (design it with sensors)")
-        })?;
+        let sampled = file.sampled_part()?;
         if !file.kind.has_lqr() || sampled.points.len() != file.schedule.len() {
             return Err(Error::option(
                 "controller `sampled.points`",

@@ -43,9 +43,7 @@ pub fn run_sampled(
     reporter: &dyn Reporter,
 ) -> Result<SampledRun> {
     let scene: &Scene = run.scene;
-    let sampled = file.sampled.as_ref().ok_or_else(|| {
-        Error::option("controller", "has no sampled part (design it with sensors)")
-    })?;
+    let sampled = file.sampled_part()?;
     let span = scene.time;
     let (period, every) = tick_grid(sampled.rate_hz, &span)?;
     crate::memory::check_runs(&[scene])?;

@@ -47,7 +47,7 @@ pub const TAYLOR_DEGREE: usize = 12;
 pub const SCALED_NORM: f64 = 0.5;
 
 /// Most halvings (a 1-norm up to `2^1100` covers every finite double).
-const MAX_HALVINGS: usize = 1100;
+pub const MAX_HALVINGS: usize = 1100;
 
 /// `out = exp(a)` (`n x n`) by scaling and squaring of a Taylor polynomial in Horner form;
 /// `t1`, `t2` are scratch of the same size. Returns false (and leaves `out` unspecified) when

@@ -137,11 +137,11 @@ pub struct DesignArgs {
     #[arg(long, default_value_t = DesignOptions::default().design_modes, value_name = "N")]
     pub design_modes: usize,
     /// The shaper: zv or zvd.
-    #[arg(long, default_value = "zvd", value_name = "KIND")]
+    #[arg(long, default_value_t = DesignOptions::default().shaper, value_name = "KIND")]
     pub shaper: telescopic::control::ShaperKind,
     /// Where the shaper's trains sit: within (inside the profile's span, its rest-to-rest
-    /// travel kept; the default) or delayed (after each jump, ending up to a period late).
-    #[arg(long, default_value = "within", value_name = "TIMING")]
+    /// travel kept) or delayed (after each jump, ending up to a period late).
+    #[arg(long, default_value_t = DesignOptions::default().shaper_timing, value_name = "TIMING")]
     pub shaper_timing: telescopic::control::ShaperTiming,
     /// Kalman filter (lqr+shaper+kalman): measurement noise of vehicle and tip_rel (m).
     #[arg(long, default_value_t = DesignOptions::default().sensor_noise, value_name = "M")]
@@ -168,7 +168,7 @@ pub struct DesignArgs {
     /// The sampled controller's estimator: linear (a discrete Kalman filter of the
     /// closed-contact model) or extended (an extended Kalman filter on the design scene's
     /// nonlinear model with the contact law, recorded in the file); --emit-c writes either.
-    #[arg(long, default_value = "linear", value_name = "linear|extended")]
+    #[arg(long, default_value_t = DesignOptions::default().estimator, value_name = "linear|extended")]
     pub estimator: String,
     /// The extended filter's process-noise floor: a variance added to every state per
     /// period (state units squared).
