@@ -68,6 +68,9 @@ pub struct SimulationOptions {
     pub dt: Option<f64>,
     /// Cap dop853's step below its stable step while a contact is closed (default true).
     pub step_cap: bool,
+    /// Let method `exact` step over closed contacts' fast modes where certified (default
+    /// true; false: its short steps throughout, for comparison).
+    pub long_steps: bool,
     /// Which model computes the right-hand side (default `auto`).
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
@@ -89,6 +92,7 @@ impl Default for SimulationOptions {
             atol: None,
             dt: None,
             step_cap: true,
+            long_steps: true,
             model: ModelChoice::Auto,
             models: ModelRegistry::default(),
             accuracy: None,
@@ -154,6 +158,7 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     }
     settings.dt = options.dt;
     settings.step_cap = options.step_cap;
+    settings.long_steps = options.long_steps;
     if !(settings.rtol > 0.0 && settings.rtol < 1.0 && settings.atol > 0.0)
         || !settings.atol.is_finite()
     {
@@ -271,16 +276,21 @@ impl Simulation {
         let cap = s.step_cap.map_or(String::new(), |c| {
             format!("; step capped at {c:.3e} s while a contact is closed (its stable step)")
         });
+        let long = if s.long_steps > 0 {
+            format!(", {} steps over the closed contacts' modes", s.long_steps)
+        } else {
+            String::new()
+        };
         let tol = match self.plan.method.step_control() {
             StepControl::Adaptive if s.exponentials > 0 => format!(
-                "rtol {:e}, atol {:e}{cap}; {} matrix exponentials",
+                "rtol {:e}, atol {:e}{cap}; {} matrix exponentials{long}",
                 settings.rtol, settings.atol, s.exponentials
             ),
             StepControl::Adaptive => {
                 format!("rtol {:e}, atol {:e}{cap}", settings.rtol, settings.atol)
             }
             StepControl::Fixed => format!("dt {:e} s", settings.dt.unwrap_or(f64::NAN)),
-            StepControl::Exact => format!("{} matrix exponentials", s.exponentials),
+            StepControl::Exact => format!("{} matrix exponentials{long}", s.exponentials),
         };
         let special = if self.specializations.is_empty() {
             "none".to_string()

@@ -4,11 +4,12 @@
 
 use crate::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
+use telescopic_runtime::integrate::exact::{closed_contact_steps, exact_tail_start, lti_obstacle};
 use telescopic_runtime::integrate::stability::{
     RK4_IMAGINARY_AXIS, RK4_REAL_AXIS, STEP_CAP_SAFETY, StabilityReport, VERLET_LIMIT,
     closed_contact_stable_step, linearization_times, stability_report,
 };
-use telescopic_runtime::{Method, Scene};
+use telescopic_runtime::{Method, Model, Scene};
 
 /// The stability facts of a scene: the closed-contact model at its stiffest time, and the
 /// largest stable steps of the adaptive explicit methods.
@@ -24,6 +25,9 @@ pub struct Stability {
     pub times: usize,
     /// Largest stable step (s) of dopri5 and dop853 with closed contacts.
     pub adaptive: Vec<(Method, Option<f64>)>,
+    /// Method exact's steps with every contact closed, where it applies to a scene with
+    /// clearance: the time (s), the short step (s) and the long step over the contact modes.
+    pub exact: Option<(f64, f64, Option<f64>)>,
     /// Set when the model choice fell back to the assembled model.
     pub note: Option<String>,
 }
@@ -61,8 +65,27 @@ pub fn stability_analysis(
         worst,
         times: times.len(),
         adaptive,
+        exact: exact_steps(model, scene)?,
         note: chosen.note,
     })
+}
+
+/// Method exact's closed-contact steps where it runs the scene (from its start, or from
+/// where the positions come to rest) and the scene has clearance.
+fn exact_steps(model: &dyn Model, scene: &Scene) -> Result<Option<(f64, f64, Option<f64>)>> {
+    if scene.params.contact.clearance <= 0.0 {
+        return Ok(None);
+    }
+    let from = match lti_obstacle(&scene.params) {
+        None => scene.time.start,
+        Some(_) => match exact_tail_start(&scene.params, &scene.time) {
+            Some(t) => t,
+            None => return Ok(None),
+        },
+    };
+    let (short, long) = closed_contact_steps(model, from, scene.time.sample)
+        .map_err(|e| Error::Analysis(format!("scene {}: {e}", scene.name)))?;
+    Ok(Some((from, short, long)))
 }
 
 impl Stability {
@@ -74,6 +97,7 @@ impl Stability {
             &self.worst,
             self.times,
             &self.adaptive,
+            self.exact,
         )
     }
 }
@@ -85,6 +109,7 @@ fn render(
     r: &StabilityReport,
     times: usize,
     adaptive: &[(Method, Option<f64>)],
+    exact: Option<(f64, f64, Option<f64>)>,
 ) -> String {
     let w = r.omega_max;
     let at = if times > 1 {
@@ -140,6 +165,23 @@ fn render(
              imex treats the contacts implicitly: its limit is set by the beams' own modes, which\n\
              its split leaves slightly unstable beyond it (docs/numerics.md).",
             steps.join(", ")
+        );
+    }
+    if let Some((from, short, long)) = exact {
+        let over = match long {
+            Some(h) => format!(
+                "; where the closed contacts' modes have rung down, it steps over them with \
+                 {h:.4e} s (h omega_max {:.1}), the beams' own modes' step, certified by a bound \
+                 of the contact modes (docs/numerics.md)",
+                h * w
+            ),
+            None => {
+                "; the contact modes do not stand apart from the beams', so no longer step".into()
+            }
+        };
+        s += &format!(
+            "\nexact (from t = {from} s): {short:.4e} s while contacts are closed (h omega_max {:.3}){over}.",
+            short * w
         );
     }
     s

@@ -185,7 +185,18 @@ fn sweep(method: Method, model: &dyn Model, scene: &Scene) -> Result<Vec<(String
         ..Settings::default()
     };
     Ok(match method {
-        // exact up to rounding: nothing to sweep
+        // exact up to rounding: nothing to sweep but its long steps over closed contacts'
+        // modes, beside its short steps throughout where there are contacts to close
+        Method::Exact if scene.params.contact.clearance > 0.0 => vec![
+            ("exact".to_string(), Settings::default()),
+            (
+                "short-steps".to_string(),
+                Settings {
+                    long_steps: false,
+                    ..Settings::default()
+                },
+            ),
+        ],
         Method::Exact => vec![("exact".to_string(), Settings::default())],
         Method::Rk4 | Method::Verlet => {
             let r = stability_report(model, scene.time.start)

@@ -409,3 +409,58 @@ fn work_precision_writes_a_converging_table_and_a_chart() {
     assert!(auto.iter().all(|e| *e < 1e-8), "{auto:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn exact_reports_its_long_steps_and_no_long_steps_turns_them_off() {
+    let dir = scratch("long-steps");
+    let run = |extra: &[&str], name: &str| {
+        let csv = dir.join(name);
+        let mut args = vec![
+            "simulate",
+            "scenes/adams-clearance.toml",
+            "--set",
+            "time.end=1.2",
+            "--method",
+            "exact",
+            "--out",
+            csv.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = telescopic(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let summary = String::from_utf8_lossy(&out.stderr).to_string();
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let tip: Vec<f64> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(2).unwrap().parse().unwrap())
+            .collect();
+        (summary, tip)
+    };
+    let (long, tip_long) = run(&[], "long.csv");
+    let (short, tip_short) = run(&["--no-long-steps"], "short.csv");
+    assert!(
+        long.contains("steps over the closed contacts' modes"),
+        "{long}"
+    );
+    assert!(!short.contains("steps over"), "{short}");
+    // the same motion to rounding, amplified by the scene's rattling (library test: 8e-10 m)
+    let worst = tip_long
+        .iter()
+        .zip(&tip_short)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(tip_long.len() == 1201 && worst < 1e-8, "{worst:e}");
+    let out = telescopic(&["stability", "scenes/adams-clearance.toml"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("exact"))
+        .unwrap_or_else(|| panic!("no exact line in\n{text}"));
+    assert!(line.contains("steps over them with 1.0000e-3 s"), "{line}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

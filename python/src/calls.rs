@@ -50,6 +50,7 @@ fn simulation_data<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Simulatio
     summary.set_item("jacobian_evaluations", s.jacobian_evals)?;
     summary.set_item("factorizations", s.factorizations)?;
     summary.set_item("matrix_exponentials", s.exponentials)?;
+    summary.set_item("long_steps", s.long_steps)?;
     summary.set_item("switches", s.switches)?;
     summary.set_item("wall_s", s.wall.as_secs_f64())?;
     summary.set_item("samples", traj.rows.len())?;

@@ -297,3 +297,76 @@ fn exact_stepping_from_a_time_off_the_sample_grid_is_refused() {
     let err = run(&model, &y0, &span(1.0, 1e-3), Method::Dopri5, &settings).unwrap_err();
     assert!(err.to_string().contains("a_2 moves"), "{err}");
 }
+
+/// Runs `params` exactly on `[0, end]` with and without the long steps over closed
+/// contacts' modes; returns the worst `tip_rel` difference (m) and both runs' statistics.
+fn long_against_short(
+    params: &ModelParams,
+    end: f64,
+) -> (
+    f64,
+    telescopic_runtime::RunStats,
+    telescopic_runtime::RunStats,
+) {
+    let model = AssembledModel::new(params).unwrap();
+    let y0 = vec![0.0; 2 * model.dof()];
+    let window = span(end, 1e-3);
+    let short_only = Settings {
+        long_steps: false,
+        ..Settings::default()
+    };
+    let (long, long_stats) =
+        run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
+    let (short, short_stats) = run(&model, &y0, &window, Method::Exact, &short_only).unwrap();
+    let worst = long
+        .iter()
+        .zip(&short)
+        .map(|((_, a), (_, b))| (tip_rel(&model, a) - tip_rel(&model, b)).abs())
+        .fold(0.0, f64::max);
+    (worst, long_stats, short_stats)
+}
+
+#[test]
+fn long_steps_over_a_lasting_contact_agree_with_the_short_steps() {
+    // adams-clearance presses the upper section against its guide from about 0.49 s to
+    // 1.29 s: the long steps take that phase once the impact's ringing has died out
+    let (worst, long, short) = long_against_short(&adams_clearance(), 1.2);
+    eprintln!(
+        "exact on [0, 1.2] s: {} steps ({} long) against {} short only; switches {} vs {}; \
+         worst |tip_rel| difference {worst:.2e} m",
+        long.steps, long.long_steps, short.steps, long.switches, short.switches
+    );
+    assert_eq!(short.long_steps, 0);
+    assert!(long.long_steps > 400, "only {} long steps", long.long_steps);
+    assert!(
+        3 * long.steps < short.steps,
+        "{} steps against {}",
+        long.steps,
+        short.steps
+    );
+    assert_eq!(long.switches, short.switches);
+    // both exact up to rounding; the scene amplifies rounding differences by ~1e3 per 0.5 s
+    // of rattling (the short steps on 1 ms and 0.5 ms grids differ by as much)
+    assert!(worst < 1e-8, "tip_rel differs by {worst:e} m");
+}
+
+#[test]
+fn long_steps_never_skip_a_switch_across_clearances_and_forces() {
+    // every band-edge crossing the short steps find, the long steps find too: 9 scenes
+    // with lasting contacts of different depths, over their first half second
+    for clearance in [0.002, 0.005, 0.01] {
+        for force in [50.0, 150.0, 400.0] {
+            let mut p = adams_clearance();
+            p.contact.clearance = clearance;
+            p.drive = Drive::Force(Profile::Constant(force));
+            let (worst, long, short) = long_against_short(&p, 0.5);
+            eprintln!(
+                "l_S {clearance} m, F {force} N: {} long steps of {}, switches {} vs {}, \
+                 worst |tip_rel| difference {worst:.2e} m",
+                long.long_steps, long.steps, long.switches, short.switches
+            );
+            assert_eq!(long.switches, short.switches, "l_S {clearance}, F {force}");
+            assert!(worst < 1e-8, "l_S {clearance}, F {force}: {worst:e} m");
+        }
+    }
+}

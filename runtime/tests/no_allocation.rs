@@ -154,6 +154,13 @@ fn exact_runs_allocate_per_branch_not_per_step(model: &dyn Model, y: &[f64]) {
         short_stats.steps, short_stats.exponentials, long_stats.steps, long_stats.exponentials
     );
     assert!(long_stats.steps > 3 * short_stats.steps);
+    // the longer run holds a lasting contact: its long steps over the contact modes are
+    // counted among the steps that must not allocate
+    assert!(
+        long_stats.long_steps > 100,
+        "{} long steps",
+        long_stats.long_steps
+    );
     assert!(short_stats.switches > 0, "the rig touches its guides");
     let per_branch = short as f64 / short_stats.exponentials as f64;
     assert!(

@@ -42,6 +42,10 @@ pub struct SimulateArgs {
     /// control then hovers at the stability boundary; for comparison).
     #[arg(long)]
     pub no_step_cap: bool,
+    /// Keep method exact on its short steps while a contact is closed instead of stepping
+    /// over the contact's fast modes where their bound certifies it (for comparison).
+    #[arg(long)]
+    pub no_long_steps: bool,
     /// CSV file for the outputs (written to a temporary file and renamed when complete);
     /// default: standard output.
     #[arg(long, value_name = "FILE")]
@@ -110,6 +114,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         atol: args.atol,
         dt: args.dt,
         step_cap: !args.no_step_cap,
+        long_steps: !args.no_long_steps,
         model: args.model,
         accuracy: args.accuracy,
         stations: match &args.stations {

@@ -22,16 +22,25 @@
 //! an event or a drive step the regular steps restart from there (the flow is
 //! time-invariant), and a sample time brings them back onto the start's grid.
 //!
+//! While a contact is closed its mode (some kHz) sets `omega_b`. A branch whose fastest
+//! eigenvalues stand well apart from the rest (the closed contacts' modes above the beams')
+//! also gets a long step, set by the slow modes alone, with its own exponential. A long step
+//! is taken where the fast modes' bound certifies that no switch function can cross over it
+//! (see the `fast_modes` module): in lasting contact, once the impact's ringing has decayed;
+//! elsewhere (ringing, a contact about to open) the short steps resolve it as before, to
+//! the next long-step grid point.
+//!
 //! Hand-written: no ODE crate offers exponential stepping with state events.
 
 use super::events::{HermiteCubic, first_crossing};
+use super::fast_modes::{FastModes, StepEnd, SwitchFunction};
 use super::{ContactTracker, Observer, Progress, RunStats, SampleGrid, Settings, SimError};
 use crate::contact::ContactState;
 use crate::model::Model;
 use crate::params::{Drive, ModelParams};
 use crate::profile::{Profile, ShapedProfile};
 use crate::scene::TimeSpan;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Complex, DMatrix, DVector};
 use std::collections::HashMap;
 
 /// Largest `h omega_b` of a regular step: below a quarter period of the fastest mode, so a
@@ -118,14 +127,115 @@ struct Branch {
     gamma: DVector<f64>,
     /// Spectral radius of `A` (rad/s).
     omega: f64,
+    /// The step over the fast contact modes, where they stand apart.
+    long: Option<LongStep>,
+    /// The lower half `[A_vz, A_vv]` of `A` when its upper half is `[0, I]` (positions'
+    /// rates are the velocities) and `e`'s is zero, as the model's first-order form has it.
+    lower: Option<DMatrix<f64>>,
 }
 
+impl Branch {
+    /// `out = scale A x`, at half the cost where `A` has the first-order form.
+    fn apply(&self, x: &DVector<f64>, out: &mut DVector<f64>, scale: f64) {
+        match &self.lower {
+            Some(lower) => {
+                let n = lower.nrows();
+                for i in 0..n {
+                    out[i] = scale * x[n + i];
+                }
+                out.rows_mut(n, n).gemv(scale, lower, x, 0.0);
+            }
+            None => out.gemv(scale, &self.a, x, 0.0),
+        }
+    }
+}
+
+/// The lower half of `a` when `a = [[0, I], [.., ..]]` and `e`'s upper half is zero.
+fn first_order_lower(a: &DMatrix<f64>, e: &DVector<f64>) -> Option<DMatrix<f64>> {
+    let n = a.nrows() / 2;
+    let upper = (0..n).all(|i| {
+        e[i] == 0.0 && (0..2 * n).all(|j| a[(i, j)] == if j == n + i { 1.0 } else { 0.0 })
+    });
+    upper.then(|| a.rows(n, n).into_owned())
+}
+
+/// A regular step set by a branch's slow modes, taken where its fast modes' bound certifies
+/// it (see the module documentation).
+struct LongStep {
+    /// Step (s): `sample / 2^m`, a multiple of the branch's short step.
+    h: f64,
+    /// `exp(A h)`.
+    phi: DMatrix<f64>,
+    /// `int_0^h exp(A s) ds e`.
+    gamma: DVector<f64>,
+    modes: FastModes,
+}
+
+/// Least ratio of the slowest fast eigenvalue's modulus to the fastest slow one's for a long
+/// step.
+pub const LONG_STEP_SEPARATION: f64 = 2.0;
+
 /// A switch function as a linear functional of the state: `sign xi_c + offset` (m).
-#[derive(Clone, Copy)]
-struct Functional {
-    contact: usize,
-    sign: f64,
-    offset: f64,
+type Functional = SwitchFunction;
+
+/// The regular step (s) of a branch with spectral radius `omega` (rad/s) on a grid of
+/// `sample` (s): the largest `sample / 2^m` with `h omega <= STEP_OMEGA`.
+pub fn regular_step(omega: f64, sample: f64) -> f64 {
+    let mut h = sample;
+    while h * omega > STEP_OMEGA {
+        h *= 0.5;
+    }
+    h
+}
+
+/// The fast eigenvalues of a branch with `closed` closed contacts (its eigenvalues `eigen`,
+/// rad/s) and the long step (s) its slow ones allow on a grid of `sample` (s): the largest
+/// `k <= 2 x closed` eigenvalues in modulus are fast when they stand [`LONG_STEP_SEPARATION`]
+/// times above the rest (so a conjugate pair is never split), the most such. `None` when no
+/// `k` does.
+pub fn long_step_split(
+    eigen: &[Complex<f64>],
+    closed: usize,
+    sample: f64,
+) -> Option<(Vec<Complex<f64>>, f64)> {
+    if closed == 0 || eigen.len() < 2 {
+        return None;
+    }
+    let mut sorted = eigen.to_vec();
+    sorted.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
+    // the most fast modes that stand apart (a contact closed on a section already held by
+    // others may stiffen a beam mode without making it fast)
+    let k = (1..=(2 * closed).min(sorted.len() - 1))
+        .rev()
+        .find(|&k| sorted[k - 1].norm() >= LONG_STEP_SEPARATION * sorted[k].norm())?;
+    let omega_slow = sorted[k].norm();
+    sorted.truncate(k);
+    Some((sorted, regular_step(omega_slow, sample)))
+}
+
+/// Method `exact`'s regular steps (s) with every contact of `model` closed at `t`: the short
+/// step set by the contact modes and, where they stand apart, the long step set by the
+/// rest (taken where their bound certifies it), on a grid of `sample` (s).
+///
+/// # Errors
+/// [`crate::EigenError`] when the eigenvalues of the closed-contact system do not converge.
+pub fn closed_contact_steps(
+    model: &dyn Model,
+    t: f64,
+    sample: f64,
+) -> Result<(f64, Option<f64>), crate::EigenError> {
+    let n2 = 2 * model.dof();
+    let mut tracker = ContactTracker::new(model, t, &vec![0.0; n2]);
+    tracker.press_all();
+    let mut a = DMatrix::zeros(n2, n2);
+    model.jacobian(t, &vec![0.0; n2], tracker.fixed_states(), &mut a);
+    let eigen = crate::eigen::eigenvalues(a, "eigenvalues of the closed-contact system")?;
+    let omega = eigen.iter().map(|l| l.norm()).fold(0.0, f64::max);
+    let short = regular_step(omega, sample);
+    let long = long_step_split(&eigen, model.layout().contact_count(), sample)
+        .map(|(_, h)| h)
+        .filter(|&h| h > short);
+    Ok((short, long))
 }
 
 struct ExactRun<'m> {
@@ -154,6 +264,13 @@ struct ExactRun<'m> {
     gaps1: Gaps,
     /// `gaps0` holds the gaps of `y` (carried over from the last step's end).
     gaps0_current: bool,
+    /// Whether branches get long steps ([`Settings::long_steps`]).
+    long_steps: bool,
+    /// Which switch functions a step's end values or Hermite check flag.
+    suspects: Vec<bool>,
+    /// Fast modal coordinates at a long step's start and end.
+    modal0: Vec<Complex<f64>>,
+    modal1: Vec<Complex<f64>>,
 }
 
 /// Gap `xi_c` (m) and rate `xi_dot_c` (m/s) of every contact.
@@ -226,6 +343,10 @@ pub(super) fn run(
         gaps0: Gaps::new(nc),
         gaps1: Gaps::new(nc),
         gaps0_current: false,
+        suspects: vec![false; 2 * nc],
+        long_steps: settings.long_steps,
+        modal0: vec![Complex::default(); 2 * n],
+        modal1: vec![Complex::default(); 2 * n],
     };
     run.integrate(settings, &mut observe, &mut progress)?;
     Ok(run.stats)
@@ -250,6 +371,8 @@ impl ExactRun<'_> {
         // time); back on the start's grid at the next sample time, which lies on it. Without
         // the re-anchoring every event would need a partial step back onto the start's grid.
         let mut anchor = start;
+        // a long step found uncertified is not tried again before this time
+        let mut short_until = start;
         while t < end {
             if self.stats.steps >= settings.max_steps {
                 return Err(SimError::TooManySteps {
@@ -261,47 +384,64 @@ impl ExactRun<'_> {
                         .into(),
                 });
             }
-            let h = self.branches[current].h;
-            // on the branch's grid `anchor + k h` (up to rounding of the time itself)?
-            let k = ((t - anchor) / h).round();
-            let on_grid = (t - (anchor + k * h)).abs() <= 1e-9 * h;
-            let k_next = if on_grid {
-                k + 1.0
-            } else {
-                ((t - anchor) / h).floor() + 1.0
-            };
-            let t_grid = anchor + k_next * h;
             let t_sample = if next_sample < self.samples.total {
                 self.samples.time(next_sample)
             } else {
                 end
             };
             let t_break = self.breakpoints.get(segment).copied().unwrap_or(end);
-            let stop = t_grid.min(t_sample).min(t_break).min(end);
-            let tau = stop - t;
-            let regular = on_grid && stop == t_grid;
-            if regular {
-                let b = &self.branches[current];
-                self.y1.gemv(1.0, &b.phi, &self.y, 0.0);
-                self.y1 += &b.gamma;
-                self.taylor_len = 0;
-            } else {
-                self.expand(current, tau)?;
-                self.sum_taylor(tau);
+            let limit = t_sample.min(t_break).min(end);
+            let mut long = None;
+            if t >= short_until
+                && let Some(stop) = self.long_stop(current, t, anchor, limit)
+            {
+                if self.long_step(current, t, stop)? {
+                    long = Some(stop);
+                } else {
+                    short_until = stop;
+                }
             }
-            self.check_size(t, tau)?;
-            self.stats.steps += 1;
-            if let Some(tau_event) = self.find_event(current, t, tau)? {
-                // y1 holds the state just past the crossing
-                t += tau_event;
-                std::mem::swap(&mut self.y, &mut self.y1);
-                let y = self.y.as_slice();
-                self.stats.switches += self.tracker.switch(self.model, t, y);
-                current = self.branch(t, segment)?;
-                self.gaps0_current = false;
-                anchor = t;
-                continue;
-            }
+            let stop = match long {
+                Some(stop) => stop,
+                None => {
+                    let h = self.branches[current].h;
+                    // on the branch's grid `anchor + k h` (up to rounding of the time itself)?
+                    let k = ((t - anchor) / h).round();
+                    let on_grid = (t - (anchor + k * h)).abs() <= 1e-9 * h;
+                    let k_next = if on_grid {
+                        k + 1.0
+                    } else {
+                        ((t - anchor) / h).floor() + 1.0
+                    };
+                    let t_grid = anchor + k_next * h;
+                    let stop = t_grid.min(limit);
+                    let tau = stop - t;
+                    if on_grid && stop == t_grid {
+                        let b = &self.branches[current];
+                        self.y1.gemv(1.0, &b.phi, &self.y, 0.0);
+                        self.y1 += &b.gamma;
+                        self.taylor_len = 0;
+                    } else {
+                        self.expand(current, tau)?;
+                        self.sum_taylor(tau);
+                    }
+                    self.check_size(t, tau)?;
+                    self.stats.steps += 1;
+                    if let Some(tau_event) = self.find_event(current, t, tau)? {
+                        // y1 holds the state just past the crossing
+                        t += tau_event;
+                        std::mem::swap(&mut self.y, &mut self.y1);
+                        let y = self.y.as_slice();
+                        self.stats.switches += self.tracker.switch(self.model, t, y);
+                        current = self.branch(t, segment)?;
+                        self.gaps0_current = false;
+                        anchor = t;
+                        short_until = t;
+                        continue;
+                    }
+                    stop
+                }
+            };
             t = stop;
             std::mem::swap(&mut self.y, &mut self.y1);
             std::mem::swap(&mut self.gaps0, &mut self.gaps1);
@@ -402,12 +542,20 @@ impl ExactRun<'_> {
             })?;
         let omega = eigen.iter().map(|l| l.norm()).fold(0.0, f64::max);
         // without switch functions (l_S = 0) the step is exact at any length: one per sample
-        let mut h = self.span.sample;
-        while !self.functionals.is_empty() && h * omega > STEP_OMEGA {
-            h *= 0.5;
-        }
+        let h = if self.functionals.is_empty() {
+            self.span.sample
+        } else {
+            regular_step(omega, self.span.sample)
+        };
         let (phi, gamma) = balanced_flow(&a, &e, h, omega);
         self.stats.exponentials += 1;
+        let long = if self.long_steps {
+            self.long_step_of(&a, &e, &eigen, h, omega)
+        } else {
+            None
+        };
+        self.stats.exponentials += u64::from(long.is_some());
+        let lower = first_order_lower(&a, &e);
         Ok(Branch {
             phi,
             gamma,
@@ -415,7 +563,102 @@ impl ExactRun<'_> {
             e,
             h,
             omega,
+            long,
+            lower,
         })
+    }
+
+    /// The long step of a branch with closed contacts (`A`, `e`, its eigenvalues, its short
+    /// step `h` and spectral radius `omega`): the `2 x closed contacts` largest eigenvalues
+    /// are fast when they stand [`LONG_STEP_SEPARATION`] apart from the rest, and the step is
+    /// set by the rest. `None` where that gives no longer step.
+    fn long_step_of(
+        &self,
+        a: &DMatrix<f64>,
+        e: &DVector<f64>,
+        eigen: &[Complex<f64>],
+        h: f64,
+        omega: f64,
+    ) -> Option<LongStep> {
+        let closed = self
+            .tracker
+            .states()
+            .iter()
+            .filter(|&&s| s != ContactState::Free)
+            .count();
+        if self.functionals.is_empty() {
+            return None;
+        }
+        let (fast, long) = long_step_split(eigen, closed, self.span.sample)?;
+        if long <= h {
+            return None;
+        }
+        let modes = FastModes::new(a, e, &fast, &self.g)?;
+        let (phi, gamma) = balanced_flow(a, e, long, omega);
+        Some(LongStep {
+            h: long,
+            phi,
+            gamma,
+            modes,
+        })
+    }
+
+    /// The end of a long step of `branch` from `t`, when `t` lies on its grid from `anchor`
+    /// and the step ends no later than `limit` (a sample, a drive step, the end; s).
+    fn long_stop(&self, branch: usize, t: f64, anchor: f64, limit: f64) -> Option<f64> {
+        let h = self.branches[branch].long.as_ref()?.h;
+        let k = ((t - anchor) / h).round();
+        if (t - (anchor + k * h)).abs() > 1e-9 * h {
+            return None;
+        }
+        let stop = anchor + (k + 1.0) * h;
+        if stop > limit + 1e-9 * h {
+            None
+        } else if stop >= limit - 1e-9 * h {
+            Some(limit)
+        } else {
+            Some(stop)
+        }
+    }
+
+    /// A long step of `branch` from `t` to `stop`: true, with the state and gaps at its end
+    /// in `y1` and `gaps1`, when every switch function is certified to stay positive over
+    /// it; false (nothing taken) otherwise.
+    fn long_step(&mut self, branch: usize, t: f64, stop: f64) -> Result<bool, SimError> {
+        let Some(long) = self.branches[branch].long.as_ref() else {
+            return Ok(false);
+        };
+        self.y1.gemv(1.0, &long.phi, &self.y, 0.0);
+        self.y1 += &long.gamma;
+        self.check_size(t, stop - t)?;
+        if !self.gaps0_current {
+            Self::gaps(&self.g, self.n, &self.y, &mut self.gaps0);
+            self.gaps0_current = true;
+        }
+        Self::gaps(&self.g, self.n, &self.y1, &mut self.gaps1);
+        let k = long.modes.len();
+        long.modes.coordinates(&self.y, &mut self.modal0[..k]);
+        long.modes.coordinates(&self.y1, &mut self.modal1[..k]);
+        let start = StepEnd {
+            gap: &self.gaps0.value,
+            rate: &self.gaps0.rate,
+            modal: &self.modal0[..k],
+        };
+        let end = StepEnd {
+            gap: &self.gaps1.value,
+            rate: &self.gaps1.rate,
+            modal: &self.modal1[..k],
+        };
+        let certified = self
+            .functionals
+            .iter()
+            .all(|&f| long.modes.certifies(f, long.h, &start, &end));
+        if certified {
+            self.stats.steps += 1;
+            self.stats.long_steps += 1;
+            self.taylor_len = 0;
+        }
+        Ok(certified)
     }
 
     /// Taylor vectors `u_j` of the flow of `branch` from `y`, enough for steps up to `tau`.
@@ -424,7 +667,7 @@ impl ExactRun<'_> {
         self.taylor[0].copy_from(&self.y);
         {
             let (first, rest) = self.taylor.split_at_mut(1);
-            rest[0].gemv(1.0, &b.a, &first[0], 0.0);
+            b.apply(&first[0], &mut rest[0], 1.0);
             rest[0] += &b.e;
         }
         let size = self.taylor[0].amax().max(tau * self.taylor[1].amax());
@@ -432,7 +675,7 @@ impl ExactRun<'_> {
         let mut small_terms = 0;
         for j in 2..MAX_TAYLOR_TERMS {
             let (done, rest) = self.taylor.split_at_mut(j);
-            rest[0].gemv(1.0 / j as f64, &b.a, &done[j - 1], 0.0);
+            b.apply(&done[j - 1], &mut rest[0], 1.0 / j as f64);
             power *= tau;
             if power * rest[0].amax() <= 1e-18 * size {
                 small_terms += 1;
@@ -478,24 +721,31 @@ impl ExactRun<'_> {
         }
         Self::gaps(&self.g, self.n, &self.y1, &mut self.gaps1);
         let (g0, g1) = (&self.gaps0, &self.gaps1);
-        let suspect = self.functionals.iter().any(|f| {
+        // the switch functions whose end value or Hermite interpolant says they cross: the
+        // others are taken not to, as on a step without any (the step length's guarantee)
+        let mut any = false;
+        for (f, suspect) in self.functionals.iter().zip(self.suspects.iter_mut()) {
             let c = f.contact;
             let f1 = f.sign * g1.value[c] + f.offset;
             let (f0, d0) = (f.sign * g0.value[c] + f.offset, f.sign * g0.rate[c]);
-            f1 < 0.0
+            *suspect = f1 < 0.0
                 || (d0 < 0.0
-                    && HermiteCubic::new(f0, d0 * tau, f1, f.sign * g1.rate[c] * tau).dips())
-        });
-        if !suspect {
+                    && HermiteCubic::new(f0, d0 * tau, f1, f.sign * g1.rate[c] * tau).dips());
+            any |= *suspect;
+        }
+        if !any {
             return Ok(None);
         }
         if self.taylor_len == 0 {
             self.expand(branch, tau)?;
         }
-        // the earliest first sign change over all switch functions
+        // the earliest first sign change over the suspect switch functions
         let mut best: Option<f64> = None;
         let tol = 4.0 * f64::EPSILON * t.abs().max(1.0);
         for i in 0..self.functionals.len() {
+            if !self.suspects[i] {
+                continue;
+            }
             let f = self.functionals[i];
             self.switch_polynomial(f);
             let mut p = |x: f64| horner(&self.coefficients[..self.taylor_len], x);
@@ -534,7 +784,7 @@ impl ExactRun<'_> {
     /// Output sample at `t` from the state `y` of `branch`.
     fn emit(&mut self, branch: usize, t: f64, observe: &mut Observer) {
         let b = &self.branches[branch];
-        self.ydot.gemv(1.0, &b.a, &self.y, 0.0);
+        b.apply(&self.y, &mut self.ydot, 1.0);
         self.ydot += &b.e;
         observe(t, self.y.as_slice(), self.ydot.as_slice());
     }

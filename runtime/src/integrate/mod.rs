@@ -19,6 +19,7 @@ pub mod esdirk;
 pub mod events;
 pub mod exact;
 pub mod explicit;
+mod fast_modes;
 pub mod generalized_alpha;
 pub mod imex;
 pub mod newton;
@@ -284,6 +285,9 @@ pub struct Settings {
     /// sampled controller's ticks) computes it once instead of once per piece (`None`: the
     /// run computes it).
     pub known_step_cap: Option<f64>,
+    /// Let method `exact` step over a closed contact's fast modes where their bound
+    /// certifies it (`false`: its short steps throughout, for comparison).
+    pub long_steps: bool,
 }
 
 impl Default for Settings {
@@ -296,6 +300,7 @@ impl Default for Settings {
             exact_from: None,
             step_cap: true,
             known_step_cap: None,
+            long_steps: true,
         }
     }
 }
@@ -315,8 +320,11 @@ pub struct RunStats {
     pub factorizations: u64,
     /// Contact branch switches (band-edge crossings).
     pub switches: u64,
-    /// Matrix exponentials (method `exact`: one per contact-branch combination met).
+    /// Matrix exponentials (method `exact`: one per contact-branch combination met, two
+    /// for a branch with a long step over its contact modes).
     pub exponentials: u64,
+    /// Steps of method `exact` over a closed contact's fast modes (counted in `steps` too).
+    pub long_steps: u64,
     /// The step cap (s) applied while a contact was closed, if any.
     pub step_cap: Option<f64>,
     /// Wall-clock time of the integration.
@@ -333,6 +341,7 @@ impl RunStats {
         self.factorizations += other.factorizations;
         self.switches += other.switches;
         self.exponentials += other.exponentials;
+        self.long_steps += other.long_steps;
         self.step_cap = self.step_cap.or(other.step_cap);
         self.wall += other.wall;
     }
