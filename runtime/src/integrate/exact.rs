@@ -164,6 +164,15 @@ fn first_order_lower(a: &DMatrix<f64>, e: &DVector<f64>) -> Option<DMatrix<f64>>
 struct LongStep {
     /// Step (s): `sample / 2^m`, a multiple of the branch's short step.
     h: f64,
+    /// The fast eigenvalues (rad/s).
+    fast: Vec<Complex<f64>>,
+    /// Its flow and fast modes, built when a long step is first tried: a branch met only
+    /// between two impacts of a rattle never needs them.
+    flow: Option<LongFlow>,
+}
+
+/// The exponential and the fast modes of a long step.
+struct LongFlow {
     /// `exp(A h)`.
     phi: DMatrix<f64>,
     /// `int_0^h exp(A s) ds e`.
@@ -469,23 +478,9 @@ impl ExactRun<'_> {
     /// The branch for the current contact states and drive `segment`, built on first use.
     fn branch(&mut self, t: f64, segment: usize) -> Result<usize, SimError> {
         self.functionals.clear();
-        let half = self.model.params().contact.half_band();
         if !self.tracker.is_linear() {
-            for (c, s) in self.tracker.states().iter().enumerate() {
-                let f = |sign, offset| Functional {
-                    contact: c,
-                    sign,
-                    offset,
-                };
-                match s {
-                    ContactState::Upper => self.functionals.push(f(1.0, -half)),
-                    ContactState::Lower => self.functionals.push(f(-1.0, -half)),
-                    ContactState::Free => {
-                        self.functionals.push(f(-1.0, half));
-                        self.functionals.push(f(1.0, half));
-                    }
-                }
-            }
+            let half = self.model.params().contact.half_band();
+            SwitchFunction::of_branches(self.tracker.states(), half, &mut self.functionals);
         }
         let key = (segment, self.branch_code());
         if let Some(&i) = self.index.get(&key) {
@@ -550,11 +545,10 @@ impl ExactRun<'_> {
         let (phi, gamma) = balanced_flow(&a, &e, h, omega);
         self.stats.exponentials += 1;
         let long = if self.long_steps {
-            self.long_step_of(&a, &e, &eigen, h, omega)
+            self.long_step_of(&eigen, h)
         } else {
             None
         };
-        self.stats.exponentials += u64::from(long.is_some());
         let lower = first_order_lower(&a, &e);
         Ok(Branch {
             phi,
@@ -568,18 +562,10 @@ impl ExactRun<'_> {
         })
     }
 
-    /// The long step of a branch with closed contacts (`A`, `e`, its eigenvalues, its short
-    /// step `h` and spectral radius `omega`): the `2 x closed contacts` largest eigenvalues
-    /// are fast when they stand [`LONG_STEP_SEPARATION`] apart from the rest, and the step is
-    /// set by the rest. `None` where that gives no longer step.
-    fn long_step_of(
-        &self,
-        a: &DMatrix<f64>,
-        e: &DVector<f64>,
-        eigen: &[Complex<f64>],
-        h: f64,
-        omega: f64,
-    ) -> Option<LongStep> {
+    /// The long step of a branch with closed contacts (its eigenvalues, its short step `h`),
+    /// as [`long_step_split`] gives it; `None` where that gives no longer step. Its flow is
+    /// built on first use ([`Self::long_flow`]).
+    fn long_step_of(&self, eigen: &[Complex<f64>], h: f64) -> Option<LongStep> {
         let closed = self
             .tracker
             .states()
@@ -590,17 +576,39 @@ impl ExactRun<'_> {
             return None;
         }
         let (fast, long) = long_step_split(eigen, closed, self.span.sample)?;
-        if long <= h {
-            return None;
-        }
-        let modes = FastModes::new(a, e, &fast, &self.g)?;
-        let (phi, gamma) = balanced_flow(a, e, long, omega);
-        Some(LongStep {
+        (long > h).then_some(LongStep {
             h: long,
-            phi,
-            gamma,
-            modes,
+            fast,
+            flow: None,
         })
+    }
+
+    /// Builds the flow and fast modes of `branch`'s long step if not yet built; drops the
+    /// long step when its eigenvectors do not converge. True when the branch has one.
+    fn long_flow(&mut self, branch: usize) -> bool {
+        let b = &self.branches[branch];
+        let Some(long) = &b.long else {
+            return false;
+        };
+        if long.flow.is_some() {
+            return true;
+        }
+        let flow = FastModes::new(&b.a, &b.e, &long.fast, &self.g).map(|modes| {
+            let (phi, gamma) = balanced_flow(&b.a, &b.e, long.h, b.omega);
+            LongFlow { phi, gamma, modes }
+        });
+        self.stats.exponentials += u64::from(flow.is_some());
+        let b = &mut self.branches[branch];
+        match flow {
+            Some(flow) => {
+                b.long.as_mut().expect("checked above").flow = Some(flow);
+                true
+            }
+            None => {
+                b.long = None;
+                false
+            }
+        }
     }
 
     /// The end of a long step of `branch` from `t`, when `t` lies on its grid from `anchor`
@@ -625,9 +633,18 @@ impl ExactRun<'_> {
     /// in `y1` and `gaps1`, when every switch function is certified to stay positive over
     /// it; false (nothing taken) otherwise.
     fn long_step(&mut self, branch: usize, t: f64, stop: f64) -> Result<bool, SimError> {
-        let Some(long) = self.branches[branch].long.as_ref() else {
+        if !self.long_flow(branch) {
+            return Ok(false);
+        }
+        let Some(LongStep {
+            h,
+            flow: Some(long),
+            ..
+        }) = self.branches[branch].long.as_ref()
+        else {
             return Ok(false);
         };
+        let h = *h;
         self.y1.gemv(1.0, &long.phi, &self.y, 0.0);
         self.y1 += &long.gamma;
         self.check_size(t, stop - t)?;
@@ -652,7 +669,7 @@ impl ExactRun<'_> {
         let certified = self
             .functionals
             .iter()
-            .all(|&f| long.modes.certifies(f, long.h, &start, &end));
+            .all(|&f| long.modes.certifies(f, h, &start, &end));
         if certified {
             self.stats.steps += 1;
             self.stats.long_steps += 1;
@@ -811,7 +828,7 @@ impl ExactRun<'_> {
 /// `D = diag(I, I / omega)` has norm ~`omega` instead of ~`omega^2`, and the rounding error
 /// of scaling and squaring grows with that norm (measured on adams-linear: 5e-10 m of
 /// `tip_rel` over 2 s unscaled).
-fn balanced_flow(
+pub(super) fn balanced_flow(
     a: &DMatrix<f64>,
     e: &DVector<f64>,
     h: f64,

@@ -20,6 +20,7 @@
 //! come from inverse iteration at the Schur eigenvalues.
 
 use super::events::HermiteCubic;
+use crate::contact::ContactState;
 use nalgebra::{Complex, DMatrix, DVector};
 
 type C64 = Complex<f64>;
@@ -54,6 +55,26 @@ pub(super) struct SwitchFunction {
     pub contact: usize,
     pub sign: f64,
     pub offset: f64,
+}
+
+impl SwitchFunction {
+    /// The switch functions of contacts in `states` with half band `half` (m), appended to
+    /// `out`: `xi - half` for a contact pressed up, `-xi - half` pressed down, and both
+    /// `half - xi` and `half + xi` for a free one.
+    pub fn of_branches(states: &[ContactState], half: f64, out: &mut Vec<SwitchFunction>) {
+        for (contact, state) in states.iter().enumerate() {
+            let f = |sign, offset| SwitchFunction {
+                contact,
+                sign,
+                offset,
+            };
+            match state {
+                ContactState::Upper => out.push(f(1.0, -half)),
+                ContactState::Lower => out.push(f(-1.0, -half)),
+                ContactState::Free => out.extend([f(-1.0, half), f(1.0, half)]),
+            }
+        }
+    }
 }
 
 /// Gaps `xi_c` (m) and rates (m/s) at one end of a step, with the fast modal coordinates
@@ -280,7 +301,6 @@ mod tests {
     /// steps that end positive but cross inside, which a check of the ends would pass.
     #[test]
     fn a_certified_step_never_crosses_inside() {
-        use crate::contact::ContactState;
         use crate::integrate::{Method, Settings, events::ContactTracker, simulate};
         use crate::model::Model;
         let path = concat!(
@@ -323,34 +343,11 @@ mod tests {
         model.contact_vectors(t, &mut g, &mut gdot);
         let modes = FastModes::new(&a, &e, &fast, &g).unwrap();
         // the switch functions of the branch, as method exact builds them
-        let half = scene.params.contact.half_band();
         let mut functions = Vec::new();
-        for (c, s) in states.iter().enumerate() {
-            let f = |sign, offset| SwitchFunction {
-                contact: c,
-                sign,
-                offset,
-            };
-            match s {
-                ContactState::Upper => functions.push(f(1.0, -half)),
-                ContactState::Lower => functions.push(f(-1.0, -half)),
-                ContactState::Free => functions.extend([f(-1.0, half), f(1.0, half)]),
-            }
-        }
-        // the affine flow over h / 400, on velocities scaled by 1 / omega
+        SwitchFunction::of_branches(&states, scene.params.contact.half_band(), &mut functions);
+        // the affine flow over h / 400
         let omega = eig.iter().map(|l| l.norm()).fold(0.0, f64::max);
-        let scale = |i: usize| if i < n { 1.0 } else { 1.0 / omega };
-        let sub = h / 400.0;
-        let mut aug = DMatrix::zeros(n2 + 1, n2 + 1);
-        for j in 0..n2 {
-            for i in 0..n2 {
-                aug[(i, j)] = scale(i) * a[(i, j)] / scale(j) * sub;
-            }
-            aug[(j, n2)] = scale(j) * e[j] * sub;
-        }
-        let flow = aug.exp();
-        let phi = DMatrix::from_fn(n2, n2, |i, j| flow[(i, j)] / scale(i) * scale(j));
-        let gamma = DVector::from_fn(n2, |i, _| flow[(i, n2)] / scale(i));
+        let (phi, gamma) = super::super::exact::balanced_flow(&a, &e, h / 400.0, omega);
         let gaps = |y: &DVector<f64>| {
             let (value, rate): (Vec<f64>, Vec<f64>) = (0..nc)
                 .map(|c| {
