@@ -4,7 +4,9 @@
 
 use crate::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
-use telescopic_runtime::integrate::exact::{closed_contact_steps, exact_tail_start, lti_obstacle};
+use telescopic_runtime::integrate::exact::{
+    ClosedContactSteps, closed_contact_steps, exact_tail_start, lti_obstacle,
+};
 use telescopic_runtime::integrate::stability::{
     RK4_IMAGINARY_AXIS, RK4_REAL_AXIS, STEP_CAP_SAFETY, StabilityReport, VERLET_LIMIT,
     closed_contact_stable_step, linearization_times, stability_report,
@@ -26,8 +28,8 @@ pub struct Stability {
     /// Largest stable step (s) of dopri5 and dop853 with closed contacts.
     pub adaptive: Vec<(Method, Option<f64>)>,
     /// Method exact's steps with every contact closed, where it applies to a scene with
-    /// clearance: the time (s), the short step (s) and the long step over the contact modes.
-    pub exact: Option<(f64, f64, Option<f64>)>,
+    /// clearance.
+    pub exact: Option<ClosedContactSteps>,
     /// Set when the model choice fell back to the assembled model.
     pub note: Option<String>,
 }
@@ -72,7 +74,7 @@ pub fn stability_analysis(
 
 /// Method exact's closed-contact steps where it runs the scene (from its start, or from
 /// where the positions come to rest) and the scene has clearance.
-fn exact_steps(model: &dyn Model, scene: &Scene) -> Result<Option<(f64, f64, Option<f64>)>> {
+fn exact_steps(model: &dyn Model, scene: &Scene) -> Result<Option<ClosedContactSteps>> {
     if scene.params.contact.clearance <= 0.0 {
         return Ok(None);
     }
@@ -83,9 +85,9 @@ fn exact_steps(model: &dyn Model, scene: &Scene) -> Result<Option<(f64, f64, Opt
             None => return Ok(None),
         },
     };
-    let (short, long) = closed_contact_steps(model, from, scene.time.sample)
-        .map_err(|e| Error::Analysis(format!("scene {}: {e}", scene.name)))?;
-    Ok(Some((from, short, long)))
+    closed_contact_steps(model, from, scene.time.sample)
+        .map(Some)
+        .map_err(|e| Error::Analysis(format!("scene {}: {e}", scene.name)))
 }
 
 impl Stability {
@@ -109,7 +111,7 @@ fn render(
     r: &StabilityReport,
     times: usize,
     adaptive: &[(Method, Option<f64>)],
-    exact: Option<(f64, f64, Option<f64>)>,
+    exact: Option<ClosedContactSteps>,
 ) -> String {
     let w = r.omega_max;
     let at = if times > 1 {
@@ -167,8 +169,9 @@ fn render(
             steps.join(", ")
         );
     }
-    if let Some((from, short, long)) = exact {
-        let over = match long {
+    if let Some(steps) = exact {
+        let w = steps.omega;
+        let over = match steps.long {
             Some(h) => format!(
                 "; where the closed contacts' modes have rung down, it steps over them with \
                  {h:.4e} s (h omega_max {:.1}), the beams' own modes' step, certified by a bound \
@@ -180,8 +183,10 @@ fn render(
             }
         };
         s += &format!(
-            "\nexact (from t = {from} s): {short:.4e} s while contacts are closed (h omega_max {:.3}){over}.",
-            short * w
+            "\nexact (from t = {} s): {:.4e} s while contacts are closed (h omega_max {:.3}){over}.",
+            steps.time,
+            steps.short,
+            steps.short * w
         );
     }
     s

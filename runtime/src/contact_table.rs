@@ -57,22 +57,11 @@ pub struct ContactTableParts {
     pub gd: Vec<f64>,
 }
 
-/// Contact vectors `g` and their time derivatives `gd` (flattened, `width` entries each) on a
-/// uniform time grid.
+/// Contact vectors `g` and their time derivatives `gd` on a uniform time grid: the
+/// [`ContactTableParts`] it stores, and the interpolation errors measured when it was built.
 #[derive(Debug, Clone)]
 pub struct ContactTable {
-    start: f64,
-    step: f64,
-    intervals: usize,
-    /// Entries per node of `g` and `gd` as stored: the varying columns only, once compacted.
-    width: usize,
-    /// The columns that change in time (indices into the full vectors), ascending.
-    varying: Vec<usize>,
-    /// The full `g` with the constant columns' values (0 at the varying ones); `gd` is 0
-    /// there.
-    constant_g: Vec<f64>,
-    g: Vec<f64>,
-    gd: Vec<f64>,
+    data: ContactTableParts,
     error_g: f64,
     error_gd: f64,
 }
@@ -132,14 +121,15 @@ impl ContactTable {
         exact: &mut impl FnMut(f64, &mut [f64], &mut [f64]),
     ) -> Self {
         let mut table = ContactTable {
-            start,
-            step: (end - start) / intervals as f64,
-            intervals,
-            width,
-            varying: (0..width).collect(),
-            constant_g: vec![0.0; width],
-            g: vec![0.0; (intervals + 1) * width],
-            gd: vec![0.0; (intervals + 1) * width],
+            data: ContactTableParts {
+                start,
+                step: (end - start) / intervals as f64,
+                intervals,
+                varying: (0..width).collect(),
+                constant_g: vec![0.0; width],
+                g: vec![0.0; (intervals + 1) * width],
+                gd: vec![0.0; (intervals + 1) * width],
+            },
             error_g: f64::NAN,
             error_gd: f64::NAN,
         };
@@ -147,8 +137,8 @@ impl ContactTable {
             let t = table.node_time(i);
             exact(
                 t,
-                &mut table.g[i * width..(i + 1) * width],
-                &mut table.gd[i * width..(i + 1) * width],
+                &mut table.data.g[i * width..(i + 1) * width],
+                &mut table.data.gd[i * width..(i + 1) * width],
             );
         }
         table
@@ -157,19 +147,19 @@ impl ContactTable {
     /// Largest errors of `g` at the intervals' midpoints and of `gd` where a cubic Hermite
     /// interpolant's derivative error peaks, each relative to its largest node entry.
     fn check(&self, exact: &mut impl FnMut(f64, &mut [f64], &mut [f64])) -> (f64, f64) {
-        let w = self.width;
-        let g_scale = max_abs(&self.g).max(f64::MIN_POSITIVE);
-        let gd_scale = max_abs(&self.gd).max(f64::MIN_POSITIVE);
+        let w = self.data.varying.len();
+        let g_scale = max_abs(&self.data.g).max(f64::MIN_POSITIVE);
+        let gd_scale = max_abs(&self.data.gd).max(f64::MIN_POSITIVE);
         let (mut g_exact, mut gd_exact) = (vec![0.0; w], vec![0.0; w]);
         let (mut g_table, mut gd_table) = (vec![0.0; w], vec![0.0; w]);
         let (mut error_g, mut error_gd) = (0.0_f64, 0.0_f64);
-        for i in 0..self.intervals {
+        for i in 0..self.data.intervals {
             let t0 = self.node_time(i);
-            let t = t0 + 0.5 * self.step;
+            let t = t0 + 0.5 * self.data.step;
             exact(t, &mut g_exact, &mut gd_exact);
             self.interpolate(t, &mut g_table, &mut gd_table);
             error_g = error_g.max(max_difference(&g_exact, &g_table) / g_scale);
-            let t = t0 + DERIVATIVE_CHECK * self.step;
+            let t = t0 + DERIVATIVE_CHECK * self.data.step;
             exact(t, &mut g_exact, &mut gd_exact);
             self.interpolate(t, &mut g_table, &mut gd_table);
             error_gd = error_gd.max(max_difference(&gd_exact, &gd_table) / gd_scale);
@@ -181,10 +171,10 @@ impl ContactTable {
     /// allocation-free. Outside the tabulated interval the end nodes' values.
     #[inline]
     pub fn interpolate(&self, t: f64, g: &mut [f64], gd: &mut [f64]) {
-        let s = ((t - self.start) / self.step).clamp(0.0, self.intervals as f64);
-        let i = (s as usize).min(self.intervals - 1);
+        let s = ((t - self.data.start) / self.data.step).clamp(0.0, self.data.intervals as f64);
+        let i = (s as usize).min(self.data.intervals - 1);
         let u = s - i as f64;
-        let h = self.step;
+        let h = self.data.step;
         let v = 1.0 - u;
         // cubic Hermite basis and its derivative in u
         let (h00, h10, h01, h11) = (
@@ -199,19 +189,19 @@ impl ContactTable {
             6.0 * u * v,
             u * (3.0 * u - 2.0),
         );
-        let w = self.width;
+        let w = self.data.varying.len();
         let (g0, g1) = (
-            &self.g[i * w..(i + 1) * w],
-            &self.g[(i + 1) * w..(i + 2) * w],
+            &self.data.g[i * w..(i + 1) * w],
+            &self.data.g[(i + 1) * w..(i + 2) * w],
         );
         let (s0, s1) = (
-            &self.gd[i * w..(i + 1) * w],
-            &self.gd[(i + 1) * w..(i + 2) * w],
+            &self.data.gd[i * w..(i + 1) * w],
+            &self.data.gd[(i + 1) * w..(i + 2) * w],
         );
         let (d00, d01) = (d00 / h, d01 / h);
-        g[..self.constant_g.len()].copy_from_slice(&self.constant_g);
-        gd[..self.constant_g.len()].fill(0.0);
-        for (j, &k) in self.varying.iter().enumerate() {
+        g[..self.data.constant_g.len()].copy_from_slice(&self.data.constant_g);
+        gd[..self.data.constant_g.len()].fill(0.0);
+        for (j, &k) in self.data.varying.iter().enumerate() {
             g[k] = h00 * g0[j] + h01 * g1[j] + h * (h10 * s0[j] + h11 * s1[j]);
             gd[k] = d00 * g0[j] + d01 * g1[j] + d10 * s0[j] + d11 * s1[j];
         }
@@ -222,37 +212,36 @@ impl ContactTable {
     /// `gd = 0`; case-study has half its columns so. Bitwise constant only: a column that
     /// varies by rounding stays tabulated.
     fn drop_constant_columns(&mut self) {
-        let (w, nodes) = (self.width, self.intervals + 1);
+        let (w, nodes) = (self.data.varying.len(), self.data.intervals + 1);
         let varying: Vec<usize> = (0..w)
             .filter(|&k| {
-                (0..nodes).any(|i| self.g[i * w + k] != self.g[k] || self.gd[i * w + k] != 0.0)
+                (0..nodes).any(|i| {
+                    self.data.g[i * w + k] != self.data.g[k] || self.data.gd[i * w + k] != 0.0
+                })
             })
             .collect();
-        self.constant_g = (0..w)
-            .map(|k| if varying.contains(&k) { 0.0 } else { self.g[k] })
+        self.data.constant_g = (0..w)
+            .map(|k| {
+                if varying.contains(&k) {
+                    0.0
+                } else {
+                    self.data.g[k]
+                }
+            })
             .collect();
         let keep = |data: &[f64]| -> Vec<f64> {
             (0..nodes)
                 .flat_map(|i| varying.iter().map(move |&k| data[i * w + k]))
                 .collect()
         };
-        self.g = keep(&self.g);
-        self.gd = keep(&self.gd);
-        self.width = varying.len();
-        self.varying = varying;
+        self.data.g = keep(&self.data.g);
+        self.data.gd = keep(&self.data.gd);
+        self.data.varying = varying;
     }
 
     /// The stored data, for a file or another language to rebuild the same interpolant.
     pub fn parts(&self) -> ContactTableParts {
-        ContactTableParts {
-            start: self.start,
-            step: self.step,
-            intervals: self.intervals,
-            varying: self.varying.clone(),
-            constant_g: self.constant_g.clone(),
-            g: self.g.clone(),
-            gd: self.gd.clone(),
-        }
+        self.data.clone()
     }
 
     /// The table of `parts` (as [`ContactTable::parts`] gave them); interpolates exactly as
@@ -265,10 +254,10 @@ impl ContactTable {
             start,
             step,
             intervals,
-            varying,
-            constant_g,
-            g,
-            gd,
+            ref varying,
+            ref constant_g,
+            ref g,
+            ref gd,
         } = parts;
         let full = constant_g.len();
         if !(start.is_finite() && step.is_finite() && step > 0.0 && intervals >= 1) {
@@ -292,21 +281,14 @@ impl ContactTable {
                 gd.len()
             ));
         }
-        if [&constant_g, &g, &gd]
+        if [constant_g, g, gd]
             .iter()
             .any(|v| v.iter().any(|x| !x.is_finite()))
         {
             return Err("its values must be finite".into());
         }
         Ok(ContactTable {
-            start,
-            step,
-            intervals,
-            width: varying.len(),
-            varying,
-            constant_g,
-            g,
-            gd,
+            data: parts,
             error_g: f64::NAN,
             error_gd: f64::NAN,
         })
@@ -314,27 +296,27 @@ impl ContactTable {
 
     /// Number of columns that change in time (of the vectors' full width).
     pub fn varying_columns(&self) -> usize {
-        self.varying.len()
+        self.data.varying.len()
     }
 
     /// Entries of `g` (and of `gd`) in all.
     pub fn full_width(&self) -> usize {
-        self.constant_g.len()
+        self.data.constant_g.len()
     }
 
     /// Number of grid intervals.
     pub fn intervals(&self) -> usize {
-        self.intervals
+        self.data.intervals
     }
 
     /// Grid step (s).
     pub fn step(&self) -> f64 {
-        self.step
+        self.data.step
     }
 
     /// The tabulated interval `(start, end)` (s).
     pub fn span(&self) -> (f64, f64) {
-        (self.start, self.node_time(self.intervals))
+        (self.data.start, self.node_time(self.data.intervals))
     }
 
     /// Largest checked errors of `g` and `gd`, each relative to its largest entry.
@@ -343,7 +325,7 @@ impl ContactTable {
     }
 
     fn node_time(&self, i: usize) -> f64 {
-        self.start + i as f64 * self.step
+        self.data.start + i as f64 * self.data.step
     }
 }
 
@@ -399,7 +381,7 @@ mod tests {
         }
         // the check looks where the errors of a cubic Hermite interpolant peak; elsewhere they
         // may exceed it a little, not by a factor 2
-        let (scale_g, scale_gd) = (max_abs(&table.g), max_abs(&table.gd));
+        let (scale_g, scale_gd) = (max_abs(&table.data.g), max_abs(&table.data.gd));
         assert!(
             worst_g <= 2.0 * G_TOLERANCE * scale_g,
             "g off by {worst_g:e}"

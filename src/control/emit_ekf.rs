@@ -373,33 +373,33 @@ static void jacobian(double t, const double y[TC_STATES], double jac[TC_STATES *
 
 /// Products, the matrix exponential and the SPD inverse of `super::small_dense`.
 const DENSE_FUNCTIONS: &str = r#"
-/* c = a b for a (rows x inner) and b (inner x cols), row-major. */
-static void multiply(const double *a, const double *b, double *c, int rows, int inner, int cols)
+/* c = a B for a (rows x inner), the factor's entry (k, col) at b[k * bk + col * bc]: b
+ * itself (bk = cols, bc = 1) or a transposed one (bk = 1, bc = inner), row-major c. */
+static void product(const double *a, const double *b, double *c, int rows, int inner, int cols,
+                    int bk, int bc)
 {
     for (int r = 0; r < rows; r++) {
         for (int col = 0; col < cols; col++) {
             double s = 0.0;
             for (int k = 0; k < inner; k++) {
-                s += a[r * inner + k] * b[k * cols + col];
+                s += a[r * inner + k] * b[k * bk + col * bc];
             }
             c[r * cols + col] = s;
         }
     }
 }
 
+/* c = a b for a (rows x inner) and b (inner x cols), row-major. */
+static void multiply(const double *a, const double *b, double *c, int rows, int inner, int cols)
+{
+    product(a, b, c, rows, inner, cols, cols, 1);
+}
+
 /* c = a b^T for a (rows x inner) and b (cols x inner), row-major. */
 static void multiply_transposed(const double *a, const double *b, double *c, int rows,
                                 int inner, int cols)
 {
-    for (int r = 0; r < rows; r++) {
-        for (int col = 0; col < cols; col++) {
-            double s = 0.0;
-            for (int k = 0; k < inner; k++) {
-                s += a[r * inner + k] * b[col * inner + k];
-            }
-            c[r * cols + col] = s;
-        }
-    }
+    product(a, b, c, rows, inner, cols, 1, inner);
 }
 
 /* out = exp(a) (TC_STATES square) by scaling and squaring of a Taylor polynomial; t1, t2

@@ -8,15 +8,7 @@
 
 /// `c = a b` for `a` (`rows x inner`) and `b` (`inner x cols`), row-major.
 pub fn multiply(a: &[f64], b: &[f64], c: &mut [f64], rows: usize, inner: usize, cols: usize) {
-    for r in 0..rows {
-        for col in 0..cols {
-            let mut s = 0.0;
-            for k in 0..inner {
-                s += a[r * inner + k] * b[k * cols + col];
-            }
-            c[r * cols + col] = s;
-        }
-    }
+    product(a, b, c, [rows, inner, cols], [cols, 1]);
 }
 
 /// `c = a b^T` for `a` (`rows x inner`) and `b` (`cols x inner`), row-major.
@@ -28,11 +20,23 @@ pub fn multiply_transposed(
     inner: usize,
     cols: usize,
 ) {
+    product(a, b, c, [rows, inner, cols], [1, inner]);
+}
+
+/// `c = a B` (`[rows, inner, cols]`), the factor's entry `(k, col)` at
+/// `b[k * strides[0] + col * strides[1]]`: `b` itself or a transposed one, summed in one order.
+fn product(
+    a: &[f64],
+    b: &[f64],
+    c: &mut [f64],
+    [rows, inner, cols]: [usize; 3],
+    strides: [usize; 2],
+) {
     for r in 0..rows {
         for col in 0..cols {
             let mut s = 0.0;
             for k in 0..inner {
-                s += a[r * inner + k] * b[col * inner + k];
+                s += a[r * inner + k] * b[k * strides[0] + col * strides[1]];
             }
             c[r * cols + col] = s;
         }

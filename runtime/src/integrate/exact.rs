@@ -184,9 +184,6 @@ struct LongFlow {
 /// step.
 pub const LONG_STEP_SEPARATION: f64 = 2.0;
 
-/// A switch function as a linear functional of the state: `sign xi_c + offset` (m).
-type Functional = SwitchFunction;
-
 /// The regular step (s) of a branch with spectral radius `omega` (rad/s) on a grid of
 /// `sample` (s): the largest `sample / 2^m` with `h omega <= STEP_OMEGA`.
 pub fn regular_step(omega: f64, sample: f64) -> f64 {
@@ -222,9 +219,22 @@ pub fn long_step_split(
     Some((sorted, regular_step(omega_slow, sample)))
 }
 
-/// Method `exact`'s regular steps (s) with every contact of `model` closed at `t`: the short
-/// step set by the contact modes and, where they stand apart, the long step set by the
-/// rest (taken where their bound certifies it), on a grid of `sample` (s).
+/// Method `exact`'s regular steps with every contact closed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClosedContactSteps {
+    /// The time (s) the closed-contact system is taken at.
+    pub time: f64,
+    /// Its spectral radius (rad/s).
+    pub omega: f64,
+    /// The step (s) set by the contact modes.
+    pub short: f64,
+    /// The step (s) set by the rest where the contact modes stand apart (taken where their
+    /// bound certifies it).
+    pub long: Option<f64>,
+}
+
+/// Method `exact`'s regular steps with every contact of `model` closed at `t` (s), on a grid
+/// of `sample` (s).
 ///
 /// # Errors
 /// [`crate::EigenError`] when the eigenvalues of the closed-contact system do not converge.
@@ -232,19 +242,25 @@ pub fn closed_contact_steps(
     model: &dyn Model,
     t: f64,
     sample: f64,
-) -> Result<(f64, Option<f64>), crate::EigenError> {
+) -> Result<ClosedContactSteps, crate::EigenError> {
     let n2 = 2 * model.dof();
-    let mut tracker = ContactTracker::new(model, t, &vec![0.0; n2]);
+    let rest = vec![0.0; n2];
+    let mut tracker = ContactTracker::new(model, t, &rest);
     tracker.press_all();
     let mut a = DMatrix::zeros(n2, n2);
-    model.jacobian(t, &vec![0.0; n2], tracker.fixed_states(), &mut a);
+    model.jacobian(t, &rest, tracker.fixed_states(), &mut a);
     let eigen = crate::eigen::eigenvalues(a, "eigenvalues of the closed-contact system")?;
     let omega = eigen.iter().map(|l| l.norm()).fold(0.0, f64::max);
     let short = regular_step(omega, sample);
     let long = long_step_split(&eigen, model.layout().contact_count(), sample)
         .map(|(_, h)| h)
         .filter(|&h| h > short);
-    Ok((short, long))
+    Ok(ClosedContactSteps {
+        time: t,
+        omega,
+        short,
+        long,
+    })
 }
 
 struct ExactRun<'m> {
@@ -255,7 +271,7 @@ struct ExactRun<'m> {
     /// Contact vectors `g_c` as columns (`dof x contacts`), constant.
     g: DMatrix<f64>,
     tracker: ContactTracker,
-    functionals: Vec<Functional>,
+    functionals: Vec<SwitchFunction>,
     /// Drive steps inside the span, sorted.
     breakpoints: Vec<f64>,
     branches: Vec<Branch>,
@@ -280,6 +296,9 @@ struct ExactRun<'m> {
     /// Fast modal coordinates at a long step's start and end.
     modal0: Vec<Complex<f64>>,
     modal1: Vec<Complex<f64>>,
+    /// The branch and time whose state `modal0` holds the coordinates of: the end of the
+    /// last long step, so that consecutive long steps compute them once.
+    modal0_at: Option<(usize, f64)>,
 }
 
 /// Gap `xi_c` (m) and rate `xi_dot_c` (m/s) of every contact.
@@ -356,6 +375,7 @@ pub(super) fn run(
         long_steps: settings.long_steps,
         modal0: vec![Complex::default(); 2 * n],
         modal1: vec![Complex::default(); 2 * n],
+        modal0_at: None,
     };
     run.integrate(settings, &mut observe, &mut progress)?;
     Ok(run.stats)
@@ -654,7 +674,10 @@ impl ExactRun<'_> {
         }
         Self::gaps(&self.g, self.n, &self.y1, &mut self.gaps1);
         let k = long.modes.len();
-        long.modes.coordinates(&self.y, &mut self.modal0[..k]);
+        // (time only moves forward: the same branch and time means the same state)
+        if self.modal0_at != Some((branch, t)) {
+            long.modes.coordinates(&self.y, &mut self.modal0[..k]);
+        }
         long.modes.coordinates(&self.y1, &mut self.modal1[..k]);
         let start = StepEnd {
             gap: &self.gaps0.value,
@@ -674,6 +697,8 @@ impl ExactRun<'_> {
             self.stats.steps += 1;
             self.stats.long_steps += 1;
             self.taylor_len = 0;
+            std::mem::swap(&mut self.modal0, &mut self.modal1);
+            self.modal0_at = Some((branch, stop));
         }
         Ok(certified)
     }
@@ -790,7 +815,7 @@ impl ExactRun<'_> {
     }
 
     /// Coefficients of switch function `f` along the expanded flow.
-    fn switch_polynomial(&mut self, f: Functional) {
+    fn switch_polynomial(&mut self, f: SwitchFunction) {
         let gc = self.g.column(f.contact);
         for j in 0..self.taylor_len {
             self.coefficients[j] = f.sign * gc.dot(&self.taylor[j].rows(0, self.n));
