@@ -1047,7 +1047,7 @@ fn a_second_sweep_on_the_same_output_refuses() {
 
 #[test]
 fn jobs_are_bounded_and_signals_are_honoured_promptly() {
-    let dir = scratch("sweep-jobs");
+    let dir = scratch("sweep-signals");
     let path = sweep_file(&dir, "s.toml", "adams-clearance", LONG);
     let out = dir.join("r.csv");
     for jobs in ["10000", "257", "18446744073709551615"] {
@@ -1084,21 +1084,32 @@ fn jobs_are_bounded_and_signals_are_honoured_promptly() {
             }
             all
         });
-        let wait_for = |needle: &str, limit: Duration| {
+        // every line seen so far, for the failure message
+        let seen = std::cell::RefCell::new(String::new());
+        let wait_for = |needle: &str, limit: Duration, child: &mut std::process::Child| {
             let start = Instant::now();
             loop {
                 let left = limit.checked_sub(start.elapsed()).unwrap_or_default();
                 match received.recv_timeout(left) {
-                    Ok(line) if line.contains(needle) => return,
-                    Ok(_) => {}
-                    Err(_) => panic!("no `{needle}` within {limit:?}"),
+                    Ok(line) => {
+                        seen.borrow_mut().push_str(&format!("{line}\n"));
+                        if line.contains(needle) {
+                            return;
+                        }
+                    }
+                    Err(e) => panic!(
+                        "no `{needle}` within {limit:?} ({e}; the sweep's state: {:?}); its \
+                         stderr so far:\n{}",
+                        child.try_wait(),
+                        seen.borrow()
+                    ),
                 }
             }
         };
-        wait_for("runs 0/60", Duration::from_secs(30));
+        wait_for("runs 0/60", Duration::from_secs(30), &mut child);
         // SAFETY: kill with a valid pid and signal number has no memory-safety preconditions.
         unsafe { libc::kill(child.id() as i32, sig) };
-        wait_for("interrupt: stopping", Duration::from_secs(1));
+        wait_for("interrupt: stopping", Duration::from_secs(1), &mut child);
         let second = Instant::now();
         // SAFETY: as above.
         unsafe { libc::kill(child.id() as i32, sig) };

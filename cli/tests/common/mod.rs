@@ -59,8 +59,18 @@ pub fn failed_cleanly(args: &[&str], out: &Output, needles: &[&str]) {
     }
 }
 
-/// A fresh scratch directory `telescopic-NAME-PID` in the temporary directory.
+/// A fresh scratch directory `telescopic-NAME-PID` in the temporary directory; a name
+/// taken twice in one test binary panics (two tests running at once would delete each
+/// other's files).
 pub fn scratch(name: &str) -> PathBuf {
+    static TAKEN: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+    let mut taken = TAKEN.lock().unwrap_or_else(|e| e.into_inner());
+    assert!(
+        !taken.iter().any(|t| t == name),
+        "scratch directory `{name}` is taken by another test of this binary"
+    );
+    taken.push(name.to_string());
+    drop(taken);
     let dir = std::env::temp_dir().join(format!("telescopic-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
