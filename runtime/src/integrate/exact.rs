@@ -150,6 +150,19 @@ impl Branch {
     }
 }
 
+/// Whether `t` (s) lies on the grid `anchor + k h` (up to rounding of the time itself), and
+/// the grid's next point after `t`.
+fn next_grid_point(t: f64, anchor: f64, h: f64) -> (bool, f64) {
+    let k = ((t - anchor) / h).round();
+    let on_grid = (t - (anchor + k * h)).abs() <= 1e-9 * h;
+    let k_next = if on_grid {
+        k + 1.0
+    } else {
+        ((t - anchor) / h).floor() + 1.0
+    };
+    (on_grid, anchor + k_next * h)
+}
+
 /// The lower half of `a` when `a = [[0, I], [.., ..]]` and `e`'s upper half is zero.
 fn first_order_lower(a: &DMatrix<f64>, e: &DVector<f64>) -> Option<DMatrix<f64>> {
     let n = a.nrows() / 2;
@@ -433,16 +446,7 @@ impl ExactRun<'_> {
             let stop = match long {
                 Some(stop) => stop,
                 None => {
-                    let h = self.branches[current].h;
-                    // on the branch's grid `anchor + k h` (up to rounding of the time itself)?
-                    let k = ((t - anchor) / h).round();
-                    let on_grid = (t - (anchor + k * h)).abs() <= 1e-9 * h;
-                    let k_next = if on_grid {
-                        k + 1.0
-                    } else {
-                        ((t - anchor) / h).floor() + 1.0
-                    };
-                    let t_grid = anchor + k_next * h;
+                    let (on_grid, t_grid) = next_grid_point(t, anchor, self.branches[current].h);
                     let stop = t_grid.min(limit);
                     let tau = stop - t;
                     if on_grid && stop == t_grid {
@@ -586,15 +590,15 @@ impl ExactRun<'_> {
     /// as [`long_step_split`] gives it; `None` where that gives no longer step. Its flow is
     /// built on first use ([`Self::long_flow`]).
     fn long_step_of(&self, eigen: &[Complex<f64>], h: f64) -> Option<LongStep> {
+        if self.functionals.is_empty() {
+            return None;
+        }
         let closed = self
             .tracker
             .states()
             .iter()
             .filter(|&&s| s != ContactState::Free)
             .count();
-        if self.functionals.is_empty() {
-            return None;
-        }
         let (fast, long) = long_step_split(eigen, closed, self.span.sample)?;
         (long > h).then_some(LongStep {
             h: long,
@@ -635,11 +639,10 @@ impl ExactRun<'_> {
     /// and the step ends no later than `limit` (a sample, a drive step, the end; s).
     fn long_stop(&self, branch: usize, t: f64, anchor: f64, limit: f64) -> Option<f64> {
         let h = self.branches[branch].long.as_ref()?.h;
-        let k = ((t - anchor) / h).round();
-        if (t - (anchor + k * h)).abs() > 1e-9 * h {
+        let (on_grid, stop) = next_grid_point(t, anchor, h);
+        if !on_grid {
             return None;
         }
-        let stop = anchor + (k + 1.0) * h;
         if stop > limit + 1e-9 * h {
             None
         } else if stop >= limit - 1e-9 * h {

@@ -99,39 +99,39 @@ impl FastModes {
         let ac: DMatrix<C64> = a.map(|v| C64::new(v, 0.0));
         let ec: DVector<C64> = e.map(|v| C64::new(v, 0.0));
         let k = lambdas.len();
-        let mut left = Vec::with_capacity(k);
+        let mut left: Vec<DVector<C64>> = Vec::with_capacity(k);
         let mut value_coupling = DMatrix::zeros(g.ncols(), k);
         let mut rate_coupling = DMatrix::zeros(g.ncols(), k);
         let act = ac.transpose();
         let mut right: Vec<DVector<C64>> = Vec::with_capacity(k);
-        let mut lefts: Vec<DVector<C64>> = Vec::with_capacity(k);
         for (j, &lambda) in lambdas.iter().enumerate() {
-            // a conjugate's eigenvectors are the conjugates of its partner's
+            // a conjugate's eigenvectors are the conjugates of its partner's, its augmented
+            // left one too (`e` is real), already scaled
             let partner =
                 (0..j).find(|&i| (lambdas[i].conj() - lambda).norm() <= 1e-9 * lambda.norm());
-            let (v, w) = match partner {
-                Some(i) => (right[i].conjugate(), lefts[i].conjugate()),
-                None => (
-                    inverse_iteration(&ac, lambda)?,
-                    inverse_iteration(&act, lambda)?,
-                ),
+            let (v, augmented) = match partner {
+                Some(i) => (right[i].conjugate(), left[i].conjugate()),
+                None => {
+                    let v = inverse_iteration(&ac, lambda)?;
+                    let w = inverse_iteration(&act, lambda)?;
+                    let norm = w.dot(&v);
+                    if norm.norm() <= 1e-12 * w.norm() * v.norm() {
+                        return None;
+                    }
+                    let w = w / norm;
+                    let mut augmented = DVector::zeros(n2 + 1);
+                    augmented.rows_mut(0, n2).copy_from(&w);
+                    augmented[n2] = w.dot(&ec) / lambda;
+                    (v, augmented)
+                }
             };
-            right.push(v.clone());
-            lefts.push(w.clone());
-            let norm = w.dot(&v);
-            if norm.norm() <= 1e-12 * w.norm() * v.norm() {
-                return None;
-            }
-            let w = w / norm;
-            let mut augmented = DVector::zeros(n2 + 1);
-            augmented.rows_mut(0, n2).copy_from(&w);
-            augmented[n2] = w.dot(&ec) / lambda;
-            left.push(augmented);
             for c in 0..g.ncols() {
                 let gc = g.column(c);
                 value_coupling[(c, j)] = (0..n).map(|i| v[i] * gc[i]).sum();
                 rate_coupling[(c, j)] = (0..n).map(|i| v[n + i] * gc[i]).sum();
             }
+            right.push(v);
+            left.push(augmented);
         }
         // a (nearly) repeated eigenvalue gives inverse iteration the same vector twice: the
         // coordinates must be those of distinct modes, `w_i^T v_j = [i = j]`
