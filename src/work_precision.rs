@@ -19,7 +19,8 @@ use telescopic_runtime::integrate::stability::stability_report;
 use telescopic_runtime::{Method, Model, Scene, Settings, auto_plan};
 
 /// The methods compared by default: every method, and `auto` (simulate's default).
-pub const DEFAULT_METHODS: &str = "exact,auto,dopri5,dop853,esdirk,imex,bdf,galpha,rk4,verlet";
+pub const DEFAULT_METHODS: &str =
+    "exact,auto,dopri5,dop853,dop853-imex,esdirk,imex,bdf,galpha,rk4,verlet";
 
 /// Most timed repetitions per setting.
 pub const MAX_REPEAT: usize = 100;

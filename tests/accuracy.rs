@@ -3,51 +3,13 @@
 //! measures it), the table behind `--accuracy` is the committed measurements, and requests it
 //! cannot meet are refused with the rule.
 
+mod common;
+
+use common::references::{References, scene};
+use telescopic::Silent;
 use telescopic::runtime::Method;
 use telescopic::runtime::accuracy::{MEASURED, SceneKind};
 use telescopic::simulation::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
-use telescopic::{Scene, Silent};
-
-fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(format!("scenes/{name}.toml").as_ref(), &o).unwrap()
-}
-
-fn tight(method: Method, rtol: f64) -> SimulationOptions {
-    SimulationOptions {
-        method: MethodChoice::Method(method),
-        rtol: Some(rtol),
-        atol: Some(1e-3 * rtol),
-        ..SimulationOptions::default()
-    }
-}
-
-fn tip(t: &Trajectory) -> Vec<f64> {
-    t.column("tip_rel").unwrap()
-}
-
-/// Largest `|tip_rel|` difference (m) of `run` from the reference up to the horizon.
-fn worst_in_horizon(run: &Trajectory, horizon: f64, t: &[f64], reference: &[f64]) -> f64 {
-    t.iter()
-        .zip(tip(run).iter().zip(reference))
-        .filter(|(t, _)| **t <= horizon)
-        .map(|(_, (x, y))| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
-/// The horizon (s) where two tight references part by 1e-9 m, and the first reference.
-fn references(scene: &Scene) -> (f64, Vec<f64>, Vec<f64>) {
-    let a = simulate_scene(scene, &tight(Method::Dop853, 1e-12), &Silent).unwrap();
-    let b = simulate_scene(scene, &tight(Method::Dopri5, 1e-10), &Silent).unwrap();
-    let (ta, tb) = (tip(&a.trajectory), tip(&b.trajectory));
-    let t = a.trajectory.column("t").unwrap();
-    let horizon = t
-        .iter()
-        .zip(ta.iter().zip(&tb))
-        .find(|(_, (x, y))| (*x - *y).abs() > 1e-9)
-        .map_or(scene.time.end, |(t, _)| *t);
-    (horizon, t, ta)
-}
 
 #[test]
 fn the_defaults_keep_1e_6_m_on_every_shipped_scene() {
@@ -60,9 +22,10 @@ fn the_defaults_keep_1e_6_m_on_every_shipped_scene() {
         "test-rig",
     ] {
         let scene = scene(name, &[]);
-        let (horizon, t, reference) = references(&scene);
+        let references = References::of(&scene);
+        let horizon = references.horizon;
         let run = simulate_scene(&scene, &SimulationOptions::default(), &Silent).unwrap();
-        let worst = worst_in_horizon(&run.trajectory, horizon, &t, &reference);
+        let worst = references.worst_in_horizon(&run.trajectory);
         eprintln!(
             "{name}: default ({}) within {worst:.2e} m of the references on [0, {horizon}] s",
             run.plan.method
@@ -135,8 +98,8 @@ fn accuracy_picks_the_table_s_run_and_meets_it() {
     assert_eq!(run.plan.method, Method::Dop853);
     assert_eq!(run.plan.settings.rtol, 1e-7);
     assert!(run.plan.how.contains("accuracy 1e-9 m"), "{}", run.plan.how);
-    let (horizon, t, reference) = references(&case);
-    let worst = worst_in_horizon(&run.trajectory, horizon, &t, &reference);
+    let references = References::of(&case);
+    let worst = references.worst_in_horizon(&run.trajectory);
     assert!(worst <= 1e-9, "{worst:e} m");
 }
 

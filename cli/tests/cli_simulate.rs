@@ -75,7 +75,7 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
 }
 
 #[test]
-fn auto_takes_dop853_where_positions_move_with_clearance_and_says_why() {
+fn auto_takes_dop853_imex_where_positions_move_with_clearance_and_says_why() {
     let out = telescopic(&[
         "simulate",
         "scenes/case-study.toml",
@@ -85,7 +85,7 @@ fn auto_takes_dop853_where_positions_move_with_clearance_and_says_why() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(
-        err.contains("method dop853 (auto: dop853 at rtol 1e-6, the cheapest measured run")
+        err.contains("method dop853-imex (auto: dop853-imex at rtol 1e-6, the cheapest measured run")
             && err.contains("for scenes with impacts"),
         "{err}"
     );
@@ -113,7 +113,7 @@ fn auto_takes_dop853_where_positions_move_with_clearance_and_says_why() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(
-        err.contains("method dop853 (auto: dop853 at rtol 1e-6")
+        err.contains("method dop853-imex (auto: dop853-imex at rtol 1e-6")
             && err.contains("exact stepping from t = 0.02 s on (positions at rest)"),
         "{err}"
     );

@@ -213,7 +213,8 @@ def simulate(
 ) -> Simulation:
     """Integrates ``scene`` from rest with the clearance contact law (``telescopic simulate``).
 
-    ``method`` is one of the CLI's (``auto``, ``exact``, ``dopri5``, ``dop853``, ``imex``, ...);
+    ``method`` is one of the CLI's (``auto``, ``exact``, ``dopri5``, ``dop853``, ``dop853-imex``,
+    ``imex``, ...);
     ``accuracy`` (m) picks the cheapest method reaching it; ``controller`` drives the scene
     with a designed controller; ``stations`` adds bending moments (and stresses) at
     ``(section, x)``; ``progress`` is a callable taking the fraction done (or ``True`` for a

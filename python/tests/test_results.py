@@ -21,7 +21,7 @@ def test_simulate_equals_the_cli_csv(cli, tmp_path):
         assert np.max(np.abs(sim[name] - theirs[name].to_numpy())) <= 1e-12, name
     frame = sim.to_pandas()
     assert frame.index.name == "t" and list(frame.columns) == sim.columns
-    assert sim.summary["method"] == "dop853" and sim.summary["switches"] > 0
+    assert sim.summary["method"] == "dop853-imex" and sim.summary["switches"] > 0
 
 
 def test_a_scene_from_text_and_from_its_file_agree():

@@ -1,4 +1,9 @@
-//! What several test files share: a single section of the test rig's data on its vehicle.
+//! What several test files share: a single section of the test rig's data on its vehicle;
+//! reference runs and the predictability horizon ([`references`]).
+// each test binary uses its own part of this module
+#![allow(dead_code)]
+
+pub mod references;
 
 use std::path::Path;
 use telescopic::Scene;

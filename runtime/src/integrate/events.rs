@@ -192,23 +192,28 @@ pub(crate) fn illinois(
     hi: (f64, f64),
     tol: f64,
 ) -> f64 {
-    newton_in_bracket(&mut |x| (p(x), f64::NAN), lo, hi, f64::NAN, tol)
+    newton_in_bracket(&mut |x| (p(x), f64::NAN), lo, hi, f64::NAN, tol, 0.0)
 }
 
 /// A crossing of a switch function inside `[lo, hi]` by Newton's method kept inside the
 /// bracket: `p(x)` returns the value and its rate, `p(lo) = p_lo >= 0 > p(hi) = p_hi` on
 /// entry, `first` is the first point tried (an estimate of the crossing). Each Newton point
-/// is pushed `tol / 2` past the predicted crossing, so once the prediction is that good the
-/// bracket closes to `tol` from both sides. A point outside the bracket, or a Newton
-/// correction that did not at least halve, falls back to Illinois' regula falsi. Returns the
-/// end of the final bracket where `p < 0`; every point `p` is called at that turns out
-/// negative becomes the new `hi` (callers keep the state they computed there).
+/// is aimed at `p = -value_tol / 2` and pushed `tol / 2` past the predicted crossing, so
+/// once the prediction is that good the next point lands past the crossing and within
+/// `value_tol` of it, where the search stops, or the bracket closes to `tol` from both
+/// sides (`value_tol = 0`: only the bracket ends the search; below the rounding of `p`
+/// Newton's points wander about the crossing, so a positive `value_tol` saves the last
+/// two or three calls). A point outside the bracket, or a Newton correction that did not at
+/// least halve, falls back to Illinois' regula falsi. Returns the end of the final bracket
+/// where `p < 0`; every point `p` is called at that turns out negative becomes the new `hi`
+/// (callers keep the state they computed there).
 pub(crate) fn newton_in_bracket(
     p: &mut dyn FnMut(f64) -> (f64, f64),
     (mut lo, mut p_lo): (f64, f64),
     (mut hi, mut p_hi): (f64, f64),
     first: f64,
     tol: f64,
+    value_tol: f64,
 ) -> f64 {
     let mut x = first;
     let mut last_correction = f64::INFINITY;
@@ -224,6 +229,9 @@ pub(crate) fn newton_in_bracket(
             }
         }
         let (v, rate) = p(x);
+        if v < 0.0 && -v <= value_tol {
+            return x;
+        }
         // Illinois' halving keeps regula falsi from stalling on one side
         if v < 0.0 {
             (hi, p_hi) = (x, v);
@@ -238,7 +246,7 @@ pub(crate) fn newton_in_bracket(
             }
             side = -1;
         }
-        let correction = -v / rate;
+        let correction = (-0.5 * value_tol - v) / rate;
         if correction.is_finite() && correction.abs() <= 0.5 * last_correction {
             last_correction = correction.abs();
             x += correction + if v < 0.0 { -0.5 * tol } else { 0.5 * tol };
@@ -349,6 +357,7 @@ mod tests {
             hi,
             1.2,
             tol,
+            0.0,
         );
         assert!(falling(x).0 < 0.0, "the returned end is past the crossing");
         assert!(
@@ -373,6 +382,38 @@ mod tests {
         );
     }
 
+    /// With a value tolerance the search stops at the first point past the crossing whose
+    /// value is within it, in fewer calls than closing the bracket to rounding; a point with
+    /// a larger value does not stop it.
+    #[test]
+    fn newton_in_bracket_stops_within_the_value_tolerance_past_the_crossing() {
+        let root = 0.3_f64.acos();
+        let (lo, hi) = ((0.0, falling(0.0).0), (2.0, falling(2.0).0));
+        let calls = |value_tol: f64| {
+            let mut n = 0;
+            let x = newton_in_bracket(
+                &mut |x| {
+                    n += 1;
+                    falling(x)
+                },
+                lo,
+                hi,
+                1.2,
+                1e-15,
+                value_tol,
+            );
+            (x, n)
+        };
+        let (exact, n_exact) = calls(0.0);
+        let (within, n_within) = calls(1e-9);
+        let v = falling(within).0;
+        assert!(v < 0.0 && -v <= 1e-9, "value {v:e} at {within}");
+        assert!((exact - root).abs() <= 2e-15);
+        assert!(n_within < n_exact, "{n_within} calls against {n_exact}");
+        // the first Newton point from 1.2 has |p| ~ 1e-2: it must not stop a search asking 1e-9
+        assert!(n_within >= 2);
+    }
+
     #[test]
     fn newton_in_bracket_survives_a_wrong_rate_and_a_bad_first_guess() {
         let root = 0.3_f64.acos();
@@ -384,6 +425,7 @@ mod tests {
             (2.0, falling(2.0).0),
             5.0,
             tol,
+            0.0,
         );
         assert!(falling(x).0 < 0.0);
         assert!((x - root).abs() <= 2.0 * tol, "x - root = {:e}", x - root);

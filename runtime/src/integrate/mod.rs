@@ -23,6 +23,7 @@ mod fast_modes;
 pub mod generalized_alpha;
 pub mod imex;
 pub mod newton;
+pub mod settled;
 pub mod stability;
 #[cfg(test)]
 mod tableau;
@@ -56,6 +57,9 @@ pub enum Method {
     /// ARK4(3)6L\[2\]SA (Kennedy-Carpenter), adaptive, additive: the contact springs and
     /// dampers implicit (a low-rank solve per stage), everything else explicit.
     Imex,
+    /// dop853 across contact switches, [`Method::Imex`] over closed contacts once their
+    /// contact modes have rung down ([`settled`]).
+    Dop853Imex,
     /// Classical Runge-Kutta 4, fixed step, explicit.
     Rk4,
     /// Exact stepping (matrix exponential per contact branch) of a scene that is linear and
@@ -85,7 +89,7 @@ pub enum StepControl {
 }
 
 /// Names accepted by [`Method::from_name`], with a one-line description each.
-pub const METHOD_NAMES: [(&str, &str); 13] = [
+pub const METHOD_NAMES: [(&str, &str); 14] = [
     (
         "dopri5",
         "Dormand-Prince 5(4), adaptive explicit Runge-Kutta",
@@ -101,6 +105,10 @@ pub const METHOD_NAMES: [(&str, &str); 13] = [
     (
         "imex",
         "ARK4(3)6L[2]SA, adaptive additive Runge-Kutta: contacts implicit, the rest explicit",
+    ),
+    (
+        "dop853-imex",
+        "dop853 across contact switches, imex over closed contacts once they have rung down",
     ),
     (
         "bdf",
@@ -163,6 +171,7 @@ impl Method {
             "dop853" => Ok(Method::Dop853),
             "esdirk" => Ok(Method::Esdirk),
             "imex" => Ok(Method::Imex),
+            "dop853-imex" => Ok(Method::Dop853Imex),
             "rk4" => Ok(Method::Rk4),
             "exact" => Ok(Method::Exact),
             "verlet" => Ok(Method::Verlet),
@@ -206,6 +215,7 @@ impl Method {
             Method::Dop853 => "dop853".into(),
             Method::Esdirk => "esdirk".into(),
             Method::Imex => "imex".into(),
+            Method::Dop853Imex => "dop853-imex".into(),
             Method::Bdf {
                 max_order,
                 adaptive,
@@ -239,6 +249,7 @@ impl Method {
             | Method::Dop853
             | Method::Esdirk
             | Method::Imex
+            | Method::Dop853Imex
             | Method::Bdf { adaptive: true, .. }
             | Method::GeneralizedAlpha { adaptive: true, .. } => StepControl::Adaptive,
             Method::Exact => StepControl::Exact,
@@ -323,7 +334,8 @@ pub struct RunStats {
     /// Matrix exponentials (method `exact`: one per contact-branch combination met, two
     /// for a branch with a long step over its contact modes).
     pub exponentials: u64,
-    /// Steps of method `exact` over a closed contact's fast modes (counted in `steps` too).
+    /// Steps over closed contacts' fast modes (counted in `steps` too): method `exact`'s long
+    /// steps, `dop853-imex`'s imex steps.
     pub long_steps: u64,
     /// The step cap (s) applied while a contact was closed, if any.
     pub step_cap: Option<f64>,
@@ -532,6 +544,12 @@ pub trait Stepper {
         0.0
     }
 
+    /// Whether the method's next steps step over the closed contacts' modes: the driver then
+    /// lifts the closed-contact step cap and counts them in [`RunStats::long_steps`].
+    fn over_contact_modes(&self) -> bool {
+        false
+    }
+
     /// Largest factor by which the step may grow from one step to the next.
     fn growth_limit(&self) -> f64 {
         5.0
@@ -552,7 +570,14 @@ pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> 
     (sum / n).sqrt()
 }
 
-fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Stepper> {
+/// The stepper of `method`; `stable_step` is dop853's stable step with closed contacts (s),
+/// when the model has contacts (read by `dop853-imex`).
+fn make_stepper(
+    method: Method,
+    dof: usize,
+    settings: &Settings,
+    stable_step: Option<f64>,
+) -> Box<dyn Stepper> {
     match method {
         Method::Dopri5 => Box::new(explicit::ExplicitRk::new(
             &explicit::DOPRI5,
@@ -566,6 +591,11 @@ fn make_stepper(method: Method, dof: usize, settings: &Settings) -> Box<dyn Step
         )),
         Method::Esdirk => Box::new(esdirk::Esdirk::new(dof, settings)),
         Method::Imex => Box::new(imex::Imex::new(dof, settings)),
+        Method::Dop853Imex => Box::new(settled::SettledSteps::new(
+            dof,
+            settings,
+            stable_step.unwrap_or(f64::INFINITY),
+        )),
         Method::Bdf { max_order, .. } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
         Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),
         Method::Exact => unreachable!("method exact has its own loop (exact.rs)"),
