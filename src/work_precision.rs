@@ -68,7 +68,7 @@ pub struct WorkPrecision {
 }
 
 /// Agreement of the two reference runs that defines the predictability horizon (m).
-const HORIZON_AGREEMENT: f64 = 1e-9;
+pub const HORIZON_AGREEMENT: f64 = 1e-9;
 /// Agreement with the reference that ends a run's own horizon (m).
 const RUN_AGREEMENT: f64 = 1e-6;
 /// Relative tolerances of the adaptive sweep (`atol = 1e-3 rtol`).
@@ -107,7 +107,7 @@ pub struct Point {
     pub failure: String,
 }
 
-/// Peak and RMS of `tip_rel` per whole second.
+/// Peak and RMS of output `col` per whole second.
 fn per_second(traj: &Trajectory, col: usize) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64, usize)> = Vec::new();
     let t0 = traj.rows[0][0];
@@ -127,13 +127,32 @@ fn per_second(traj: &Trajectory, col: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn column(traj: &Trajectory, name: &str) -> Option<usize> {
-    traj.names.iter().position(|n| n == name).map(|i| i + 1)
+/// The predictability horizon `T_h` (s) of two reference runs: the first sample where their
+/// `tip_rel` differ by more than [`HORIZON_AGREEMENT`], or their last sample.
+pub fn predictability_horizon(a: &Trajectory, b: &Trajectory) -> f64 {
+    let tip = a.index("tip_rel").expect("every model has tip_rel");
+    let end = a.rows.last().map_or(0.0, |r| r[0]);
+    a.rows
+        .iter()
+        .zip(&b.rows)
+        .find(|(x, y)| (x[tip] - y[tip]).abs() > HORIZON_AGREEMENT)
+        .map_or(end, |(x, _)| x[0])
+}
+
+/// The largest relative difference of the per-second peak and RMS of `tip_rel` between `run`
+/// and `reference` (the `statistics_error_rel` of the work-precision table).
+pub fn statistics_error(run: &Trajectory, reference: &Trajectory) -> f64 {
+    let tip = reference.index("tip_rel").expect("every model has tip_rel");
+    per_second(run, tip)
+        .iter()
+        .zip(per_second(reference, tip))
+        .map(|(a, b)| ((a.0 - b.0).abs() / b.0.max(1e-12)).max((a.1 - b.1).abs() / b.1.max(1e-12)))
+        .fold(0.0, f64::max)
 }
 
 /// Compares a run with the reference.
 fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
-    let tip = column(reference, "tip_rel").expect("every model has tip_rel");
+    let tip = reference.index("tip_rel").expect("every model has tip_rel");
     let gap = reference
         .names
         .iter()
@@ -156,11 +175,7 @@ fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
     if agrees_until.is_nan() {
         agrees_until = reference.rows.last().map_or(0.0, |r| r[0]);
     }
-    let stats = per_second(run, tip)
-        .iter()
-        .zip(per_second(reference, tip))
-        .map(|(a, b)| ((a.0 - b.0).abs() / b.0.max(1e-12)).max((a.1 - b.1).abs() / b.1.max(1e-12)))
-        .fold(0.0, f64::max);
+    let stats = statistics_error(run, reference);
     let switch_error = if reference.stats.switches == 0 {
         0.0
     } else {
@@ -278,14 +293,8 @@ pub fn work_precision(
     };
     let reference = run(&mut prepared, Method::Dop853, &tolerance(1e-12))?;
     let second = run(&mut prepared, Method::Dopri5, &tolerance(1e-10))?;
-    let tip = column(&reference, "tip_rel").expect("tip_rel");
     let end = scene.time.end;
-    let horizon = reference
-        .rows
-        .iter()
-        .zip(&second.rows)
-        .find(|(a, b)| (a[tip] - b[tip]).abs() > HORIZON_AGREEMENT)
-        .map_or(end, |(a, _)| a[0]);
+    let horizon = predictability_horizon(&reference, &second);
     reporter.note(&format!(
         "predictability horizon T_h = {horizon:.4} s (the two references agree in tip_rel to \
          {HORIZON_AGREEMENT:e} m up to there; span {end} s)"

@@ -8,10 +8,11 @@
 
 mod common;
 
-use common::references::{References, scene, tip};
+use common::references::{References, scene};
 use telescopic::Silent;
 use telescopic::runtime::Method;
 use telescopic::simulation::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
+use telescopic::work_precision::statistics_error;
 
 fn run(scene: &telescopic::Scene, method: Method) -> Trajectory {
     let options = SimulationOptions {
@@ -19,34 +20,6 @@ fn run(scene: &telescopic::Scene, method: Method) -> Trajectory {
         ..SimulationOptions::default()
     };
     simulate_scene(scene, &options, &Silent).unwrap().trajectory
-}
-
-/// Per whole second of the span: the peak and RMS of `tip_rel` (m).
-fn per_second(run: &Trajectory) -> Vec<(f64, f64)> {
-    let (t, tip) = (run.column("t").unwrap(), tip(run));
-    let seconds = t.last().unwrap().floor() as usize;
-    (0..seconds)
-        .map(|s| {
-            let part: Vec<f64> = t
-                .iter()
-                .zip(&tip)
-                .filter(|(t, _)| t.floor() as usize == s)
-                .map(|(_, x)| *x)
-                .collect();
-            let peak = part.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            let rms = (part.iter().map(|x| x * x).sum::<f64>() / part.len() as f64).sqrt();
-            (peak, rms)
-        })
-        .collect()
-}
-
-/// Largest relative difference of the per-second peaks and RMS values.
-fn statistics_error(run: &Trajectory, reference: &Trajectory) -> f64 {
-    per_second(run)
-        .iter()
-        .zip(per_second(reference))
-        .map(|(a, b)| ((a.0 - b.0).abs() / b.0).max((a.1 - b.1).abs() / b.1))
-        .fold(0.0, f64::max)
 }
 
 #[test]

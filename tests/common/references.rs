@@ -3,6 +3,7 @@
 
 use telescopic::runtime::Method;
 use telescopic::simulation::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
+use telescopic::work_precision::predictability_horizon;
 use telescopic::{Scene, Silent};
 
 /// A shipped scene (`scenes/<name>.toml`) with `--set` overrides.
@@ -28,7 +29,7 @@ pub fn tip(t: &Trajectory) -> Vec<f64> {
 
 /// dop853 at rtol 1e-12 and dopri5 at 1e-10, and where their `tip_rel` part by 1e-9 m.
 pub struct References {
-    /// The horizon (s): the first sample where the two differ by more than 1e-9 m.
+    /// The horizon (s, [`predictability_horizon`]).
     pub horizon: f64,
     /// The first reference (dop853).
     pub run: Trajectory,
@@ -39,13 +40,7 @@ impl References {
     pub fn of(scene: &Scene) -> Self {
         let a = simulate_scene(scene, &tight(Method::Dop853, 1e-12), &Silent).unwrap();
         let b = simulate_scene(scene, &tight(Method::Dopri5, 1e-10), &Silent).unwrap();
-        let (ta, tb) = (tip(&a.trajectory), tip(&b.trajectory));
-        let t = a.trajectory.column("t").unwrap();
-        let horizon = t
-            .iter()
-            .zip(ta.iter().zip(&tb))
-            .find(|(_, (x, y))| (*x - *y).abs() > 1e-9)
-            .map_or(scene.time.end, |(t, _)| *t);
+        let horizon = predictability_horizon(&a.trajectory, &b.trajectory);
         References {
             horizon,
             run: a.trajectory,

@@ -112,18 +112,15 @@ impl<'m> Driver<'m> {
         };
         let mut f0 = vec![0.0; 2 * n];
         sys.rhs(span.start, y0, &mut f0);
-        let capped = settings.step_cap || method == Method::Dop853Imex;
-        let stable_step = if capped {
-            settings
-                .known_step_cap
-                .or_else(|| closed_contact_step_cap(model, method, span))
-        } else {
-            None
-        };
-        let step_cap = stable_step.filter(|_| settings.step_cap);
+        // the cap of a capped method; dop853-imex reads it even when the driver does not cap
+        // (`Settings::step_cap` off)
+        let cap = settings
+            .known_step_cap
+            .or_else(|| closed_contact_step_cap(model, method, span));
+        let step_cap = cap.filter(|_| settings.step_cap);
         sys.stats.step_cap = step_cap;
         Ok(Driver {
-            stepper: make_stepper(method, n, settings, stable_step),
+            stepper: make_stepper(method, n, settings, cap),
             sys,
             method,
             settings: *settings,

@@ -242,6 +242,16 @@ impl Method {
         }
     }
 
+    /// The explicit method whose steps are capped while a contact is closed
+    /// ([`stability::closed_contact_step_cap`]): dop853 for itself and for dop853-imex's
+    /// dop853 part, `None` for every other method.
+    pub fn capped_part(&self) -> Option<Method> {
+        match self {
+            Method::Dop853 | Method::Dop853Imex => Some(Method::Dop853),
+            _ => None,
+        }
+    }
+
     /// Adaptive or fixed step.
     pub fn step_control(&self) -> StepControl {
         match self {
@@ -570,13 +580,13 @@ pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> 
     (sum / n).sqrt()
 }
 
-/// The stepper of `method`; `stable_step` is dop853's stable step with closed contacts (s),
-/// when the model has contacts (read by `dop853-imex`).
+/// The stepper of `method`; `step_cap` is dop853's step cap with closed contacts (s), when
+/// the model has contacts (read by `dop853-imex`).
 fn make_stepper(
     method: Method,
     dof: usize,
     settings: &Settings,
-    stable_step: Option<f64>,
+    step_cap: Option<f64>,
 ) -> Box<dyn Stepper> {
     match method {
         Method::Dopri5 => Box::new(explicit::ExplicitRk::new(
@@ -594,7 +604,7 @@ fn make_stepper(
         Method::Dop853Imex => Box::new(settled::SettledSteps::new(
             dof,
             settings,
-            stable_step.unwrap_or(f64::INFINITY),
+            step_cap.unwrap_or(f64::INFINITY),
         )),
         Method::Bdf { max_order, .. } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
         Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),

@@ -11,10 +11,10 @@
 //!
 //! This stepper runs dop853 from every switch and drive discontinuity on, and hands over to
 //! imex once a contact is closed and [`QUIET_STEPS`] accepted dop853 steps in a row, each at
-//! least half its stable step, had a scaled error below [`QUIET_ERROR`]: at that step the
-//! error of an explicit method is dominated by the ringing contact mode, so its falling below
-//! a tenth of the tolerance says the mode has rung down to where the tolerance no longer sees
-//! it. imex then estimates the error of the coordinates only, as it does without clearance (the
+//! least half its closed-contact step cap, had a scaled error below [`QUIET_ERROR`]: at that
+//! step the error of an explicit method is dominated by the ringing contact mode, so its
+//! falling below a tenth of the tolerance says the mode has rung down to where the tolerance
+//! no longer sees it. imex then estimates the error of the coordinates only, as it does without clearance (the
 //! rates of the rung-down contact modes, which its L-stable part damps, would otherwise set its
 //! step). The next switch or drive discontinuity hands back to dop853. Where the contacts never
 //! settle (three-section's rattle) it is dop853 step for step.
@@ -31,7 +31,8 @@ use super::{Settings, StepFailure, Stepper, System};
 pub struct SettledSteps {
     explicit: ExplicitRk,
     implicit: Imex,
-    /// dop853's stable step with closed contacts (s): steps at least half of it count.
+    /// dop853's step cap with closed contacts (s, [`super::stability::closed_contact_step_cap`]):
+    /// steps at least half of it count.
     cap: f64,
     /// dop853's last step: its length (s) and scaled error.
     last: (f64, f64),
@@ -50,8 +51,8 @@ pub const QUIET_ERROR: f64 = 0.1;
 pub const QUIET_STEPS: u32 = 4;
 
 impl SettledSteps {
-    /// For `dof` coordinates with the run's tolerances; `cap` is dop853's stable step with
-    /// closed contacts (s).
+    /// For `dof` coordinates with the run's tolerances; `cap` is dop853's step cap with closed
+    /// contacts (s).
     pub fn new(dof: usize, settings: &Settings, cap: f64) -> Self {
         SettledSteps {
             explicit: ExplicitRk::new(&DOP853, 2 * dof, settings),
@@ -108,12 +109,15 @@ impl Stepper for SettledSteps {
     }
 
     fn accepted(&mut self) {
-        let (h, err) = self.last;
-        if h >= 0.5 * self.cap && err < QUIET_ERROR {
-            self.quiet += 1;
-        } else if !self.on_implicit {
-            self.quiet = 0;
+        if self.on_implicit {
+            return;
         }
+        let (h, err) = self.last;
+        self.quiet = if h >= 0.5 * self.cap && err < QUIET_ERROR {
+            self.quiet + 1
+        } else {
+            0
+        };
     }
 
     fn restart(&mut self) {

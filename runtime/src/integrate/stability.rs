@@ -262,8 +262,6 @@ pub fn stable_h_rho(method: Method) -> Option<f64> {
 /// 67k; 6k with the cap, 13-15 % less wall time in two benchmark runs). dopri5's PI control already stays off the
 /// boundary: capped, it took 9 % longer on case-study, so it is not capped.
 pub fn closed_contact_step_cap(model: &dyn Model, method: Method, span: &TimeSpan) -> Option<f64> {
-    if !matches!(method, Method::Dop853 | Method::Dop853Imex) {
-        return None;
-    }
-    closed_contact_stable_step(model, Method::Dop853, span).map(|step| STEP_CAP_SAFETY * step)
+    let capped = method.capped_part()?;
+    closed_contact_stable_step(model, capped, span).map(|step| STEP_CAP_SAFETY * step)
 }
