@@ -76,7 +76,10 @@ fn over_settled_contacts_it_keeps_dop853s_accuracy_with_less_work() {
             "{name}: {} switches against {switches}",
             s.switches
         );
-        assert!(statistics <= 0.3, "{name}: statistics differ by {statistics}");
+        assert!(
+            statistics <= 0.3,
+            "{name}: statistics differ by {statistics}"
+        );
     }
 }
 

@@ -85,8 +85,9 @@ fn auto_takes_dop853_imex_where_positions_move_with_clearance_and_says_why() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(
-        err.contains("method dop853-imex (auto: dop853-imex at rtol 1e-6, the cheapest measured run")
-            && err.contains("for scenes with impacts"),
+        err.contains(
+            "method dop853-imex (auto: dop853-imex at rtol 1e-6, the cheapest measured run"
+        ) && err.contains("for scenes with impacts"),
         "{err}"
     );
     assert!(
