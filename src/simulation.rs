@@ -159,8 +159,10 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     settings.dt = options.dt;
     settings.step_cap = options.step_cap;
     settings.long_steps = options.long_steps;
-    if !(settings.rtol > 0.0 && settings.rtol < 1.0 && settings.atol > 0.0)
-        || !settings.atol.is_finite()
+    if !(settings.rtol > 0.0
+        && settings.rtol < 1.0
+        && settings.atol > 0.0
+        && settings.atol.is_finite())
     {
         return Err(Error::option(
             "SimulationOptions::rtol/atol",

@@ -288,7 +288,7 @@ pub fn work_precision(
     let mut prepared = PreparedRun::with_model(scene, chosen, Method::Dop853, Settings::default());
     let run = |prepared: &mut PreparedRun, method, settings: &Settings| {
         prepared.plan.method = method;
-        prepared.plan.settings = settings.clone();
+        prepared.plan.settings = *settings;
         prepared.integrate(reporter)
     };
     let reference = run(&mut prepared, Method::Dop853, &tolerance(1e-12))?;

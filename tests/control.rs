@@ -274,7 +274,8 @@ fn controller_files_are_checked_field_by_field() {
         Controller::from_json(&v.to_string()).and_then(|c| c.check_fits(&case))
     };
     assert!(edited(&|_| {}).is_ok(), "the designed file itself fits");
-    let cases: Vec<(&str, Box<dyn Fn(&mut serde_json::Value)>)> = vec![
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: Vec<(&str, Edit)> = vec![
         (
             "`force_limit_n`",
             Box::new(|v| v["force_limit_n"] = (-5.0).into()),

@@ -273,7 +273,7 @@ impl Builder {
             })?;
         }
         // the first origin of a repeated configuration is the one named in errors
-        all.sort_by(|a, b| a.0.key().cmp(&b.0.key()));
+        all.sort_by_key(|a| a.0.key());
         all.dedup_by(|later, first| later.0 == first.0);
         Ok(all)
     }

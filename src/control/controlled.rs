@@ -481,9 +481,9 @@ impl Model for Observed<'_> {
         for (k, inn) in innovation.iter_mut().enumerate() {
             let mut measured = 0.0;
             let mut estimated = 0.0;
-            for m in 0..2 * n {
+            for (m, &ybm) in yb.iter().enumerate().take(2 * n) {
                 let c = blend(pi.c[(k, m)], pj.c[(k, m)]);
-                measured += c * yb[m];
+                measured += c * ybm;
                 estimated += c * self.estimate(y, m);
             }
             *inn = measured - estimated;

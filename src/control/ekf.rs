@@ -183,6 +183,8 @@ impl ExtendedKalman {
     /// The measurement update with `y`: the Kalman gain from `S = C P C^T + R` and Joseph's
     /// form of the covariance (it stays symmetric positive semi-definite). Skipped when `S`
     /// is not positive definite.
+    // indexed loops, as in the emitted C this code is mirrored in
+    #[allow(clippy::needless_range_loop)]
     fn update(&mut self, y: &[f64]) {
         let (w, m) = (self.x.len(), y.len());
         let sc = &mut self.scratch;

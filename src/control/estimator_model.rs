@@ -273,6 +273,8 @@ impl PreparedEstimatorModel {
     }
 
     /// `ydot` at `t` (s), state `y = [z, z']`, with the drive force `u` (N).
+    // indexed loops, as in the emitted C this code is mirrored in
+    #[allow(clippy::needless_range_loop)]
     pub fn rhs(&mut self, t: f64, y: &[f64], u: f64, ydot: &mut [f64]) {
         let n = self.n;
         self.geometry(t);

@@ -127,6 +127,8 @@ fn lyapunov(f: &DMatrix<f64>, w: &DMatrix<f64>) -> Result<DMatrix<f64>, RiccatiE
 ///
 /// # Errors
 /// [`RiccatiError`] naming the check that failed.
+// NaN fails every comparison: the negated ones below reject it
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn care(
     a: &DMatrix<f64>,
     b: &DMatrix<f64>,

@@ -104,6 +104,8 @@ pub fn exponential(a: &[f64], n: usize, out: &mut [f64], t1: &mut [f64], t2: &mu
 /// `inverse = s^-1` for a symmetric positive definite `s` (`m x m`) through its Cholesky
 /// factor `l` (scratch, `m x m`; on return it holds `L^-1`). Returns false when `s` is not
 /// positive definite.
+// NaN fails every comparison: the negated ones below reject it
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn invert_spd(s: &[f64], m: usize, l: &mut [f64], inverse: &mut [f64]) -> bool {
     l[..m * m].fill(0.0);
     for j in 0..m {

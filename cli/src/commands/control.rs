@@ -224,10 +224,10 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         model: args.model,
         models: Default::default(),
     };
-    if let Some(dir) = &args.emit_c {
-        if !dir.is_dir() {
-            anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
-        }
+    if let Some(dir) = &args.emit_c
+        && !dir.is_dir()
+    {
+        anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
     }
     let controller = telescopic::control::design(&scene, &options)?;
     if controller.shaper.is_some() && controller.shaper_timing != options.shaper_timing {

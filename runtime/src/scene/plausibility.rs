@@ -137,7 +137,7 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
             let s = &params.sections[j];
             let bending = 3.0 * s.bending_stiffness / s.length.powi(3);
             let ratio = law.stiffness / bending;
-            if !(ratio <= MAX_STIFFNESS_RATIO && ratio >= 1.0 / MAX_STIFFNESS_RATIO) {
+            if !(1.0 / MAX_STIFFNESS_RATIO..=MAX_STIFFNESS_RATIO).contains(&ratio) {
                 fail(
                     &mut errors,
                     format!(
@@ -156,7 +156,7 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
         }
         let m = section_mass(k - 1).min(section_mass(k));
         let zeta = law.damping / (2.0 * (law.stiffness * m).sqrt());
-        if !(zeta <= MAX_DAMPING_RATIO) {
+        if zeta.is_nan() || zeta > MAX_DAMPING_RATIO {
             fail(
                 &mut errors,
                 "contact.damping".into(),
