@@ -190,20 +190,18 @@ impl ContactTable {
             u * (3.0 * u - 2.0),
         );
         let w = self.data.varying.len();
-        let (g0, g1) = (
-            &self.data.g[i * w..(i + 1) * w],
-            &self.data.g[(i + 1) * w..(i + 2) * w],
-        );
-        let (s0, s1) = (
-            &self.data.gd[i * w..(i + 1) * w],
-            &self.data.gd[(i + 1) * w..(i + 2) * w],
-        );
+        let (g0, g1) = self.data.g[i * w..(i + 2) * w].split_at(w);
+        let (s0, s1) = self.data.gd[i * w..(i + 2) * w].split_at(w);
         let (d00, d01) = (d00 / h, d01 / h);
-        g[..self.data.constant_g.len()].copy_from_slice(&self.data.constant_g);
-        gd[..self.data.constant_g.len()].fill(0.0);
-        for (j, &k) in self.data.varying.iter().enumerate() {
-            g[k] = h00 * g0[j] + h01 * g1[j] + h * (h10 * s0[j] + h11 * s1[j]);
-            gd[k] = d00 * g0[j] + d01 * g1[j] + d10 * s0[j] + d11 * s1[j];
+        // one pass for the constant entries (no library copy and fill for these few)
+        for ((gk, gdk), &c) in g.iter_mut().zip(gd.iter_mut()).zip(&self.data.constant_g) {
+            *gk = c;
+            *gdk = 0.0;
+        }
+        let nodes = g0.iter().zip(g1).zip(s0.iter().zip(s1));
+        for (&k, ((&a0, &a1), (&b0, &b1))) in self.data.varying.iter().zip(nodes) {
+            g[k] = h00 * a0 + h01 * a1 + h * (h10 * b0 + h11 * b1);
+            gd[k] = d00 * a0 + d01 * a1 + d10 * b0 + d11 * b1;
         }
     }
 
