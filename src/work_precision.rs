@@ -69,6 +69,9 @@ pub struct WorkPrecision {
 
 /// Agreement of the two reference runs that defines the predictability horizon (m).
 pub const HORIZON_AGREEMENT: f64 = 1e-9;
+/// The two reference runs: method and relative tolerance (`atol = 1e-3 rtol`). The first is
+/// the reference every run is measured against; where the two part defines the horizon.
+pub const REFERENCE_RUNS: [(Method, f64); 2] = [(Method::Dop853, 1e-12), (Method::Dopri5, 1e-10)];
 /// Agreement with the reference that ends a run's own horizon (m).
 const RUN_AGREEMENT: f64 = 1e-6;
 /// Relative tolerances of the adaptive sweep (`atol = 1e-3 rtol`).
@@ -150,6 +153,18 @@ pub fn statistics_error(run: &Trajectory, reference: &Trajectory) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The largest `|tip_rel|` difference (m) of `run` from `reference` up to `horizon` (s): the
+/// `tip_error_horizon_m` of the work-precision table.
+pub fn tip_error_in_horizon(run: &Trajectory, reference: &Trajectory, horizon: f64) -> f64 {
+    let tip = reference.index("tip_rel").expect("every model has tip_rel");
+    run.rows
+        .iter()
+        .zip(&reference.rows)
+        .take_while(|(_, b)| b[0] <= horizon)
+        .map(|(a, b)| (a[tip] - b[tip]).abs())
+        .fold(0.0, f64::max)
+}
+
 /// Compares a run with the reference.
 fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
     let tip = reference.index("tip_rel").expect("every model has tip_rel");
@@ -158,18 +173,17 @@ fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
         .iter()
         .position(|n| n.starts_with("xi_"))
         .map(|i| i + 1);
-    let (mut tip_error, mut gap_error) = (0.0f64, 0.0f64);
+    let tip_error = tip_error_in_horizon(run, reference, horizon);
+    let mut gap_error = 0.0f64;
     let mut agrees_until = f64::NAN;
     for (a, b) in run.rows.iter().zip(&reference.rows) {
-        let d = (a[tip] - b[tip]).abs();
-        if agrees_until.is_nan() && d > RUN_AGREEMENT {
+        if agrees_until.is_nan() && (a[tip] - b[tip]).abs() > RUN_AGREEMENT {
             agrees_until = a[0];
         }
-        if a[0] <= horizon {
-            tip_error = tip_error.max(d);
-            if let Some(g) = gap {
-                gap_error = gap_error.max((a[g] - b[g]).abs());
-            }
+        if let Some(g) = gap
+            && a[0] <= horizon
+        {
+            gap_error = gap_error.max((a[g] - b[g]).abs());
         }
     }
     if agrees_until.is_nan() {
@@ -280,9 +294,13 @@ pub fn work_precision(
     if let Some(note) = &chosen.note {
         reporter.note(note);
     }
+    let [(first, first_rtol), (second, second_rtol)] = REFERENCE_RUNS;
     reporter.note(&format!(
-        "{} on the {}: reference runs (dop853 rtol 1e-12, dopri5 rtol 1e-10)",
-        scene.name, chosen.description
+        "{} on the {}: reference runs ({} rtol {first_rtol:e}, {} rtol {second_rtol:e})",
+        scene.name,
+        chosen.description,
+        first.name(),
+        second.name()
     ));
     // every run, the references included, on one prepared run (within the work budget)
     let mut prepared = PreparedRun::with_model(scene, chosen, Method::Dop853, Settings::default());
@@ -291,8 +309,8 @@ pub fn work_precision(
         prepared.plan.settings = *settings;
         prepared.integrate(reporter)
     };
-    let reference = run(&mut prepared, Method::Dop853, &tolerance(1e-12))?;
-    let second = run(&mut prepared, Method::Dopri5, &tolerance(1e-10))?;
+    let reference = run(&mut prepared, first, &tolerance(first_rtol))?;
+    let second = run(&mut prepared, second, &tolerance(second_rtol))?;
     let end = scene.time.end;
     let horizon = predictability_horizon(&reference, &second);
     reporter.note(&format!(

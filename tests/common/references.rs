@@ -3,7 +3,7 @@
 
 use telescopic::runtime::Method;
 use telescopic::simulation::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
-use telescopic::work_precision::predictability_horizon;
+use telescopic::work_precision::{REFERENCE_RUNS, predictability_horizon, tip_error_in_horizon};
 use telescopic::{Scene, Silent};
 
 /// A shipped scene (`scenes/<name>.toml`) with `--set` overrides.
@@ -22,24 +22,21 @@ pub fn tight(method: Method, rtol: f64) -> SimulationOptions {
     }
 }
 
-/// The samples of `tip_rel` (m).
-pub fn tip(t: &Trajectory) -> Vec<f64> {
-    t.column("tip_rel").unwrap()
-}
-
-/// dop853 at rtol 1e-12 and dopri5 at 1e-10, and where their `tip_rel` part by 1e-9 m.
+/// The work-precision command's two reference runs ([`REFERENCE_RUNS`]) and where their
+/// `tip_rel` part.
 pub struct References {
     /// The horizon (s, [`predictability_horizon`]).
     pub horizon: f64,
-    /// The first reference (dop853).
+    /// The first reference.
     pub run: Trajectory,
 }
 
 impl References {
     /// The two runs of `scene`.
     pub fn of(scene: &Scene) -> Self {
-        let a = simulate_scene(scene, &tight(Method::Dop853, 1e-12), &Silent).unwrap();
-        let b = simulate_scene(scene, &tight(Method::Dopri5, 1e-10), &Silent).unwrap();
+        let [(m1, r1), (m2, r2)] = REFERENCE_RUNS;
+        let a = simulate_scene(scene, &tight(m1, r1), &Silent).unwrap();
+        let b = simulate_scene(scene, &tight(m2, r2), &Silent).unwrap();
         let horizon = predictability_horizon(&a.trajectory, &b.trajectory);
         References {
             horizon,
@@ -49,11 +46,6 @@ impl References {
 
     /// Largest `|tip_rel|` difference (m) of `run` from the first reference up to the horizon.
     pub fn worst_in_horizon(&self, run: &Trajectory) -> f64 {
-        let t = self.run.column("t").unwrap();
-        t.iter()
-            .zip(tip(run).iter().zip(tip(&self.run)))
-            .filter(|(t, _)| **t <= self.horizon)
-            .map(|(_, (x, y))| (x - y).abs())
-            .fold(0.0, f64::max)
+        tip_error_in_horizon(run, &self.run, self.horizon)
     }
 }

@@ -342,23 +342,31 @@ mod tests {
         (x.cos() - 0.3, -x.sin())
     }
 
-    #[test]
-    fn newton_in_bracket_closes_on_the_crossing_in_fewer_calls_than_illinois() {
-        let root = 0.3_f64.acos();
-        let tol = 1e-15;
+    /// `newton_in_bracket` on [`falling`] over `[0, 2]` from 1.2: the point returned and the
+    /// number of calls.
+    fn counted_search(tol: f64, value_tol: f64) -> (f64, u32) {
+        let mut calls = 0;
         let (lo, hi) = ((0.0, falling(0.0).0), (2.0, falling(2.0).0));
-        let mut newton_calls = 0;
         let x = newton_in_bracket(
             &mut |x| {
-                newton_calls += 1;
+                calls += 1;
                 falling(x)
             },
             lo,
             hi,
             1.2,
             tol,
-            0.0,
+            value_tol,
         );
+        (x, calls)
+    }
+
+    #[test]
+    fn newton_in_bracket_closes_on_the_crossing_in_fewer_calls_than_illinois() {
+        let root = 0.3_f64.acos();
+        let tol = 1e-15;
+        let (lo, hi) = ((0.0, falling(0.0).0), (2.0, falling(2.0).0));
+        let (x, newton_calls) = counted_search(tol, 0.0);
         assert!(falling(x).0 < 0.0, "the returned end is past the crossing");
         assert!(
             x - root <= 2.0 * tol && x >= root - 1e-16,
@@ -388,24 +396,8 @@ mod tests {
     #[test]
     fn newton_in_bracket_stops_within_the_value_tolerance_past_the_crossing() {
         let root = 0.3_f64.acos();
-        let (lo, hi) = ((0.0, falling(0.0).0), (2.0, falling(2.0).0));
-        let calls = |value_tol: f64| {
-            let mut n = 0;
-            let x = newton_in_bracket(
-                &mut |x| {
-                    n += 1;
-                    falling(x)
-                },
-                lo,
-                hi,
-                1.2,
-                1e-15,
-                value_tol,
-            );
-            (x, n)
-        };
-        let (exact, n_exact) = calls(0.0);
-        let (within, n_within) = calls(1e-9);
+        let (exact, n_exact) = counted_search(1e-15, 0.0);
+        let (within, n_within) = counted_search(1e-15, 1e-9);
         let v = falling(within).0;
         assert!(v < 0.0 && -v <= 1e-9, "value {v:e} at {within}");
         assert!((exact - root).abs() <= 2e-15);

@@ -34,8 +34,8 @@ pub struct SettledSteps {
     /// dop853's step cap with closed contacts (s, [`super::stability::closed_contact_step_cap`]):
     /// steps at least half of it count.
     cap: f64,
-    /// dop853's last step: its length (s) and scaled error.
-    last: (f64, f64),
+    /// dop853's last step, when a contact was closed: its length (s) and scaled error.
+    last: Option<(f64, f64)>,
     /// Consecutive accepted dop853 steps near the cap with a contact closed and an error
     /// below [`QUIET_ERROR`].
     quiet: u32,
@@ -58,7 +58,7 @@ impl SettledSteps {
             explicit: ExplicitRk::new(&DOP853, 2 * dof, settings),
             implicit: Imex::new(dof, settings).with_coordinates_error(),
             cap,
-            last: (0.0, f64::INFINITY),
+            last: None,
             quiet: 0,
             on_implicit: false,
         }
@@ -96,11 +96,7 @@ impl Stepper for SettledSteps {
             return self.implicit.step(sys, t, y, f0, h, y1);
         }
         let err = self.explicit.step(sys, t, y, f0, h, y1)?;
-        self.last = if sys.tracker.any_closed() {
-            (h, err)
-        } else {
-            (0.0, f64::INFINITY)
-        };
+        self.last = sys.tracker.any_closed().then_some((h, err));
         Ok(err)
     }
 
@@ -112,17 +108,15 @@ impl Stepper for SettledSteps {
         if self.on_implicit {
             return;
         }
-        let (h, err) = self.last;
-        self.quiet = if h >= 0.5 * self.cap && err < QUIET_ERROR {
-            self.quiet + 1
-        } else {
-            0
+        self.quiet = match self.last {
+            Some((h, err)) if h >= 0.5 * self.cap && err < QUIET_ERROR => self.quiet + 1,
+            _ => 0,
         };
     }
 
     fn restart(&mut self) {
         self.quiet = 0;
-        self.last = (0.0, f64::INFINITY);
+        self.last = None;
         self.on_implicit = false;
     }
 
