@@ -14,9 +14,9 @@
 //! least half its closed-contact step cap, had a scaled error below [`QUIET_ERROR`]: at that
 //! step the error of an explicit method is dominated by the ringing contact mode, so its
 //! falling below a tenth of the tolerance says the mode has rung down to where the tolerance
-//! no longer sees it. imex then estimates the error of the coordinates only, as it does without clearance (the
-//! rates of the rung-down contact modes, which its L-stable part damps, would otherwise set its
-//! step). The next switch or drive discontinuity hands back to dop853. Where the contacts never
+//! no longer sees it. imex then estimates the error of the coordinates only, as it does
+//! without clearance (the rates of the rung-down contact modes, which its L-stable part damps,
+//! would otherwise set its step). The next switch or drive discontinuity hands back to dop853. Where the contacts never
 //! settle (three-section's rattle) it is dop853 step for step.
 //!
 //! The driver's step-size controller reads the order and PI weight of the part that takes the
