@@ -188,7 +188,16 @@ fn generated_models_agree_with_the_assembled_model() {
                 let (mut xi, mut xid) = (vec![0.0; nc], vec![0.0; nc]);
                 assembled.contact_gaps(t, &y, &mut xi, &mut xid);
                 let states: Vec<ContactState> = xi.iter().map(|&x| p.contact.state(x)).collect();
-                for st in [None, Some(states.as_slice())] {
+                // with a band, also every contact held open (the generated right-hand side
+                // then skips the contact vectors and gaps) and all but the first held closed
+                let open = vec![ContactState::Free; nc];
+                let mut mixed = vec![ContactState::Upper; nc];
+                mixed[0] = ContactState::Free;
+                let mut branch_sets = vec![None, Some(states.as_slice())];
+                if p.contact.clearance > 0.0 {
+                    branch_sets.extend([Some(open.as_slice()), Some(mixed.as_slice())]);
+                }
+                for st in branch_sets {
                     let (mut f1, mut f2) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
                     generated.rhs(t, &y, st, &mut f1);
                     assembled.rhs(t, &y, st, &mut f2);

@@ -247,6 +247,7 @@ fn model_impl(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
     let (force_temps, force_sets) = force_rows(d);
     let (jac_temps, jac_sets) = jacobian_rows(d);
     let (table_accessor, geometry_source) = (&positions.table_accessor, &positions.source);
+    let rhs_geometry_source = &positions.rhs_source;
     let (accel, drive_force_out) = (&drive.accel, &drive.drive_force_out);
     let displacement_arms = displacement_arms(d);
     quote! {
@@ -281,12 +282,16 @@ fn model_impl(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
 
             #[allow(unused_variables)]
             fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
-                #geometry_source
                 let (z, zd) = y.split_at(DOF);
-                let (xi, xi_dot) = Self::gaps(geo, z, zd);
-                let law = self.laws(&xi, &xi_dot, states);
+                // every contact held inside its band: no contact force, no gaps to compute
+                let open = states.is_some_and(|s| s.iter().all(|&s| s == ContactState::Free));
+                #rhs_geometry_source
                 let mut f = [0.0; CONTACTS];
-                for c in 0..CONTACTS { f[c] = law[c].force; }
+                if !open {
+                    let (xi, xi_dot) = Self::gaps(geo, z, zd);
+                    let law = self.laws(&xi, &xi_dot, states);
+                    for c in 0..CONTACTS { f[c] = law[c].force; }
+                }
                 let f_drive = self.drive_input(t);
                 #(#force_temps)*
                 let mut q = [0.0; DOF];

@@ -240,6 +240,8 @@ pub(super) struct PositionsCode {
     pub table_accessor: TokenStream,
     /// How a per-call method gets `geo`.
     pub source: TokenStream,
+    /// How the right-hand side gets `geo`, given `open` (every contact inside its band).
+    pub rhs_source: TokenStream,
     /// `positions` at `t` for `exact_geometry`.
     pub at_time: TokenStream,
     /// How `prepare` checks the parameters' positions fit.
@@ -268,6 +270,7 @@ pub(super) fn positions_code(c: &ModelConfig) -> PositionsCode {
             lookup: quote!(),
             table_accessor: quote!(),
             source: quote!(let geo = &self.fixed_geometry;),
+            rhs_source: quote!(let geo = &self.fixed_geometry;),
             at_time,
             check: quote!(params.positions.iter().all(|p| p.is_constant())),
         };
@@ -284,6 +287,9 @@ pub(super) fn positions_code(c: &ModelConfig) -> PositionsCode {
             });
         },
         lookup: quote! {
+            /// Contact vectors of no contact, for a right-hand side with every contact open.
+            const NO_CONTACT: Geometry = Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] };
+
             /// Contact vectors at time `t` (s): interpolated from the table while positions
             /// move, exact without a table.
             #[inline]
@@ -302,6 +308,11 @@ pub(super) fn positions_code(c: &ModelConfig) -> PositionsCode {
             fn contact_table(&self) -> Option<&telescopic_runtime::ContactTable> { self.contact_table.as_ref() }
         },
         source: quote!(let geo = &self.geometry(t);),
+        rhs_source: quote! {
+            // no contact force acts with every contact open: no contact vectors to look up
+            let looked_up;
+            let geo = if open { &Self::NO_CONTACT } else { looked_up = self.geometry(t); &looked_up };
+        },
         at_time,
         check: quote!(true),
     }

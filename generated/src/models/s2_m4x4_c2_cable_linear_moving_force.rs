@@ -673,6 +673,11 @@ impl GeneratedModel {
         }
         geo
     }
+    /// Contact vectors of no contact, for a right-hand side with every contact open.
+    const NO_CONTACT: Geometry = Geometry {
+        g: [[0.0; DOF]; CONTACTS],
+        gd: [[0.0; DOF]; CONTACTS],
+    };
     /// Contact vectors at time `t` (s): interpolated from the table while positions
     /// move, exact without a table.
     #[inline]
@@ -799,13 +804,22 @@ impl Model for GeneratedModel {
     }
     #[allow(unused_variables)]
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
-        let geo = &self.geometry(t);
         let (z, zd) = y.split_at(DOF);
-        let (xi, xi_dot) = Self::gaps(geo, z, zd);
-        let law = self.laws(&xi, &xi_dot, states);
+        let open = states.is_some_and(|s| s.iter().all(|&s| s == ContactState::Free));
+        let looked_up;
+        let geo = if open {
+            &Self::NO_CONTACT
+        } else {
+            looked_up = self.geometry(t);
+            &looked_up
+        };
         let mut f = [0.0; CONTACTS];
-        for c in 0..CONTACTS {
-            f[c] = law[c].force;
+        if !open {
+            let (xi, xi_dot) = Self::gaps(geo, z, zd);
+            let law = self.laws(&xi, &xi_dot, states);
+            for c in 0..CONTACTS {
+                f[c] = law[c].force;
+            }
         }
         let f_drive = self.drive_input(t);
         let mut q = [0.0; DOF];

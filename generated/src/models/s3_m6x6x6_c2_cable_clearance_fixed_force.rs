@@ -1641,13 +1641,16 @@ impl Model for GeneratedModel {
     }
     #[allow(unused_variables)]
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
-        let geo = &self.fixed_geometry;
         let (z, zd) = y.split_at(DOF);
-        let (xi, xi_dot) = Self::gaps(geo, z, zd);
-        let law = self.laws(&xi, &xi_dot, states);
+        let open = states.is_some_and(|s| s.iter().all(|&s| s == ContactState::Free));
+        let geo = &self.fixed_geometry;
         let mut f = [0.0; CONTACTS];
-        for c in 0..CONTACTS {
-            f[c] = law[c].force;
+        if !open {
+            let (xi, xi_dot) = Self::gaps(geo, z, zd);
+            let law = self.laws(&xi, &xi_dot, states);
+            for c in 0..CONTACTS {
+                f[c] = law[c].force;
+            }
         }
         let f_drive = self.drive_input(t);
         let mut q = [0.0; DOF];
