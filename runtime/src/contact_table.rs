@@ -171,6 +171,21 @@ impl ContactTable {
     /// allocation-free. Outside the tabulated interval the end nodes' values.
     #[inline]
     pub fn interpolate(&self, t: f64, g: &mut [f64], gd: &mut [f64]) {
+        self.interpolate_rows(t, g.len(), |_| true, g, gd);
+    }
+
+    /// As [`ContactTable::interpolate`], but only the rows (consecutive blocks of `row_len`
+    /// entries: one contact's vector each) for which `wanted(row)` holds; the other rows of
+    /// `g` and `gd` are left as they are. A right-hand side needs only the closed contacts'.
+    #[inline]
+    pub fn interpolate_rows(
+        &self,
+        t: f64,
+        row_len: usize,
+        wanted: impl Fn(usize) -> bool,
+        g: &mut [f64],
+        gd: &mut [f64],
+    ) {
         let s = ((t - self.data.start) / self.data.step).clamp(0.0, self.data.intervals as f64);
         let i = (s as usize).min(self.data.intervals - 1);
         let u = s - i as f64;
@@ -194,14 +209,30 @@ impl ContactTable {
         let (s0, s1) = self.data.gd[i * w..(i + 2) * w].split_at(w);
         let (d00, d01) = (d00 / h, d01 / h);
         // one pass for the constant entries (no library copy and fill for these few)
-        for ((gk, gdk), &c) in g.iter_mut().zip(gd.iter_mut()).zip(&self.data.constant_g) {
-            *gk = c;
-            *gdk = 0.0;
+        let rows = g
+            .chunks_mut(row_len)
+            .zip(gd.chunks_mut(row_len))
+            .zip(self.data.constant_g.chunks(row_len));
+        for (row, ((g_row, gd_row), constant)) in rows.enumerate() {
+            if wanted(row) {
+                for ((gk, gdk), &c) in g_row.iter_mut().zip(gd_row.iter_mut()).zip(constant) {
+                    *gk = c;
+                    *gdk = 0.0;
+                }
+            }
         }
+        // the varying columns are ascending: their row advances with them
+        let (mut row, mut row_end) = (0, row_len);
         let nodes = g0.iter().zip(g1).zip(s0.iter().zip(s1));
         for (&k, ((&a0, &a1), (&b0, &b1))) in self.data.varying.iter().zip(nodes) {
-            g[k] = h00 * a0 + h01 * a1 + h * (h10 * b0 + h11 * b1);
-            gd[k] = d00 * a0 + d01 * a1 + d10 * b0 + d11 * b1;
+            while k >= row_end {
+                row += 1;
+                row_end += row_len;
+            }
+            if wanted(row) {
+                g[k] = h00 * a0 + h01 * a1 + h * (h10 * b0 + h11 * b1);
+                gd[k] = d00 * a0 + d01 * a1 + d10 * b0 + d11 * b1;
+            }
         }
     }
 
@@ -420,6 +451,35 @@ mod tests {
                     (gd[k] - gde[k]).abs() <= 2.0 * GD_TOLERANCE * 20.0,
                     "gd[{k}] at {t}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn rows_interpolate_as_the_whole_and_leave_the_others() {
+        let p = smoothstep(0.0, 12.0);
+        let moving = shapes_of(&p);
+        // three rows of two; in row 1 one column holds still, row 2 holds still entirely
+        let exact = |t: f64, g: &mut [f64], gd: &mut [f64]| {
+            moving(t, g, gd);
+            (g[3], gd[3], g[4], gd[4], g[5], gd[5]) = (0.75, 0.0, -2.5, 0.0, 4.0, 0.0);
+        };
+        let table = ContactTable::build(std::slice::from_ref(&p), 6, exact).expect("a table");
+        let (mut whole, mut whole_d) = ([0.0; 6], [0.0; 6]);
+        for j in 0..=97 {
+            let t = -0.5 + 13.0 * j as f64 / 97.0;
+            table.interpolate(t, &mut whole, &mut whole_d);
+            for wanted_rows in [[true, false, true], [false, true, false], [true; 3]] {
+                let (mut g, mut gd) = ([9.0; 6], [7.0; 6]);
+                table.interpolate_rows(t, 2, |r| wanted_rows[r], &mut g, &mut gd);
+                for k in 0..6 {
+                    let (want_g, want_gd) = if wanted_rows[k / 2] {
+                        (whole[k], whole_d[k])
+                    } else {
+                        (9.0, 7.0)
+                    };
+                    assert_eq!((g[k], gd[k]), (want_g, want_gd), "entry {k} at {t}");
+                }
             }
         }
     }

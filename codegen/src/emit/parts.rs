@@ -290,6 +290,19 @@ pub(super) fn positions_code(c: &ModelConfig) -> PositionsCode {
             /// Contact vectors of no contact, for a right-hand side with every contact open.
             const NO_CONTACT: Geometry = Geometry { g: [[0.0; DOF]; CONTACTS], gd: [[0.0; DOF]; CONTACTS] };
 
+            /// The contact vectors at time `t` (s) of the contacts not held open in `states`
+            /// (every contact's with `None`) into `geo`, whose other rows are left as they are.
+            #[inline]
+            fn closed_geometry(&self, t: f64, states: Option<&[ContactState]>, geo: &mut Geometry) {
+                match &self.contact_table {
+                    Some(table) => {
+                        let closed = |c: usize| states.is_none_or(|s| s[c] != ContactState::Free);
+                        table.interpolate_rows(t, DOF, closed, geo.g.as_flattened_mut(), geo.gd.as_flattened_mut());
+                    }
+                    None => *geo = self.exact_geometry(t),
+                }
+            }
+
             /// Contact vectors at time `t` (s): interpolated from the table while positions
             /// move, exact without a table.
             #[inline]
@@ -309,9 +322,10 @@ pub(super) fn positions_code(c: &ModelConfig) -> PositionsCode {
         },
         source: quote!(let geo = &self.geometry(t);),
         rhs_source: quote! {
-            // no contact force acts with every contact open: no contact vectors to look up
-            let looked_up;
-            let geo = if open { &Self::NO_CONTACT } else { looked_up = self.geometry(t); &looked_up };
+            // only a closed contact's vector carries force: the open ones' rows stay zero
+            let mut looked_up = Self::NO_CONTACT;
+            if !open { self.closed_geometry(t, states, &mut looked_up); }
+            let geo = &looked_up;
         },
         at_time,
         check: quote!(true),

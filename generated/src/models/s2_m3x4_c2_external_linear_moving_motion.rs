@@ -591,6 +591,32 @@ impl GeneratedModel {
         g: [[0.0; DOF]; CONTACTS],
         gd: [[0.0; DOF]; CONTACTS],
     };
+    /// The contact vectors at time `t` (s) of the contacts not held open in `states`
+    /// (every contact's with `None`) into `geo`, whose other rows are left as they are.
+    #[inline]
+    fn closed_geometry(
+        &self,
+        t: f64,
+        states: Option<&[ContactState]>,
+        geo: &mut Geometry,
+    ) {
+        match &self.contact_table {
+            Some(table) => {
+                let closed = |c: usize| {
+                    states.is_none_or(|s| s[c] != ContactState::Free)
+                };
+                table
+                    .interpolate_rows(
+                        t,
+                        DOF,
+                        closed,
+                        geo.g.as_flattened_mut(),
+                        geo.gd.as_flattened_mut(),
+                    );
+            }
+            None => *geo = self.exact_geometry(t),
+        }
+    }
     /// Contact vectors at time `t` (s): interpolated from the table while positions
     /// move, exact without a table.
     #[inline]
@@ -715,13 +741,11 @@ impl Model for GeneratedModel {
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
         let (z, zd) = y.split_at(DOF);
         let open = states.is_some_and(|s| s.iter().all(|&s| s == ContactState::Free));
-        let looked_up;
-        let geo = if open {
-            &Self::NO_CONTACT
-        } else {
-            looked_up = self.geometry(t);
-            &looked_up
-        };
+        let mut looked_up = Self::NO_CONTACT;
+        if !open {
+            self.closed_geometry(t, states, &mut looked_up);
+        }
+        let geo = &looked_up;
         let mut f = [0.0; CONTACTS];
         if !open {
             let (xi, xi_dot) = Self::gaps(geo, z, zd);
