@@ -393,6 +393,20 @@ mod tests {
         }
     }
 
+    /// [`shapes_of`] with the columns `still` held at their values (`gd = 0` there).
+    fn with_still_columns<'a>(
+        p: &'a Profile,
+        still: &'a [(usize, f64)],
+    ) -> impl Fn(f64, &mut [f64], &mut [f64]) + 'a {
+        let moving = shapes_of(p);
+        move |t, g, gd| {
+            moving(t, g, gd);
+            for &(k, v) in still {
+                (g[k], gd[k]) = (v, 0.0);
+            }
+        }
+    }
+
     #[test]
     fn interpolation_meets_its_tolerances_between_the_checked_points() {
         let p = smoothstep(0.0, 12.0);
@@ -428,13 +442,9 @@ mod tests {
     #[test]
     fn constant_columns_are_exact_and_not_stored() {
         let p = smoothstep(0.0, 12.0);
-        let moving = shapes_of(&p);
         // columns 1 and 3 hold still (a contact point fixed on its section)
-        let exact = |t: f64, g: &mut [f64], gd: &mut [f64]| {
-            moving(t, g, gd);
-            (g[1], gd[1], g[3], gd[3]) = (0.75, 0.0, -2.5, 0.0);
-        };
-        let table = ContactTable::build(std::slice::from_ref(&p), 4, exact).expect("a table");
+        let exact = with_still_columns(&p, &[(1, 0.75), (3, -2.5)]);
+        let table = ContactTable::build(std::slice::from_ref(&p), 4, &exact).expect("a table");
         assert_eq!(table.varying_columns(), 2);
         let (mut g, mut gd, mut ge, mut gde) = ([9.0; 4], [9.0; 4], [0.0; 4], [0.0; 4]);
         for j in 0..=997 {
@@ -458,12 +468,8 @@ mod tests {
     #[test]
     fn rows_interpolate_as_the_whole_and_leave_the_others() {
         let p = smoothstep(0.0, 12.0);
-        let moving = shapes_of(&p);
         // three rows of two; in row 1 one column holds still, row 2 holds still entirely
-        let exact = |t: f64, g: &mut [f64], gd: &mut [f64]| {
-            moving(t, g, gd);
-            (g[3], gd[3], g[4], gd[4], g[5], gd[5]) = (0.75, 0.0, -2.5, 0.0, 4.0, 0.0);
-        };
+        let exact = with_still_columns(&p, &[(3, 0.75), (4, -2.5), (5, 4.0)]);
         let table = ContactTable::build(std::slice::from_ref(&p), 6, exact).expect("a table");
         let (mut whole, mut whole_d) = ([0.0; 6], [0.0; 6]);
         for j in 0..=97 {
