@@ -4,7 +4,6 @@
 mod commands;
 mod flags;
 
-use clap::Parser;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Whether descriptor 1 was closed when the process started.
@@ -50,7 +49,7 @@ fn main() -> std::process::ExitCode {
         }
         std::process::exit(130);
     });
-    let cli = commands::Cli::parse();
+    let cli = commands::Cli::parse_arguments();
     match cli.run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {

@@ -738,6 +738,27 @@ fn design_settings_name_their_usable_range() {
 }
 
 #[test]
+fn negative_numbers_reach_the_options_own_check() {
+    // a value with a leading minus, in scientific notation too, is the option's value (not
+    // clap's "unexpected argument '-1'"), and its check names the rule
+    for (flag, value, rule) in [
+        ("--accuracy", "-1e-6", "1e-11 to 1e-2 m"),
+        ("--rtol", "-1", "tolerances must be positive"),
+        ("--atol", "-1E-9", "tolerances must be positive"),
+        ("--dt", "-0.1", "> 0"),
+    ] {
+        refused(
+            &["simulate", "scenes/adams-linear.toml", flag, value, "--out", "/dev/null"],
+            &[flag, rule],
+        );
+    }
+    refused(
+        &["design", "scenes/adams-linear.toml", "--force-limit", "-300", "--out", "/dev/null"],
+        &["--force-limit", "1e-3 to 1e4 N"],
+    );
+}
+
+#[test]
 fn exit_codes_agree_with_the_docs() {
     // a parser error: 2; any other error: 1 (130 after Ctrl-C: tests/sweep.rs)
     let out = common::telescopic(&["simulate", "--no-such-flag"]);

@@ -10,7 +10,7 @@ mod progress;
 mod simulate;
 mod sweep;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use telescopic::Scene;
 
@@ -108,7 +108,31 @@ pub fn check_chart(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyho
     Ok(())
 }
 
+/// `command` and every subcommand below it: an option that takes one value takes a value
+/// that starts with `-` (a negative number such as `-1e-6`, which clap's own negative-number
+/// setting does not recognize), so the option's check judges it.
+fn with_negative_numbers(command: clap::Command) -> clap::Command {
+    command
+        .mut_args(|arg| {
+            let one_value = arg.get_num_args().is_none_or(|n| n.max_values() == 1);
+            if arg.get_action().takes_values() && one_value && !arg.is_positional() {
+                arg.allow_hyphen_values(true)
+            } else {
+                arg
+            }
+        })
+        .mut_subcommands(with_negative_numbers)
+}
+
 impl Cli {
+    /// Parses the process's arguments (exits with clap's message on a parse error). A
+    /// negative number is an option's value, so `--rtol -1` reaches the option's own check,
+    /// which names the rule, instead of clap's "unexpected argument".
+    pub fn parse_arguments() -> Self {
+        let matches = with_negative_numbers(Cli::command()).get_matches();
+        Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    }
+
     /// Runs the chosen command.
     pub fn run(self) -> anyhow::Result<()> {
         match self.command {
