@@ -177,6 +177,7 @@ impl ContactTable {
     /// As [`ContactTable::interpolate`], but only the rows (consecutive blocks of `row_len`
     /// entries: one contact's vector each) for which `wanted(row)` holds; the other rows of
     /// `g` and `gd` are left as they are. A right-hand side needs only the closed contacts'.
+    /// A `row_len` of 0 counts as 1.
     #[inline]
     pub fn interpolate_rows(
         &self,
@@ -186,6 +187,7 @@ impl ContactTable {
         g: &mut [f64],
         gd: &mut [f64],
     ) {
+        let row_len = row_len.max(1);
         let s = ((t - self.data.start) / self.data.step).clamp(0.0, self.data.intervals as f64);
         let i = (s as usize).min(self.data.intervals - 1);
         let u = s - i as f64;
