@@ -193,7 +193,7 @@ pub fn linearize<'py>(
     positions: Option<Vec<(String, f64)>>,
     at_time: Option<f64>,
     contacts: &str,
-    grid: Option<(String, (f64, f64, usize))>,
+    grid: Option<(String, (f64, f64, i64))>,
     disturbance: bool,
     discrete: Option<f64>,
     model: &str,

@@ -55,6 +55,9 @@ def test_other_arguments_are_checked():
         telescopic.linearize(scene, contacts="half")
     with pytest.raises(telescopic.OptionError, match="positions"):
         telescopic.linearize(scene, positions={"b2": 0.8})
+    for count in (-3, 1):
+        with pytest.raises(telescopic.OptionError, match="^grid: "):
+            telescopic.linearize(scene, grid={"a2": (0.35, 1.15, count)})
     with pytest.raises(telescopic.OptionError, match="controller"):
         telescopic.design(scene, controller="pid")
     with pytest.raises(telescopic.OptionError, match="shaper_timing"):
