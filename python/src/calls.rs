@@ -26,6 +26,16 @@ where
     value.parse().map_err(|e| argument(name, e))
 }
 
+/// A whole number `>= 0` (a count or a section number), or an error naming `name`: PyO3's own
+/// conversion to `usize` raises an `OverflowError` that names no argument.
+fn whole(name: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let number: i64 = value
+        .extract()
+        .map_err(|_| argument(name, format!("must be a whole number (got {value})")))?;
+    usize::try_from(number)
+        .map_err(|_| argument(name, format!("must be a whole number >= 0 (got {number})")))
+}
+
 /// A simulation for Python: `(columns, data, summary)`, `data` samples x (1 + columns).
 type SimulationData<'py> = (Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, PyDict>);
 
@@ -77,10 +87,15 @@ pub fn simulate<'py>(
     dt: Option<f64>,
     accuracy: Option<f64>,
     controller: Option<String>,
-    stations: Option<Vec<(usize, f64)>>,
+    stations: Option<Vec<(Bound<'py, PyAny>, f64)>>,
     model: &str,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<SimulationData<'py>> {
+    let stations = stations
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(section, x)| Ok(Station { section: whole("stations", &section)?, x }))
+        .collect::<PyResult<Vec<Station>>>()?;
     let options = SimulationOptions {
         method: parsed::<MethodChoice>("method", method)?,
         rtol,
@@ -88,11 +103,7 @@ pub fn simulate<'py>(
         dt,
         accuracy,
         model: parsed::<ModelChoice>("model", model)?,
-        stations: stations
-            .unwrap_or_default()
-            .into_iter()
-            .map(|(section, x)| Station { section, x })
-            .collect(),
+        stations,
         ..SimulationOptions::default()
     };
     let controller = match controller {
@@ -109,19 +120,19 @@ pub fn simulate<'py>(
 
 /// Natural frequencies, damping and mode shapes (see `telescopic.modes`).
 #[pyfunction]
-#[pyo3(signature = (scene, at = None, count = None, points = 51, model = "auto"))]
+#[pyo3(signature = (scene, at = None, count = None, points = None, model = "auto"))]
 pub fn modes<'py>(
     py: Python<'py>,
     scene: &PyScene,
     at: Option<f64>,
-    count: Option<usize>,
-    points: usize,
+    count: Option<Bound<'py, PyAny>>,
+    points: Option<Bound<'py, PyAny>>,
     model: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = ModesOptions {
         at,
-        count,
-        shapes: Some(points),
+        count: count.map(|c| whole("count", &c)).transpose()?,
+        shapes: Some(points.map_or(Ok(51), |p| whole("points", &p))?),
         model: parsed("model", model)?,
         ..ModesOptions::default()
     };
@@ -324,14 +335,16 @@ pub fn sweep(
     py: Python<'_>,
     path: PathBuf,
     out: PathBuf,
-    jobs: Option<usize>,
+    jobs: Option<Bound<'_, PyAny>>,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(String, Vec<String>)> {
+    let jobs = match jobs {
+        Some(j) => whole("jobs", &j)?,
+        None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
+    };
     let options = telescopic::sweep::SweepOptions {
         out: out.clone(),
-        jobs: jobs.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
-        }),
+        jobs,
         shard: telescopic::sweep::Shard::whole(),
         resume: false,
     };

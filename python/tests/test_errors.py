@@ -58,6 +58,18 @@ def test_other_arguments_are_checked():
     for count in (-3, 1):
         with pytest.raises(telescopic.OptionError, match="^grid: "):
             telescopic.linearize(scene, grid={"a2": (0.35, 1.15, count)})
+    # counts and section numbers that are no whole number >= 0 name their argument (PyO3's
+    # own conversion would raise an OverflowError naming none)
+    for call, argument in [
+        (lambda: telescopic.modes(scene, count=-1), "count"),
+        (lambda: telescopic.modes(scene, points=2**70), "points"),
+        (lambda: telescopic.modes(scene, points=2.5), "points"),
+        (lambda: telescopic.simulate(scene, stations=[(-1, 0.0)]), "stations"),
+        (lambda: telescopic.sweep({"scene": "scenes/case-study.toml",
+                                   "grid": {"masses.load": [1.0]}}, jobs=-2), "jobs"),
+    ]:
+        with pytest.raises(telescopic.OptionError, match=f"^{argument}: must be a whole number"):
+            call()
     with pytest.raises(telescopic.OptionError, match="controller"):
         telescopic.design(scene, controller="pid")
     with pytest.raises(telescopic.OptionError, match="shaper_timing"):
