@@ -97,6 +97,7 @@ impl<'de> Deserialize<'de> for Profile {
 
 impl Profile {
     /// Value at time `t` (s).
+    #[inline]
     pub fn value(&self, t: f64) -> f64 {
         self.eval(t).0
     }
@@ -200,7 +201,9 @@ impl Profile {
         }
     }
 
-    /// `(value, rate, acceleration)` at `t`.
+    /// `(value, rate, acceleration)` at `t`. Inlined: every right-hand side evaluates the
+    /// drive force (case-study's bench 1-2 % faster than with the call).
+    #[inline]
     fn eval(&self, t: f64) -> (f64, f64, f64) {
         match self {
             Profile::Constant(v) | Profile::Shaped(ShapedProfile::Constant { value: v }) => {
