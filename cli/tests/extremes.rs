@@ -748,12 +748,26 @@ fn negative_numbers_reach_the_options_own_check() {
         ("--dt", "-0.1", "> 0"),
     ] {
         refused(
-            &["simulate", "scenes/adams-linear.toml", flag, value, "--out", "/dev/null"],
+            &[
+                "simulate",
+                "scenes/adams-linear.toml",
+                flag,
+                value,
+                "--out",
+                "/dev/null",
+            ],
             &[flag, rule],
         );
     }
     refused(
-        &["design", "scenes/adams-linear.toml", "--force-limit", "-300", "--out", "/dev/null"],
+        &[
+            "design",
+            "scenes/adams-linear.toml",
+            "--force-limit",
+            "-300",
+            "--out",
+            "/dev/null",
+        ],
         &["--force-limit", "1e-3 to 1e4 N"],
     );
 }

@@ -36,6 +36,10 @@ fn whole(name: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
         .map_err(|_| argument(name, format!("must be a whole number >= 0 (got {number})")))
 }
 
+/// `linearize`'s grid as Python gives it, `(position, (from, to, count))`, the count left
+/// unconverted: the library's parser judges it.
+type GridArgument<'py> = (String, (f64, f64, Bound<'py, PyAny>));
+
 /// A simulation for Python: `(columns, data, summary)`, `data` samples x (1 + columns).
 type SimulationData<'py> = (Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, PyDict>);
 
@@ -94,7 +98,12 @@ pub fn simulate<'py>(
     let stations = stations
         .unwrap_or_default()
         .into_iter()
-        .map(|(section, x)| Ok(Station { section: whole("stations", &section)?, x }))
+        .map(|(section, x)| {
+            Ok(Station {
+                section: whole("stations", &section)?,
+                x,
+            })
+        })
         .collect::<PyResult<Vec<Station>>>()?;
     let options = SimulationOptions {
         method: parsed::<MethodChoice>("method", method)?,
@@ -204,13 +213,15 @@ pub fn linearize<'py>(
     positions: Option<Vec<(String, f64)>>,
     at_time: Option<f64>,
     contacts: &str,
-    grid: Option<(String, (f64, f64, i64))>,
+    grid: Option<GridArgument<'py>>,
     disturbance: bool,
     discrete: Option<f64>,
     model: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let contacts = parsed::<ContactMode>("contacts", contacts)?;
     let grid = match grid {
+        // the count as Python writes it: the library's parser judges any value (`-3`,
+        // `2.5`, `2**70`) by its one rule and names it
         Some((name, (from, to, count))) => Some(
             Grid::from_str(&format!("{name}={from}:{to}:{count}"))
                 .map_err(|e| argument("grid", e))?,

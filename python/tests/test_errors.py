@@ -55,7 +55,7 @@ def test_other_arguments_are_checked():
         telescopic.linearize(scene, contacts="half")
     with pytest.raises(telescopic.OptionError, match="positions"):
         telescopic.linearize(scene, positions={"b2": 0.8})
-    for count in (-3, 1):
+    for count in (-3, 1, 2.5, 2**70):
         with pytest.raises(telescopic.OptionError, match="^grid: "):
             telescopic.linearize(scene, grid={"a2": (0.35, 1.15, count)})
     # counts and section numbers that are no whole number >= 0 name their argument (PyO3's

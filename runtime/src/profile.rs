@@ -97,7 +97,6 @@ impl<'de> Deserialize<'de> for Profile {
 
 impl Profile {
     /// Value at time `t` (s).
-    #[inline]
     pub fn value(&self, t: f64) -> f64 {
         self.eval(t).0
     }
@@ -201,9 +200,7 @@ impl Profile {
         }
     }
 
-    /// `(value, rate, acceleration)` at `t`. Inlined: every right-hand side evaluates the
-    /// drive force (case-study's bench 1-2 % faster than with the call).
-    #[inline]
+    /// `(value, rate, acceleration)` at `t`.
     fn eval(&self, t: f64) -> (f64, f64, f64) {
         match self {
             Profile::Constant(v) | Profile::Shaped(ShapedProfile::Constant { value: v }) => {

@@ -16,8 +16,9 @@
 //! falling below a tenth of the tolerance says the mode has rung down to where the tolerance
 //! no longer sees it. imex then estimates the error of the coordinates only, as it does
 //! without clearance (the rates of the rung-down contact modes, which its L-stable part damps,
-//! would otherwise set its step). The next switch or drive discontinuity hands back to dop853. Where the contacts never
-//! settle (three-section's rattle) it is dop853 step for step.
+//! would otherwise set its step). The next switch or drive discontinuity hands back to
+//! dop853. Where the contacts never settle (three-section's rattle) it is dop853 step for
+//! step.
 //!
 //! The driver's step-size controller reads the order and PI weight of the part that takes the
 //! step; while imex steps, the closed-contact step cap is lifted and the steps count as
