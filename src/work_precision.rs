@@ -33,6 +33,9 @@ pub struct WorkPrecisionOptions {
     pub methods: Vec<String>,
     /// Timed repetitions per setting (the median is reported), 1 to [`MAX_REPEAT`].
     pub repeat: usize,
+    /// Relative tolerances of the adaptive methods' sweep (`atol = 1e-3 rtol`), each in
+    /// `(0, 0.1]` and at least 1e-13; default 1e-3 to 1e-8 by decades.
+    pub rtols: Vec<f64>,
     /// Which model computes the right-hand side.
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
@@ -44,6 +47,7 @@ impl Default for WorkPrecisionOptions {
         WorkPrecisionOptions {
             methods: DEFAULT_METHODS.split(',').map(String::from).collect(),
             repeat: 3,
+            rtols: TOLERANCES.to_vec(),
             model: ModelChoice::Auto,
             models: ModelRegistry::default(),
         }
@@ -74,8 +78,8 @@ pub const HORIZON_AGREEMENT: f64 = 1e-9;
 pub const REFERENCE_RUNS: [(Method, f64); 2] = [(Method::Dop853, 1e-12), (Method::Dopri5, 1e-10)];
 /// Agreement with the reference that ends a run's own horizon (m).
 const RUN_AGREEMENT: f64 = 1e-6;
-/// Relative tolerances of the adaptive sweep (`atol = 1e-3 rtol`).
-const TOLERANCES: [f64; 6] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
+/// Relative tolerances of the adaptive sweep by default (`atol = 1e-3 rtol`).
+pub const TOLERANCES: [f64; 6] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
 /// Fixed steps as fractions of the method's stability limit (rk4, verlet).
 const EXPLICIT_FRACTIONS: [f64; 5] = [0.9, 0.5, 0.25, 0.125, 0.0625];
 /// Fixed steps of the implicit fixed-step methods (s).
@@ -208,8 +212,13 @@ fn tolerance(rtol: f64) -> Settings {
     }
 }
 
-/// The settings swept for `method` on `model`.
-fn sweep(method: Method, model: &dyn Model, scene: &Scene) -> Result<Vec<(String, Settings)>> {
+/// The settings swept for `method` on `model`, adaptive ones at `rtols`.
+fn sweep(
+    method: Method,
+    model: &dyn Model,
+    scene: &Scene,
+    rtols: &[f64],
+) -> Result<Vec<(String, Settings)>> {
     let fixed = |dt: f64| Settings {
         dt: Some(dt),
         ..Settings::default()
@@ -247,9 +256,9 @@ fn sweep(method: Method, model: &dyn Model, scene: &Scene) -> Result<Vec<(String
                 .map(|&dt| (format!("dt={dt:.0e}"), fixed(dt)))
                 .collect()
         }
-        _ => TOLERANCES
+        _ => rtols
             .iter()
-            .map(|&r| (format!("rtol={r:.0e}"), tolerance(r)))
+            .map(|&r| (format!("rtol={r:e}"), tolerance(r)))
             .collect(),
     })
 }
@@ -272,6 +281,20 @@ pub fn work_precision(
                 "must be 1 to {MAX_REPEAT} (got {}); the median of a few timed runs is \
                  already stable",
                 options.repeat
+            ),
+        ));
+    }
+    if options.rtols.is_empty()
+        || options
+            .rtols
+            .iter()
+            .any(|r| !(r.is_finite() && (1e-13..=0.1).contains(r)))
+    {
+        return Err(Error::option(
+            "WorkPrecisionOptions::rtols",
+            format!(
+                "each relative tolerance must be 1e-13 to 0.1, at least one (got {:?})",
+                options.rtols
             ),
         ));
     }
@@ -339,7 +362,7 @@ pub fn work_precision(
             reporter.note(&format!("exact: skipped ({why})"));
             continue;
         }
-        for (setting, mut settings) in sweep(method, prepared.model(), scene)? {
+        for (setting, mut settings) in sweep(method, prepared.model(), scene, &args.rtols)? {
             settings.exact_from = exact_from;
             let mut walls = Vec::new();
             let mut last = None;

@@ -54,6 +54,7 @@ const FLAGS: &[(&str, &str)] = &[
     ("DesignOptions::design_modes", "--design-modes"),
     ("WorkPrecisionOptions::repeat", "--repeat"),
     ("WorkPrecisionOptions::methods", "--methods"),
+    ("WorkPrecisionOptions::rtols", "--rtols"),
     ("LinearExport format latex", "--format latex"),
     ("LinearizeOptions::at_time", "--at-time"),
     ("LinearizeOptions::positions", "--positions"),

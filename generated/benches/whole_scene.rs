@@ -36,8 +36,9 @@ fn cases() -> Vec<(&'static str, &'static str, Settings)> {
         ("case-study.toml", "dopri5", rtol(1e-8)),
         ("case-study.toml", "imex", rtol(1e-7)),
         ("case-study.toml", "auto", Settings::default()),
-        // the cheapest measured setting within 1e-6 m (7.5e-7 m in T_h; `auto` picks it for
-        // --accuracy 2.3e-6 m and coarser, keeping its margin of 3)
+        // the cheapest setting within 1e-6 m in T_h measured by `work-precision --rtols`:
+        // 6.0e-7 m (2026-11-25; rtol 1e-5, the earlier row, reads 1.6e-6 m since then)
+        ("case-study.toml", "auto", rtol(5e-6)),
         ("case-study.toml", "auto", rtol(1e-5)),
         ("case-study-no-clearance.toml", "auto", Settings::default()),
         ("case-study-no-clearance.toml", "dop853", rtol(1e-5)),

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{exact_lti, rig, run_counted as run, span, tip_rel};
+use common::{exact_lti, rig, run_counted as run, span, tip_rel, undamped_rattle};
 use telescopic_runtime::{
     AssembledModel, Drive, ForceFlow, Method, Model, ModelParams, Profile, Settings, SimError,
     mechanical_energy,
@@ -84,17 +84,9 @@ fn exact_method_agrees_with_dop853_across_contact_switches() {
 fn exact_method_conserves_energy_across_contact_switches() {
     // no damping, no gravity, no drive: energy is a constant of the piecewise-linear motion,
     // so only the located switch times can make it drift
-    let mut p = adams_clearance();
-    p.contact.damping = 0.0;
-    p.contact.clearance = 0.004;
-    p.drive = Drive::Force(Profile::Constant(0.0));
+    let (p, state) = undamped_rattle();
     let model = AssembledModel::new(&p).unwrap();
-    let n = model.dof();
-    let mut y0 = vec![0.0; 2 * n];
-    for i in 1..n {
-        y0[i] = 4e-3 / (1.0 + 0.3 * i as f64);
-        y0[n + i] = 0.08 * if i % 2 == 0 { 1.0 } else { -1.0 };
-    }
+    let y0 = state(model.dof());
     let e0 = mechanical_energy(&model, 0.0, &y0);
     let (samples, stats) = run(
         &model,

@@ -11,7 +11,9 @@ use telescopic::output::{check_stdout_open, write_to};
 use telescopic::plot::{Figure, save};
 use telescopic::shape_errors::{ShapeErrorsOptions, shape_errors as run_shape_errors};
 use telescopic::stability::stability_analysis;
-use telescopic::work_precision::{DEFAULT_METHODS, WorkPrecisionOptions, work_precision as run_wp};
+use telescopic::work_precision::{
+    DEFAULT_METHODS, TOLERANCES, WorkPrecisionOptions, work_precision as run_wp,
+};
 
 /// Options of `telescopic stability`.
 #[derive(Debug, Args)]
@@ -95,6 +97,10 @@ pub struct WorkPrecisionArgs {
     /// Timed repetitions per setting (the median is reported), 1 to 100.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
+    /// Relative tolerances of the adaptive methods, comma-separated, each 1e-13 to 0.1
+    /// (`atol = 1e-3 rtol`) [default: 1e-3,1e-4,1e-5,1e-6,1e-7,1e-8].
+    #[arg(long, value_delimiter = ',', value_name = "RTOLS")]
+    pub rtols: Vec<f64>,
     /// Which model computes the right-hand side: auto, generated or assembled.
     #[arg(long, default_value = "auto", value_name = "MODEL")]
     pub model: ModelChoice,
@@ -108,6 +114,11 @@ pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
     let options = WorkPrecisionOptions {
         methods: args.methods.clone(),
         repeat: args.repeat,
+        rtols: if args.rtols.is_empty() {
+            TOLERANCES.to_vec()
+        } else {
+            args.rtols.clone()
+        },
         model: args.model,
         models: Default::default(),
     };

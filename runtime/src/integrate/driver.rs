@@ -14,6 +14,17 @@ use crate::scene::TimeSpan;
 /// Consecutive Newton failures (each followed by a 4x shorter step) before giving up.
 const MAX_NEWTON_FAILURES: u32 = 12;
 
+/// Largest growth of a capped step from one step to the next while a contact is closed.
+/// There dop853 steps near its stability limit, where a ringing contact mode's error grows
+/// far faster than `h^8`: the free growth (up to 5x at small errors) was rejected at 1.2-1.5
+/// times the last step (docs/benchmarks.md, 2026-11-25, later).
+const CAPPED_GROWTH: f64 = 1.1;
+
+/// The first capped step after a contact closes, as a fraction of the cap: the impact sets
+/// the contact mode ringing, and a step at the cap carried over from before was rejected
+/// once after almost every closing (its error some 1e4 tolerances), then cut to about this.
+const FIRST_STEP_AFTER_CLOSING: f64 = 0.3;
+
 pub(super) struct Driver<'m> {
     sys: System<'m>,
     method: Method,
@@ -211,10 +222,10 @@ impl<'m> Driver<'m> {
             let (t_break, t_stop) = self.next_stops(&mut next_break);
             // only dop853 (and dop853-imex's dop853 part) has a cap; skip the branch scan for
             // every other method
-            if self.step_cap < f64::INFINITY
+            let capped = self.step_cap < f64::INFINITY
                 && !self.stepper.over_contact_modes()
-                && self.sys.tracker.any_closed()
-            {
+                && self.sys.tracker.any_closed();
+            if capped {
                 self.h = self.h.min(self.step_cap);
             }
             let remaining = t_stop - self.t;
@@ -293,8 +304,11 @@ impl<'m> Driver<'m> {
             self.t = t1;
             std::mem::swap(&mut self.y, &mut self.y1);
             self.sys.time_cap = f64::INFINITY;
+            let mut closed_one = false;
             if switched {
+                let closed_before = self.sys.tracker.closed_count();
                 self.sys.stats.switches += self.sys.tracker.switch(model, self.t, &self.y);
+                closed_one = self.sys.tracker.closed_count() > closed_before;
             }
             if switched || at_break {
                 self.stepper.restart();
@@ -317,10 +331,15 @@ impl<'m> Driver<'m> {
                 self.h = base
                     * if just_rejected {
                         factor.min(1.0)
+                    } else if capped {
+                        factor.min(CAPPED_GROWTH)
                     } else {
                         factor
                     };
                 just_rejected = false;
+                if closed_one {
+                    self.h = self.h.min(FIRST_STEP_AFTER_CLOSING * self.step_cap);
+                }
             }
             if let Some(p) = progress.as_mut()
                 && self.t - last_report >= 0.01 * (end - self.span.start)
@@ -455,6 +474,15 @@ impl<'m> Driver<'m> {
             .fold(f64::NAN, f64::min)
             * h;
         let tol = 4.0 * f64::EPSILON * self.t.abs().max(1.0);
+        // a contact closing from a state where every contact is open is located on the
+        // step's continuous extension (3 right-hand sides, then only the gaps along it,
+        // instead of a whole step per trial): there the right-hand side is smooth over the
+        // step and the extension lies within a thousandth of the tolerance of a trial step's
+        // state; while a closed contact rings it does not (docs/benchmarks.md)
+        let on_extension = !self.sys.tracker.any_closed()
+            && self
+                .stepper
+                .prepare_extension(&mut self.sys, t, &self.y, &self.y1, h);
         let Driver {
             stepper,
             sys,
@@ -467,7 +495,11 @@ impl<'m> Driver<'m> {
         let mut trial = |tau: f64| {
             // a trial step: the result is only used through its switch functions, and kept
             // in y1 when it lands past the crossing (it is then the bracket's new end)
-            let _ = stepper.step(sys, t, y, f0, tau, y_trial);
+            if on_extension {
+                stepper.extension_state(tau / h, y_trial);
+            } else {
+                let _ = stepper.step(sys, t, y, f0, tau, y_trial);
+            }
             let (g, rate) = sys
                 .tracker
                 .min_switch_value_and_rate(model, t + tau, y_trial);
@@ -476,12 +508,16 @@ impl<'m> Driver<'m> {
             }
             (g, rate)
         };
-        // a crossing within 1e-6 of the absolute tolerance (m) past the band edge is found
-        // (above the switch functions' rounding, 1e-16 m, from atol 1e-10 m up): it saves
-        // Newton's last calls, which only wander in that rounding. 1e-3 of atol saved 4 % more
-        // right-hand sides on case-study but moved its error at rtol 1e-7 from 4e-11 to 2e-10
-        // m inside the horizon, where impacts amplify any difference tenfold every 40 ms
-        let value_tol = 1e-6 * self.settings.atol;
+        // a crossing within 100 rtol atol (m) past the band edge is found: it saves Newton's
+        // last calls. Impacts amplify any difference tenfold every 40 ms, so how close to
+        // the crossing a switch lands shows in the error: a fixed 1e-3 atol moved case-study's
+        // error at rtol 1e-7 from 4e-11 to 2e-10 m inside the horizon, 0.1 atol at rtol 1e-5
+        // from 7.5e-7 to 8e-6 m. Shrinking with rtol too, the location error vanishes against
+        // the steps' own as the tolerance tightens: 1e-3 atol at rtol 1e-5, 1e-6 atol at
+        // rtol 1e-8 (the former fixed value), above the switch functions' rounding (1e-16 m)
+        // from atol 1e-11 m up; case-study's errors in its horizon stay those of 1e-6 atol at
+        // every tolerance of the table (docs/benchmarks.md, 2026-11-25, later)
+        let value_tol = 100.0 * self.settings.rtol * self.settings.atol;
         newton_in_bracket(&mut trial, (0.0, g_lo), (h, g_hi), first, tol, value_tol)
     }
 

@@ -72,6 +72,14 @@ impl ContactTracker {
         self.is_linear() || self.states.iter().any(|&s| s != ContactState::Free)
     }
 
+    /// How many contacts are in a closed branch (upper or lower).
+    pub fn closed_count(&self) -> usize {
+        self.states
+            .iter()
+            .filter(|&&s| s != ContactState::Free)
+            .count()
+    }
+
     /// Current branches.
     pub fn states(&self) -> &[ContactState] {
         &self.states

@@ -6,6 +6,7 @@
 //! switch, thousands of times per run; the crates we looked at (diffsol, ode_solvers) own
 //! the time loop instead.
 
+use super::extension::{Dop853Extension, EXTRA_STAGES};
 use super::{Settings, StepFailure, Stepper, System, error_norm};
 
 /// A Butcher tableau, with the embedded error weights of an adaptive pair.
@@ -22,6 +23,8 @@ pub struct Tableau {
     pub fsal: bool,
     /// Order for step-size control.
     pub order: u32,
+    /// The method has a continuous extension ([`super::extension`]).
+    pub extension: bool,
 }
 
 /// The local error estimate of an explicit method.
@@ -87,6 +90,7 @@ pub const DOPRI5: Tableau = Tableau {
     ]),
     fsal: true,
     order: 4,
+    extension: false,
 };
 
 /// DOP853's 8th-order weights (the last entry belongs to the first-same-as-last stage).
@@ -253,6 +257,7 @@ pub const DOP853: Tableau = Tableau {
     },
     fsal: true,
     order: 7,
+    extension: true,
 };
 
 /// The classical fourth-order Runge-Kutta method.
@@ -263,6 +268,7 @@ pub const RK4: Tableau = Tableau {
     error: ErrorEstimate::None,
     fsal: false,
     order: 4,
+    extension: false,
 };
 
 /// An explicit Runge-Kutta method with its stage storage.
@@ -274,10 +280,18 @@ pub struct ExplicitRk {
     scratch: Vec<f64>,
     err: Vec<f64>,
     err3: Vec<f64>,
+    /// The continuous extension's coefficients, for a tableau that has one.
+    extension: Option<Dop853Extension>,
 }
 
 /// `out = base + h sum_i w_i k_i` (`base` zero when `None`).
-fn combine(out: &mut [f64], base: Option<&[f64]>, h: f64, weights: &[f64], stages: &[Vec<f64>]) {
+pub(super) fn combine(
+    out: &mut [f64],
+    base: Option<&[f64]>,
+    h: f64,
+    weights: &[f64],
+    stages: &[Vec<f64>],
+) {
     // eight entries at a time (then four, then one), summed over every stage in registers: a
     // pass per stage over the whole vector stored each entry once per stage and waited on
     // those stores (docs/benchmarks.md, 2026-11-25). Per entry the same sums in the same order
@@ -331,14 +345,16 @@ impl ExplicitRk {
     /// The method of `tableau` for a state of length `n`; `settings` give the tolerances
     /// of an embedded pair.
     pub fn new(tableau: &'static Tableau, n: usize, settings: &Settings) -> Self {
+        let extra_stages = if tableau.extension { EXTRA_STAGES } else { 0 };
         ExplicitRk {
             tableau,
             rtol: settings.rtol,
             atol: settings.atol,
-            stages: vec![vec![0.0; n]; tableau.c.len()],
+            stages: vec![vec![0.0; n]; tableau.c.len() + extra_stages],
             scratch: vec![0.0; n],
             err: vec![0.0; n],
             err3: vec![0.0; n],
+            extension: tableau.extension.then(|| Dop853Extension::new(n)),
         }
     }
 }
@@ -402,10 +418,36 @@ impl Stepper for ExplicitRk {
     }
 
     fn end_derivative(&self) -> Option<&[f64]> {
-        if self.tableau.fsal {
-            self.stages.last().map(|v| v.as_slice())
-        } else {
-            None
+        self.tableau
+            .fsal
+            .then(|| self.stages[self.tableau.c.len() - 1].as_slice())
+    }
+
+    fn prepare_extension(
+        &mut self,
+        sys: &mut System,
+        t: f64,
+        y: &[f64],
+        y1: &[f64],
+        h: f64,
+    ) -> bool {
+        let Some(extension) = self.extension.as_mut() else {
+            return false;
+        };
+        extension.prepare(
+            &mut |t, y, ydot| sys.rhs(t, y, ydot),
+            t,
+            y,
+            y1,
+            h,
+            &mut self.stages,
+        );
+        true
+    }
+
+    fn extension_state(&self, theta: f64, out: &mut [f64]) {
+        if let Some(extension) = &self.extension {
+            extension.state(theta, out);
         }
     }
 }

@@ -248,9 +248,9 @@ impl Imex {
         out[..n].copy_from_slice(v);
         out[n..].fill(0.0);
         for &(c, offset) in &self.closed {
-            let g = self.g.column(c);
-            let force = part.stiffness * (g.dot_slice(z) - offset) + part.damping * g.dot_slice(v);
-            for (o, p) in out[n..].iter_mut().zip(self.p.column(c).iter()) {
+            let g = column(self.g.as_slice(), n, c);
+            let force = part.stiffness * (dot(g, z) - offset) + part.damping * dot(g, v);
+            for (o, p) in out[n..].iter_mut().zip(column(self.p.as_slice(), n, c)) {
                 *o -= p * force;
             }
         }
@@ -261,13 +261,14 @@ impl Imex {
         let part = self.part.as_ref().expect("prepared");
         let n = self.dof;
         let (k, d) = (part.stiffness, part.damping);
+        let (g, p) = (self.g.as_slice(), self.p.as_slice());
         let (bz, bv) = self.base.split_at(n);
         let (z, v) = self.stage.split_at_mut(n);
         // r = B_v - hg P q, q_c = k (g_c . B_z - offset)
         v.copy_from_slice(bv);
         for &(c, offset) in &self.closed {
-            let q = k * (self.g.column(c).dot_slice(bz) - offset);
-            for (vr, p) in v.iter_mut().zip(self.p.column(c).iter()) {
+            let q = k * (dot(column(g, n, c), bz) - offset);
+            for (vr, p) in v.iter_mut().zip(column(p, n, c)) {
                 *vr -= hg * p * q;
             }
         }
@@ -276,21 +277,17 @@ impl Imex {
             // (I_m + alpha G' P) x = G' r, then V = r - alpha P x
             let alpha = hg * (k * hg + d);
             for (a, &(ca, _)) in self.closed.iter().enumerate() {
-                let ga = self.g.column(ca);
-                self.small_rhs[a] = ga.dot_slice(v);
+                let ga = column(g, n, ca);
+                self.small_rhs[a] = dot(ga, v);
                 for (b, &(cb, _)) in self.closed.iter().enumerate() {
-                    let gp: f64 = ga
-                        .iter()
-                        .zip(self.p.column(cb).iter())
-                        .map(|(x, y)| x * y)
-                        .sum();
+                    let gp = dot(ga, column(p, n, cb));
                     self.small[a * m + b] = f64::from(u8::from(a == b)) + alpha * gp;
                 }
             }
             cholesky_solve(&mut self.small[..m * m], &mut self.small_rhs[..m], m);
             for (a, &(c, _)) in self.closed.iter().enumerate() {
                 let x = alpha * self.small_rhs[a];
-                for (vr, p) in v.iter_mut().zip(self.p.column(c).iter()) {
+                for (vr, p) in v.iter_mut().zip(column(p, n, c)) {
                     *vr -= p * x;
                 }
             }
@@ -301,17 +298,17 @@ impl Imex {
     }
 }
 
-/// A dot product of a matrix column with a slice.
-trait DotSlice {
-    fn dot_slice(&self, x: &[f64]) -> f64;
+/// `a . b`, summed in order (the columns of `g` and `P` are contiguous slices of their
+/// column-major matrices: plain loops instead of nalgebra's strided column iterators).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-impl<S: nalgebra::storage::Storage<f64, nalgebra::Dyn, nalgebra::U1>> DotSlice
-    for nalgebra::Matrix<f64, nalgebra::Dyn, nalgebra::U1, S>
-{
-    fn dot_slice(&self, x: &[f64]) -> f64 {
-        self.iter().zip(x).map(|(a, b)| a * b).sum()
-    }
+/// Column `c` of a column-major matrix with `n` rows, as a slice.
+#[inline]
+fn column(matrix: &[f64], n: usize, c: usize) -> &[f64] {
+    &matrix[c * n..(c + 1) * n]
 }
 
 /// Solves `S x = b` in place for a symmetric positive definite `m x m` `S` (row-major),

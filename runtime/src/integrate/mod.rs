@@ -19,6 +19,7 @@ pub mod esdirk;
 pub mod events;
 pub mod exact;
 pub mod explicit;
+pub mod extension;
 mod fast_modes;
 pub mod generalized_alpha;
 pub mod imex;
@@ -564,6 +565,23 @@ pub trait Stepper {
     fn growth_limit(&self) -> f64 {
         5.0
     }
+
+    /// Prepares the continuous extension of the step just taken, of length `h` (s) from
+    /// `(t, y)` to `y1`, when the method has one (its extra right-hand sides are evaluated
+    /// here); false when it has none.
+    fn prepare_extension(
+        &mut self,
+        _sys: &mut System,
+        _t: f64,
+        _y: &[f64],
+        _y1: &[f64],
+        _h: f64,
+    ) -> bool {
+        false
+    }
+
+    /// The state at `t + theta h` of the step whose extension was prepared, into `out`.
+    fn extension_state(&self, _theta: f64, _out: &mut [f64]) {}
 }
 
 /// Scaled RMS norm of an error vector against `atol + rtol max(|y0|, |y1|)`.

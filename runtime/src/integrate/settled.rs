@@ -132,4 +132,19 @@ impl Stepper for SettledSteps {
     fn over_contact_modes(&self) -> bool {
         self.on_implicit
     }
+
+    fn prepare_extension(
+        &mut self,
+        sys: &mut System,
+        t: f64,
+        y: &[f64],
+        y1: &[f64],
+        h: f64,
+    ) -> bool {
+        !self.on_implicit && self.explicit.prepare_extension(sys, t, y, y1, h)
+    }
+
+    fn extension_state(&self, theta: f64, out: &mut [f64]) {
+        self.explicit.extension_state(theta, out);
+    }
 }

@@ -38,6 +38,28 @@ pub fn rig(modes: [usize; 2]) -> ModelParams {
     }
 }
 
+/// An undamped rattle with clearance: the rig without gravity, drive or contact damping,
+/// l_S = 4 mm, every elastic coordinate displaced and moving. Energy is a constant of its
+/// piecewise-linear motion, so only the located switches can make it drift. The parameters
+/// and the initial state (m, m/s) for a model of `dof` coordinates.
+pub fn undamped_rattle() -> (ModelParams, impl Fn(usize) -> Vec<f64>) {
+    let mut p = rig([5, 5]);
+    p.gravity = 0.0;
+    p.force_flow = ForceFlow::None;
+    p.contact.damping = 0.0;
+    p.contact.clearance = 0.004;
+    p.drive = Drive::Force(Profile::Constant(0.0));
+    let state = |n: usize| {
+        let mut y0 = vec![0.0; 2 * n];
+        for i in 1..n {
+            y0[i] = 4e-3 / (1.0 + 0.3 * i as f64);
+            y0[n + i] = 0.08 * if i % 2 == 0 { 1.0 } else { -1.0 };
+        }
+        y0
+    };
+    (p, state)
+}
+
 /// Ritz monotonicity: no frequency rose when modes were added.
 pub fn assert_not_rising(previous: &[f64], current: &[f64], modes: usize) {
     for (i, (p, f)) in previous.iter().zip(current).enumerate() {
