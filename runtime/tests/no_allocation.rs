@@ -221,15 +221,19 @@ fn steps_allocate_as_documented(model: &dyn Model, y: &[f64]) {
         sys.tracker.press_all();
         let mut f0 = vec![0.0; 2 * n];
         let mut y1 = vec![0.0; 2 * n];
+        let mut inside = vec![0.0; 2 * n];
         sys.rhs(0.0, y, &mut f0);
         // first step outside the count (lazy set-up is allowed)
         stepper.step(&mut sys, 0.0, y, &f0, 1e-5, &mut y1).unwrap();
         stepper.accepted();
         let before = ALLOCATIONS.load(Ordering::SeqCst);
         for k in 1..=100 {
-            stepper
-                .step(&mut sys, k as f64 * 1e-5, y, &f0, 1e-5, &mut y1)
-                .unwrap();
+            let t = k as f64 * 1e-5;
+            stepper.step(&mut sys, t, y, &f0, 1e-5, &mut y1).unwrap();
+            // dop853's continuous extension (switch location) works in storage of its own
+            if stepper.prepare_extension(&mut sys, t, y, &y1, 1e-5) {
+                stepper.extension_state(0.5, &mut inside);
+            }
             stepper.accepted();
         }
         let allocations = ALLOCATIONS.load(Ordering::SeqCst) - before;

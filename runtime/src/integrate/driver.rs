@@ -514,9 +514,10 @@ impl<'m> Driver<'m> {
         // error at rtol 1e-7 from 4e-11 to 2e-10 m inside the horizon, 0.1 atol at rtol 1e-5
         // from 7.5e-7 to 8e-6 m. Shrinking with rtol too, the location error vanishes against
         // the steps' own as the tolerance tightens: 1e-3 atol at rtol 1e-5, 1e-6 atol at
-        // rtol 1e-8 (the former fixed value), above the switch functions' rounding (1e-16 m)
-        // from atol 1e-11 m up; case-study's errors in its horizon stay those of 1e-6 atol at
-        // every tolerance of the table (docs/benchmarks.md, 2026-11-25, later)
+        // rtol 1e-8 (the former fixed value); below about rtol 3e-8 (atol 1e-3 rtol) it is
+        // under the switch functions' rounding (1e-16 m) and the bracket's closing ends the
+        // search, as it did before. case-study's errors in its horizon stay those of 1e-6
+        // atol at every tolerance of the table (docs/benchmarks.md, 2026-11-25, later)
         let value_tol = 100.0 * self.settings.rtol * self.settings.atol;
         newton_in_bracket(&mut trial, (0.0, g_lo), (h, g_hi), first, tol, value_tol)
     }
