@@ -79,7 +79,7 @@ pub const REFERENCE_RUNS: [(Method, f64); 2] = [(Method::Dop853, 1e-12), (Method
 /// Agreement with the reference that ends a run's own horizon (m).
 const RUN_AGREEMENT: f64 = 1e-6;
 /// Relative tolerances of the adaptive sweep by default (`atol = 1e-3 rtol`).
-pub const TOLERANCES: [f64; 6] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
+const TOLERANCES: [f64; 6] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
 /// Fixed steps as fractions of the method's stability limit (rk4, verlet).
 const EXPLICIT_FRACTIONS: [f64; 5] = [0.9, 0.5, 0.25, 0.125, 0.0625];
 /// Fixed steps of the implicit fixed-step methods (s).

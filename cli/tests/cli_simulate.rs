@@ -366,6 +366,28 @@ fn work_precision_writes_a_converging_table_and_a_chart() {
             .unwrap()
             .contains("work-precision, adams-linear")
     );
+    // tolerances between the decades, as asked, for the adaptive method only
+    let out = telescopic(&[
+        "work-precision",
+        "scenes/adams-linear.toml",
+        "--set",
+        "time.end=0.2",
+        "--methods",
+        "dopri5,rk4",
+        "--rtols",
+        "3e-5,2.5e-6",
+        "--repeat",
+        "1",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let settings: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap())
+        .collect();
+    assert_eq!(&settings[..2], ["rtol=3e-5", "rtol=2.5e-6"], "{text}");
+    assert_eq!(settings.len(), 2 + 5, "{text}");
     fails_with(
         &[
             "work-precision",

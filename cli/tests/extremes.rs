@@ -83,6 +83,15 @@ fn sizes_are_bounded_before_any_allocation() {
     );
     refused(
         &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--rtols",
+            "1e-5,0",
+        ],
+        &["--rtols", "1e-13 to 0.1"],
+    );
+    refused(
+        &[
             "simulate",
             "scenes/case-study.toml",
             "--set",

@@ -11,9 +11,7 @@ use telescopic::output::{check_stdout_open, write_to};
 use telescopic::plot::{Figure, save};
 use telescopic::shape_errors::{ShapeErrorsOptions, shape_errors as run_shape_errors};
 use telescopic::stability::stability_analysis;
-use telescopic::work_precision::{
-    DEFAULT_METHODS, TOLERANCES, WorkPrecisionOptions, work_precision as run_wp,
-};
+use telescopic::work_precision::{DEFAULT_METHODS, WorkPrecisionOptions, work_precision as run_wp};
 
 /// Options of `telescopic stability`.
 #[derive(Debug, Args)]
@@ -111,16 +109,17 @@ pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
     args.outputs
         .check(args.outputs.csv.is_none(), &[&args.scene.scene])?;
     let scene = args.scene.load()?;
+    let defaults = WorkPrecisionOptions::default();
     let options = WorkPrecisionOptions {
         methods: args.methods.clone(),
         repeat: args.repeat,
         rtols: if args.rtols.is_empty() {
-            TOLERANCES.to_vec()
+            defaults.rtols
         } else {
             args.rtols.clone()
         },
         model: args.model,
-        models: Default::default(),
+        ..defaults
     };
     let result = run_wp(&scene, &options, &Progress::new())?;
     args.outputs

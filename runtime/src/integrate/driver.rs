@@ -325,14 +325,12 @@ impl<'m> Driver<'m> {
                     h
                 };
                 let control = self.stepper.control_error(err);
-                let factor = self.pi_factor(control, err_old);
+                let factor = self.pi_factor(control, err_old, self.growth_limit(capped));
                 // a restart forgets the history, as at the start
                 err_old = if switched || at_break { 1e-4 } else { control };
                 self.h = base
                     * if just_rejected {
                         factor.min(1.0)
-                    } else if capped {
-                        factor.min(CAPPED_GROWTH)
                     } else {
                         factor
                     };
@@ -524,14 +522,25 @@ impl<'m> Driver<'m> {
 
     /// Step-size factor from a scaled error estimate (1 = at tolerance), in `[0.2, 5]`.
     fn step_factor(&self, err: f64) -> f64 {
-        self.pi_factor(err, 1.0)
+        self.pi_factor(err, 1.0, self.growth_limit(false))
+    }
+
+    /// Largest factor by which the next step may grow: the stepper's, and at most
+    /// [`CAPPED_GROWTH`] for a step held under the closed-contact cap.
+    fn growth_limit(&self, capped: bool) -> f64 {
+        let growth = self.stepper.growth_limit();
+        if capped {
+            growth.min(CAPPED_GROWTH)
+        } else {
+            growth
+        }
     }
 
     /// Step-size factor of a PI controller (Gustafsson; Hairer's dopri5 form
     /// `0.9 err^-(1/(p+1) - 0.75 beta) err_old^beta`) from this step's error and the last
-    /// accepted one's (both scaled, 1 = at tolerance, `err_old` at least 1e-4).
-    fn pi_factor(&self, err: f64, err_old: f64) -> f64 {
-        let growth = self.stepper.growth_limit();
+    /// accepted one's (both scaled, 1 = at tolerance, `err_old` at least 1e-4), in
+    /// `[0.2, growth]`.
+    fn pi_factor(&self, err: f64, err_old: f64, growth: f64) -> f64 {
         if err <= 0.0 {
             return growth;
         }
