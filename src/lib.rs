@@ -45,6 +45,7 @@
 
 #![warn(missing_docs)]
 
+pub mod beam_reference;
 pub mod bode;
 mod bode_plot;
 pub mod budget;
@@ -52,12 +53,14 @@ pub mod control;
 pub mod converge;
 pub mod equations;
 mod error;
+pub mod error_budget;
 pub mod fmu;
 pub mod interrupt;
 pub mod linear;
 pub mod memory;
 pub mod metrics;
 pub mod mode_plot;
+pub mod model_size;
 pub mod models;
 pub mod modes;
 mod named;
@@ -71,6 +74,7 @@ pub mod simulation;
 pub mod stability;
 pub mod stress;
 pub mod sweep;
+pub mod total_accuracy;
 pub mod work_precision;
 mod wrapped;
 

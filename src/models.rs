@@ -24,7 +24,7 @@
 use crate::{Error, Result};
 use std::fmt;
 use telescopic_runtime::{
-    AssembledModel, Model, ModelParams, configuration_key, models_toml_entry,
+    AssembledModel, Basis, Model, ModelParams, configuration_key, models_toml_entry,
 };
 
 /// Which implementation of the equations to use.
@@ -155,7 +155,10 @@ impl ChosenModel {
     pub fn assembled(params: &ModelParams) -> Result<Self> {
         Ok(ChosenModel {
             model: Box::new(AssembledModel::new(params).map_err(|e| Error::Model(e.to_string()))?),
-            description: "quadrature-assembled model".to_string(),
+            description: match params.basis {
+                Basis::Modes => "quadrature-assembled model".to_string(),
+                basis => format!("quadrature-assembled model (basis {})", basis.word()),
+            },
             note: None,
         })
     }
@@ -190,6 +193,17 @@ impl ModelRegistry {
     /// [`Error::Model`] when `generated` is asked for a configuration that no set holds, or a
     /// model rejects the parameters.
     pub fn build(&self, params: &ModelParams, choice: ModelChoice) -> Result<ChosenModel> {
+        if params.basis != Basis::Modes {
+            // the generator emits the paper's shape functions only
+            if choice == ModelChoice::Generated {
+                return Err(Error::Model(format!(
+                    "model choice `generated`: generated models have the basis `modes`; \
+                     sections.basis = \"{}\" runs on the quadrature-assembled model",
+                    params.basis.word()
+                )));
+            }
+            return ChosenModel::assembled(params);
+        }
         let key = configuration_key(params);
         let set = match choice {
             ModelChoice::Assembled => None,

@@ -28,6 +28,40 @@ pub trait Reporter: Sync {
     }
 }
 
+/// One phase of a call made of consecutive runs (a run and its companion): its progress is
+/// the share `from..to` of the caller's, so the caller's fraction only grows; the caller
+/// sees the first phase's start and the last one's finish.
+pub struct Phase<'a> {
+    /// The caller's reporter.
+    pub inner: &'a dyn Reporter,
+    /// Where this phase's progress starts and ends in the caller's (0 to 1).
+    pub share: (f64, f64),
+}
+
+impl Reporter for Phase<'_> {
+    fn start(&self, what: &str) {
+        if self.share.0 == 0.0 {
+            self.inner.start(what);
+        }
+    }
+    fn progress(&self, fraction: f64) {
+        let (from, to) = self.share;
+        self.inner
+            .progress(from + (to - from) * fraction.clamp(0.0, 1.0));
+    }
+    fn finish(&self) {
+        if self.share.1 == 1.0 {
+            self.inner.finish();
+        }
+    }
+    fn runs(&self, done: usize, total: usize) {
+        self.inner.runs(done, total);
+    }
+    fn note(&self, line: &str) {
+        self.inner.note(line);
+    }
+}
+
 /// A [`Reporter`] that drops everything.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Silent;

@@ -49,8 +49,8 @@ impl<'s> PreparedRun<'s> {
         reporter: &dyn Reporter,
     ) -> Result<Self> {
         let plan = plan(scene, options)?;
-        let stations = StationRows::new(scene, &options.stations)?;
         let chosen = options.models.build(&scene.params, options.model)?;
+        let stations = StationRows::new(scene, chosen.model.as_ref(), &options.stations)?;
         if let Some(note) = &chosen.note {
             reporter.note(note);
         }
@@ -76,8 +76,10 @@ impl<'s> PreparedRun<'s> {
                 method,
                 how: String::new(),
                 settings,
+                integration_error_m: None,
+                integration_statistics_rel: None,
             },
-            stations: StationRows::new(scene, &[]).expect("no stations to check"),
+            stations: StationRows::none(),
         }
     }
 
@@ -135,7 +137,10 @@ impl<'s> PreparedRun<'s> {
             model: self.chosen.description,
             specializations,
             plan: self.plan,
+            modes: self.scene.params.modes(),
+            basis: self.scene.params.basis,
             trajectory,
+            error: None,
         }
     }
 }
@@ -158,6 +163,9 @@ fn integrate_from_rest(
     names.extend(stations.names());
     let sensors = Sensors::new(model);
     let dof = model.dof();
+    // the contact forces f_k_j among the model's outputs (after vehicle, tip, top1 and gaps)
+    let contacts = model.layout().contact_count();
+    let forces = 3 + contacts..3 + 2 * contacts;
     let mut rows: Vec<Vec<f64>> = Vec::with_capacity(crate::budget::sample_count(&scene.time));
     let mut out = vec![0.0; names.len()];
     let mut bad_output: Option<(f64, String)> = None;
@@ -166,7 +174,13 @@ fn integrate_from_rest(
         let (sensor_outputs, station_outputs) = rest.split_at_mut(with_sensors - own);
         model.outputs(t, y, ydot, model_outputs);
         sensors.values(dof, y, ydot, sensor_outputs);
-        stations.values(y, station_outputs);
+        stations.values(
+            t,
+            dof,
+            (y, ydot),
+            &model_outputs[forces.clone()],
+            station_outputs,
+        );
         if bad_output.is_none()
             && let Some(i) = out.iter().position(|v| !v.is_finite())
         {

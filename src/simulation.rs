@@ -13,16 +13,20 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
+use crate::error_budget::{self, ErrorBudget};
 use crate::models::{ModelChoice, ModelRegistry};
-use crate::report::Reporter;
+use crate::report::{Phase, Reporter};
 use crate::run::PreparedRun;
 use crate::{Error, Result};
 use std::fmt;
 use std::io::Write;
 use std::path::Path;
 use std::str::FromStr;
+use telescopic_runtime::accuracy::Resolve;
 use telescopic_runtime::integrate::StepControl;
-use telescopic_runtime::{Method, RunStats, Scene, Settings, auto_plan, plan_for_accuracy};
+use telescopic_runtime::{
+    DEFAULT_ACCURACY_M, Method, RunStats, Scene, Settings, plan_for_accuracy,
+};
 
 /// The method of a run: `auto` (chosen on the scene) or one named method.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -82,6 +86,20 @@ pub struct SimulationOptions {
     pub accuracy: Option<f64>,
     /// Stations whose bending moment (and stress) become output columns (default none).
     pub stations: Vec<crate::stress::Station>,
+    /// Keep the scene's modes and basis under [`SimulationOptions::accuracy`], which then
+    /// bounds the integration error only (default false: the accuracy is the whole error
+    /// against the beams, and the run picks the modes too).
+    pub modes_as_given: bool,
+    /// Estimate the run's truncation error from a companion run with more modes (default
+    /// true; [`crate::error_budget`]).
+    pub error_estimate: bool,
+    /// Largest truncation error of a station's moment, relative to its peak, that
+    /// [`SimulationOptions::accuracy`] accepts (default 0.02).
+    pub moment_tolerance: f64,
+    /// Largest relative truncation error of the statistics beyond the pointwise window
+    /// (RMS and peak of `tip_rel`, peak moment) that [`SimulationOptions::accuracy`] accepts
+    /// (default 0.05).
+    pub statistics_tolerance: f64,
 }
 
 impl Default for SimulationOptions {
@@ -97,6 +115,10 @@ impl Default for SimulationOptions {
             models: ModelRegistry::default(),
             accuracy: None,
             stations: Vec::new(),
+            modes_as_given: false,
+            error_estimate: true,
+            moment_tolerance: 0.02,
+            statistics_tolerance: 0.05,
         }
     }
 }
@@ -110,6 +132,12 @@ pub struct Plan {
     pub how: String,
     /// Tolerances, steps and the hand-over to exact stepping.
     pub settings: Settings,
+    /// The measured error in `tip_rel` (m) of the run the method was picked from; `None`
+    /// when a method was given.
+    pub integration_error_m: Option<f64>,
+    /// The relative error of the statistics to expect of that run (with clearance, the
+    /// spread of correct runs); `None` when a method was given.
+    pub integration_statistics_rel: Option<f64>,
 }
 
 /// Resolves `options` on `scene`: `auto` becomes a method, tolerances are checked.
@@ -119,6 +147,14 @@ pub struct Plan {
 /// every method, even those that do not use them).
 pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     let mut settings = Settings::default();
+    let mut integration_error_m = None;
+    let mut integration_statistics_rel = None;
+    // moments at stations need the contact modes resolved
+    let resolve = if options.stations.is_empty() {
+        Resolve::Displacements
+    } else {
+        Resolve::Moments
+    };
     let (method, how) = match (options.method, options.accuracy) {
         (MethodChoice::Auto, Some(accuracy)) => {
             if options.rtol.is_some() || options.atol.is_some() {
@@ -127,11 +163,13 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
                     "picks the tolerances itself: give an accuracy or rtol/atol, not both",
                 ));
             }
-            let chosen = plan_for_accuracy(&scene.params, &scene.time, accuracy)
+            let chosen = plan_for_accuracy(&scene.params, &scene.time, accuracy, resolve)
                 .map_err(|e| Error::option("SimulationOptions::accuracy", e))?;
             settings.exact_from = chosen.exact_from;
             settings.rtol = chosen.rtol;
             settings.atol = 1e-3 * chosen.rtol;
+            integration_error_m = Some(chosen.error_m);
+            integration_statistics_rel = Some(chosen.statistics_rel);
             (
                 chosen.method,
                 format!("accuracy {accuracy:e} m: {}; ", chosen.why),
@@ -144,9 +182,12 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
             ));
         }
         (MethodChoice::Auto, None) => {
-            let (m, exact_from, why) = auto_plan(&scene.params, &scene.time);
-            settings.exact_from = exact_from;
-            (m, format!("auto: {why}; "))
+            let chosen = plan_for_accuracy(&scene.params, &scene.time, DEFAULT_ACCURACY_M, resolve)
+                .expect("every kind of scene has a measured run within the default accuracy");
+            settings.exact_from = chosen.exact_from;
+            integration_error_m = Some(chosen.error_m);
+            integration_statistics_rel = Some(chosen.statistics_rel);
+            (chosen.method, format!("auto: {}; ", chosen.why))
         }
         (MethodChoice::Method(m), None) => (m, String::new()),
     };
@@ -201,6 +242,8 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
         method,
         how,
         settings,
+        integration_error_m,
+        integration_statistics_rel,
     })
 }
 
@@ -267,6 +310,12 @@ pub struct Simulation {
     pub specializations: Vec<String>,
     /// The samples and the run's statistics.
     pub trajectory: Trajectory,
+    /// Modes per section of the model that ran.
+    pub modes: Vec<usize>,
+    /// Its basis.
+    pub basis: telescopic_runtime::Basis,
+    /// The run's error in two parts ([`crate::error_budget`]); `None` when not asked for.
+    pub error: Option<ErrorBudget>,
 }
 
 impl Simulation {
@@ -333,11 +382,39 @@ impl Simulation {
             s.switches,
             s.wall.as_secs_f64()
         ) + &stress
+            + &self
+                .error_lines()
+                .map(|l| format!("\n{l}"))
+                .collect::<String>()
+    }
+
+    /// The error budget's lines, empty when it was not estimated.
+    fn error_lines(&self) -> impl Iterator<Item = String> {
+        self.error
+            .as_ref()
+            .map(|e| e.describe(&self.modes))
+            .unwrap_or_default()
+            .into_iter()
+    }
+
+    /// Writes the CSV: the error budget as `#` lines, then the samples
+    /// ([`Trajectory::write_csv`]).
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_csv(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        for line in self.error_lines() {
+            writeln!(w, "# {line}")?;
+        }
+        self.trajectory.write_csv(w)
     }
 }
 
 /// Simulates `scene` with `options`: chooses the model and the method, checks that the run
-/// fits the resource limits and is affordable, integrates from rest, collects every sample.
+/// fits the resource limits and is affordable, integrates from rest, collects every sample,
+/// and estimates the run's error ([`crate::error_budget`]). With
+/// [`SimulationOptions::accuracy`] (and not [`SimulationOptions::modes_as_given`]) it also
+/// picks the basis and the modes per section ([`crate::total_accuracy`]).
 ///
 /// # Errors
 /// [`Error`] for bad options, a model that cannot be had, an unaffordable run (with the
@@ -347,15 +424,95 @@ pub fn simulate_scene(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<Simulation> {
-    let run = PreparedRun::new(scene, options, reporter)?;
-    let trajectory = run.integrate(reporter)?;
-    Ok(run.into_simulation(trajectory))
+    if options.accuracy.is_some() && !options.modes_as_given {
+        return crate::total_accuracy::simulate_for_accuracy(scene, options, reporter);
+    }
+    // with the companion run, the run is the first part of the progress
+    let main_share = if options.error_estimate {
+        COMPANION_SPLIT
+    } else {
+        1.0
+    };
+    let main = Phase {
+        inner: reporter,
+        share: (0.0, main_share),
+    };
+    let run = PreparedRun::new(scene, options, &main)?;
+    let trajectory = run.integrate(&main)?;
+    let mut simulation = run.into_simulation(trajectory);
+    if options.error_estimate {
+        let companion = Phase {
+            inner: reporter,
+            share: (main_share, 1.0),
+        };
+        simulation.error = Some(estimate_error(scene, options, &simulation, &companion)?);
+    }
+    Ok(simulation)
 }
 
-/// Writes the CSV of `trajectory` to `path` (atomically) or to standard output.
+/// The share of a run's progress before its companion run starts (the companion, with more
+/// modes, takes one to three times as long on the shipped scenes).
+const COMPANION_SPLIT: f64 = 0.4;
+
+/// The error budget of `simulation`, a run of `scene` with `options`: its integration part
+/// from the plan, its truncation part from a companion run of the refined model.
+///
+/// # Errors
+/// A failed companion run (an unaffordable one is reported as missing instead).
+pub fn estimate_error(
+    scene: &Scene,
+    options: &SimulationOptions,
+    simulation: &Simulation,
+    reporter: &dyn Reporter,
+) -> Result<ErrorBudget> {
+    let window = error_budget::window(&scene.params, &simulation.trajectory);
+    let mut budget = ErrorBudget {
+        window,
+        integration_m: simulation.plan.integration_error_m,
+        integration_statistics: simulation.plan.integration_statistics_rel,
+        truncation: None,
+        missing: None,
+    };
+    let Some(refined) = error_budget::refined(&scene.params) else {
+        budget.missing = Some(format!(
+            "every section has {} modes, the most there are",
+            telescopic_runtime::MAX_MODES
+        ));
+        return Ok(budget);
+    };
+    let mut companion_scene = scene.clone();
+    companion_scene.params = refined;
+    let companion_options = SimulationOptions {
+        error_estimate: false,
+        // a generated model of the refined size may not exist: the registry falls back
+        model: match options.model {
+            ModelChoice::Generated => ModelChoice::Auto,
+            other => other,
+        },
+        ..options.clone()
+    };
+    let prepared = PreparedRun::new(&companion_scene, &companion_options, &crate::Silent)?;
+    match prepared.integrate(reporter) {
+        Ok(companion) => {
+            budget.truncation = Some(error_budget::truncation(
+                &simulation.trajectory,
+                &companion,
+                companion_scene.params.modes(),
+                window,
+            ));
+        }
+        Err(Error::Unaffordable { reason, .. }) => {
+            budget.missing = Some(format!("the refined model's run is unaffordable: {reason}"));
+        }
+        Err(e) => return Err(e),
+    }
+    Ok(budget)
+}
+
+/// Writes the CSV of `simulation` to `path` (atomically) or to standard output.
 ///
 /// # Errors
 /// [`Error::Write`] or [`Error::Stdout`].
-pub fn write_csv(trajectory: &Trajectory, path: Option<&Path>) -> Result<()> {
-    crate::output::write_to(path, |w| trajectory.write_csv(w))
+pub fn write_csv(simulation: &Simulation, path: Option<&Path>) -> Result<()> {
+    crate::output::write_to(path, |w| simulation.write_csv(w))
 }

@@ -1,12 +1,11 @@
-//! Bending moments and stresses at stations along the sections, from the Galerkin series:
-//! `M_k(x) = EI_k w_k''(x)` (N m), `sigma_k(x) = M_k(x) / W_k` (Pa) with the section modulus
+//! Bending moments and stresses at stations along the sections: `M_k(x)` (N m) by force
+//! summation ([`StationRows`]), `sigma_k(x) = M_k(x) / W_k` (Pa) with the section modulus
 //! `W_k` of the scene (`sections.section_modulus`, or `2 I / h` from `sections.height`).
 //!
 //! A station is `k:x`: section `k` (1-based, bottom up) at `x` metres from its own foot. Its
 //! columns are `moment_k_x` (N m) and, when the scene gives `W`, `stress_k_x` (Pa); a positive
-//! moment bends the section with positive curvature `w''`. docs/model.md section 7 says how well
-//! the series resolves the moment where contact forces act (the foot of section 1, the
-//! overlap ends): the moment is a second derivative of a truncated series.
+//! moment bends the section with positive curvature `w''`. docs/numerics.md says how well
+//! the moments converge with the number of modes, against the finite-element beams.
 //!
 //! ```
 //! use telescopic::stress::Station;
@@ -18,8 +17,8 @@
 
 use crate::simulation::Trajectory;
 use crate::{Error, Result};
-use telescopic_runtime::Scene;
-use telescopic_runtime::sensors::curvature_row;
+use telescopic_runtime::nalgebra::DVector;
+use telescopic_runtime::{Model, Scene};
 
 /// Where a moment is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,65 +72,103 @@ impl Station {
     }
 }
 
-/// The stations of a run as rows over the coordinates: `moment = row . z`, allocation-free
-/// per sample.
+/// The stations of a run as rows over the coordinates, their rates and accelerations, and
+/// the contact forces' arms: allocation-free per sample.
+///
+/// A station's moment is found by **force summation** (the mode-acceleration method): the
+/// equilibrium of the part of the section above the station under its inertia, the contact
+/// forces on it and its axial prestress,
+///
+/// ```text
+/// M_k(x) = sum_c s_c f_c (x_c - x)_+  -  int_x^l (xi - x) rhoA a(xi) dxi  -  [k = n] m_L (l - x) a(l)
+///          + int_x^l P_k(xi) w_k'(xi) dxi
+/// ```
+///
+/// with `a` the acceleration field (plus the structural damping force over the mass, `M^-1
+/// D_s z'`, the distributed load whose generalized forces it is), `f_c` the contact forces at
+/// their stations `x_c` (`s_c = +1` on the outer section, `-1` on the inner one). It equals
+/// `EI w''` for the exact solution, but accelerations and forces converge as fast as the
+/// displacements, while the curvature of a truncated series converges slowest exactly where
+/// contact forces act (docs/numerics.md measures both against the finite-element beams).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StationRows {
     stations: Vec<Station>,
-    /// `EI_k w_k''(x)` per unit of each coordinate (N m per coordinate unit).
-    rows: Vec<Vec<f64>>,
+    /// Per station: the row over `z` (prestress, N m per coordinate unit).
+    displacement: Vec<Vec<f64>>,
+    /// Per station: the row over `z'` (structural damping's share).
+    rate: Vec<Vec<f64>>,
+    /// Per station: the row over `z''` (inertia).
+    acceleration: Vec<Vec<f64>>,
+    /// The contact points: overlap, fraction along it.
+    contacts: Vec<(usize, f64)>,
+    /// Section lengths (m) and telescopic positions, for the contact forces' arms.
+    lengths: Vec<f64>,
+    positions: Vec<telescopic_runtime::Profile>,
     /// `W_k` (m^3) of each station's section, when the scene gives them.
     moduli: Option<Vec<f64>>,
 }
 
 impl StationRows {
-    /// The rows of `stations` on `scene`'s sections.
+    /// The rows of `stations` on `scene`'s sections for the coordinates of `model`.
     ///
     /// # Errors
     /// [`Error::Option`] naming `--stations` for a section that does not exist or a distance
     /// outside `[0, l_k]`.
-    pub fn new(scene: &Scene, stations: &[Station]) -> Result<Self> {
-        let sections = &scene.params.sections;
+    pub fn new(scene: &Scene, model: &dyn Model, stations: &[Station]) -> Result<Self> {
+        check_stations(scene, stations)?;
+        let params = &scene.params;
+        let inverse_mass_damping = model.damping_matrix().map(|d| {
+            let m = model
+                .mass_matrix()
+                .clone()
+                .cholesky()
+                .expect("the model's mass is positive definite");
+            (d.clone(), m)
+        });
+        let mut displacement = Vec::with_capacity(stations.len());
+        let mut rate = Vec::with_capacity(stations.len());
+        let mut acceleration = Vec::with_capacity(stations.len());
         for s in stations {
-            if !(1..=sections.len()).contains(&s.section) {
-                return Err(Error::option(
-                    "SimulationOptions::stations",
-                    format!(
-                        "section {} does not exist: the scene has sections 1..={}",
-                        s.section,
-                        sections.len()
-                    ),
-                ));
-            }
-            let l = sections[s.section - 1].length;
-            if !(s.x.is_finite() && (0.0..=l).contains(&s.x)) {
-                return Err(Error::option(
-                    "SimulationOptions::stations",
-                    format!(
-                        "x = {} m is outside section {} (from its foot, 0 ..= {l} m)",
-                        s.x, s.section
-                    ),
-                ));
-            }
+            let (z_row, a_row) = equilibrium_rows(model, s);
+            // D_s M^-1 a_row: the damping force's share, over z'
+            let r_row = match &inverse_mass_damping {
+                Some((d, m)) => (d * m.solve(&DVector::from_column_slice(&a_row)))
+                    .as_slice()
+                    .to_vec(),
+                None => vec![0.0; a_row.len()],
+            };
+            displacement.push(z_row);
+            rate.push(r_row);
+            acceleration.push(a_row);
         }
-        let rows = stations
-            .iter()
-            .map(|s| {
-                let ei = sections[s.section - 1].bending_stiffness;
-                curvature_row(&scene.params, s.section, s.x)
-                    .into_iter()
-                    .map(|v| ei * v)
-                    .collect()
-            })
-            .collect();
+        let layout = model.layout();
         let moduli = scene
             .section_moduli()
             .map(|w| stations.iter().map(|s| w[s.section - 1]).collect());
         Ok(StationRows {
             stations: stations.to_vec(),
-            rows,
+            displacement,
+            rate,
+            acceleration,
+            contacts: layout.contacts().map(|c| (c.overlap, c.fraction)).collect(),
+            lengths: params.sections.iter().map(|s| s.length).collect(),
+            positions: params.positions.clone(),
             moduli,
         })
+    }
+
+    /// No stations.
+    pub fn none() -> Self {
+        StationRows {
+            stations: Vec::new(),
+            displacement: Vec::new(),
+            rate: Vec::new(),
+            acceleration: Vec::new(),
+            contacts: Vec::new(),
+            lengths: Vec::new(),
+            positions: Vec::new(),
+            moduli: None,
+        }
     }
 
     /// True without stations.
@@ -153,11 +190,21 @@ impl StationRows {
         names
     }
 
-    /// The values at coordinates `z` into `out` (in the order of [`StationRows::names`]).
-    pub fn values(&self, z: &[f64], out: &mut [f64]) {
-        let n = self.rows.len();
-        for (i, row) in self.rows.iter().enumerate() {
-            out[i] = row.iter().zip(z).map(|(a, b)| a * b).sum();
+    /// The values at time `t` (s), state `y = [z, z']` with derivative `ydot = [z', z'']`
+    /// and contact forces `forces` (N, the model's `f_k_j` in order) into `out` (in the order
+    /// of [`StationRows::names`]). `dof` is the number of coordinates of `y`: a controller or
+    /// observer may carry its own after the plant's.
+    pub fn values(
+        &self,
+        t: f64,
+        dof: usize,
+        (y, ydot): (&[f64], &[f64]),
+        forces: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = self.stations.len();
+        for (i, o) in out[..n].iter_mut().enumerate() {
+            *o = self.moment(i, t, dof, (y, ydot), forces);
         }
         if let Some(w) = &self.moduli {
             for i in 0..n {
@@ -166,10 +213,102 @@ impl StationRows {
         }
     }
 
-    /// The moment (N m) at station `i` for coordinates `z`.
-    pub fn moment(&self, i: usize, z: &[f64]) -> f64 {
-        self.rows[i].iter().zip(z).map(|(a, b)| a * b).sum()
+    /// The moment (N m) at station `i`, as [`StationRows::values`] has it.
+    pub fn moment(
+        &self,
+        i: usize,
+        t: f64,
+        dof: usize,
+        (y, ydot): (&[f64], &[f64]),
+        forces: &[f64],
+    ) -> f64 {
+        let dot = |row: &[f64], v: &[f64]| row.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        let station = self.stations[i];
+        let mut m = dot(&self.displacement[i], y)
+            + dot(&self.rate[i], &y[dof..])
+            + dot(&self.acceleration[i], &ydot[dof..]);
+        for (&(k, s), &f) in self.contacts.iter().zip(forces) {
+            let a = self.positions[k - 2].value(t);
+            let overlap = self.lengths[k - 2] - a;
+            // +f on the outer section k - 1 at a + s o, -f on the inner section k at s o
+            if station.section == k - 1 {
+                m += f * (a + s * overlap - station.x).max(0.0);
+            } else if station.section == k {
+                m -= f * (s * overlap - station.x).max(0.0);
+            }
+        }
+        m
     }
+}
+
+/// Points per piece and pieces of the composite Gauss rule on `[x, l]` for the station rows:
+/// the coordinate functions are smooth, or cubic between spline knots, so 64 pieces of 8
+/// points leave an error far below the moments' own.
+const STATION_RULE: (usize, usize) = (8, 64);
+
+/// The rows over `z` (prestress, `int_x^l P psi'`) and over the acceleration (`-int_x^l (xi - x)
+/// rhoA psi - [k = n] m_L (l - x) psi(l)`) of station `s` on `model`'s coordinates.
+fn equilibrium_rows(model: &dyn Model, s: &Station) -> (Vec<f64>, Vec<f64>) {
+    let params = model.params();
+    let k = s.section;
+    let sec = &params.sections[k - 1];
+    let (p0, p1) = params.prestress(k);
+    let l = sec.length;
+    let dof = model.dof();
+    let (mut z_row, mut a_row) = (vec![0.0; dof], vec![0.0; dof]);
+    let (points, pieces) = STATION_RULE;
+    let piece = telescopic_runtime::quadrature::SectionQuadrature::with_points(
+        (l - s.x) / pieces as f64,
+        points,
+    );
+    for p in 0..pieces {
+        let start = s.x + (l - s.x) * p as f64 / pieces as f64;
+        for (&u, &w) in piece.nodes.iter().zip(&piece.weights) {
+            let xi = start + u;
+            let value = model.shape_row(k, xi, 0);
+            let slope = model.shape_row(k, xi, 1);
+            let prestress = w * (p0 + p1 * xi);
+            let inertia = w * sec.mass_per_length * (xi - s.x);
+            for j in 0..dof {
+                z_row[j] += prestress * slope[j];
+                a_row[j] -= inertia * value[j];
+            }
+        }
+    }
+    if k == params.sections.len() && params.load_mass > 0.0 {
+        for (a, v) in a_row.iter_mut().zip(model.shape_row(k, l, 0)) {
+            *a -= params.load_mass * (l - s.x) * v;
+        }
+    }
+    (z_row, a_row)
+}
+
+/// Refuses stations on sections that do not exist or outside their section.
+fn check_stations(scene: &Scene, stations: &[Station]) -> Result<()> {
+    let sections = &scene.params.sections;
+    for s in stations {
+        if !(1..=sections.len()).contains(&s.section) {
+            return Err(Error::option(
+                "SimulationOptions::stations",
+                format!(
+                    "section {} does not exist: the scene has sections 1..={}",
+                    s.section,
+                    sections.len()
+                ),
+            ));
+        }
+        let l = sections[s.section - 1].length;
+        if !(s.x.is_finite() && (0.0..=l).contains(&s.x)) {
+            return Err(Error::option(
+                "SimulationOptions::stations",
+                format!(
+                    "x = {} m is outside section {} (from its foot, 0 ..= {l} m)",
+                    s.x, s.section
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The largest stress magnitude of a run over its stations.

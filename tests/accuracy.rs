@@ -34,17 +34,18 @@ fn the_defaults_keep_1e_6_m_on_every_shipped_scene() {
     }
 }
 
-/// `docs/wp-<scene>.csv`: `(method, setting) -> (tip error, wall)`.
-fn committed(scene: &str) -> Vec<(String, String, f64, f64)> {
+/// `docs/wp-<scene>.csv`: `(method, setting) -> (tip error, wall, statistics error)`.
+fn committed(scene: &str) -> Vec<(String, String, f64, f64, f64)> {
     let text = std::fs::read_to_string(format!("docs/wp-{scene}.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (m, s, e, w) = (
+    let (m, s, e, w, st) = (
         col("method"),
         col("setting"),
         col("tip_error_horizon_m"),
         col("wall_s"),
+        col("statistics_error_rel"),
     );
     // a failed run (e.g. verlet above its limit) has no error and no time
     lines
@@ -55,6 +56,7 @@ fn committed(scene: &str) -> Vec<(String, String, f64, f64)> {
                 f[s].to_string(),
                 f[e].parse().ok()?,
                 f[w].parse().ok()?,
+                f[st].parse().ok()?,
             ))
         })
         .collect()
@@ -69,9 +71,9 @@ fn the_accuracy_table_is_the_committed_measurements() {
             format!("rtol={:e}", row.rtol)
         };
         let runs = committed(row.scene);
-        let (_, _, error, wall) = runs
+        let (_, _, error, wall, statistics) = runs
             .iter()
-            .find(|(m, s, _, _)| m == row.method && *s == setting)
+            .find(|(m, s, _, _, _)| m == row.method && *s == setting)
             .unwrap_or_else(|| panic!("{row:?} is not in docs/wp-{}.csv", row.scene));
         // the table rounds to two digits
         assert!(
@@ -81,6 +83,10 @@ fn the_accuracy_table_is_the_committed_measurements() {
         assert!(
             (wall - row.wall_s).abs() <= 0.05 * row.wall_s,
             "{row:?}: {wall}"
+        );
+        assert!(
+            (statistics - row.statistics_rel).abs() <= 0.05 * row.statistics_rel,
+            "{row:?}: {statistics}"
         );
         // and the scene is of the row's kind
         assert_eq!(SceneKind::of(&scene(row.scene, &[]).params), row.kind);
@@ -92,6 +98,7 @@ fn accuracy_picks_the_table_s_run_and_meets_it() {
     let case = scene("case-study", &[]);
     let asked = SimulationOptions {
         accuracy: Some(3e-9),
+        modes_as_given: true,
         ..SimulationOptions::default()
     };
     let run = simulate_scene(&case, &asked, &Silent).unwrap();
@@ -116,6 +123,7 @@ fn accuracy_requests_it_cannot_meet_are_refused_with_the_rule() {
     for bad in [0.0, -1e-6, 1e3, f64::NAN, 1e-12] {
         let e = err(SimulationOptions {
             accuracy: Some(bad),
+            modes_as_given: true,
             ..SimulationOptions::default()
         });
         assert!(
@@ -126,6 +134,7 @@ fn accuracy_requests_it_cannot_meet_are_refused_with_the_rule() {
     // inside the range but finer than any measured run on a scene with impacts
     let e = err(SimulationOptions {
         accuracy: Some(5e-11),
+        modes_as_given: true,
         ..SimulationOptions::default()
     });
     // the finest row measured 8.3e-10 m (dop853-imex) and 8.1e-10 m (dop853) at rtol 1e-7:
@@ -136,6 +145,7 @@ fn accuracy_requests_it_cannot_meet_are_refused_with_the_rule() {
     );
     let met = SimulationOptions {
         accuracy: Some(2.5e-9),
+        modes_as_given: true,
         ..SimulationOptions::default()
     };
     assert_eq!(
@@ -148,6 +158,7 @@ fn accuracy_requests_it_cannot_meet_are_refused_with_the_rule() {
     );
     let e = err(SimulationOptions {
         accuracy: Some(1e-6),
+        modes_as_given: true,
         method: MethodChoice::Method(Method::Dopri5),
         ..SimulationOptions::default()
     });
@@ -157,6 +168,7 @@ fn accuracy_requests_it_cannot_meet_are_refused_with_the_rule() {
     );
     let e = err(SimulationOptions {
         accuracy: Some(1e-6),
+        modes_as_given: true,
         rtol: Some(1e-8),
         ..SimulationOptions::default()
     });

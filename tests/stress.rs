@@ -19,8 +19,14 @@ fn pushed_cantilever(extra: &[String]) -> Scene {
 }
 
 /// The relative errors of the final moments at `fractions` of the length against the
-/// analytic static moment `-a (m_L (l - x) + rhoA (l - x)^2 / 2)`, `a = F / m_total`.
-fn static_moment_errors(modes: usize, density: f64, load: f64, fractions: &[f64]) -> Vec<f64> {
+/// analytic static moment `-a (m_L (l - x) + rhoA (l - x)^2 / 2)`, `a = F / m_total`, and the
+/// relative error of `EI w''` at the foot from the strain-gauge output `kappa_1_0`.
+fn static_moment_errors(
+    modes: usize,
+    density: f64,
+    load: f64,
+    fractions: &[f64],
+) -> (Vec<f64>, f64) {
     let scene = pushed_cantilever(&[
         format!("sections.modes={modes}"),
         format!("sections.density={density}"),
@@ -42,56 +48,39 @@ fn static_moment_errors(modes: usize, density: f64, load: f64, fractions: &[f64]
     let rho_a = scene.params.sections[0].mass_per_length;
     let a = 200.0 / scene.params.total_mass();
     let last = sim.trajectory.rows.last().unwrap();
-    stations
+    let want = |x: f64| -a * (load * (l - x) + rho_a * (l - x).powi(2) / 2.0);
+    let summed = stations
         .iter()
-        .map(|s| {
-            let got = last[sim.trajectory.index(&s.moment_name()).unwrap()];
-            let want = -a * (load * (l - s.x) + rho_a * (l - s.x).powi(2) / 2.0);
-            got / want - 1.0
-        })
-        .collect()
+        .map(|s| last[sim.trajectory.index(&s.moment_name()).unwrap()] / want(s.x) - 1.0)
+        .collect();
+    let ei = scene.params.sections[0].bending_stiffness;
+    let curvature = ei * last[sim.trajectory.index("kappa_1_0").unwrap()] / want(0.0) - 1.0;
+    (summed, curvature)
 }
 
 #[test]
-fn the_moment_converges_to_the_cantilevers_static_moment() {
+fn the_moment_by_force_summation_is_the_cantilevers_static_moment_where_the_curvature_is_not() {
     let fractions = [0.0, 0.25, 0.5, 0.75];
     // a tip force alone (the section nearly massless), then the section's own load alone
     for (what, density, load) in [("tip force", 1.0, 5.0), ("own weight", 7850.0, 0.0)] {
-        let five = static_moment_errors(5, density, load, &fractions);
-        let twenty = static_moment_errors(20, density, load, &fractions);
+        let (five, curvature_five) = static_moment_errors(5, density, load, &fractions);
+        let (twenty, curvature_twenty) = static_moment_errors(20, density, load, &fractions);
         eprintln!(
-            "{what}: relative errors at x/l = {fractions:?}: 5 modes {five:.5?}, 20 modes {twenty:.5?}"
+            "{what}: relative errors at x/l = {fractions:?}: 5 modes {five:?}, 20 modes \
+             {twenty:?}; EI w'' at the foot: 5 modes {curvature_five:.4}, 20 modes \
+             {curvature_twenty:.4}"
         );
-        // the foot, where the series converges slowest (docs/model.md section 7)
-        assert!(
-            five[0].abs() < 0.12,
-            "{what}: 5 modes at the foot {}",
-            five[0]
-        );
-        assert!(
-            twenty[0].abs() < 0.03,
-            "{what}: 20 modes at the foot {}",
-            twenty[0]
-        );
-        assert!(
-            twenty[0].abs() < five[0].abs() / 3.0,
-            "{what}: no convergence at the foot"
-        );
-        // inside the span
-        for i in 1..3 {
-            assert!(
-                five[i].abs() < 0.02,
-                "{what}: 5 modes at x/l = {}: {}",
-                fractions[i],
-                five[i]
-            );
-            assert!(
-                twenty[i].abs() < 0.004,
-                "{what}: 20 modes at x/l = {}: {}",
-                fractions[i],
-                twenty[i]
-            );
+        // in a steady acceleration the inertial load is uniform, which the translation holds
+        // exactly: equilibrium gives the moment whatever the modes (the heavy damping leaves
+        // 1e-5 of dynamics after 4 s)
+        for (e, modes) in five.iter().zip([5; 4]).chain(twenty.iter().zip([20; 4])) {
+            assert!(e.abs() < 1e-4, "{what}: {modes} modes: {e}");
         }
+        // the curvature of the series converges slowest exactly at the foot
+        assert!(
+            curvature_five.abs() > 0.01 && curvature_twenty.abs() < curvature_five.abs() / 3.0,
+            "{what}: EI w'' at the foot {curvature_five}, {curvature_twenty}"
+        );
     }
 }
 

@@ -34,6 +34,12 @@ const FLAGS: &[(&str, &str)] = &[
     ("ConvergeOptions::max_modes", "--max-modes"),
     ("ConvergeOptions::max_contacts", "--max-contacts"),
     ("SimulationOptions::accuracy", "--accuracy"),
+    ("SimulationOptions::modes_as_given", "--modes-as-given"),
+    ("SimulationOptions::moment_tolerance", "--moment-tolerance"),
+    (
+        "SimulationOptions::statistics_tolerance",
+        "--statistics-tolerance",
+    ),
     ("DesignOptions::kind", "--controller"),
     ("DesignOptions::force_limit", "--force-limit"),
     ("DesignOptions::tip_scale", "--tip-scale"),

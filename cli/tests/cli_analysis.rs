@@ -106,3 +106,66 @@ fn printed_free_free_shape_functions_fail_where_the_cancellation_free_ones_do_no
         }
     }
 }
+
+#[test]
+fn work_precision_over_model_sizes_marks_the_front_and_names_the_cheapest() {
+    let dir = std::env::temp_dir().join(format!("telescopic-sizes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("sizes.csv");
+    let out = telescopic(&[
+        "work-precision",
+        "scenes/adams-linear.toml",
+        "--set",
+        "time.end=1",
+        "--modes",
+        "4,8,static:2",
+        "--repeat",
+        "1",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.starts_with(
+            "basis,modes,method,setting,wall_s,tip_error_window_m,statistics_error_rel,pareto"
+        ),
+        "{text}"
+    );
+    let table = rows(&text);
+    assert_eq!(table.len(), 3, "exact: one run per size");
+    let error = |basis: &str, modes: &str| -> f64 {
+        table
+            .iter()
+            .find(|r| r[0] == basis && r[1] == modes)
+            .unwrap()[5]
+            .parse()
+            .unwrap()
+    };
+    // against the beams over [0, 1] s: the paper's 4 modes 6.8 mm, 8 modes 0.28 mm, 2 modes
+    // with the static shapes 0.02 mm (docs/numerics.md)
+    assert!((3e-3..1.2e-2).contains(&error("modes", "4")), "{text}");
+    assert!((1e-4..5e-4).contains(&error("modes", "8")), "{text}");
+    assert!(error("modes+static", "2") < 5e-5, "{text}");
+    // the static shapes' run is on the front: nothing both cheaper and more accurate
+    assert!(
+        table
+            .iter()
+            .any(|r| r[0] == "modes+static" && r[7] == "true"),
+        "{text}"
+    );
+    assert!(
+        stderr.contains("cheapest within 1e-3 m: modes static:2"),
+        "{stderr}"
+    );
+    fails_with(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--modes",
+            "static:0",
+        ],
+        &["--modes", "1 to 30"],
+    );
+}

@@ -132,7 +132,7 @@ fn design_then_simulate_with_the_controller() {
     let header = std::fs::read_to_string(&csv)
         .unwrap()
         .lines()
-        .next()
+        .find(|l| !l.starts_with('#'))
         .unwrap()
         .to_string();
     assert!(

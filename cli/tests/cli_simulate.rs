@@ -42,7 +42,14 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
         assert!(err.contains(needle), "summary lacks `{needle}`: {err}");
     }
     let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.lines();
+    // the error budget leads as `#` lines, as the summary says it
+    let budget: Vec<&str> = text.lines().take_while(|l| l.starts_with('#')).collect();
+    assert!(
+        budget[0].starts_with("# error of tip_rel") && budget[0].contains("truncation"),
+        "{budget:?}"
+    );
+    assert!(err.contains(&budget[0][2..]), "{err}");
+    let mut lines = text.lines().skip(budget.len());
     assert_eq!(
         lines.next().unwrap(),
         "t,vehicle,tip_rel,top1_rel,xi_2_0,xi_2_1,xi_2_2,f_2_0,f_2_1,f_2_2,kappa_1_0,acc_load"
@@ -122,6 +129,7 @@ fn auto_takes_dop853_imex_where_positions_move_with_clearance_and_says_why() {
     let text = std::fs::read_to_string(&csv).unwrap();
     let times: Vec<f64> = text
         .lines()
+        .filter(|l| !l.starts_with('#'))
         .skip(1)
         .map(|l| l.split(',').next().unwrap().parse().unwrap())
         .collect();
@@ -459,6 +467,7 @@ fn exact_reports_its_long_steps_and_no_long_steps_turns_them_off() {
         let text = std::fs::read_to_string(&csv).unwrap();
         let tip: Vec<f64> = text
             .lines()
+            .filter(|l| !l.starts_with('#'))
             .skip(1)
             .map(|l| l.split(',').nth(2).unwrap().parse().unwrap())
             .collect();
@@ -486,4 +495,67 @@ fn exact_reports_its_long_steps_and_no_long_steps_turns_them_off() {
         .unwrap_or_else(|| panic!("no exact line in\n{text}"));
     assert!(line.contains("steps over them with 1.0000e-3 s"), "{line}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
+    let csv = scratch("accuracy-size").join("run.csv");
+    let out = telescopic(&[
+        "simulate",
+        "scenes/adams-linear.toml",
+        "--accuracy",
+        "1e-3",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("accuracy 1e-3 m in all")
+            && err.contains("basis modes+static, 2 modes per section"),
+        "{err}"
+    );
+    assert!(
+        std::fs::read_to_string(&csv)
+            .unwrap()
+            .starts_with("# error of tip_rel")
+    );
+    // the integration accuracy alone, the scene's own modes
+    let out = telescopic(&[
+        "simulate",
+        "scenes/adams-linear.toml",
+        "--accuracy",
+        "1e-8",
+        "--modes-as-given",
+        "--no-error-estimate",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("generated model s2_m5x5"), "{err}");
+    assert!(!err.contains("truncation"), "{err}");
+    assert!(
+        std::fs::read_to_string(&csv)
+            .unwrap()
+            .starts_with("t,vehicle")
+    );
+    // a whole accuracy below what is certified, and the flags that need --accuracy
+    fails_with(
+        &[
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--accuracy",
+            "1e-7",
+            "--out",
+            "/dev/null",
+        ],
+        &["--accuracy", "1e-5 to 1e-1 m", "--modes-as-given"],
+    );
+    let out = telescopic(&["simulate", "scenes/adams-linear.toml", "--modes-as-given"]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "clap refuses --modes-as-given without --accuracy"
+    );
 }

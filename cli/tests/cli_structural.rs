@@ -25,7 +25,7 @@ fn simulate_with_stations_writes_moments_stresses_and_the_envelope() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("stress envelope: max |stress|"), "{err}");
     let text = std::fs::read_to_string(&csv).unwrap();
-    let header = text.lines().next().unwrap();
+    let header = text.lines().find(|l| !l.starts_with('#')).unwrap();
     assert!(
         header.ends_with("moment_1_0,moment_2_0.675,stress_1_0,stress_2_0.675"),
         "{header}"

@@ -751,7 +751,7 @@ fn negative_numbers_reach_the_options_own_check() {
     // a value with a leading minus, in scientific notation too, is the option's value (not
     // clap's "unexpected argument '-1'"), and its check names the rule
     for (flag, value, rule) in [
-        ("--accuracy", "-1e-6", "1e-11 to 1e-2 m"),
+        ("--accuracy", "-1e-6", "1e-5 to 1e-1 m"),
         ("--rtol", "-1", "tolerances must be positive"),
         ("--atol", "-1E-9", "tolerances must be positive"),
         ("--dt", "-0.1", "> 0"),

@@ -77,7 +77,7 @@ fn jobs_do_not_change_the_file() {
 /// max |x|, RMS and the standard deviation from `from` of a CSV column written by `simulate`.
 fn simulate_figures(csv: &Path, name: &str, from: f64) -> (f64, f64, f64) {
     let text = std::fs::read_to_string(csv).unwrap();
-    let mut lines = text.lines();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let i = header.iter().position(|c| *c == name).unwrap();
     let rows: Vec<(f64, f64)> = lines

@@ -28,6 +28,7 @@ fn params(config: &ModelConfig) -> (ModelParams, HashMap<String, f64>) {
     env.insert("g".into(), 9.81);
     let p = ModelParams {
         damping: Default::default(),
+        basis: Default::default(),
         sections,
         vehicle_mass: 100.0,
         load_mass: 17.897,

@@ -56,6 +56,7 @@ fn params_for(c: &ModelConfig, variant: usize) -> ModelParams {
             },
         },
         sections,
+        basis: Default::default(),
         vehicle_mass: 100.0 + 10.0 * v,
         load_mass: 17.897,
         gravity: 9.81,
@@ -135,7 +136,7 @@ fn generated_models_agree_with_the_assembled_model() {
         for variant in 0..3 {
             let p = params_for(&c, variant);
             let generated = prepare(&p).unwrap().unwrap();
-            let assembled = AssembledModel::new(&p).unwrap();
+            let assembled = AssembledModel::exact(&p).unwrap();
             let key = c.key();
             let n = assembled.dof();
             let nc = assembled.layout().contact_count();
@@ -205,12 +206,16 @@ fn generated_models_agree_with_the_assembled_model() {
                         DMatrix::from_column_slice(2 * n, 1, &f1),
                         DMatrix::from_column_slice(2 * n, 1, &f2),
                     );
-                    assert_close(&format!("{key} t = {t}: rhs"), &a, &b, 1e-12);
+                    // between table nodes, g's 1e-12 of interpolation error reaches the
+                    // accelerations of the highest modes through M^-1 (measured 1.7e-8 of the
+                    // largest entry with 6 modes per section)
+                    let rhs_rel = if rel > 1e-12 { 1e-7 } else { 1e-12 };
+                    assert_close(&format!("{key} t = {t}: rhs"), &a, &b, rhs_rel);
                     let (mut j1, mut j2) =
                         (DMatrix::zeros(2 * n, 2 * n), DMatrix::zeros(2 * n, 2 * n));
                     generated.jacobian(t, &y, st, &mut j1);
                     assembled.jacobian(t, &y, st, &mut j2);
-                    assert_close(&format!("{key} t = {t}: Jacobian"), &j1, &j2, 1e-12);
+                    assert_close(&format!("{key} t = {t}: Jacobian"), &j1, &j2, rhs_rel);
                 }
                 let names = assembled.output_names();
                 assert_eq!(generated.output_names(), names);
@@ -254,7 +259,7 @@ fn contact_vectors_at_given_positions_agree_and_match_the_time_path() {
     for c in configs().into_iter().filter(|c| c.sections() > 1) {
         let p = params_for(&c, 1);
         let generated = prepare(&p).unwrap().unwrap();
-        let assembled = AssembledModel::new(&p).unwrap();
+        let assembled = AssembledModel::exact(&p).unwrap();
         let (n, nc, npos) = (
             assembled.dof(),
             assembled.layout().contact_count(),

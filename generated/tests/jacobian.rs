@@ -16,6 +16,7 @@ fn params(
     let n = modes.len();
     ModelParams {
         damping: Default::default(),
+        basis: Default::default(),
         sections: modes
             .iter()
             .enumerate()

@@ -62,6 +62,8 @@ pub fn run<T: Send>(
 ) -> PyResult<T> {
     let progress = Progress::default();
     let mut interrupted = false;
+    // an exception of the progress callable: the work is asked to stop, then it is raised
+    let mut callback_error: Option<PyErr> = None;
     let outcome = std::thread::scope(|scope| {
         let (done, mut finished) = std::sync::mpsc::channel();
         let progress = &progress;
@@ -92,15 +94,26 @@ pub fn run<T: Send>(
                     return Err(error);
                 }
             }
-            if let Some(cb) = callback {
+            if let (Some(cb), None) = (callback, &callback_error) {
                 let f = progress.overall();
                 if f != last {
-                    cb.call1((f,))?;
                     last = f;
+                    if let Err(error) = cb.call1((f,)) {
+                        // a Ctrl-C while the callable runs arrives as its exception
+                        if error.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
+                            interrupted = true;
+                        } else {
+                            callback_error = Some(error);
+                        }
+                        telescopic::interrupt::request();
+                    }
                 }
             }
         }
     })?;
+    if let Some(error) = callback_error {
+        return Err(error);
+    }
     if interrupted {
         return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
             "interrupted (the call stopped; nothing was written)",

@@ -70,6 +70,9 @@ fn simulation_data<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Simulatio
     summary.set_item("samples", traj.rows.len())?;
     summary.set_item("specializations", sim.specializations.clone())?;
     summary.set_item("text", sim.summary())?;
+    summary.set_item("modes", sim.modes.clone())?;
+    summary.set_item("basis", sim.basis.word())?;
+    summary.set_item("error", error_dict(py, sim)?)?;
     Ok((
         traj.names.clone(),
         PyArray2::from_owned_array(py, array),
@@ -77,10 +80,53 @@ fn simulation_data<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Simulatio
     ))
 }
 
+/// The error budget as a dict (`None` when not estimated): `window_end_s`, `window_end`
+/// (`span-end` or `first-switch`), `integration_m`, `integration_statistics` (relative),
+/// `truncation_m`, `total_m`,
+/// `refined_modes`, `moments` (`{column: relative}`), `statistics` (`{name: (value,
+/// relative)}`), `missing` (why the truncation part is missing, or `None`).
+fn error_dict<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(b) = &sim.error else {
+        return Ok(None);
+    };
+    let out = PyDict::new(py);
+    out.set_item("window_end_s", b.window.end)?;
+    out.set_item(
+        "window_end",
+        match b.window.reason {
+            telescopic::error_budget::WindowEnd::SpanEnd => "span-end",
+            telescopic::error_budget::WindowEnd::FirstSwitch => "first-switch",
+        },
+    )?;
+    out.set_item("integration_m", b.integration_m)?;
+    out.set_item("integration_statistics", b.integration_statistics)?;
+    out.set_item("truncation_m", b.truncation.as_ref().map(|t| t.tip_m))?;
+    out.set_item("total_m", b.total_m())?;
+    out.set_item(
+        "refined_modes",
+        b.truncation.as_ref().map(|t| t.refined_modes.clone()),
+    )?;
+    let moments = PyDict::new(py);
+    let statistics = PyDict::new(py);
+    if let Some(t) = &b.truncation {
+        for m in &t.moments {
+            moments.set_item(&m.column, m.relative)?;
+        }
+        for s in &t.statistics {
+            statistics.set_item(s.statistic.name(), (s.value, s.relative))?;
+        }
+    }
+    out.set_item("moments", moments)?;
+    out.set_item("statistics", statistics)?;
+    out.set_item("missing", b.missing.clone())?;
+    Ok(Some(out))
+}
+
 /// Simulates a scene (see `telescopic.simulate`).
 #[pyfunction]
 #[pyo3(signature = (scene, method = "auto", rtol = None, atol = None, dt = None, accuracy = None,
-    controller = None, stations = None, model = "auto", progress = None))]
+    controller = None, stations = None, model = "auto", progress = None, modes_as_given = false,
+    error_estimate = true, moment_tolerance = None, statistics_tolerance = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
@@ -94,7 +140,12 @@ pub fn simulate<'py>(
     stations: Option<Vec<(Bound<'py, PyAny>, f64)>>,
     model: &str,
     progress: Option<&Bound<'py, PyAny>>,
+    modes_as_given: bool,
+    error_estimate: bool,
+    moment_tolerance: Option<f64>,
+    statistics_tolerance: Option<f64>,
 ) -> PyResult<SimulationData<'py>> {
+    let defaults = SimulationOptions::default();
     let stations = stations
         .unwrap_or_default()
         .into_iter()
@@ -113,6 +164,10 @@ pub fn simulate<'py>(
         accuracy,
         model: parsed::<ModelChoice>("model", model)?,
         stations,
+        modes_as_given,
+        error_estimate,
+        moment_tolerance: moment_tolerance.unwrap_or(defaults.moment_tolerance),
+        statistics_tolerance: statistics_tolerance.unwrap_or(defaults.statistics_tolerance),
         ..SimulationOptions::default()
     };
     let controller = match controller {

@@ -210,12 +210,22 @@ def simulate(
     stations: Iterable[tuple[int, float]] | None = None,
     model: str = "auto",
     progress: Any = None,
+    modes_as_given: bool = False,
+    error_estimate: bool = True,
+    moment_tolerance: float | None = None,
+    statistics_tolerance: float | None = None,
 ) -> Simulation:
     """Integrates ``scene`` from rest with the clearance contact law (``telescopic simulate``).
 
     ``method`` is one of the CLI's (``auto``, ``exact``, ``dopri5``, ``dop853``, ``dop853-imex``,
     ``imex``, ...);
-    ``accuracy`` (m) picks the cheapest method reaching it; ``controller`` drives the scene
+    ``accuracy`` (m) is the whole error of ``tip_rel`` against the beams: the run picks the
+    basis, the modes per section, the method and the tolerance that reach it cheapest (with
+    ``modes_as_given=True`` the scene's modes stay and ``accuracy`` bounds the integration
+    only; ``moment_tolerance`` and ``statistics_tolerance`` bound the moments and, with
+    clearance, the statistics, defaults 0.02 and 0.05). ``summary["error"]`` holds the run's
+    error in two parts (integration and truncation; ``error_estimate=False`` skips the
+    companion run that estimates the truncation); ``controller`` drives the scene
     with a designed controller; ``stations`` adds bending moments (and stresses) at
     ``(section, x)``; ``progress`` is a callable taking the fraction done (or ``True`` for a
     tqdm bar). Raises ``SolverError`` (with ``.time`` and ``.method``) when the integration
@@ -235,6 +245,10 @@ def simulate(
         stations=list(stations) if stations is not None else None,
         model=model,
         progress=_progress(progress),
+        modes_as_given=modes_as_given,
+        error_estimate=error_estimate,
+        moment_tolerance=moment_tolerance,
+        statistics_tolerance=statistics_tolerance,
     )
     return Simulation(columns, data, summary)
 

@@ -72,8 +72,12 @@ def simulate(
     stations: list[tuple[int, float]] | None = None,
     model: str = "auto",
     progress: Callable[[float], None] | None = None,
+    modes_as_given: bool = False,
+    error_estimate: bool = True,
+    moment_tolerance: float | None = None,
+    statistics_tolerance: float | None = None,
 ) -> tuple[list[str], np.ndarray, dict[str, Any]]:
-    """Columns, samples (t first) and the run summary of a simulation."""
+    """Columns, samples (t first) and the run summary (with its error budget) of a simulation."""
 
 def modes(
     scene: Scene, at: float | None = None, count: int | None = None, points: int = 51,

@@ -1,6 +1,7 @@
 """The package against the CLI and against itself: the same numbers by another path."""
 
 import json
+import re
 import threading
 
 import numpy as np
@@ -15,13 +16,22 @@ def test_simulate_equals_the_cli_csv(cli, tmp_path):
     sim = telescopic.simulate(scene)
     csv = tmp_path / "run.csv"
     cli("simulate", "scenes/case-study.toml", "--set", "time.end=2", "--out", str(csv))
-    theirs = pd.read_csv(csv)
+    theirs = pd.read_csv(csv, comment="#")
     assert list(theirs.columns) == ["t", *sim.columns]
     for name in theirs.columns:
         assert np.max(np.abs(sim[name] - theirs[name].to_numpy())) <= 1e-12, name
     frame = sim.to_pandas()
     assert frame.index.name == "t" and list(frame.columns) == sim.columns
     assert sim.summary["method"] == "dop853-imex" and sim.summary["switches"] > 0
+    # the error budget: the same numbers as the CSV's `#` header, both parts
+    error = sim.summary["error"]
+    assert error["window_end"] == "first-switch" and 0 < error["window_end_s"] < 2.0
+    assert error["refined_modes"] == [6, 6] and sim.summary["modes"] == [4, 4]
+    assert 0 < error["integration_m"] < error["truncation_m"] < 1e-2
+    header = csv.read_text().splitlines()[0]
+    written = float(re.search(r"truncation ([0-9.e+-]+) m", header).group(1))
+    assert abs(written - error["truncation_m"]) <= 0.05 * error["truncation_m"], header
+    assert set(error["statistics"]) >= {"rms-tip-rel", "peak-tip-rel", "contact-switches"}
 
 
 def test_a_scene_from_text_and_from_its_file_agree():

@@ -3,14 +3,23 @@
 //! reference the generated models are tested against.
 
 use crate::contact::ContactState;
+use crate::contact_table::ContactTable;
 use crate::damping::structural_damping;
 use crate::layout::{ContactPoint, Layout};
+use crate::mass_solve::MassSolve;
 use crate::model::Model;
+use crate::params::Basis;
 use crate::params::{Drive, ModelParams, SectionParams};
 use crate::profile::Profile;
 use crate::quadrature::SectionQuadrature;
-use crate::shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction};
-use nalgebra::{Cholesky, DMatrix, DVector, DVectorView, DVectorViewMut, Dyn};
+pub use crate::section_basis::MAX_SECTION_COORDINATES;
+
+/// The contact tables' tolerance on `g` for the static correction shapes (relative).
+pub const SPLINE_TABLE_TOLERANCE: f64 = 1e-9;
+use crate::section_basis::SectionBasis;
+use crate::shape::{MAX_MODES, SectionKind, SectionShapes};
+use crate::spline::correction_knots;
+use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut};
 
 /// Why a model could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -24,68 +33,6 @@ pub enum ModelError {
     Invalid(String),
 }
 
-/// A basis function restricted to one section, in the computing coordinates.
-#[derive(Debug, Clone, Copy)]
-enum LocalBasis {
-    /// The unit translation (value 1, derivatives 0).
-    Translation,
-    /// `phi(x) - shift`.
-    Shape(ShapeFunction, f64),
-}
-
-impl LocalBasis {
-    #[inline]
-    fn eval(&self, x: f64, deriv: u8) -> f64 {
-        match self {
-            LocalBasis::Translation => {
-                if deriv == 0 {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
-            LocalBasis::Shape(f, shift) => {
-                if deriv == 0 {
-                    f.eval(x, 0) - shift
-                } else {
-                    f.eval(x, deriv)
-                }
-            }
-        }
-    }
-}
-
-/// `int rhoA psi_a psi_b` and `int (EI psi_a'' psi_b'' - P psi_a' psi_b')` over one section, for a
-/// list of local basis functions; `prestress = (p0, p1)` gives `P(x) = p0 + p1 x` (N).
-fn section_integrals(
-    section: &SectionParams,
-    quad: &SectionQuadrature,
-    basis: &[LocalBasis],
-    prestress: (f64, f64),
-) -> (DMatrix<f64>, DMatrix<f64>) {
-    let m = basis.len();
-    let mut mass = DMatrix::zeros(m, m);
-    let mut stiff = DMatrix::zeros(m, m);
-    let (mut v, mut d1, mut d2) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-    for (&x, &w) in quad.nodes.iter().zip(&quad.weights) {
-        for (a, b) in basis.iter().enumerate() {
-            v[a] = b.eval(x, 0);
-            d1[a] = b.eval(x, 1);
-            d2[a] = b.eval(x, 2);
-        }
-        let rho_a = w * section.mass_per_length;
-        let ei = w * section.bending_stiffness;
-        let p = w * (prestress.0 + prestress.1 * x);
-        for a in 0..m {
-            for b in 0..m {
-                mass[(a, b)] += rho_a * v[a] * v[b];
-                stiff[(a, b)] += ei * d2[a] * d2[b] - p * d1[a] * d1[b];
-            }
-        }
-    }
-    (mass, stiff)
-}
-
 /// Mass and stiffness matrices of one section in the paper's basis `phi_{k,1..N}`, without
 /// point masses: `M_ij = int rhoA phi_i phi_j`, `K_ij = int EI phi_i'' phi_j'' - int P phi_i' phi_j'`.
 /// `kind` picks the shape functions; `prestress = (p0, p1)`, `P(x) = p0 + p1 x` (N).
@@ -96,12 +43,7 @@ pub fn paper_section_matrices(
 ) -> (DMatrix<f64>, DMatrix<f64>) {
     let shapes = SectionShapes::new(kind, section.modes, section.length);
     let quad = SectionQuadrature::for_modes(section.length, shapes.max_beta());
-    let basis: Vec<_> = shapes
-        .functions()
-        .iter()
-        .map(|&f| LocalBasis::Shape(f, 0.0))
-        .collect();
-    section_integrals(section, &quad, &basis, prestress)
+    SectionBasis::paper_modes(section, kind).integrals(section, &quad, prestress)
 }
 
 /// Contact vector entries of one contact: the values on the inner section `k` (`+psi(x_in)`)
@@ -113,10 +55,10 @@ struct ContactEntries {
     inner_len: usize,
     outer_offset: usize,
     outer_len: usize,
-    inner: [f64; MAX_MODES],
-    outer: [f64; MAX_MODES],
-    inner_rate: [f64; MAX_MODES],
-    outer_rate: [f64; MAX_MODES],
+    inner: [f64; MAX_SECTION_COORDINATES],
+    outer: [f64; MAX_SECTION_COORDINATES],
+    inner_rate: [f64; MAX_SECTION_COORDINATES],
+    outer_rate: [f64; MAX_SECTION_COORDINATES],
 }
 
 impl ContactEntries {
@@ -145,18 +87,20 @@ impl ContactEntries {
 pub struct AssembledModel {
     params: ModelParams,
     layout: Layout,
-    /// Local basis of each section: `(global index, function)`.
-    bases: Vec<Vec<(usize, LocalBasis)>>,
+    /// Each section's coordinate functions.
+    bases: Vec<SectionBasis>,
     mass: DMatrix<f64>,
     stiffness: DMatrix<f64>,
     /// Structural damping `D_s` ([`crate::damping`]), when the scene has any.
     damping: Option<DMatrix<f64>>,
     drive: DVector<f64>,
-    mass_factor: Cholesky<f64, Dyn>,
-    /// Cholesky factor of `M` without row and column 0 (prescribed vehicle motion).
-    relative_mass_factor: Option<Cholesky<f64, Dyn>>,
+    mass_solve: MassSolve,
     /// Contact entries when every telescopic position is constant.
     fixed_contacts: Option<Vec<ContactEntries>>,
+    /// Per contact, its entries (inner section's, then outer's) tabulated in time when
+    /// positions move ([`ContactTable`]): shape functions at moving points are the costly
+    /// part of a right-hand side.
+    moving_tables: Option<Vec<ContactTable>>,
     /// `tip_rel = tip . z`, `top1_rel = top1 . z`.
     tip: DVector<f64>,
     top1: DVector<f64>,
@@ -169,6 +113,20 @@ impl AssembledModel {
     /// # Errors
     /// [`ModelError`] if the parameters break the layout rules or `M` is not positive definite.
     pub fn new(params: &ModelParams) -> Result<Self, ModelError> {
+        Self::build(params, true)
+    }
+
+    /// As [`AssembledModel::new`], but evaluating moving contact vectors from the shape
+    /// functions at every call instead of a table: the reference the generated models'
+    /// tables are tested against.
+    ///
+    /// # Errors
+    /// As [`AssembledModel::new`].
+    pub fn exact(params: &ModelParams) -> Result<Self, ModelError> {
+        Self::build(params, false)
+    }
+
+    fn build(params: &ModelParams, tabulate: bool) -> Result<Self, ModelError> {
         let n = params.sections.len();
         if n == 0
             || params
@@ -185,7 +143,21 @@ impl AssembledModel {
                 "need n_c >= 2 and one telescopic position per overlap".into(),
             ));
         }
-        let layout = Layout::new(&params.modes(), params.contact_points);
+        let coordinates = params.coordinates();
+        if let Some(k) = coordinates
+            .iter()
+            .position(|&c| c > MAX_SECTION_COORDINATES)
+        {
+            return Err(ModelError::Invalid(format!(
+                "section {} has {} coordinates ({} modes and {} static correction shapes); at \
+                 most {MAX_SECTION_COORDINATES}",
+                k + 1,
+                coordinates[k],
+                params.sections[k].modes,
+                coordinates[k] - params.sections[k].modes
+            )));
+        }
+        let layout = Layout::new(&coordinates, params.contact_points);
         let dof = layout.dof();
         let mut bases = Vec::with_capacity(n);
         let mut mass = DMatrix::zeros(dof, dof);
@@ -194,22 +166,17 @@ impl AssembledModel {
         for (k0, sec) in params.sections.iter().enumerate() {
             let k = k0 + 1;
             let shapes = SectionShapes::new(SectionKind::of_section(k), sec.modes, sec.length);
-            let mut basis = vec![(0, LocalBasis::Translation)];
-            for f in shapes.functions() {
-                match (k, f.index()) {
-                    (1, 1) => {} // section 1's rigid mode is the translation, index 0
-                    (1, i) => {
-                        basis.push((layout.index(1, i), LocalBasis::Shape(*f, f.eval(0.0, 0))))
-                    }
-                    (_, i) => basis.push((layout.index(k, i), LocalBasis::Shape(*f, 0.0))),
-                }
-            }
-            let quad = SectionQuadrature::for_modes(sec.length, shapes.max_beta());
+            let knots = match params.basis {
+                Basis::Modes => Vec::new(),
+                Basis::ModesAndStatic => correction_knots(params, k),
+            };
+            let quad = SectionQuadrature::split_at(sec.length, shapes.max_beta(), &knots);
             quadrature_points.push(quad.nodes.len());
-            let local: Vec<_> = basis.iter().map(|(_, b)| *b).collect();
-            let (m_loc, k_loc) = section_integrals(sec, &quad, &local, params.prestress(k));
-            for (a, (ga, _)) in basis.iter().enumerate() {
-                for (b, (gb, _)) in basis.iter().enumerate() {
+            let basis = SectionBasis::new(params, k, layout.offset(k), &quad)
+                .map_err(ModelError::Invalid)?;
+            let (m_loc, k_loc) = basis.integrals(sec, &quad, params.prestress(k));
+            for (a, ga) in basis.indices().iter().enumerate() {
+                for (b, gb) in basis.indices().iter().enumerate() {
                     mass[(*ga, *gb)] += m_loc[(a, b)];
                     stiffness[(*ga, *gb)] += k_loc[(a, b)];
                 }
@@ -229,16 +196,7 @@ impl AssembledModel {
         let stiffness = 0.5 * (&stiffness + stiffness.transpose());
         let mut drive = DVector::zeros(dof);
         drive[0] = 1.0;
-        let mass_factor = mass.clone().cholesky().ok_or(ModelError::SingularMass)?;
-        let relative_mass_factor = match params.drive {
-            Drive::Motion(_) if dof > 1 => Some(
-                mass.view((1, 1), (dof - 1, dof - 1))
-                    .into_owned()
-                    .cholesky()
-                    .ok_or(ModelError::SingularMass)?,
-            ),
-            _ => None,
-        };
+        let mass_solve = MassSolve::new(&mass, &params.drive).ok_or(ModelError::SingularMass)?;
         let mut model = Self {
             params: params.clone(),
             layout,
@@ -247,9 +205,9 @@ impl AssembledModel {
             stiffness,
             damping: None,
             drive,
-            mass_factor,
-            relative_mass_factor,
+            mass_solve,
             fixed_contacts: None,
+            moving_tables: None,
             tip,
             top1,
             quadrature_points,
@@ -261,6 +219,8 @@ impl AssembledModel {
                 .map(|c| model.contact_entries(c, 0.0))
                 .collect();
             model.fixed_contacts = Some(fixed);
+        } else if tabulate {
+            model.moving_tables = model.tabulate_contacts();
         }
         model.damping = structural_damping(&model)
             .map_err(|e| ModelError::Invalid(format!("structural damping: {e}")))?;
@@ -268,10 +228,12 @@ impl AssembledModel {
     }
 
     /// Values of a section's basis functions at `x` as a global vector.
-    fn point_vector(basis: &[(usize, LocalBasis)], dof: usize, x: f64) -> DVector<f64> {
+    fn point_vector(basis: &SectionBasis, dof: usize, x: f64) -> DVector<f64> {
+        let mut values = vec![0.0; basis.len()];
+        basis.values(x, 0, &mut values);
         let mut v = DVector::zeros(dof);
-        for (j, b) in basis {
-            v[*j] += b.eval(x, 0);
+        for (j, b) in basis.indices().iter().zip(values) {
+            v[*j] += b;
         }
         v
     }
@@ -287,6 +249,66 @@ impl AssembledModel {
         self.contact_entries_at(c, a.value(t), a.rate(t))
     }
 
+    /// The entries of contact point `c` with every value zero.
+    fn empty_entries(&self, c: ContactPoint) -> ContactEntries {
+        let k = c.overlap;
+        ContactEntries {
+            inner_offset: self.layout.offset(k),
+            inner_len: self.layout.modes()[k - 1],
+            outer_offset: self.layout.offset(k - 1),
+            outer_len: self.layout.modes()[k - 2],
+            inner: [0.0; MAX_SECTION_COORDINATES],
+            outer: [0.0; MAX_SECTION_COORDINATES],
+            inner_rate: [0.0; MAX_SECTION_COORDINATES],
+            outer_rate: [0.0; MAX_SECTION_COORDINATES],
+        }
+    }
+
+    /// One [`ContactTable`] per contact over the interval where the positions move; `None`
+    /// when a profile cannot be tabulated (a kink in its rate) or a table misses its
+    /// tolerances.
+    fn tabulate_contacts(&self) -> Option<Vec<ContactTable>> {
+        let tolerances = match self.params.basis {
+            Basis::Modes => (
+                crate::contact_table::G_TOLERANCE,
+                crate::contact_table::GD_TOLERANCE,
+            ),
+            // the splines are C2 at their knots: a contact point crossing one makes g only
+            // C2 in time; 1e-9 of g is a contact force error of about 1e-9 c |g| |z| (a
+            // millinewton on the shipped scenes), far below the model's truncation
+            Basis::ModesAndStatic => (SPLINE_TABLE_TOLERANCE, 1e3 * SPLINE_TABLE_TOLERANCE),
+        };
+        self.layout
+            .contacts()
+            .map(|c| {
+                let e = self.empty_entries(c);
+                let (il, ol) = (e.inner_len, e.outer_len);
+                ContactTable::build_to(&self.params.positions, il + ol, tolerances, |t, g, gd| {
+                    let e = self.contact_entries(c, t);
+                    g[..il].copy_from_slice(&e.inner[..il]);
+                    g[il..].copy_from_slice(&e.outer[..ol]);
+                    gd[..il].copy_from_slice(&e.inner_rate[..il]);
+                    gd[il..].copy_from_slice(&e.outer_rate[..ol]);
+                })
+            })
+            .collect()
+    }
+
+    /// The entries of contact point `c` at `t` (s) interpolated from `table`.
+    #[inline]
+    fn tabulated_entries(&self, c: ContactPoint, table: &ContactTable, t: f64) -> ContactEntries {
+        let mut e = self.empty_entries(c);
+        let (il, ol) = (e.inner_len, e.outer_len);
+        let mut g = [0.0; 2 * MAX_SECTION_COORDINATES];
+        let mut gd = [0.0; 2 * MAX_SECTION_COORDINATES];
+        table.interpolate(t, &mut g[..il + ol], &mut gd[..il + ol]);
+        e.inner[..il].copy_from_slice(&g[..il]);
+        e.outer[..ol].copy_from_slice(&g[il..il + ol]);
+        e.inner_rate[..il].copy_from_slice(&gd[..il]);
+        e.outer_rate[..ol].copy_from_slice(&gd[il..il + ol]);
+        e
+    }
+
     /// Contact vector entries of contact point `c` with its overlap's foot position `a_t` (m)
     /// moving at `a_rate` (m/s).
     fn contact_entries_at(&self, c: ContactPoint, a_t: f64, a_rate: f64) -> ContactEntries {
@@ -296,30 +318,27 @@ impl AssembledModel {
         let x_in = s * (l_out - a_t);
         let x_out = a_t + s * (l_out - a_t);
         let (rate_in, rate_out) = (-s * a_rate, (1.0 - s) * a_rate);
-        let mut e = ContactEntries {
-            inner_offset: self.layout.offset(k),
-            inner_len: self.layout.modes()[k - 1],
-            outer_offset: self.layout.offset(k - 1),
-            outer_len: self.layout.modes()[k - 2],
-            inner: [0.0; MAX_MODES],
-            outer: [0.0; MAX_MODES],
-            inner_rate: [0.0; MAX_MODES],
-            outer_rate: [0.0; MAX_MODES],
-        };
+        let mut e = self.empty_entries(c);
         // the translation (index 0) cancels between the sections and is skipped
-        for &(j, b) in &self.bases[k - 1] {
-            if j != 0 {
-                let i = j - e.inner_offset;
-                e.inner[i] = b.eval(x_in, 0);
-                e.inner_rate[i] = b.eval(x_in, 1) * rate_in;
-            }
+        let (mut value, mut slope) = (
+            [0.0; MAX_SECTION_COORDINATES + 1],
+            [0.0; MAX_SECTION_COORDINATES + 1],
+        );
+        let inner = &self.bases[k - 1];
+        inner.values(x_in, 0, &mut value);
+        inner.values(x_in, 1, &mut slope);
+        for (a, &j) in inner.indices().iter().enumerate().skip(1) {
+            let i = j - e.inner_offset;
+            e.inner[i] = value[a];
+            e.inner_rate[i] = slope[a] * rate_in;
         }
-        for &(j, b) in &self.bases[k - 2] {
-            if j != 0 {
-                let i = j - e.outer_offset;
-                e.outer[i] = -b.eval(x_out, 0);
-                e.outer_rate[i] = -b.eval(x_out, 1) * rate_out;
-            }
+        let outer = &self.bases[k - 2];
+        outer.values(x_out, 0, &mut value);
+        outer.values(x_out, 1, &mut slope);
+        for (a, &j) in outer.indices().iter().enumerate().skip(1) {
+            let i = j - e.outer_offset;
+            e.outer[i] = -value[a];
+            e.outer_rate[i] = -slope[a] * rate_out;
         }
         e
     }
@@ -327,9 +346,14 @@ impl AssembledModel {
     /// Runs `f(c, entries)` for every contact at time `t`, from the cache when positions are fixed.
     #[inline]
     fn for_each_contact(&self, t: f64, mut f: impl FnMut(usize, &ContactEntries)) {
-        match &self.fixed_contacts {
-            Some(fixed) => fixed.iter().enumerate().for_each(|(c, e)| f(c, e)),
-            None => {
+        match (&self.fixed_contacts, &self.moving_tables) {
+            (Some(fixed), _) => fixed.iter().enumerate().for_each(|(c, e)| f(c, e)),
+            (None, Some(tables)) => {
+                for ((c, p), table) in self.layout.contacts().enumerate().zip(tables) {
+                    f(c, &self.tabulated_entries(p, table, t));
+                }
+            }
+            (None, None) => {
                 for (c, p) in self.layout.contacts().enumerate() {
                     f(c, &self.contact_entries(p, t));
                 }
@@ -423,21 +447,7 @@ impl Model for AssembledModel {
                 acc[j] -= f * g;
             }
         });
-        let input = self.drive_input(t);
-        match &self.relative_mass_factor {
-            None => {
-                acc[0] += input;
-                self.mass_factor.solve_mut(&mut acc);
-            }
-            Some(factor) => {
-                // u'' = s''(t) is given; the other rows carry -M_p0 s'' and drop the reaction
-                for j in 1..n {
-                    acc[j] -= self.mass[(j, 0)] * input;
-                }
-                factor.solve_mut(&mut acc.rows_mut(1, n - 1));
-                acc[0] = input;
-            }
-        }
+        self.mass_solve.accelerations(self.drive_input(t), acc);
     }
 
     fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
@@ -466,23 +476,22 @@ impl Model for AssembledModel {
             }
         });
         // ... then become -M^-1 times that
-        match &self.relative_mass_factor {
-            None => self
-                .mass_factor
-                .solve_mut(&mut jac.view_mut((n, 0), (n, 2 * n))),
-            Some(factor) => {
-                jac.row_mut(n).fill(0.0);
-                factor.solve_mut(&mut jac.view_mut((n + 1, 0), (n - 1, 2 * n)));
-            }
+        self.mass_solve.jacobian_rows(jac);
+    }
+
+    fn shape_row(&self, section: usize, x: f64, deriv: u8) -> Vec<f64> {
+        let basis = &self.bases[section - 1];
+        let mut values = vec![0.0; basis.len()];
+        basis.values(x, deriv, &mut values);
+        let mut row = vec![0.0; self.dof()];
+        for (&j, v) in basis.indices().iter().zip(values) {
+            row[j] += v;
         }
-        jac.view_mut((n, 0), (n, 2 * n)).neg_mut();
+        row
     }
 
     fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
-        self.bases[section - 1]
-            .iter()
-            .map(|(j, b)| z[*j] * b.eval(x, 0))
-            .sum()
+        self.bases[section - 1].combine(x, 0, z)
     }
 
     fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {

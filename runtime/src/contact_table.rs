@@ -74,6 +74,19 @@ impl ContactTable {
     pub fn build(
         positions: &[Profile],
         width: usize,
+        exact: impl FnMut(f64, &mut [f64], &mut [f64]),
+    ) -> Option<Self> {
+        Self::build_to(positions, width, (G_TOLERANCE, GD_TOLERANCE), exact)
+    }
+
+    /// As [`ContactTable::build`] to the tolerances `(g, gd)`, relative to the largest
+    /// entries: for contact vectors that are only twice continuously differentiable in time
+    /// (a contact point crossing a spline knot), where [`G_TOLERANCE`] would need a grid
+    /// thousands of times finer.
+    pub fn build_to(
+        positions: &[Profile],
+        width: usize,
+        (g_tolerance, gd_tolerance): (f64, f64),
         mut exact: impl FnMut(f64, &mut [f64], &mut [f64]),
     ) -> Option<Self> {
         let moving: Vec<&Profile> = positions.iter().filter(|p| !p.is_constant()).collect();
@@ -93,7 +106,7 @@ impl ContactTable {
         loop {
             let mut table = ContactTable::sample(start, end, intervals, width, &mut exact);
             let (error_g, error_gd) = table.check(&mut exact);
-            if error_g <= G_TOLERANCE && error_gd <= GD_TOLERANCE {
+            if error_g <= g_tolerance && error_gd <= gd_tolerance {
                 table.error_g = error_g;
                 table.error_gd = error_gd;
                 table.drop_constant_columns();
@@ -101,9 +114,9 @@ impl ContactTable {
             }
             // the errors go as step^4 (g) and step^3 (gd): jump to the grid they predict
             // (with 10 % to spare), at least one halving
-            let factor = (error_g / G_TOLERANCE)
+            let factor = (error_g / g_tolerance)
                 .powf(0.25)
-                .max((error_gd / GD_TOLERANCE).powf(1.0 / 3.0));
+                .max((error_gd / gd_tolerance).powf(1.0 / 3.0));
             let wanted = (1.1 * factor * intervals as f64).min(2.0 * MAX_INTERVALS as f64);
             intervals = (wanted.ceil() as usize).max(2 * intervals);
             if intervals > MAX_INTERVALS {

@@ -29,20 +29,24 @@ pub mod contact_table;
 pub mod damped_modes;
 pub mod damping;
 pub mod eigen;
+pub mod elements;
 pub mod input;
 pub mod integrate;
 pub mod layout;
 pub mod linear;
+mod mass_solve;
 pub mod model;
 pub mod params;
 pub mod profile;
 pub mod quadrature;
 pub mod scene;
+pub(crate) mod section_basis;
 pub mod sensors;
 pub mod shape;
 #[cfg(feature = "reference")]
 pub mod shape_reference;
 pub mod specialize;
+pub mod spline;
 
 pub use accuracy::{AccuracyPlan, DEFAULT_ACCURACY_M, plan_for_accuracy};
 pub use assembled::{AssembledModel, ModelError, paper_section_matrices};
@@ -57,6 +61,7 @@ pub use eigen::{
     EigenError, FastestRates, ModalAnalysis, closed_contact_damping, closed_contact_eigenvalues,
     eigenvalues, fastest_rates, modal_analysis, modal_analysis_with, sample_shape,
 };
+pub use elements::{ElementError, ElementModel};
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use layout::{ContactPoint, Layout};
 pub use linear::{ContactMode, LinearError, LinearModel, Lpv, Signal};
@@ -64,7 +69,7 @@ pub use model::{Model, mechanical_energy, rest_state};
 /// The linear-algebra crate of the [`Model`] interface, re-exported so that generated modules
 /// and downstream crates use the same version.
 pub use nalgebra;
-pub use params::{Drive, ForceFlow, ModelParams, SectionParams};
+pub use params::{Basis, Drive, ForceFlow, ModelParams, SectionParams};
 pub use profile::{Profile, ShapedProfile};
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
 pub use shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction, mode_root};

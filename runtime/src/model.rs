@@ -28,6 +28,7 @@
 use crate::contact::{ContactForce, ContactState};
 use crate::layout::Layout;
 use crate::params::{Drive, ModelParams};
+use crate::shape::{SectionKind, SectionShapes};
 use nalgebra::{DMatrix, DVector};
 
 /// A discretized telescope: matrices, contact geometry, right-hand side and Jacobian of the
@@ -90,6 +91,14 @@ pub trait Model {
     /// Absolute transverse displacement `w_k(x, t)` (m) of section `k` (1-based) at `x` (m).
     fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64;
 
+    /// The row `r` with `w_k^(deriv)(x) = r . z`: the value (`deriv = 0`, m), slope (1) or
+    /// curvature (2, 1/m) of section `k` (1-based) at `x` (m from its foot) per unit of each
+    /// coordinate. The default evaluates the paper's shape functions, the basis of every
+    /// generated model; a model with other coordinates overrides it.
+    fn shape_row(&self, section: usize, x: f64, deriv: u8) -> Vec<f64> {
+        paper_shape_row(self.layout(), self.params(), section, x, deriv)
+    }
+
     /// Output quantities (docs/model.md section 5, names from [`Model::output_names`]) at `t`,
     /// state `y` and its derivative `ydot` (for `drive_force`).
     fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]);
@@ -120,6 +129,30 @@ pub trait Model {
             None => law.force(xi, xi_dot),
         }
     }
+}
+
+/// [`Model::shape_row`] in the paper's basis: the translation (index 0, value 1) and each
+/// section's modes (section 1's shifted to vanish at the vehicle).
+pub fn paper_shape_row(
+    layout: &Layout,
+    params: &ModelParams,
+    section: usize,
+    x: f64,
+    deriv: u8,
+) -> Vec<f64> {
+    let s = &params.sections[section - 1];
+    let shapes = SectionShapes::new(SectionKind::of_section(section), s.modes, s.length);
+    let mut row = vec![0.0; layout.dof()];
+    row[0] = f64::from(u8::from(deriv == 0));
+    for f in shapes.functions() {
+        // section 1's first function is the vehicle's translation
+        match (section, f.index()) {
+            (1, 1) => {}
+            (1, i) if deriv == 0 => row[layout.index(1, i)] = f.eval(x, 0) - f.eval(0.0, 0),
+            (k, i) => row[layout.index(k, i)] = f.eval(x, deriv),
+        }
+    }
+    row
 }
 
 /// The state at rest and straight at time `t0` (s): `z = 0` except the vehicle, which sits at

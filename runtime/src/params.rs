@@ -21,6 +21,31 @@ pub enum ForceFlow {
     None,
 }
 
+/// The functions that discretize the sections (docs/model.md section 4).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
+)]
+pub enum Basis {
+    /// The paper's shape functions: `N_k` modes per section.
+    #[default]
+    #[serde(rename = "modes")]
+    Modes,
+    /// The paper's modes plus each section's static correction shapes
+    /// ([`crate::spline`]): cubic B-splines with knots at its contact stations.
+    #[serde(rename = "modes+static")]
+    ModesAndStatic,
+}
+
+impl Basis {
+    /// The scene file's word for it.
+    pub fn word(self) -> &'static str {
+        match self {
+            Basis::Modes => "modes",
+            Basis::ModesAndStatic => "modes+static",
+        }
+    }
+}
+
 /// One Euler-Bernoulli section.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SectionParams {
@@ -67,6 +92,8 @@ pub struct ModelParams {
     pub drive: Drive,
     /// Structural damping of the sections (none by default).
     pub damping: crate::damping::StructuralDamping,
+    /// The functions that discretize the sections.
+    pub basis: Basis,
 }
 
 impl ModelParams {
@@ -92,6 +119,20 @@ impl ModelParams {
     /// Modes per section.
     pub fn modes(&self) -> Vec<usize> {
         self.sections.iter().map(|s| s.modes).collect()
+    }
+
+    /// Coordinates per section: its modes, and its static correction shapes for
+    /// [`Basis::ModesAndStatic`].
+    pub fn coordinates(&self) -> Vec<usize> {
+        (1..=self.sections.len())
+            .map(|k| {
+                let extra = match self.basis {
+                    Basis::Modes => 0,
+                    Basis::ModesAndStatic => crate::spline::correction_knots(self, k).len() + 2,
+                };
+                self.sections[k - 1].modes + extra
+            })
+            .collect()
     }
 
     /// Total mass: sections, vehicle and load (kg).

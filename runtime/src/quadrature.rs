@@ -48,6 +48,27 @@ impl SectionQuadrature {
         Self::with_points(length, Self::points_for(beta_max))
     }
 
+    /// The rule of [`SectionQuadrature::for_modes`] on each piece of `[0, length]` cut at
+    /// `breaks` (m, inside, ascending): exact to round-off for products of modes with
+    /// functions that are polynomials of degree <= 3 between the breaks (the static
+    /// correction shapes of [`crate::spline`]). Without breaks, the plain rule.
+    pub fn split_at(length: f64, beta_max: f64, breaks: &[f64]) -> Self {
+        let mut edges = vec![0.0];
+        edges.extend_from_slice(breaks);
+        edges.push(length);
+        let points = Self::points_for(beta_max);
+        let mut rule = Self {
+            nodes: Vec::new(),
+            weights: Vec::new(),
+        };
+        for pair in edges.windows(2) {
+            let piece = Self::with_points(pair[1] - pair[0], points);
+            rule.nodes.extend(piece.nodes.iter().map(|x| pair[0] + x));
+            rule.weights.extend(piece.weights);
+        }
+        rule
+    }
+
     /// `int_0^l f(x) dx`.
     pub fn integrate(&self, mut f: impl FnMut(f64) -> f64) -> f64 {
         self.nodes

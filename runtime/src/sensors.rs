@@ -3,31 +3,10 @@
 //! section's height) and the absolute displacement of the load (whose second derivative a
 //! tip accelerometer reads).
 
-use crate::layout::Layout;
 use crate::model::Model;
-use crate::params::ModelParams;
-use crate::shape::{SectionKind, SectionShapes};
 
 /// Names of the sensor outputs appended to every run's outputs, in order.
 pub const SENSOR_OUTPUTS: [&str; 2] = ["kappa_1_0", "acc_load"];
-
-/// The row `r` with `w_k''(x) = r . z` (1/m per unit of each coordinate): the bending
-/// curvature of section `k` (1-based) at `x` (m from its foot), from the shape functions'
-/// second derivatives (the translation and the rigid offsets have none).
-pub fn curvature_row(params: &ModelParams, section: usize, x: f64) -> Vec<f64> {
-    let layout = Layout::new(&params.modes(), params.contact_points);
-    let s = &params.sections[section - 1];
-    let shapes = SectionShapes::new(SectionKind::of_section(section), s.modes, s.length);
-    let mut row = vec![0.0; layout.dof()];
-    for f in shapes.functions() {
-        // section 1's first function is the vehicle's translation (no curvature)
-        if section == 1 && f.index() == 1 {
-            continue;
-        }
-        row[layout.index(section, f.index())] = f.eval(x, 2);
-    }
-    row
-}
 
 /// The row `r` with `w_n(l_n) = r . z` (m per unit of each coordinate): the absolute
 /// transverse position of the load at the top of the last section. `model` may wrap the
@@ -61,7 +40,7 @@ impl Sensors {
     /// The rows of `model`'s sensors.
     pub fn new(model: &dyn Model) -> Self {
         Sensors {
-            kappa: curvature_row(model.params(), 1, 0.0),
+            kappa: model.shape_row(1, 0.0, 2),
             load: load_row(model),
         }
     }

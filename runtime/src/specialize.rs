@@ -2,7 +2,7 @@
 //! summary: constant contact vectors, the linear law without events, no prestress, exact
 //! stepping.
 
-use crate::accuracy::{DEFAULT_ACCURACY_M, SceneKind, cheapest, plan_for_accuracy};
+use crate::accuracy::{DEFAULT_ACCURACY_M, Resolve, SceneKind, cheapest, plan_for_accuracy};
 use crate::integrate::Method;
 use crate::integrate::exact::{exact_tail_start, lti_obstacle};
 use crate::model::Model;
@@ -76,7 +76,7 @@ pub fn specializations(
 /// why; the plan of [`crate::accuracy::plan_for_accuracy`] at the default accuracy (1e-6 m),
 /// whose tolerance is the default one (rtol 1e-6).
 pub fn auto_plan(params: &ModelParams, span: &TimeSpan) -> (Method, Option<f64>, String) {
-    let plan = plan_for_accuracy(params, span, DEFAULT_ACCURACY_M)
+    let plan = plan_for_accuracy(params, span, DEFAULT_ACCURACY_M, Resolve::Displacements)
         .expect("every kind of scene has a measured run within the default accuracy");
     (plan.method, plan.exact_from, plan.why)
 }
@@ -85,7 +85,7 @@ pub fn auto_plan(params: &ModelParams, span: &TimeSpan) -> (Method, Option<f64>,
 /// reason.
 pub fn auto_method(params: &ModelParams) -> (Method, String) {
     let kind = SceneKind::of(params);
-    let row = cheapest(kind, DEFAULT_ACCURACY_M)
+    let row = cheapest(kind, DEFAULT_ACCURACY_M, Resolve::Displacements)
         .expect("every kind of scene has a measured run within the default accuracy");
     (
         Method::from_name(row.method).expect("the table names known methods"),

@@ -17,6 +17,7 @@ const L: f64 = 1.35;
 fn mast(modes: usize, vehicle: f64, gravity: f64) -> ModelParams {
     ModelParams {
         damping: Default::default(),
+        basis: Default::default(),
         sections: vec![SectionParams {
             length: L,
             mass_per_length: RHO_A,

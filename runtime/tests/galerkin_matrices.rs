@@ -27,6 +27,7 @@ fn two_sections(modes: [usize; 2], gravity: f64, vehicle: f64, load: f64) -> Mod
     };
     ModelParams {
         damping: Default::default(),
+        basis: Default::default(),
         gravity,
         vehicle_mass: vehicle,
         load_mass: load,

@@ -77,6 +77,7 @@ fn per_call_methods_do_not_allocate() {
     ] {
         let params = ModelParams {
             damping: Default::default(),
+            basis: Default::default(),
             sections: vec![sec, sec, sec],
             vehicle_mass: 100.0,
             load_mass: 17.897,

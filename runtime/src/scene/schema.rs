@@ -57,6 +57,10 @@ pub struct SectionsSpec {
     pub youngs_modulus: PerSection<f64>,
     /// Shape functions per section `N_k`, 1..=30.
     pub modes: PerSection<usize>,
+    /// `"modes"` (default: the paper's shape functions) or `"modes+static"` (with each
+    /// section's static correction shapes).
+    #[serde(default, skip_serializing_if = "is_default_basis")]
+    pub basis: crate::params::Basis,
     /// Modal structural damping ratio (1), in `[0, 1)`: one number for every elastic mode of the
     /// open-contact structure, or a list by mode in ascending frequency (modes beyond the
     /// list take its last value). Default: no structural damping.
@@ -75,6 +79,10 @@ pub struct SectionsSpec {
     /// bending axis: `W = 2 I / h`. Not with `section_modulus`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub height: Option<PerSection<f64>>,
+}
+
+fn is_default_basis(b: &crate::params::Basis) -> bool {
+    *b == crate::params::Basis::Modes
 }
 
 /// `[masses]`.

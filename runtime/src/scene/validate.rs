@@ -221,7 +221,8 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         },
         other => other,
     };
-    let implausible = super::plausibility::check(&params);
+    let mut implausible = super::plausibility::check(&params);
+    implausible.extend(basis_rules(&params));
     if !implausible.is_empty() {
         return Err(SceneError::Invalid {
             origin: origin.to_string(),
@@ -503,6 +504,30 @@ fn output_size_rules(r: &mut Rules, file: &SceneFile, n: usize) {
     }
 }
 
+/// The static correction shapes' count per section stays within what a section holds.
+fn basis_rules(params: &ModelParams) -> Vec<FieldError> {
+    use crate::section_basis::MAX_SECTION_COORDINATES;
+    let coordinates = params.coordinates();
+    match coordinates
+        .iter()
+        .position(|&c| c > MAX_SECTION_COORDINATES)
+    {
+        Some(k) => vec![FieldError {
+            field: "sections.basis".into(),
+            rule: format!(
+                "\"modes+static\" gives section {} {} coordinates ({} modes and {} static \
+                 correction shapes, from its contact stations); at most \
+                 {MAX_SECTION_COORDINATES}: fewer modes or contact points",
+                k + 1,
+                coordinates[k],
+                params.sections[k].modes,
+                coordinates[k] - params.sections[k].modes
+            ),
+        }],
+        None => Vec::new(),
+    }
+}
+
 impl SectionParams {
     /// The sections from their validated per-section values.
     fn from_validated(
@@ -558,5 +583,6 @@ fn model_params(
         positions,
         drive,
         damping: StructuralDamping::None,
+        basis: file.sections.basis,
     }
 }

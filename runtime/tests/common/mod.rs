@@ -22,6 +22,7 @@ pub fn rig_section(modes: usize) -> SectionParams {
 pub fn rig(modes: [usize; 2]) -> ModelParams {
     ModelParams {
         damping: Default::default(),
+        basis: Default::default(),
         sections: vec![rig_section(modes[0]), rig_section(modes[1])],
         vehicle_mass: 100.0,
         load_mass: 17.897,
