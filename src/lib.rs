@@ -17,7 +17,7 @@
 //! Simulate a scene file and write its CSV:
 //!
 //! ```
-//! use telescopic::simulation::{SimulationOptions, simulate_scene};
+//! use telescopic::run::{SimulationOptions, simulate_scene};
 //! use telescopic::{Scene, Silent};
 //!
 //! let scene = Scene::load("scenes/adams-clearance.toml".as_ref(), &["time.end=0.3".into()])?;
@@ -32,7 +32,7 @@
 //! Compute eigenfrequencies:
 //!
 //! ```
-//! use telescopic::modes::{ModesOptions, compute_modes};
+//! use telescopic::analysis::modes::{ModesOptions, compute_modes};
 //!
 //! let scene = telescopic::Scene::load("scenes/test-rig.toml".as_ref(), &[])?;
 //! let report = compute_modes(&scene, &ModesOptions::default())?;
@@ -45,37 +45,18 @@
 
 #![warn(missing_docs)]
 
-pub mod beam_reference;
-pub mod bode;
-mod bode_plot;
-pub mod budget;
+pub mod analysis;
 pub mod control;
-pub mod converge;
-pub mod equations;
 mod error;
-pub mod error_budget;
 pub mod fmu;
 pub mod interrupt;
+pub mod io;
 pub mod linear;
-pub mod memory;
-pub mod metrics;
-pub mod mode_plot;
-pub mod model_size;
-pub mod models;
-pub mod modes;
 mod named;
-pub mod output;
 pub mod plot;
 pub mod report;
-mod rows;
 pub mod run;
-pub mod shape_errors;
-pub mod simulation;
-pub mod stability;
-pub mod stress;
 pub mod sweep;
-pub mod total_accuracy;
-pub mod work_precision;
 mod wrapped;
 
 pub use error::{Error, Result};

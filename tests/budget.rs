@@ -1,9 +1,9 @@
 //! The work budget: its step prediction against the steps real runs take on the shipped
 //! scenes, and the refusal, before any work, of runs whose predicted work is absurd.
 
-use telescopic::budget::estimate_steps;
-use telescopic::models::{ModelChoice, ModelRegistry};
-use telescopic::simulation::{MethodChoice, SimulationOptions, plan, simulate_scene};
+use telescopic::run::budget::estimate_steps;
+use telescopic::run::models::{ModelChoice, ModelRegistry};
+use telescopic::run::{MethodChoice, SimulationOptions, plan, simulate_scene};
 use telescopic::{Error, Scene, Silent};
 use telescopic_runtime::Method;
 

@@ -3,15 +3,15 @@
 //! the open loop, never exceeds the 300 N force limit, and ends within 1 % of the open loop's
 //! travel; the controller file carries a design anyone can check; bad input is refused.
 
+use telescopic::analysis::metrics::{drive_stop, metrics};
 use telescopic::control::riccati::care;
 use telescopic::control::{
-    Controller, ControllerKind, DesignOptions, ShaperTiming, compare_with_open_loop, design,
-    simulate_controlled,
+    Controller, ControllerKind, DesignOptions, Estimator, SampledLaw, ShaperTiming,
+    compare_with_open_loop, design, simulate_controlled,
 };
-use telescopic::metrics::{drive_stop, metrics};
+use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene};
 use telescopic::runtime::Method;
 use telescopic::runtime::nalgebra::DMatrix;
-use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene};
 use telescopic::{Scene, Silent};
 
 fn scene(name: &str, overrides: &[&str]) -> Scene {
@@ -373,7 +373,7 @@ fn sampled_output_feedback_from_vehicle_and_curvature() {
     let plant = scene("case-study-no-clearance", &[]);
     let options = DesignOptions {
         sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-        law: "lqr".into(),
+        law: SampledLaw::Lqr,
         ..DesignOptions::default()
     };
     let controller = design(&plant, &options).unwrap();
@@ -447,8 +447,8 @@ fn the_emitted_c_controllers_match_the_library_in_the_loop() {
     ] {
         let options = DesignOptions {
             sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-            law: law.into(),
-            estimator: estimator.into(),
+            law: law.parse().unwrap(),
+            estimator: estimator.parse().unwrap(),
             tip_scale: 0.05,
             ..DesignOptions::default()
         };
@@ -461,7 +461,7 @@ fn the_emitted_c_controllers_match_the_library_in_the_loop() {
 /// Designs, emits, compiles and loads the C controller, runs it and the library's in the loop
 /// on `plant`; returns the largest difference of their forces (N).
 fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
-    use telescopic::control::emit_c::{C_FILES, write_c};
+    use telescopic::control::emit::{C_FILES, write_c};
     use telescopic::control::sampled::SampledController;
     use telescopic::control::sampled_run::{run_sampled, simulate_sampled};
     use telescopic::run::PreparedRun;
@@ -557,7 +557,7 @@ fn the_extended_filter_matches_the_full_state_law_without_clearance() {
         &plant,
         &DesignOptions {
             sensors,
-            estimator: "extended".into(),
+            estimator: Estimator::Extended,
             ..DesignOptions::default()
         },
     )
@@ -572,16 +572,22 @@ fn the_extended_filter_matches_the_full_state_law_without_clearance() {
     // the file records the filter's model; one written before it was cannot be emitted as C
     let mut old = extended.clone();
     old.sampled.as_mut().unwrap().model = None;
-    let err = telescopic::control::emit_c::emit_c(&old, 0.0, 16.0)
+    let err = telescopic::control::emit::emit_c(&old, 0.0, 16.0)
         .unwrap_err()
         .to_string();
     assert!(err.contains("`sampled.model`"), "{err}");
-    // an estimator that does not exist is refused naming the option
+    // an estimator that does not exist does not parse; `none` (the strain-rate law's) is
+    // refused for an LQR design naming the option
+    let err = "particle".parse::<Estimator>().unwrap_err();
+    assert!(
+        err.contains("`particle` is not an estimator; use linear, extended or none"),
+        "{err}"
+    );
     let err = design(
         &plant,
         &DesignOptions {
             sensors: vec!["vehicle".into()],
-            estimator: "particle".into(),
+            estimator: Estimator::None,
             ..DesignOptions::default()
         },
     )
@@ -623,13 +629,13 @@ fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors(
     let nominal = scene("case-study", &[]);
     let options = DesignOptions {
         sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-        estimator: "extended".into(),
+        estimator: Estimator::Extended,
         tip_scale: 0.05,
         ..DesignOptions::default()
     };
     let controller = design(&nominal, &options).unwrap();
     let sampled = controller.sampled.as_ref().unwrap();
-    assert_eq!(sampled.estimator, "extended");
+    assert_eq!(sampled.estimator, Estimator::Extended);
     assert_eq!(
         sampled.process_noise_floor,
         Some(telescopic::control::sampled::DEFAULT_PROCESS_NOISE_FLOOR)

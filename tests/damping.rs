@@ -6,10 +6,10 @@
 mod common;
 
 use telescopic::Silent;
+use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::runtime::{
     AssembledModel, ContactMode, Lpv, Scene, damped_modes, eigenvalues, modal_analysis,
 };
-use telescopic::simulation::{SimulationOptions, simulate_scene};
 
 /// A single section on its vehicle (no contacts), knocked by a 5 ms force pulse.
 fn cantilever(extra: &[&str]) -> Scene {

@@ -4,10 +4,10 @@
 //! fixed positions; `--accuracy` meets its bound against the beams (fixed positions) or the
 //! most refined Ritz model (moving positions); `--modes-as-given` keeps the scene's model.
 
-use telescopic::beam_reference::{BeamResponse, beam_response, element_response};
-use telescopic::error_budget::{ErrorBudget, Statistic, WindowEnd};
-use telescopic::simulation::{Simulation, SimulationOptions, Trajectory, simulate_scene};
-use telescopic::stress::Station;
+use telescopic::analysis::beam_reference::{BeamResponse, beam_response, element_response};
+use telescopic::run::error_budget::{ErrorBudget, Statistic, WindowEnd};
+use telescopic::run::stress::Station;
+use telescopic::run::{Simulation, SimulationOptions, Trajectory, simulate_scene};
 use telescopic::{Scene, Silent};
 use telescopic_runtime::{AssembledModel, Basis, ElementModel, modal_analysis};
 

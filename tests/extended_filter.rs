@@ -7,11 +7,11 @@ use rand::{Rng, SeedableRng};
 use telescopic::control::estimator_model::{EstimatorModel, PreparedEstimatorModel};
 use telescopic::control::sampled_run::simulate_sampled;
 use telescopic::control::{Controller, DesignOptions, design};
-use telescopic::models::{ModelChoice, ModelRegistry};
 use telescopic::run::PreparedRun;
+use telescopic::run::SimulationOptions;
+use telescopic::run::models::{ModelChoice, ModelRegistry};
 use telescopic::runtime::nalgebra::DMatrix;
 use telescopic::runtime::{ContactState, Drive};
-use telescopic::simulation::SimulationOptions;
 use telescopic::{Scene, Silent};
 
 /// Counts the allocations of the thread that makes them.
@@ -49,7 +49,7 @@ fn scene(name: &str, overrides: &[&str]) -> Scene {
 fn extended_design(plant: &Scene, tip: f64) -> Controller {
     let options = DesignOptions {
         sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-        estimator: "extended".into(),
+        estimator: telescopic::control::Estimator::Extended,
         tip_scale: tip,
         ..DesignOptions::default()
     };
@@ -224,7 +224,7 @@ fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_rea
     // the C emission checks the sizes of what it writes as fixed-size arrays
     let mut short = controller.clone();
     short.schedule[0].k[0].pop();
-    let err = telescopic::control::emit_c::emit_c(&short, 0.0, 16.0)
+    let err = telescopic::control::emit::emit_c(&short, 0.0, 16.0)
         .unwrap_err()
         .to_string();
     assert!(err.contains("`schedule[].k`"), "{err}");

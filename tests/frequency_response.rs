@@ -4,8 +4,8 @@
 
 mod common;
 
-use telescopic::bode::{BodeOptions, frequency_response};
 use telescopic::linear::LinearizeOptions;
+use telescopic::linear::bode::{BodeOptions, frequency_response};
 use telescopic::{Error, Scene};
 
 /// A single section held at its foot (a prescribed motion at rest), lightly damped.

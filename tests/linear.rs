@@ -2,11 +2,11 @@
 //! simulation, the state order that is part of the format, and the round trips of the
 //! formats that need no outside tool (the clients' tests are in `tests/clients.rs`).
 
+use telescopic::analysis::modes::{ModesOptions, compute_modes};
 use telescopic::linear::{Format, Grid, LinearExport, LinearizeOptions, linearize};
-use telescopic::modes::{ModesOptions, compute_modes};
+use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::runtime::nalgebra::{DMatrix, DVector};
 use telescopic::runtime::{ContactMode, eigenvalues};
-use telescopic::simulation::{SimulationOptions, simulate_scene};
 use telescopic::{Scene, Silent};
 
 fn scene(name: &str, overrides: &[&str]) -> Scene {

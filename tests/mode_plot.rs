@@ -4,9 +4,9 @@
 //! eigen problem's scale (largest |w| = 1); contact modes are named as such.
 
 use telescopic::Scene;
-use telescopic::mode_plot::ModeShapeFigure;
-use telescopic::models::ModelChoice;
-use telescopic::modes::{ModeKind, ModesOptions, compute_modes};
+use telescopic::analysis::modes::{ModeKind, ModesOptions, compute_modes};
+use telescopic::plot::modes::ModeShapeFigure;
+use telescopic::run::models::ModelChoice;
 use telescopic::runtime::{AssembledModel, Model, modal_analysis};
 
 #[test]

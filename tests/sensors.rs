@@ -4,8 +4,8 @@
 //! `vehicle + tip_rel` twice in time.
 
 use telescopic::Silent;
+use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::runtime::{AssembledModel, Method, Model, Scene, Settings, rest_state, simulate};
-use telescopic::simulation::{SimulationOptions, simulate_scene};
 
 fn scene(overrides: &[&str]) -> Scene {
     let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();

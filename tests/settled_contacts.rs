@@ -10,9 +10,9 @@ mod common;
 
 use common::references::{References, scene};
 use telescopic::Silent;
+use telescopic::analysis::work_precision::statistics_error;
+use telescopic::run::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
 use telescopic::runtime::Method;
-use telescopic::simulation::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
-use telescopic::work_precision::statistics_error;
 
 fn run(scene: &telescopic::Scene, method: Method) -> Trajectory {
     let options = SimulationOptions {

@@ -2,8 +2,10 @@
 //! with noise, delay and saturation) on case-study with clearance: its reduction, force and
 //! travel at the default settings, on plants it was not designed for, its file's checks.
 
-use telescopic::control::{Controller, DesignOptions, compare_with_open_loop, design};
-use telescopic::simulation::SimulationOptions;
+use telescopic::control::{
+    Controller, DesignOptions, Estimator, SampledLaw, compare_with_open_loop, design,
+};
+use telescopic::run::SimulationOptions;
 use telescopic::{Scene, Silent};
 
 fn scene(overrides: &[&str]) -> Scene {
@@ -43,7 +45,7 @@ fn the_strain_rate_law_damps_case_study_with_clearance_from_the_machine_sensors(
     let controller = design(&nominal, &sensors()).unwrap();
     let sampled = controller.sampled.as_ref().unwrap();
     let law = sampled.strain_rate.as_ref().expect("strain-rate law");
-    assert_eq!(sampled.estimator, "none");
+    assert_eq!(sampled.estimator, Estimator::None);
     assert!(sampled.points.is_empty());
     // the first mode from the symmetric modal analysis equals the design's, taken from the
     // eigenvalues of the state matrix (another path); tip per root curvature grows as the
@@ -114,18 +116,18 @@ fn strain_rate_designs_and_files_are_checked() {
     let err = |options: DesignOptions| design(&plant, &options).unwrap_err().to_string();
     let e = err(DesignOptions {
         sensors: vec!["vehicle".into(), "acc_load".into()],
-        law: "strain-rate".into(),
+        law: SampledLaw::StrainRate,
         ..DesignOptions::default()
     });
     assert!(
         e.contains("DesignOptions::sensors") && e.contains("kappa_1_0"),
         "{e}"
     );
-    let e = err(DesignOptions {
-        law: "pid".into(),
-        ..sensors()
-    });
-    assert!(e.contains("DesignOptions::law") && e.contains("pid"), "{e}");
+    let e = "pid".parse::<SampledLaw>().unwrap_err();
+    assert!(
+        e.contains("`pid` is not a sampled law; use auto, lqr or strain-rate"),
+        "{e}"
+    );
     let e = err(DesignOptions {
         added_damping: -0.1,
         ..sensors()
@@ -137,7 +139,7 @@ fn strain_rate_designs_and_files_are_checked() {
         f(&mut c);
         c.check_fits(&plant).unwrap_err().to_string()
     };
-    fn law(c: &mut Controller) -> &mut telescopic::control::strain::StrainRateLaw {
+    fn law(c: &mut Controller) -> &mut telescopic::control::schema::StrainRateLaw {
         c.sampled.as_mut().unwrap().strain_rate.as_mut().unwrap()
     }
     let e = edit(&|c| law(c).points[2].gain = f64::NAN);
@@ -151,6 +153,6 @@ fn strain_rate_designs_and_files_are_checked() {
         e.contains("sampled.sensors") && e.contains("kappa_1_0"),
         "{e}"
     );
-    let e = edit(&|c| c.sampled.as_mut().unwrap().estimator = "linear".into());
+    let e = edit(&|c| c.sampled.as_mut().unwrap().estimator = Estimator::Linear);
     assert!(e.contains("sampled.estimator"), "{e}");
 }

@@ -5,9 +5,9 @@
 
 mod common;
 
-use telescopic::models::ModelChoice;
-use telescopic::simulation::{SimulationOptions, simulate_scene};
-use telescopic::stress::{Station, StressEnvelope};
+use telescopic::run::models::ModelChoice;
+use telescopic::run::stress::{Station, StressEnvelope};
+use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::{Error, Scene, Silent};
 
 /// A single section on a vehicle pushed by a constant force; heavily damped (zeta = 0.5) so

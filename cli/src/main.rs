@@ -26,7 +26,7 @@ static RECORD_CLOSED_STDOUT: extern "C" fn() = record_closed_stdout;
 
 fn main() -> std::process::ExitCode {
     if STDOUT_CLOSED.load(Ordering::Relaxed) {
-        telescopic::output::note_stdout_closed_at_start();
+        telescopic::io::output::note_stdout_closed_at_start();
     }
     // Ctrl-C or SIGTERM: a sweep stops between runs (keeping every finished row); anything
     // else, or a second signal, removes the output files still being written and stops (130)
@@ -35,8 +35,8 @@ fn main() -> std::process::ExitCode {
             eprintln!("\ninterrupt: stopping after the runs in progress (again to stop at once)");
             return;
         }
-        telescopic::output::remove_partial_files();
-        let kept = telescopic::output::kept_files();
+        telescopic::io::output::remove_partial_files();
+        let kept = telescopic::io::output::kept_files();
         if kept.is_empty() {
             eprintln!("interrupted: no partial output file was left");
         } else {

@@ -393,7 +393,7 @@ fn pdflatex_compiles_the_latex_export() {
 #[test]
 #[ignore = "needs python-control, NumPy and SciPy: run ./scripts/test"]
 fn bode_equals_python_control_and_the_discrete_model_equals_scipys_cont2discrete() {
-    use telescopic::bode::{BodeOptions, frequency_response};
+    use telescopic::linear::bode::{BodeOptions, frequency_response};
     let dir = scratch("clients-bode");
     // damped structure, both inputs, an output with feedthrough (acc_load)
     let scene = Scene::load(

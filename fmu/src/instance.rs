@@ -7,12 +7,12 @@
 use std::path::{Path, PathBuf};
 use telescopic::fmu::held::HeldDrive;
 use telescopic::fmu::{Causality, FmuVariables, SCENE_RESOURCE, scene_guid};
-use telescopic::models::{ModelChoice, ModelRegistry};
+use telescopic::run::models::{ModelChoice, ModelRegistry};
+use telescopic::run::{SimulationOptions, plan};
 use telescopic::runtime::sensors::Sensors;
 use telescopic::runtime::{
     Drive, Method, Model, Profile, Scene, Settings, TimeSpan, rest_state, simulate,
 };
-use telescopic::simulation::{SimulationOptions, plan};
 
 /// What an instance is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

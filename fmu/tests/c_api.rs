@@ -8,7 +8,7 @@ use std::ffi::{CStr, CString, c_char, c_void};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use telescopic::fmu::{FmuVariables, SCENE_RESOURCE, scene_guid, scene_text};
-use telescopic::simulation::{SimulationOptions, simulate_scene};
+use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::{Scene, Silent};
 use telescopic_fmu::ffi::{CallbackFunctions, ERROR, Logger, OK};
 use telescopic_fmu::*;

@@ -10,13 +10,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::str::FromStr;
+use telescopic::analysis::modes::{ModeKind, ModesOptions, compute_modes};
 use telescopic::control::{Controller, ControllerKind, DesignOptions, design as run_design};
 use telescopic::linear::{Grid, LinearizeOptions, linearize as run_linearize};
-use telescopic::models::ModelChoice;
-use telescopic::modes::{ModeKind, ModesOptions, compute_modes};
+use telescopic::run::models::ModelChoice;
+use telescopic::run::stress::Station;
+use telescopic::run::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
 use telescopic::runtime::ContactMode;
-use telescopic::simulation::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
-use telescopic::stress::Station;
 
 /// `value` parsed by `FromStr`, or an error naming `name`.
 fn parsed<T: FromStr>(name: &str, value: &str) -> PyResult<T>
@@ -94,8 +94,8 @@ fn error_dict<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Option<Bound<'
     out.set_item(
         "window_end",
         match b.window.reason {
-            telescopic::error_budget::WindowEnd::SpanEnd => "span-end",
-            telescopic::error_budget::WindowEnd::FirstSwitch => "first-switch",
+            telescopic::run::error_budget::WindowEnd::SpanEnd => "span-end",
+            telescopic::run::error_budget::WindowEnd::FirstSwitch => "first-switch",
         },
     )?;
     out.set_item("integration_m", b.integration_m)?;
@@ -351,11 +351,11 @@ pub fn design(
     force_limit: f64,
     sensors: Option<Vec<String>>,
     rate_hz: Option<f64>,
-    law: Option<String>,
+    law: Option<&str>,
     shaper_timing: Option<&str>,
     tip_scale: Option<f64>,
     vehicle_scale: Option<f64>,
-    estimator: Option<String>,
+    estimator: Option<&str>,
     process_noise_floor: Option<f64>,
     added_damping: Option<f64>,
     model: &str,
@@ -367,14 +367,20 @@ pub fn design(
         force_limit,
         sensors: sensors.unwrap_or(defaults.sensors.clone()),
         rate_hz: rate_hz.unwrap_or(defaults.rate_hz),
-        law: law.unwrap_or(defaults.law.clone()),
+        law: match law {
+            Some(text) => parsed("law", text)?,
+            None => defaults.law,
+        },
         shaper_timing: match shaper_timing {
             Some(text) => parsed("shaper_timing", text)?,
             None => defaults.shaper_timing,
         },
         tip_scale: tip_scale.unwrap_or(defaults.tip_scale),
         vehicle_scale: vehicle_scale.unwrap_or(defaults.vehicle_scale),
-        estimator: estimator.unwrap_or(defaults.estimator.clone()),
+        estimator: match estimator {
+            Some(text) => parsed("estimator", text)?,
+            None => defaults.estimator,
+        },
         process_noise_floor: process_noise_floor.unwrap_or(defaults.process_noise_floor),
         added_damping: added_damping.unwrap_or(defaults.added_damping),
         model: parsed("model", model)?,
@@ -437,8 +443,8 @@ pub fn sweep(
 #[pyfunction]
 #[pyo3(signature = (scene, format = "latex"))]
 pub fn equations(scene: &PyScene, format: &str) -> PyResult<String> {
-    let format = parsed::<telescopic::equations::EquationFormat>("format", format)?;
-    telescopic::equations::equations(&scene.scene, format, &Default::default())
+    let format = parsed::<telescopic::analysis::equations::EquationFormat>("format", format)?;
+    telescopic::analysis::equations::equations(&scene.scene, format, &Default::default())
         .map(str::to_string)
         .map_err(to_python)
 }

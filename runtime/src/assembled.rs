@@ -16,9 +16,9 @@ pub use crate::section_basis::MAX_SECTION_COORDINATES;
 
 /// The contact tables' tolerance on `g` for the static correction shapes (relative).
 pub const SPLINE_TABLE_TOLERANCE: f64 = 1e-9;
+use crate::params::correction_knots;
 use crate::section_basis::SectionBasis;
 use crate::shape::{MAX_MODES, SectionKind, SectionShapes};
-use crate::spline::correction_knots;
 use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut};
 
 /// Why a model could not be built.

@@ -19,75 +19,8 @@
 
 use crate::eigen::{EigenError, ModalAnalysis, modal_analysis_with};
 use crate::model::Model;
+pub use crate::params::StructuralDamping;
 use nalgebra::DMatrix;
-
-/// The structural damping of a model.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub enum StructuralDamping {
-    /// No structural damping (the default).
-    #[default]
-    None,
-    /// Modal damping ratios (1) of the closed-contact modes at `positions`.
-    Modal {
-        /// The `i`-th value for mode `f_{i+1}` of `telescopic modes` at `positions`; modes
-        /// beyond the list take its last value; contact modes take none.
-        ratios: Vec<f64>,
-        /// The telescopic positions `a_2..a_n` (m) of the modes (the scene's start).
-        positions: Vec<f64>,
-    },
-    /// Rayleigh damping `alpha M + beta K`: `alpha` (1/s), `beta` (s).
-    Rayleigh {
-        /// Mass-proportional coefficient (1/s).
-        alpha: f64,
-        /// Stiffness-proportional coefficient (s).
-        beta: f64,
-    },
-}
-
-impl StructuralDamping {
-    /// True when there is no structural damping.
-    pub fn is_none(&self) -> bool {
-        match self {
-            StructuralDamping::None => true,
-            StructuralDamping::Modal { ratios, .. } => ratios.iter().all(|&z| z == 0.0),
-            StructuralDamping::Rayleigh { alpha, beta } => *alpha == 0.0 && *beta == 0.0,
-        }
-    }
-
-    /// The modal ratio of mode `index` (0-based, ascending frequency), for
-    /// [`StructuralDamping::Modal`]; 0 otherwise.
-    pub fn modal_ratio(&self, index: usize) -> f64 {
-        match self {
-            StructuralDamping::Modal { ratios, .. } if !ratios.is_empty() => {
-                ratios[index.min(ratios.len() - 1)]
-            }
-            _ => 0.0,
-        }
-    }
-
-    /// A short description for run summaries and tables.
-    pub fn describe(&self) -> String {
-        match self {
-            _ if self.is_none() => "none".into(),
-            StructuralDamping::Modal { ratios, positions } => {
-                let at = if positions.is_empty() {
-                    String::new()
-                } else {
-                    format!(" (closed-contact modes at a = {positions:?} m)")
-                };
-                if ratios.len() == 1 {
-                    format!("modal, zeta = {}{at}", ratios[0])
-                } else {
-                    format!("modal, zeta = {ratios:?} by mode{at}")
-                }
-            }
-            StructuralDamping::Rayleigh { alpha, beta } => {
-                format!("Rayleigh, alpha = {alpha} 1/s, beta = {beta} s")
-            }
-            StructuralDamping::None => unreachable!("handled by is_none"),
-        }
-    }
-}
 
 /// Share of a mode's strain energy in the contact springs above which it is a contact mode.
 pub const CONTACT_MODE_SHARE: f64 = 0.5;

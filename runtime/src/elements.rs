@@ -28,10 +28,10 @@
 //! ```
 
 use crate::contact::ContactState;
-use crate::damping::StructuralDamping;
 use crate::layout::Layout;
 use crate::mass_solve::MassSolve;
 use crate::model::Model;
+use crate::params::StructuralDamping;
 use crate::params::{Drive, ModelParams, SectionParams};
 use crate::profile::Profile;
 use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut, SymmetricEigen};

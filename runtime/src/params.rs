@@ -91,7 +91,7 @@ pub struct ModelParams {
     /// The drive.
     pub drive: Drive,
     /// Structural damping of the sections (none by default).
-    pub damping: crate::damping::StructuralDamping,
+    pub damping: StructuralDamping,
     /// The functions that discretize the sections.
     pub basis: Basis,
 }
@@ -128,7 +128,7 @@ impl ModelParams {
             .map(|k| {
                 let extra = match self.basis {
                     Basis::Modes => 0,
-                    Basis::ModesAndStatic => crate::spline::correction_knots(self, k).len() + 2,
+                    Basis::ModesAndStatic => correction_knots(self, k).len() + 2,
                 };
                 self.sections[k - 1].modes + extra
             })
@@ -173,5 +173,131 @@ impl ModelParams {
             g * (s.mass_per_length * s.length + above),
             -g * s.mass_per_length,
         )
+    }
+}
+
+/// The structural damping of a model.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum StructuralDamping {
+    /// No structural damping (the default).
+    #[default]
+    None,
+    /// Modal damping ratios (1) of the closed-contact modes at `positions`.
+    Modal {
+        /// The `i`-th value for mode `f_{i+1}` of `telescopic modes` at `positions`; modes
+        /// beyond the list take its last value; contact modes take none.
+        ratios: Vec<f64>,
+        /// The telescopic positions `a_2..a_n` (m) of the modes (the scene's start).
+        positions: Vec<f64>,
+    },
+    /// Rayleigh damping `alpha M + beta K`: `alpha` (1/s), `beta` (s).
+    Rayleigh {
+        /// Mass-proportional coefficient (1/s).
+        alpha: f64,
+        /// Stiffness-proportional coefficient (s).
+        beta: f64,
+    },
+}
+
+impl StructuralDamping {
+    /// True when there is no structural damping.
+    pub fn is_none(&self) -> bool {
+        match self {
+            StructuralDamping::None => true,
+            StructuralDamping::Modal { ratios, .. } => ratios.iter().all(|&z| z == 0.0),
+            StructuralDamping::Rayleigh { alpha, beta } => *alpha == 0.0 && *beta == 0.0,
+        }
+    }
+
+    /// The modal ratio of mode `index` (0-based, ascending frequency), for
+    /// [`StructuralDamping::Modal`]; 0 otherwise.
+    pub fn modal_ratio(&self, index: usize) -> f64 {
+        match self {
+            StructuralDamping::Modal { ratios, .. } if !ratios.is_empty() => {
+                ratios[index.min(ratios.len() - 1)]
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// A short description for run summaries and tables.
+    pub fn describe(&self) -> String {
+        match self {
+            _ if self.is_none() => "none".into(),
+            StructuralDamping::Modal { ratios, positions } => {
+                let at = if positions.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (closed-contact modes at a = {positions:?} m)")
+                };
+                if ratios.len() == 1 {
+                    format!("modal, zeta = {}{at}", ratios[0])
+                } else {
+                    format!("modal, zeta = {ratios:?} by mode{at}")
+                }
+            }
+            StructuralDamping::Rayleigh { alpha, beta } => {
+                format!("Rayleigh, alpha = {alpha} 1/s, beta = {beta} s")
+            }
+            StructuralDamping::None => unreachable!("handled by is_none"),
+        }
+    }
+}
+
+/// Knots spread evenly over the range of a moving contact station (both ends included): the
+/// splines then hold the station's force wherever it is to within a knot spacing.
+pub const MOVING_STATION_KNOTS: usize = 4;
+
+/// The interior knots of section `k` (1-based): every contact station on it strictly inside
+/// `(0, l_k)`; a station that moves with its telescopic position gets
+/// [`MOVING_STATION_KNOTS`] over the range it travels.
+pub fn correction_knots(params: &ModelParams, k: usize) -> Vec<f64> {
+    let n = params.sections.len();
+    let l = params.sections[k - 1].length;
+    let fractions: Vec<f64> = (0..params.contact_points)
+        .map(|j| j as f64 / (params.contact_points - 1).max(1) as f64)
+        .collect();
+    let mut stations: Vec<(f64, f64)> = Vec::new();
+    // as the inner section of overlap k: x_in = s (l_{k-1} - a_k)
+    if k >= 2 {
+        let (lo, hi) = travel(&params.positions[k - 2]);
+        let outer = params.sections[k - 2].length;
+        stations.extend(
+            fractions
+                .iter()
+                .map(|s| (s * (outer - hi), s * (outer - lo))),
+        );
+    }
+    // as the outer section of overlap k + 1: x_out = a + s (l_k - a), increasing in a
+    if k < n {
+        let (lo, hi) = travel(&params.positions[k - 1]);
+        stations.extend(
+            fractions
+                .iter()
+                .map(|s| (lo + s * (l - lo), hi + s * (l - hi))),
+        );
+    }
+    let mut knots: Vec<f64> = stations
+        .iter()
+        .flat_map(|&(a, b)| {
+            let count = if b > a { MOVING_STATION_KNOTS } else { 1 };
+            (0..count).map(move |i| a + (b - a) * i as f64 / (count - 1).max(1) as f64)
+        })
+        .filter(|&x| x > 1e-9 * l && x < l * (1.0 - 1e-9))
+        .collect();
+    knots.sort_by(f64::total_cmp);
+    knots.dedup_by(|a, b| (*a - *b).abs() <= 1e-6 * l);
+    knots
+}
+
+/// The smallest and largest value a telescopic position takes (m).
+fn travel(position: &Profile) -> (f64, f64) {
+    let times = position.breakpoints();
+    match (
+        times.iter().copied().reduce(f64::min),
+        times.iter().copied().reduce(f64::max),
+    ) {
+        (Some(first), Some(last)) => position.range(first - 1.0, last + 1.0),
+        _ => (position.value(0.0), position.value(0.0)),
     }
 }

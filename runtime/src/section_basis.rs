@@ -11,10 +11,11 @@
 //! columns of `R^-1` say how each coordinate function combines the modes and B-splines. The
 //! span, and so the Ritz solution, is the same; the modes' own coordinates are untouched.
 
+use crate::params::correction_knots;
 use crate::params::{Basis, ModelParams, SectionParams};
 use crate::quadrature::SectionQuadrature;
 use crate::shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction};
-use crate::spline::{CubicBSpline, correction_knots, correction_shapes};
+use crate::spline::{CubicBSpline, correction_shapes};
 use nalgebra::DMatrix;
 
 /// Most coordinates of one section: [`MAX_MODES`] modes and up to 18 static correction shapes.

@@ -17,9 +17,6 @@
 //! relative coordinates require, and complement the rigid `1` and `x` on the other sections.
 //! That is `m + 2` functions.
 
-use crate::params::ModelParams;
-use crate::profile::Profile;
-
 /// One cubic B-spline by its five knots (m), nondecreasing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CubicBSpline {
@@ -83,64 +80,6 @@ pub fn correction_shapes(length: f64, knots: &[f64]) -> Vec<CubicBSpline> {
             end: length,
         })
         .collect()
-}
-
-/// Knots spread evenly over the range of a moving contact station (both ends included): the
-/// splines then hold the station's force wherever it is to within a knot spacing.
-pub const MOVING_STATION_KNOTS: usize = 4;
-
-/// The interior knots of section `k` (1-based): every contact station on it strictly inside
-/// `(0, l_k)`; a station that moves with its telescopic position gets
-/// [`MOVING_STATION_KNOTS`] over the range it travels.
-pub fn correction_knots(params: &ModelParams, k: usize) -> Vec<f64> {
-    let n = params.sections.len();
-    let l = params.sections[k - 1].length;
-    let fractions: Vec<f64> = (0..params.contact_points)
-        .map(|j| j as f64 / (params.contact_points - 1).max(1) as f64)
-        .collect();
-    let mut stations: Vec<(f64, f64)> = Vec::new();
-    // as the inner section of overlap k: x_in = s (l_{k-1} - a_k)
-    if k >= 2 {
-        let (lo, hi) = travel(&params.positions[k - 2]);
-        let outer = params.sections[k - 2].length;
-        stations.extend(
-            fractions
-                .iter()
-                .map(|s| (s * (outer - hi), s * (outer - lo))),
-        );
-    }
-    // as the outer section of overlap k + 1: x_out = a + s (l_k - a), increasing in a
-    if k < n {
-        let (lo, hi) = travel(&params.positions[k - 1]);
-        stations.extend(
-            fractions
-                .iter()
-                .map(|s| (lo + s * (l - lo), hi + s * (l - hi))),
-        );
-    }
-    let mut knots: Vec<f64> = stations
-        .iter()
-        .flat_map(|&(a, b)| {
-            let count = if b > a { MOVING_STATION_KNOTS } else { 1 };
-            (0..count).map(move |i| a + (b - a) * i as f64 / (count - 1).max(1) as f64)
-        })
-        .filter(|&x| x > 1e-9 * l && x < l * (1.0 - 1e-9))
-        .collect();
-    knots.sort_by(f64::total_cmp);
-    knots.dedup_by(|a, b| (*a - *b).abs() <= 1e-6 * l);
-    knots
-}
-
-/// The smallest and largest value a telescopic position takes (m).
-fn travel(position: &Profile) -> (f64, f64) {
-    let times = position.breakpoints();
-    match (
-        times.iter().copied().reduce(f64::min),
-        times.iter().copied().reduce(f64::max),
-    ) {
-        (Some(first), Some(last)) => position.range(first - 1.0, last + 1.0),
-        _ => (position.value(0.0), position.value(0.0)),
-    }
 }
 
 #[cfg(test)]

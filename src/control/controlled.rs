@@ -3,72 +3,12 @@
 //! integrator, the contact events and the outputs work unchanged. The output gains a
 //! `drive_force` column: the total force the drive applies.
 
-use super::design::{Controller, schedule_weights};
-use crate::rows::from_rows;
+use super::schedule::{Reference, schedule_weights};
+use super::schema::Controller;
+use crate::io::rows::from_rows;
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
 use telescopic_runtime::{ContactState, ContactTable, Drive, Layout, Model, ModelParams, Profile};
-
-/// The rigid reference `u_ref(t)`, `u_ref'(t)`: piecewise quadratic between nodes, exact for
-/// a piecewise-constant force.
-pub(crate) struct Reference {
-    times: Vec<f64>,
-    /// `(u, v, a)` at each node; `a` holds until the next.
-    states: Vec<(f64, f64, f64)>,
-}
-
-impl Reference {
-    /// Integrates `u'' = f(t) / m` from rest at `start` to `end`, on nodes at the profile's
-    /// breakpoints and at most `step` apart, with the acceleration at each interval's
-    /// midpoint.
-    pub(crate) fn new(force: &Profile, mass: f64, start: f64, end: f64, step: f64) -> Self {
-        let mut nodes: Vec<f64> = force
-            .breakpoints()
-            .into_iter()
-            .filter(|&b| b > start && b < end)
-            .collect();
-        // nodes every `step` (an infinite step: the breakpoints, the start and the end only,
-        // exact for a piecewise-constant force)
-        if step.is_finite() {
-            let count = ((end - start) / step).ceil() as usize;
-            nodes.extend((0..=count).map(|i| (start + i as f64 * step).min(end)));
-        }
-        nodes.extend([start, end]);
-        nodes.sort_by(f64::total_cmp);
-        nodes.dedup();
-        let mut states = Vec::with_capacity(nodes.len());
-        let (mut u, mut v) = (0.0, 0.0);
-        for w in nodes.windows(2) {
-            let (t0, t1) = (w[0], w[1]);
-            let a = force.value(0.5 * (t0 + t1)) / mass;
-            states.push((u, v, a));
-            let h = t1 - t0;
-            u += v * h + 0.5 * a * h * h;
-            v += a * h;
-        }
-        states.push((u, v, 0.0));
-        Reference {
-            times: nodes,
-            states,
-        }
-    }
-
-    /// The nodes: `(t, u, v, a)` each, `a` holding until the next node.
-    pub(crate) fn nodes(&self) -> impl Iterator<Item = (f64, f64, f64, f64)> + '_ {
-        self.times
-            .iter()
-            .zip(&self.states)
-            .map(|(&t, &(u, v, a))| (t, u, v, a))
-    }
-
-    /// `(u_ref, u_ref')` at `t` (s); constant extrapolation of the motion outside.
-    pub(crate) fn at(&self, t: f64) -> (f64, f64) {
-        let i = self.times.partition_point(|&x| x <= t).saturating_sub(1);
-        let (u, v, a) = self.states[i];
-        let h = (t - self.times[i]).max(0.0);
-        (u + v * h + 0.5 * a * h * h, v + a * h)
-    }
-}
 
 /// The control law, ready to evaluate: allocation-free per call.
 pub struct ControlLaw {

@@ -15,60 +15,21 @@
 //! linearly in the moving position between the grid points.
 
 use super::riccati::care;
+use super::schedule::schedule_weights;
+use super::schema::{
+    CONTROLLER_FILE_VERSION, Controller, ControllerKind, Estimator, ObserverPoint, SampledLaw,
+    SchedulePoint,
+};
 use super::shaper::{ShaperKind, ShaperTiming, jumps, shape, shape_within};
+use crate::io::rows::to_rows;
 use crate::linear::Grid;
-use crate::models::{ModelChoice, ModelRegistry};
-use crate::rows::to_rows;
+use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
-use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::ops::AddAssign;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
 use telescopic_runtime::{Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues};
-
-/// Which controller.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum ControllerKind {
-    /// The gain-scheduled LQR state feedback around the drive profile.
-    #[serde(rename = "lqr")]
-    Lqr,
-    /// The drive profile through an input shaper, no feedback.
-    #[serde(rename = "shaper")]
-    Shaper,
-    /// The LQR around the shaped profile.
-    #[default]
-    #[serde(rename = "lqr+shaper")]
-    LqrShaper,
-    /// The LQR around the shaped profile on the state a Kalman filter estimates from the
-    /// measured `vehicle` and `tip_rel` alone.
-    #[serde(rename = "lqr+shaper+kalman")]
-    LqrShaperKalman,
-}
-
-impl ControllerKind {
-    /// Whether the kind has the LQR feedback.
-    pub fn has_lqr(self) -> bool {
-        !matches!(self, ControllerKind::Shaper)
-    }
-
-    /// Whether the kind shapes the drive profile.
-    pub fn has_shaper(self) -> bool {
-        !matches!(self, ControllerKind::Lqr)
-    }
-
-    /// Whether the feedback acts on a Kalman filter's estimate.
-    pub fn has_observer(self) -> bool {
-        matches!(self, ControllerKind::LqrShaperKalman)
-    }
-}
-
-crate::named::named_enum!(ControllerKind, "a controller", {
-    Lqr => "lqr",
-    Shaper => "shaper",
-    LqrShaper => "lqr+shaper",
-    LqrShaperKalman => "lqr+shaper+kalman",
-});
 
 /// Settings of [`design`]; the defaults are Bryson's rule with the scales below.
 #[derive(Debug, Clone, PartialEq)]
@@ -111,7 +72,7 @@ pub struct DesignOptions {
     /// The sampled controller's rate (Hz, default 1000).
     pub rate_hz: f64,
     /// The sampled controller's estimator: `linear` (default) or `extended`.
-    pub estimator: String,
+    pub estimator: Estimator,
     /// The extended filter's process-noise floor (variance per period added to every state,
     /// state units squared; default [`super::sampled::DEFAULT_PROCESS_NOISE_FLOOR`]).
     pub process_noise_floor: f64,
@@ -120,7 +81,7 @@ pub struct DesignOptions {
     /// The sampled law: `auto` (default: `strain-rate` when the sensors include `vehicle`
     /// and `kappa_1_0`, else `lqr`), `lqr` (the LQR on the estimator's state) or
     /// `strain-rate` ([`super::strain`]; the kind gives its feedforward, shaped or not).
-    pub law: String,
+    pub law: SampledLaw,
     /// The strain-rate law's damping ratio added to the first mode (default 0.15).
     pub added_damping: f64,
 }
@@ -143,10 +104,10 @@ impl Default for DesignOptions {
             sensors: Vec::new(),
             sensor_noises: Vec::new(),
             rate_hz: super::sampled::DEFAULT_RATE_HZ,
-            estimator: "linear".into(),
+            estimator: Estimator::Linear,
             process_noise_floor: super::sampled::DEFAULT_PROCESS_NOISE_FLOOR,
             noise_seed: 1,
-            law: "auto".into(),
+            law: SampledLaw::Auto,
             added_damping: super::strain::DEFAULT_ADDED_DAMPING,
         }
     }
@@ -154,128 +115,6 @@ impl Default for DesignOptions {
 
 /// Most grid points of a schedule.
 pub const MAX_GRID_POINTS: usize = 200;
-
-/// One design point of the schedule. The design model is the modal truncation of the
-/// closed-contact linear model: modal coordinates `eta = W x` (the rigid translation and the
-/// first elastic modes, mass-normalized, then their rates), `eta' = A eta + B u`; the LQR
-/// gain on it is `K_modal = R^-1 B' X` with `X` the stabilizing solution of the Riccati
-/// equation of `(A, B, Q, R)`, and on the full state `K = K_modal W`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SchedulePoint {
-    /// Telescopic positions `a_2..a_n` (m).
-    pub positions: Vec<f64>,
-    /// State matrix of the design model, rows.
-    #[serde(rename = "A")]
-    pub a: Vec<Vec<f64>>,
-    /// Input matrix of the design model, rows.
-    #[serde(rename = "B")]
-    pub b: Vec<Vec<f64>>,
-    /// State weight on the design model's states, rows.
-    #[serde(rename = "Q")]
-    pub q: Vec<Vec<f64>>,
-    /// Input weight, rows.
-    #[serde(rename = "R")]
-    pub r: Vec<Vec<f64>>,
-    /// The gain on the design model's states, rows; empty for a shaper alone.
-    #[serde(rename = "K_modal")]
-    pub k_modal: Vec<Vec<f64>>,
-    /// The projection `eta = W x` from the full state to the design model's, rows.
-    #[serde(rename = "W")]
-    pub w: Vec<Vec<f64>>,
-    /// The gain on the full state (`u = -K x`, `K = K_modal W`), rows; empty for a shaper
-    /// alone.
-    #[serde(rename = "K")]
-    pub k: Vec<Vec<f64>>,
-    /// The Kalman filter, for the observer variant.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub observer: Option<ObserverPoint>,
-    /// First elastic mode: frequency (Hz) and damping ratio, for the shaper.
-    pub first_mode_hz: f64,
-    /// Its damping ratio.
-    pub first_mode_damping: f64,
-    /// Relative residual of the Riccati solution (0 without LQR).
-    pub riccati_residual: f64,
-    /// Largest real part of the closed-loop eigenvalues (1/s; 0 without LQR).
-    pub closed_loop_abscissa: f64,
-}
-
-/// The Kalman filter of one design point: designed on the modal model from the measured
-/// `vehicle` and `tip_rel` (`y = C_meas x`), run on the full linear model
-/// `x_hat' = A x_hat + B F + L (y - C_meas x_hat)` with `L = [Phi 0; 0 Phi] L_modal`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ObserverPoint {
-    /// Measurement rows on the design model's states.
-    #[serde(rename = "C_modal")]
-    pub c_modal: Vec<Vec<f64>>,
-    /// Process noise on the design model's states (`sigma_F^2 B B'`).
-    #[serde(rename = "Q_noise")]
-    pub q_noise: Vec<Vec<f64>>,
-    /// Measurement noise.
-    #[serde(rename = "R_noise")]
-    pub r_noise: Vec<Vec<f64>>,
-    /// The Kalman gain on the design model (`L_modal = P C' R^-1`), rows.
-    #[serde(rename = "L_modal")]
-    pub l_modal: Vec<Vec<f64>>,
-    /// The gain on the full state, rows (`2 dof x 2`).
-    #[serde(rename = "L")]
-    pub l: Vec<Vec<f64>>,
-    /// The full closed-contact linear model the filter runs on, rows.
-    #[serde(rename = "A_full")]
-    pub a_full: Vec<Vec<f64>>,
-    /// Its input matrix, rows.
-    #[serde(rename = "B_full")]
-    pub b_full: Vec<Vec<f64>>,
-    /// Measurement rows on the full state (`vehicle`, `tip_rel`).
-    #[serde(rename = "C_meas")]
-    pub c_meas: Vec<Vec<f64>>,
-}
-
-/// A designed controller: what `design` writes and `simulate --controller` reads.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Controller {
-    /// `telescopic controller`.
-    pub format: String,
-    /// Layout version of the file.
-    pub version: u32,
-    /// The tool that wrote it.
-    pub generator: String,
-    /// The scene designed for.
-    pub scene: String,
-    /// Its configuration key (a scene of another configuration is refused).
-    pub configuration: String,
-    /// The state names, in the order of the gains.
-    pub states: Vec<String>,
-    /// The controller.
-    pub kind: ControllerKind,
-    /// Force limit (N).
-    pub force_limit_n: f64,
-    /// `tip_rel` scale of the weights (m).
-    pub tip_scale_m: f64,
-    /// Vehicle scale of the weights (m).
-    pub vehicle_scale_m: f64,
-    /// Total mass of the telescope, vehicle and load (kg): the rigid reference's.
-    pub total_mass_kg: f64,
-    /// The scheduled position (`a_k`), if the positions move.
-    pub schedule_parameter: Option<String>,
-    /// The design points, ordered by the scheduled position.
-    pub schedule: Vec<SchedulePoint>,
-    /// The shaper, if any.
-    pub shaper: Option<ShaperKind>,
-    /// Where its trains sit (`delayed` in files written before it was recorded).
-    #[serde(default = "delayed_timing")]
-    pub shaper_timing: ShaperTiming,
-    /// The feedforward force: the drive profile, shaped or not.
-    pub feedforward: Profile,
-    /// The sampled output-feedback part: sensors, rate and discrete Kalman filters (absent
-    /// for a continuous full-state controller).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sampled: Option<super::sampled::SampledDesign>,
-}
-
-/// The timing of controller files written before the timing was a setting.
-fn delayed_timing() -> ShaperTiming {
-    ShaperTiming::Delayed
-}
 
 /// The first elastic mode of `A`: frequency (Hz) and damping ratio, from the eigenvalue pair
 /// of least magnitude with a non-zero imaginary part.
@@ -450,7 +289,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     let (feedforward, shaper_timing) = feedforward(scene, force, &schedule, parameter, options)?;
     let mut controller = Controller {
         format: "telescopic controller".into(),
-        version: 1,
+        version: CONTROLLER_FILE_VERSION,
         generator: format!("telescopic {}", env!("CARGO_PKG_VERSION")),
         scene: scene.name.clone(),
         configuration: configuration_key(&scene.params),
@@ -478,7 +317,7 @@ fn sampled_part(
     controller: &Controller,
     model: &dyn Model,
     options: &DesignOptions,
-) -> Result<super::sampled::SampledDesign> {
+) -> Result<super::schema::SampledDesign> {
     if !options.kind.has_lqr() || options.kind.has_observer() {
         return Err(Error::option(
             "DesignOptions::sensors",
@@ -510,29 +349,14 @@ fn sampled_part(
             format!("must be finite numbers > 0 (got {bad})"),
         ));
     }
-    if !super::sampled::ESTIMATORS.contains(&options.estimator.as_str()) {
+    if options.estimator == Estimator::None {
         return Err(Error::option(
             "DesignOptions::estimator",
-            format!(
-                "`{}` is none of {}",
-                options.estimator,
-                super::sampled::ESTIMATORS.join(", ")
-            ),
+            "`none` is the strain-rate law's (no estimator); choose linear or extended",
         ));
     }
-    let law = sampled_law(options);
-    if law == "strain-rate" {
+    if sampled_law(options) == SampledLaw::StrainRate {
         return strain_rate_part(controller, model, options, noise);
-    }
-    if law != "lqr" {
-        return Err(Error::option(
-            "DesignOptions::law",
-            format!(
-                "`{}` is none of {}",
-                options.law,
-                super::strain::LAWS.join(", ")
-            ),
-        ));
     }
     let mut sampled = super::sampled::design_sampled(
         controller,
@@ -542,9 +366,9 @@ fn sampled_part(
         options.force_noise,
         options.rate_hz,
     )?;
-    sampled.estimator = options.estimator.clone();
+    sampled.estimator = options.estimator;
     sampled.seed = options.noise_seed;
-    if options.estimator == "extended" {
+    if options.estimator == Estimator::Extended {
         sampled.process_noise_floor = Some(options.process_noise_floor);
         sampled.model = Some(super::estimator_model::EstimatorModel::of(model)?);
     }
@@ -553,16 +377,16 @@ fn sampled_part(
 
 /// The sampled law `options` ask for, `auto` resolved: `strain-rate` when the sensors include
 /// `vehicle` and `kappa_1_0` and the estimator is the default, else `lqr`.
-pub fn sampled_law(options: &DesignOptions) -> &str {
-    if options.law != "auto" {
-        return &options.law;
+pub fn sampled_law(options: &DesignOptions) -> SampledLaw {
+    if options.law != SampledLaw::Auto {
+        return options.law;
     }
     let reads = |s: &str| options.sensors.iter().any(|o| o == s);
     let strain = super::strain::STRAIN_RATE_SENSORS.iter().all(|s| reads(s));
-    if strain && options.estimator == "linear" {
-        "strain-rate"
+    if strain && options.estimator == Estimator::Linear {
+        SampledLaw::StrainRate
     } else {
-        "lqr"
+        SampledLaw::Lqr
     }
 }
 
@@ -572,7 +396,7 @@ fn strain_rate_part(
     model: &dyn Model,
     options: &DesignOptions,
     noise: Vec<f64>,
-) -> Result<super::sampled::SampledDesign> {
+) -> Result<super::schema::SampledDesign> {
     use super::strain::STRAIN_RATE_SENSORS;
     if let Some(missing) = STRAIN_RATE_SENSORS
         .iter()
@@ -586,21 +410,21 @@ fn strain_rate_part(
             ),
         ));
     }
-    if options.estimator != "linear" {
+    if options.estimator != Estimator::Linear {
         return Err(Error::option(
             "DesignOptions::estimator",
-            "the strain-rate law has no estimator; leave --estimator at its default",
+            "the strain-rate law has no estimator; leave the estimator at its default (linear)",
         ));
     }
     super::sampled::check_rate(options.rate_hz)?;
     let law = super::strain::design_strain_rate(controller, model, options.added_damping)?;
-    Ok(super::sampled::SampledDesign {
+    Ok(super::schema::SampledDesign {
         rate_hz: options.rate_hz,
         sensors: options.sensors.clone(),
         noise,
         force_noise: options.force_noise,
         seed: options.noise_seed,
-        estimator: "none".into(),
+        estimator: Estimator::None,
         process_noise_floor: None,
         points: Vec::new(),
         strain_rate: Some(law),
@@ -824,43 +648,12 @@ fn feedforward(
     Ok((shape(&j, options.shaper, at), ShaperTiming::Delayed))
 }
 
-/// The two schedule points around time `t` and the weight of the second, `(i, j, w)`, for a
-/// schedule over `a_k` (`section = Some(k)`, `schedule_positions` its points' values of
-/// `a_k` from [`Controller::schedule_positions`]; `positions` are the scene's `a_2..a_n`),
-/// or the one point of a schedule at fixed positions (`None`). Allocation-free.
-pub fn schedule_weights(
-    schedule_positions: &[f64],
-    section: Option<usize>,
-    positions: &[Profile],
-    t: f64,
-) -> (usize, usize, f64) {
-    match section {
-        Some(k) => bracket(schedule_positions, positions[k - 2].value(t)),
-        None => (0, 0, 0.0),
-    }
-}
-
-/// The two entries of the ascending `positions` around `a` and the weight of the second:
-/// `(i, j, w)`, clamped at the ends (the emitted C's `weights` does the same).
-pub(crate) fn bracket(positions: &[f64], a: f64) -> (usize, usize, f64) {
-    let last = positions.len() - 1;
-    if last == 0 || a <= positions[0] {
-        return (0, 0, 0.0);
-    }
-    if a >= positions[last] {
-        return (last, last, 0.0);
-    }
-    let j = positions.partition_point(|&x| x <= a).clamp(1, last);
-    let (x0, x1) = (positions[j - 1], positions[j]);
-    (j - 1, j, (a - x0) / (x1 - x0))
-}
-
 impl Controller {
     /// The sampled part.
     ///
     /// # Errors
     /// [`Error::Option`] when the controller has none (a continuous full-state design).
-    pub fn sampled_part(&self) -> Result<&super::sampled::SampledDesign> {
+    pub fn sampled_part(&self) -> Result<&super::schema::SampledDesign> {
         self.sampled.as_ref().ok_or_else(|| {
             Error::option("controller", "has no sampled part (design it with sensors)")
         })
@@ -876,14 +669,25 @@ impl Controller {
     /// # Errors
     /// [`Error::Analysis`] naming what is malformed.
     pub fn from_json(text: &str) -> Result<Self> {
-        let c: Controller = serde_json::from_str(text)
-            .map_err(|e| Error::Analysis(format!("controller file: {e}")))?;
-        if c.format != "telescopic controller" || c.version != 1 {
+        let malformed = |e: serde_json::Error| Error::Analysis(format!("controller file: {e}"));
+        // the format and version first: a file of another layout is refused as such, not
+        // for the first field the layouts disagree on
+        let head: serde_json::Value = serde_json::from_str(text).map_err(malformed)?;
+        if head.get("format").and_then(|f| f.as_str()) != Some("telescopic controller") {
             return Err(Error::Analysis(
-                "controller file: not a telescopic controller of version 1".into(),
+                "controller file: not a telescopic controller (`format` is not \"telescopic controller\")"
+                    .into(),
             ));
         }
-        Ok(c)
+        let version = head.get("version").and_then(|v| v.as_u64());
+        if version != Some(u64::from(CONTROLLER_FILE_VERSION)) {
+            let found = version.map_or("none".to_string(), |v| v.to_string());
+            return Err(Error::Analysis(format!(
+                "controller file: layout version {found}, but this build reads version \
+                 {CONTROLLER_FILE_VERSION}; design the controller again with this build"
+            )));
+        }
+        serde_json::from_value(head).map_err(malformed)
     }
 
     /// What the controller is, in a few words: its kind, and for a sampled one its law,

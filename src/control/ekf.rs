@@ -6,11 +6,11 @@
 //! are linear in the coordinates (`vehicle`, `tip_rel`, `top1_rel`, `kappa_1_0`).
 //!
 //! Every step is a fixed sequence of plain loops ([`super::small_dense`]) that the emitted C
-//! ([`super::emit_c::emit_c`]) repeats operation for operation.
+//! ([`super::emit::emit_c`]) repeats operation for operation.
 
-use super::design::Controller;
 use super::estimator_model::{EstimatorModel, PreparedEstimatorModel};
 use super::sampled::SampledController;
+use super::schema::Controller;
 use super::small_dense::{exponential, invert_spd, multiply, multiply_transposed};
 use crate::{Error, Result};
 
@@ -56,7 +56,7 @@ struct Scratch {
 
 /// The sampled part's checks shared by the filter and its C emission: the part itself and
 /// sensors linear in the coordinates.
-pub(crate) fn sampled_of(file: &Controller) -> Result<&super::sampled::SampledDesign> {
+pub(crate) fn sampled_of(file: &Controller) -> Result<&super::schema::SampledDesign> {
     let sampled = file.sampled_part()?;
     if let Some(s) = sampled.sensors.iter().find(|s| s.as_str() == "acc_load") {
         return Err(Error::option(
@@ -70,7 +70,7 @@ pub(crate) fn sampled_of(file: &Controller) -> Result<&super::sampled::SampledDe
 /// The measurement rows (`sensors x w`, row-major) of the first design point: the filter's
 /// `C`, checked against the `w` states of its model.
 pub(crate) fn measurement_rows(
-    sampled: &super::sampled::SampledDesign,
+    sampled: &super::schema::SampledDesign,
     w: usize,
 ) -> Result<Vec<f64>> {
     let m = sampled.sensors.len();
@@ -87,7 +87,7 @@ pub(crate) fn measurement_rows(
 
 /// The measurement noise covariance (`sensors x sensors`, row-major): the noise levels
 /// squared on the diagonal.
-pub(crate) fn measurement_noise(sampled: &super::sampled::SampledDesign) -> Vec<f64> {
+pub(crate) fn measurement_noise(sampled: &super::schema::SampledDesign) -> Vec<f64> {
     let m = sampled.noise.len();
     let mut r = vec![0.0; m * m];
     for (i, s) in sampled.noise.iter().enumerate() {
@@ -98,7 +98,7 @@ pub(crate) fn measurement_noise(sampled: &super::sampled::SampledDesign) -> Vec<
 
 /// The process noise per period (`2 dof x 2 dof`, row-major): the force disturbance through
 /// the accelerations over one period, plus the floor on every state.
-pub(crate) fn process_noise(sampled: &super::sampled::SampledDesign, response: &[f64]) -> Vec<f64> {
+pub(crate) fn process_noise(sampled: &super::schema::SampledDesign, response: &[f64]) -> Vec<f64> {
     let n = response.len();
     let period = 1.0 / sampled.rate_hz;
     let mut bd = vec![0.0; 2 * n];
@@ -110,7 +110,7 @@ pub(crate) fn process_noise(sampled: &super::sampled::SampledDesign, response: &
     // upper section inside its band): without it the loop diverges with clearance
     let floor = sampled
         .process_noise_floor
-        .unwrap_or(super::sampled::FORMER_PROCESS_NOISE_FLOOR);
+        .unwrap_or(super::sampled::DEFAULT_PROCESS_NOISE_FLOOR);
     let variance = sampled.force_noise * sampled.force_noise;
     let mut q = vec![0.0; 4 * n * n];
     for i in 0..2 * n {

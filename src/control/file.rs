@@ -1,7 +1,8 @@
 //! A controller file checked like a scene: every field against its rule and against the
 //! scene it is applied to, each error naming the JSON field.
 
-use super::design::{Controller, FORCE_LIMIT_RANGE, SCALE_RANGE, SchedulePoint};
+use super::design::{FORCE_LIMIT_RANGE, SCALE_RANGE};
+use super::schema::{Controller, Estimator, SchedulePoint};
 use crate::{Error, Result};
 use std::path::Path;
 use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
@@ -208,7 +209,7 @@ impl Controller {
         }
         let (low, high) = super::design::PROCESS_NOISE_FLOOR_RANGE;
         if let Some(floor) = sampled.process_noise_floor {
-            if sampled.estimator != "extended" {
+            if sampled.estimator != Estimator::Extended {
                 return Err(field(
                     "sampled.process_noise_floor",
                     "is a setting of the extended estimator only",
@@ -228,16 +229,20 @@ impl Controller {
             ));
         }
         if let Some(law) = &sampled.strain_rate {
-            return self.check_strain_rate(law, &sampled.estimator, &sampled.sensors);
+            return self.check_strain_rate(law, sampled.estimator, &sampled.sensors);
         }
-        if !super::sampled::ESTIMATORS.contains(&sampled.estimator.as_str()) {
+        if sampled.estimator == Estimator::None {
             return Err(field(
                 "sampled.estimator",
-                format!(
-                    "`{}` is none of {}",
-                    sampled.estimator,
-                    super::sampled::ESTIMATORS.join(", ")
-                ),
+                "`none` goes with a strain-rate law only",
+            ));
+        }
+        if sampled.estimator == Estimator::Extended
+            && (sampled.process_noise_floor.is_none() || sampled.model.is_none())
+        {
+            return Err(field(
+                "sampled",
+                "the extended estimator needs its process_noise_floor and model",
             ));
         }
         let n = self.states.len();
@@ -255,7 +260,7 @@ impl Controller {
                 ("C", &p.c, (m, n)),
                 ("L", &p.l, (n, m)),
             ] {
-                crate::rows::from_rows(rows, Some(shape))
+                crate::io::rows::from_rows(rows, Some(shape))
                     .map_err(|e| field(&format!("sampled.points[{j}].{name}"), e))?;
                 if rows.iter().flatten().any(|v| !v.is_finite()) {
                     return Err(field(
@@ -266,7 +271,7 @@ impl Controller {
             }
         }
         if let Some(model) = &sampled.model {
-            if sampled.estimator != "extended" {
+            if sampled.estimator != Estimator::Extended {
                 return Err(field(
                     "sampled.model",
                     "is the extended estimator's model only",
@@ -283,11 +288,11 @@ impl Controller {
     /// point, finite positive loop gains and filter.
     fn check_strain_rate(
         &self,
-        law: &super::strain::StrainRateLaw,
-        estimator: &str,
+        law: &super::schema::StrainRateLaw,
+        estimator: Estimator,
         sensors: &[String],
     ) -> Result<()> {
-        if estimator != "none" {
+        if estimator != Estimator::None {
             return Err(field(
                 "sampled.estimator",
                 format!("must be `none` with a strain-rate law (got `{estimator}`)"),

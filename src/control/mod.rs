@@ -1,7 +1,7 @@
 //! Controller design on the linear models and its test on the full nonlinear model with
 //! clearance: the Riccati solver ([`riccati`]), input shapers ([`shaper`]), the gain-scheduled
 //! LQR and its controller file ([`design`](mod@design)), the controlled model ([`controlled`]), and the
-//! figures a design is judged by ([`crate::metrics`]).
+//! figures a design is judged by ([`crate::analysis::metrics`]).
 //!
 //! ```no_run
 //! use telescopic::control::{DesignOptions, compare_variants};
@@ -17,26 +17,29 @@
 pub mod controlled;
 pub mod design;
 pub mod ekf;
-pub mod emit_c;
-mod emit_ekf;
-mod emit_strain;
+pub mod emit;
 pub mod estimator_model;
 pub mod file;
 pub mod riccati;
 pub mod sampled;
 pub mod sampled_run;
+pub mod schedule;
+pub mod schema;
 pub mod shaper;
 pub mod small_dense;
 pub mod strain;
 
 pub use controlled::{ControlLaw, Controlled, Observed};
-pub use design::{Controller, ControllerKind, DesignOptions, design};
+pub use design::{DesignOptions, design};
+pub use schema::{
+    CONTROLLER_FILE_VERSION, Controller, ControllerKind, Estimator, SampledLaw, SchedulePoint,
+};
 pub use shaper::{ShaperKind, ShaperTiming};
 
-use crate::metrics::{RunMetrics, drive_stop, metrics};
+use crate::analysis::metrics::{RunMetrics, drive_stop, metrics};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
-use crate::simulation::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
+use crate::run::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
 use crate::{Error, Result};
 use telescopic_runtime::{Method, Scene};
 
@@ -148,7 +151,7 @@ impl ControlComparison {
             with.residual_p2p,
             without.residual_p2p,
             100.0 * with.residual_p2p / without.residual_p2p,
-            1e3 * crate::metrics::SETTLING_BAND,
+            1e3 * crate::analysis::metrics::SETTLING_BAND,
             settling(with.settling_time),
             settling(without.settling_time),
             with.window_switches,
@@ -173,7 +176,7 @@ pub fn compare_with_open_loop(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<ControlComparison> {
-    crate::memory::check_runs(&[scene, scene])?;
+    crate::run::memory::check_runs(&[scene, scene])?;
     let controlled = simulate_controlled(scene, controller, options, reporter)?;
     let open_loop = simulate_scene(scene, &comparison_options(options)?, reporter)?;
     let window = drive_stop(scene);
@@ -246,7 +249,7 @@ pub fn compare_variants(
     for (kind, sensors) in continuous.iter().chain(with_sensors).cloned() {
         let variant = if sensors.is_empty() {
             kind.to_string()
-        } else if design::sampled_law(options) == "strain-rate" {
+        } else if design::sampled_law(options) == SampledLaw::StrainRate {
             let shaped = if kind.has_shaper() { " + shaper" } else { "" };
             format!("strain-rate{shaped} from {}", sensors.join("+"))
         } else {

@@ -16,10 +16,9 @@
 //! interpolated linearly in the scheduled position between design points, as the continuous
 //! law's gains are.
 
-use super::design::Controller;
-use crate::rows::{from_rows, to_rows};
+use super::schema::{Controller, DiscretePoint, SampledDesign};
+use crate::io::rows::{from_rows, to_rows};
 use crate::{Error, Result};
-use serde::{Deserialize, Serialize};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
 use telescopic_runtime::{ContactMode, Lpv, Model};
 
@@ -35,73 +34,10 @@ pub fn default_noise(sensor: &str) -> f64 {
     }
 }
 
-/// The sampled output-feedback part of a controller file: what a machine needs to run it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SampledDesign {
-    /// Controller rate (Hz).
-    pub rate_hz: f64,
-    /// The measured outputs, in the order of `C`'s rows.
-    pub sensors: Vec<String>,
-    /// Their measurement noise (standard deviation, in each output's unit).
-    pub noise: Vec<f64>,
-    /// The force disturbance of the filter's model (N, standard deviation).
-    pub force_noise: f64,
-    /// Seed of the simulated measurement noise.
-    pub seed: u64,
-    /// The estimator: `linear` (the discrete Kalman filter of the closed-contact model, what
-    /// the emitted C runs) or `extended` (the extended filter on the nonlinear model with the
-    /// contact law, [`super::ekf::ExtendedKalman`]).
-    #[serde(default = "linear")]
-    pub estimator: String,
-    /// The extended filter's process-noise floor: a variance added to every state per
-    /// period (state units squared); only with the extended estimator (an extended file
-    /// without it ran with [`FORMER_PROCESS_NOISE_FLOOR`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub process_noise_floor: Option<f64>,
-    /// One discrete filter per design point, in the schedule's order (none for the
-    /// strain-rate law).
-    pub points: Vec<DiscretePoint>,
-    /// The strain-rate law, replacing the LQR on a filter's estimate (estimator `none`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub strain_rate: Option<super::strain::StrainRateLaw>,
-    /// The extended filter's model of the plant: the design scene's (extended files written
-    /// before it was recorded ran the plant's own).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub model: Option<super::estimator_model::EstimatorModel>,
-}
-
-/// The discrete model and Kalman gain of one design point.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DiscretePoint {
-    /// `Ad = exp(A T)`, rows.
-    #[serde(rename = "Ad")]
-    pub ad: Vec<Vec<f64>>,
-    /// `Bd = int_0^T exp(A s) ds B`, rows.
-    #[serde(rename = "Bd")]
-    pub bd: Vec<Vec<f64>>,
-    /// Measurement rows on the full state.
-    #[serde(rename = "C")]
-    pub c: Vec<Vec<f64>>,
-    /// Kalman gain (predictor form), rows (`states x sensors`).
-    #[serde(rename = "L")]
-    pub l: Vec<Vec<f64>>,
-}
-
-/// The extended filter's floor in files written before the floor was recorded.
-pub const FORMER_PROCESS_NOISE_FLOOR: f64 = 1e-16;
-
 /// The extended filter's default process-noise floor (per period, state units squared): below
 /// some 3e-11 the filter grows overconfident in the motion it cannot see and the loop chatters
 /// or diverges on case-study (docs/control.md).
 pub const DEFAULT_PROCESS_NOISE_FLOOR: f64 = 1e-10;
-
-/// The default estimator's name.
-fn linear() -> String {
-    "linear".into()
-}
-
-/// The estimators a sampled controller may run.
-pub const ESTIMATORS: [&str; 2] = ["linear", "extended"];
 
 /// The steady predictor-form Kalman gain `L = Ad P C' (C P C' + R)^-1` with `P` the
 /// stabilizing solution of the filter's discrete Riccati equation, by the structured doubling
@@ -219,7 +155,7 @@ pub fn design_sampled(
         noise: noise.to_vec(),
         force_noise,
         seed: 1,
-        estimator: linear(),
+        estimator: super::schema::Estimator::Linear,
         process_noise_floor: None,
         points,
         strain_rate: None,
@@ -239,18 +175,6 @@ pub fn check_rate(rate_hz: f64) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-/// The rigid reference of a sampled controller: nodes at the feedforward's breakpoints only
-/// for a piecewise-constant force (exact, and a short table for emitted code), every 1 ms
-/// otherwise.
-pub(crate) fn reference(file: &Controller, start: f64, end: f64) -> super::controlled::Reference {
-    let step = if file.feedforward_steps().is_some() {
-        f64::INFINITY
-    } else {
-        1e-3
-    };
-    super::controlled::Reference::new(&file.feedforward, file.total_mass_kg, start, end, step)
 }
 
 /// A sampled controller, stepped by the caller at every tick: the in-library one
@@ -275,7 +199,7 @@ struct PointMatrices {
 pub struct DiscreteController {
     points: Vec<PointMatrices>,
     positions: Vec<f64>,
-    reference: super::controlled::Reference,
+    reference: super::schedule::Reference,
     feedforward: telescopic_runtime::Profile,
     period: f64,
     limit: f64,
@@ -318,7 +242,7 @@ impl DiscreteController {
         Ok(DiscreteController {
             positions: file.schedule_positions(),
             points,
-            reference: reference(file, start, end),
+            reference: super::schedule::reference(file, start, end),
             feedforward: file.feedforward.clone(),
             period: 1.0 / sampled.rate_hz,
             limit: file.force_limit_n,
@@ -331,7 +255,7 @@ impl DiscreteController {
 
     /// The two design points around `a` and the weight of the second.
     fn weights(&self, a: f64) -> (usize, usize, f64) {
-        super::design::bracket(&self.positions, a)
+        super::schedule::bracket(&self.positions, a)
     }
 }
 

@@ -3,11 +3,11 @@
 //! Gaussian noise, and the controller's force acts from the next tick on.
 
 use super::controlled::Controlled;
-use super::design::Controller;
 use super::sampled::{DiscreteController, SampledController};
+use super::schema::Controller;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
-use crate::simulation::{Simulation, Trajectory};
+use crate::run::{Simulation, Trajectory};
 use crate::{Error, Result};
 use rand::{Rng, SeedableRng};
 use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
@@ -46,7 +46,7 @@ pub fn run_sampled(
     let sampled = file.sampled_part()?;
     let span = scene.time;
     let (period, every) = tick_grid(sampled.rate_hz, &span)?;
-    crate::memory::check_runs(&[scene])?;
+    crate::run::memory::check_runs(&[scene])?;
     let base = run.model();
     let model = Controlled::sampled(base, file, span.start, span.end)?;
     let sensors = Sensors::new(&model);
@@ -200,7 +200,7 @@ pub fn simulate_sampled(
     let extended = file
         .sampled
         .as_ref()
-        .is_some_and(|s| s.estimator == "extended");
+        .is_some_and(|s| s.estimator == super::schema::Estimator::Extended);
     if extended {
         // the filter predicts with the model its file records (a file written before it
         // was recorded: with the scene's, the plant's own)

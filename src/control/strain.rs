@@ -18,14 +18,10 @@
 //! upper section moves freely in its clearance the law waits, and when a contact closes the
 //! impact bends section 1, which the gauge sees and the law damps.
 
-use super::design::Controller;
 use super::sampled::SampledController;
+use super::schema::{Controller, StrainRateLaw, StrainRatePoint};
 use crate::{Error, Result};
-use serde::{Deserialize, Serialize};
 use telescopic_runtime::{ContactMode, Lpv, Model, modal_analysis_with};
-
-/// The sampled laws: `auto`, `lqr` (the LQR on a Kalman filter's estimate) or `strain-rate`.
-pub const LAWS: [&str; 3] = ["auto", "lqr", "strain-rate"];
 
 /// Default damping ratio the strain-rate law adds to the first mode.
 pub const DEFAULT_ADDED_DAMPING: f64 = 0.15;
@@ -38,41 +34,6 @@ pub const VEHICLE_LOOP_FRACTION: f64 = 1.0 / 3.0;
 
 /// The sensors the strain-rate law reads.
 pub const STRAIN_RATE_SENSORS: [&str; 2] = ["vehicle", "kappa_1_0"];
-
-/// The strain-rate law of a controller file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StrainRateLaw {
-    /// Damping ratio added to the first mode (the design's knob).
-    pub added_damping: f64,
-    /// Vehicle loop stiffness `k_p` (N/m).
-    pub vehicle_stiffness_n_per_m: f64,
-    /// Vehicle loop damping `k_d` (N s/m).
-    pub vehicle_damping_n_s_per_m: f64,
-    /// Time constant of the rate filters (s).
-    pub filter_time_constant_s: f64,
-    /// One entry per design point, in the schedule's order.
-    pub points: Vec<StrainRatePoint>,
-}
-
-impl StrainRateLaw {
-    /// The rate filters' weight per tick at `rate_hz`: `T / (tau + T)` (first-order low-pass
-    /// by backward Euler), the same number in the library and the emitted C.
-    pub fn filter_weight(&self, rate_hz: f64) -> f64 {
-        let period = 1.0 / rate_hz;
-        period / (self.filter_time_constant_s + period)
-    }
-}
-
-/// The strain-rate law at one design point.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StrainRatePoint {
-    /// `tip_rel` per `kappa_1_0` in the first elastic mode (m^2).
-    pub tip_per_curvature_m2: f64,
-    /// The first elastic mode's frequency (Hz).
-    pub first_mode_hz: f64,
-    /// The gain `g` on the curvature's rate (N per 1/(m s)).
-    pub gain: f64,
-}
 
 /// `tip_rel` per `kappa_1_0` (m^2) in the first elastic mode of the closed-contact linear model
 /// `lpv` of `model` at `positions`, and that mode's frequency (Hz).
@@ -161,7 +122,7 @@ pub fn design_strain_rate(
 pub struct StrainRateController {
     law: StrainRateLaw,
     positions: Vec<f64>,
-    reference: super::controlled::Reference,
+    reference: super::schedule::Reference,
     feedforward: telescopic_runtime::Profile,
     period: f64,
     /// The rate filters' weight per tick.
@@ -204,7 +165,7 @@ impl StrainRateController {
         };
         Ok(StrainRateController {
             positions: file.schedule_positions(),
-            reference: super::sampled::reference(file, start, end),
+            reference: super::schedule::reference(file, start, end),
             feedforward: file.feedforward.clone(),
             period: 1.0 / sampled.rate_hz,
             alpha: law.filter_weight(sampled.rate_hz),
@@ -230,7 +191,7 @@ impl SampledController for StrainRateController {
         self.previous = Some((u, kappa));
         let next = t + self.period;
         let (u_ref, v_ref) = self.reference.at(next);
-        let (i, j, w) = super::design::bracket(&self.positions, a);
+        let (i, j, w) = super::schedule::bracket(&self.positions, a);
         let (gi, gj) = (self.law.points[i].gain, self.law.points[j].gain);
         let gain = gi + w * (gj - gi);
         let vehicle = self.law.vehicle_stiffness_n_per_m * (u - u_ref)

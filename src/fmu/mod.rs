@@ -64,7 +64,7 @@ pub fn write_fmu(scene: &Scene, library: &Path, kind: FmuKind, out: &Path) -> Re
             ),
         )
     })?;
-    crate::output::write_atomically(out, |w| {
+    crate::io::output::write_atomically(out, |w| {
         let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
         let options = zip::write::SimpleFileOptions::default()
             .compression_method(zip::CompressionMethod::Stored);

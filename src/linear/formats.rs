@@ -3,7 +3,7 @@
 
 use super::npy::{self, Array};
 use super::{DiscreteModels, LinearExport};
-use crate::rows::{from_rows, to_rows};
+use crate::io::rows::{from_rows, to_rows};
 use crate::{Error, Result};
 use serde_json::{Value, json};
 use std::io::Write;

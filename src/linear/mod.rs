@@ -15,12 +15,13 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
+pub mod bode;
 mod formats;
 mod npy;
 
 pub use formats::{Format, MAX_LATEX_STATES};
 
-use crate::models::{ModelChoice, ModelRegistry};
+use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use std::str::FromStr;
 use telescopic_runtime::nalgebra::DMatrix;
@@ -250,7 +251,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
             let values = g.values();
             let (ns, ni, no) = (lpv.states().len(), lpv.inputs().len(), lpv.outputs().len());
             let numbers = (ns * ns + ns * ni + no * ns + no * ni) as u64;
-            crate::memory::check(
+            crate::run::memory::check(
                 numbers * BYTES_PER_NUMBER * values.len() as u64,
                 &format!(
                     "{} linear models of {ns} states ({numbers} numbers each, held and written \

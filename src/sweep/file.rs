@@ -2,7 +2,7 @@
 //! product), an explicit list, and a Latin-hypercube sample of ranges from a seed. Validated
 //! as strictly as a scene, every run's scene included, before any run starts.
 
-use crate::simulation::{MethodChoice, SimulationOptions, plan};
+use crate::run::{MethodChoice, SimulationOptions, plan};
 use crate::{Error, Result};
 use rand::Rng;
 use rand::SeedableRng;
@@ -416,7 +416,7 @@ fn check_memory(path: &Path, spec: &SweepSpec) -> Result<()> {
         + spec.runs.iter().map(toml::Table::len).sum::<usize>()
         + spec.latin.as_ref().map_or(0, |l| l.ranges.len());
     let bytes = runs.saturating_mul(BYTES_PER_RUN + BYTES_PER_VALUE * keys as u64);
-    crate::memory::check(
+    crate::run::memory::check(
         bytes,
         &format!("{runs} runs of {keys} keys"),
         "[latin] samples or the [grid] (fewer runs), or split the sweep",

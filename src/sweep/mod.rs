@@ -27,8 +27,6 @@ mod table;
 pub use chart::{SweepChart, chart};
 pub use file::{MAX_RUNS, RUN_KEYS, Run, Sweep, override_text, value_text};
 pub use merge::merge_shards;
-pub use run::{
-    MAX_JOBS, METRIC_COLUMNS, SweepOptions, SweepOutcome, check_jobs, discard_sweep, run_sweep,
-};
+pub use run::{MAX_JOBS, SweepOptions, SweepOutcome, check_jobs, discard_sweep, run_sweep};
 pub use shard::Shard;
-pub use table::{MAX_RESULT_BYTES, STATUSES, SweepTable, read_table, split_csv};
+pub use table::{MAX_RESULT_BYTES, METRIC_COLUMNS, STATUSES, SweepTable, read_table, split_csv};

@@ -5,11 +5,11 @@
 
 use super::file::{Run, Sweep};
 use super::shard::Shard;
-use crate::memory::MemoryGate;
-use crate::metrics::{drive_stop, metrics, peak_and_rms};
-use crate::output::csv_number;
+use crate::analysis::metrics::{drive_stop, metrics, peak_and_rms};
+use crate::io::output::csv_number;
 use crate::report::{Reporter, Silent};
 use crate::run::PreparedRun;
+use crate::run::memory::MemoryGate;
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -17,23 +17,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 use telescopic_runtime::{SimError, modal_analysis};
 
-/// The metric columns after the override columns, with their meaning (docs/sweeps.md).
-pub const METRIC_COLUMNS: [&str; 14] = [
-    "tip_rel_max",
-    "tip_rel_rms",
-    "contact_force_max",
-    "contact_switches",
-    "residual_std",
-    "f1_hz",
-    "steps",
-    "rejected",
-    "rhs_evals",
-    "jacobian_evals",
-    "factorizations",
-    "status",
-    "error",
-    "wall_s",
-];
+use super::table::METRIC_COLUMNS;
 
 /// Options of [`run_sweep`].
 #[derive(Debug, Clone, PartialEq)]
@@ -260,7 +244,7 @@ fn open_work_file(
     columns: &str,
     resume: bool,
 ) -> Result<(WorkFile, Vec<usize>)> {
-    use crate::output::Destination;
+    use crate::io::output::Destination;
     let first_lines = format!("{header}\n{columns}\n");
     if matches!(Destination::of(out), Ok(Destination::Stream(_))) {
         if resume {
@@ -402,7 +386,7 @@ pub fn run_sweep(
     use rayon::prelude::*;
     let started = Instant::now();
     check_jobs(options.jobs)?;
-    crate::output::check_not_an_input(
+    crate::io::output::check_not_an_input(
         "SweepOptions::out",
         &options.out,
         &[&sweep.path, &sweep.scene_path],
@@ -436,7 +420,7 @@ pub fn run_sweep(
         .filter(|r| !finished_before.contains(&r.index))
         .collect();
     if let WorkFile::Partial { path, .. } = &work {
-        crate::output::keep_on_interrupt(path);
+        crate::io::output::keep_on_interrupt(path);
     }
     let gate = MemoryGate::new()?;
     let writer = Mutex::new(work);
@@ -498,9 +482,9 @@ pub fn run_sweep(
     }
     // every row is there: sorted by index into the result file, written whole
     let table = finished_table(&work)?;
-    crate::output::write_atomically(&options.out, |w| table.write(w))?;
+    crate::io::output::write_atomically(&options.out, |w| table.write(w))?;
     if let WorkFile::Partial { path, .. } = &work {
-        crate::output::forget_kept(path);
+        crate::io::output::forget_kept(path);
         std::fs::remove_file(path).map_err(write_error)?;
     }
     Ok(SweepOutcome {

@@ -7,13 +7,30 @@
 //! are checked the same way and a torn last line (a killed process) is cut off.
 
 use super::file::MAX_RUNS;
-use super::run::METRIC_COLUMNS;
 use super::shard::Shard;
 use crate::{Error, Result};
 use sha2::{Digest, Sha256};
 use std::collections::HashSet;
 use std::io::Write;
 use std::path::Path;
+
+/// The metric columns after the override columns, with their meaning (docs/sweeps.md).
+pub const METRIC_COLUMNS: [&str; 14] = [
+    "tip_rel_max",
+    "tip_rel_rms",
+    "contact_force_max",
+    "contact_switches",
+    "residual_std",
+    "f1_hz",
+    "steps",
+    "rejected",
+    "rhs_evals",
+    "jacobian_evals",
+    "factorizations",
+    "status",
+    "error",
+    "wall_s",
+];
 
 /// Largest result or shard file read (bytes): 4 GiB, some 10^7 rows.
 pub const MAX_RESULT_BYTES: u64 = 4 << 30;

@@ -1,9 +1,11 @@
 //! Two tight reference runs of a scene and its predictability horizon, as `telescopic
 //! work-precision` measures them.
 
+use telescopic::analysis::work_precision::{
+    REFERENCE_RUNS, predictability_horizon, tip_error_in_horizon,
+};
+use telescopic::run::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
 use telescopic::runtime::Method;
-use telescopic::simulation::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
-use telescopic::work_precision::{REFERENCE_RUNS, predictability_horizon, tip_error_in_horizon};
 use telescopic::{Scene, Silent};
 
 /// A shipped scene (`scenes/<name>.toml`) with `--set` overrides.

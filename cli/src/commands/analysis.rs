@@ -5,15 +5,17 @@ use super::progress::Progress;
 use super::{SceneArgs, check_chart, check_output};
 use clap::Args;
 use std::path::PathBuf;
-use telescopic::converge::{ConvergeOptions, converge as run_converge};
-use telescopic::model_size::{ModelSize, ModelSizeOptions, model_size_study};
-use telescopic::models::ModelChoice;
-use telescopic::output::{check_stdout_open, write_to};
+use telescopic::analysis::converge::{ConvergeOptions, converge as run_converge};
+use telescopic::analysis::model_size::{ModelSize, ModelSizeOptions, model_size_study};
+use telescopic::analysis::shape_errors::{ShapeErrorsOptions, shape_errors as run_shape_errors};
+use telescopic::analysis::stability::stability_analysis;
+use telescopic::analysis::work_precision::{
+    DEFAULT_METHODS, WorkPrecisionOptions, work_precision as run_wp,
+};
+use telescopic::io::output::{check_stdout_open, write_to};
 use telescopic::plot::{Figure, save};
-use telescopic::shape_errors::{ShapeErrorsOptions, shape_errors as run_shape_errors};
-use telescopic::simulation::MethodChoice;
-use telescopic::stability::stability_analysis;
-use telescopic::work_precision::{DEFAULT_METHODS, WorkPrecisionOptions, work_precision as run_wp};
+use telescopic::run::MethodChoice;
+use telescopic::run::models::ModelChoice;
 
 /// Options of `telescopic stability`.
 #[derive(Debug, Args)]

@@ -4,9 +4,9 @@ use super::control::OperatingPointArgs;
 use super::{SceneArgs, check_chart, check_output};
 use clap::Args;
 use std::path::PathBuf;
-use telescopic::bode::{BodeOptions, DEFAULT_POINTS, frequency_response};
-use telescopic::models::ModelChoice;
-use telescopic::output::{check_stdout_open, write_to};
+use telescopic::io::output::{check_stdout_open, write_to};
+use telescopic::linear::bode::{BodeOptions, DEFAULT_POINTS, frequency_response};
+use telescopic::run::models::ModelChoice;
 
 /// Options of `telescopic bode`.
 #[derive(Debug, Args)]
@@ -54,7 +54,7 @@ pub fn bode(args: &BodeArgs) -> anyhow::Result<()> {
     check_output("--out", args.out.as_deref(), &inputs)?;
     check_chart("--plot", args.plot.as_deref(), &inputs)?;
     if let (Some(plot), Some(out)) = (&args.plot, &args.out) {
-        telescopic::output::check_not_an_input("--plot", plot, &[out])?;
+        telescopic::io::output::check_not_an_input("--plot", plot, &[out])?;
     }
     if args.out.is_none() {
         check_stdout_open()?;

@@ -5,11 +5,11 @@ use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::control::DesignOptions;
+use telescopic::io::output::{check_stdout_open, write_to};
 use telescopic::linear::{
     Format, Grid, LinearizeOptions, linearize as run_linearize, parse_positions,
 };
-use telescopic::models::ModelChoice;
-use telescopic::output::{check_stdout_open, write_to};
+use telescopic::run::models::ModelChoice;
 use telescopic::runtime::ContactMode;
 
 /// The operating point of a linear model: shared by `linearize` and `bode`.
@@ -169,7 +169,7 @@ pub struct DesignArgs {
     /// closed-contact model) or extended (an extended Kalman filter on the design scene's
     /// nonlinear model with the contact law, recorded in the file); --emit-c writes either.
     #[arg(long, default_value_t = DesignOptions::default().estimator, value_name = "linear|extended")]
-    pub estimator: String,
+    pub estimator: telescopic::control::Estimator,
     /// The extended filter's process-noise floor: a variance added to every state per
     /// period (state units squared).
     #[arg(long, default_value_t = DesignOptions::default().process_noise_floor, value_name = "VAR")]
@@ -178,8 +178,8 @@ pub struct DesignArgs {
     /// else lqr), lqr (the LQR on the estimator's state) or strain-rate (the strain gauge's
     /// rate fed to the drive and a PD on the vehicle, no estimator; --controller then only
     /// chooses the feedforward, shaped or not).
-    #[arg(long, default_value = "auto", value_name = "auto|lqr|strain-rate")]
-    pub law: String,
+    #[arg(long, default_value_t = DesignOptions::default().law, value_name = "auto|lqr|strain-rate")]
+    pub law: telescopic::control::SampledLaw,
     /// The strain-rate law's damping ratio added to the first mode.
     #[arg(long, default_value_t = DesignOptions::default().added_damping, value_name = "ZETA")]
     pub added_damping: f64,
@@ -216,10 +216,10 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         sensors: args.sensors.clone(),
         sensor_noises: args.measurement_noise.clone(),
         rate_hz: args.rate,
-        estimator: args.estimator.clone(),
+        estimator: args.estimator,
         process_noise_floor: args.process_noise_floor,
         noise_seed: args.noise_seed,
-        law: args.law.clone(),
+        law: args.law,
         added_damping: args.added_damping,
         model: args.model,
         models: Default::default(),
@@ -238,11 +238,11 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(dir) = &args.emit_c {
-        telescopic::control::emit_c::write_c(&controller, scene.time.start, scene.time.end, dir)?;
+        telescopic::control::emit::write_c(&controller, scene.time.start, scene.time.end, dir)?;
         eprintln!(
             "wrote {} and {} in {}",
-            telescopic::control::emit_c::C_FILES[0],
-            telescopic::control::emit_c::C_FILES[1],
+            telescopic::control::emit::C_FILES[0],
+            telescopic::control::emit::C_FILES[1],
             dir.display()
         );
     }

@@ -92,8 +92,8 @@ impl SceneArgs {
 /// none of the command's `inputs`.
 pub fn check_output(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyhow::Result<()> {
     if let Some(p) = path {
-        telescopic::output::check_writable(option, p)?;
-        telescopic::output::check_not_an_input(option, p, inputs)?;
+        telescopic::io::output::check_writable(option, p)?;
+        telescopic::io::output::check_not_an_input(option, p, inputs)?;
     }
     Ok(())
 }
@@ -103,7 +103,7 @@ pub fn check_output(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyh
 pub fn check_chart(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyhow::Result<()> {
     if let Some(p) = path {
         telescopic::plot::check_picture_path(option, p)?;
-        telescopic::output::check_not_an_input(option, p, inputs)?;
+        telescopic::io::output::check_not_an_input(option, p, inputs)?;
     }
     Ok(())
 }

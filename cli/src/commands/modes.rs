@@ -4,11 +4,11 @@
 use super::{SceneArgs, check_chart};
 use clap::Args;
 use std::path::PathBuf;
-use telescopic::equations::{EquationFormat, equations as rendered_equations};
-use telescopic::mode_plot::ModeShapeFigure;
-use telescopic::models::ModelChoice;
-use telescopic::modes::{ModesOptions, compute_modes};
-use telescopic::output::write_to;
+use telescopic::analysis::equations::{EquationFormat, equations as rendered_equations};
+use telescopic::analysis::modes::{ModesOptions, compute_modes};
+use telescopic::io::output::write_to;
+use telescopic::plot::modes::ModeShapeFigure;
+use telescopic::run::models::ModelChoice;
 
 /// Options of `telescopic modes`.
 #[derive(Debug, Args)]
@@ -41,7 +41,7 @@ const PLOT_POINTS: usize = 61;
 
 /// Runs `telescopic modes`.
 pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
-    telescopic::output::check_stdout_open()?;
+    telescopic::io::output::check_stdout_open()?;
     check_chart(
         "--plot",
         args.plot.as_deref(),
@@ -88,7 +88,7 @@ pub struct EquationsArgs {
 
 /// Runs `telescopic equations`.
 pub fn equations(args: &EquationsArgs) -> anyhow::Result<()> {
-    telescopic::output::check_stdout_open()?;
+    telescopic::io::output::check_stdout_open()?;
     let scene = args.scene.load()?;
     let text = rendered_equations(&scene, args.format, &Default::default())?;
     write_to(None, |w| w.write_all(text.as_bytes()))?;

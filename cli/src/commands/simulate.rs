@@ -6,12 +6,12 @@ use super::{SceneArgs, check_chart, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::Scene;
+use telescopic::analysis::metrics::drive_stop;
 use telescopic::control::{Controller, compare_with_open_loop};
-use telescopic::metrics::drive_stop;
-use telescopic::models::ModelChoice;
 use telescopic::plot::{Curve, Marks, Role, clearance_label, plot};
-use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
-use telescopic::stress::Station;
+use telescopic::run::models::ModelChoice;
+use telescopic::run::stress::Station;
+use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
 
 /// Options of `telescopic simulate`.
 #[derive(Debug, Args)]
@@ -103,10 +103,10 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     check_chart("--plot", args.plot.as_deref(), &inputs)?;
     check_output("--out", args.out.as_deref(), &inputs)?;
     if let (Some(plot), Some(out)) = (&args.plot, &args.out) {
-        telescopic::output::check_not_an_input("--plot", plot, &[out])?;
+        telescopic::io::output::check_not_an_input("--plot", plot, &[out])?;
     }
     if args.out.is_none() {
-        telescopic::output::check_stdout_open()?;
+        telescopic::io::output::check_stdout_open()?;
     }
     let scene = args.scene.load()?;
     let other = match &args.compare {
@@ -114,7 +114,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         None => None,
     };
     if let Some(other) = &other {
-        telescopic::memory::check_runs(&[&scene, other])?;
+        telescopic::run::memory::check_runs(&[&scene, other])?;
     }
     let controller = match &args.controller {
         Some(path) => {

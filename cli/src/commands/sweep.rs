@@ -5,7 +5,7 @@ use super::check_chart;
 use super::progress::Progress;
 use clap::Args;
 use std::path::PathBuf;
-use telescopic::output::write_atomically;
+use telescopic::io::output::write_atomically;
 use telescopic::sweep::{Shard, Sweep, SweepOptions, merge_shards, run_sweep};
 
 /// Options of `telescopic sweep`.

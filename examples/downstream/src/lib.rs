@@ -10,9 +10,12 @@ pub const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scene.toml");
 /// The committed models of `telescopic` plus the one this crate generated: pass it as the
 /// `models` of any options struct (`SimulationOptions`, `ModesOptions`, `LinearizeOptions`,
 /// `DesignOptions`, ...).
-pub fn models() -> telescopic::models::ModelRegistry {
-    let own =
-        telescopic::models::ModelSet::new(env!("CARGO_PKG_NAME"), CONFIGURATIONS, prepare_by_key)
-            .with_renderings(rendering);
-    telescopic::models::ModelRegistry::default().with(own)
+pub fn models() -> telescopic::run::models::ModelRegistry {
+    let own = telescopic::run::models::ModelSet::new(
+        env!("CARGO_PKG_NAME"),
+        CONFIGURATIONS,
+        prepare_by_key,
+    )
+    .with_renderings(rendering);
+    telescopic::run::models::ModelRegistry::default().with(own)
 }

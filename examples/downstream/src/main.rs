@@ -4,9 +4,9 @@
 //!
 //! `cargo run --release -p telescopic-downstream-example [SCENE.toml]`
 
-use telescopic::models::ModelChoice;
-use telescopic::modes::{ModesOptions, compute_modes};
-use telescopic::simulation::{SimulationOptions, simulate_scene};
+use telescopic::analysis::modes::{ModesOptions, compute_modes};
+use telescopic::run::models::ModelChoice;
+use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::{Scene, Silent};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

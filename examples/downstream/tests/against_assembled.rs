@@ -4,11 +4,11 @@
 //! (closed-form integrals, Symbolica and emitted code against Gauss-Legendre quadrature and
 //! generic code).
 
+use telescopic::analysis::modes::{ModesOptions, compute_modes};
 use telescopic::linear::{LinearizeOptions, linearize};
-use telescopic::models::ModelChoice;
-use telescopic::modes::{ModesOptions, compute_modes};
+use telescopic::run::models::ModelChoice;
+use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene};
 use telescopic::runtime::Method;
-use telescopic::simulation::{MethodChoice, SimulationOptions, simulate_scene};
 use telescopic::{Scene, Silent};
 
 fn scene() -> Scene {
@@ -25,7 +25,7 @@ fn the_generated_configuration_is_the_scenes() {
         [key.as_str()]
     );
     // not one of the committed models: without this crate's set it has none
-    let committed = telescopic::models::ModelRegistry::default();
+    let committed = telescopic::run::models::ModelRegistry::default();
     assert!(
         committed
             .build(&scene.params, ModelChoice::Generated)

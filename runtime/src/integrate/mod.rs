@@ -14,6 +14,7 @@
 //! accepted step (`y` and `ydot` at both ends).
 
 pub mod bdf;
+mod combine;
 pub mod diagnosis;
 pub mod esdirk;
 pub mod events;

@@ -6,7 +6,7 @@ use super::limits::{
 use super::schema::{ContactSpec, DriveSpec, PerSection, SceneFile, SectionsSpec, TimeSpec};
 use super::{FieldError, Scene, SceneError, TimeSpan};
 use crate::contact::ContactLaw;
-use crate::damping::StructuralDamping;
+use crate::params::StructuralDamping;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile};
 use crate::shape::MAX_MODES;

@@ -1,0 +1,443 @@
+//! `telescopic work-precision --modes`: the model-size axis. Every model size (basis and modes
+//! per section) runs with every method and tolerance, and each run's error is measured
+//! against the beams ([`crate::analysis::beam_reference`]), not against a tighter run of the same
+//! model: so the table and chart show the whole error (truncation and integration) against
+//! its cost, one curve per size, with the Pareto front marked.
+//!
+//! The error of a run is its largest `|tip_rel|` difference from the beams inside the beams'
+//! window ([`crate::run::error_budget::window`]: the whole span without clearance, up to the first
+//! contact switch with it) and, with clearance, the larger relative difference of the RMS and
+//! peak of `tip_rel` beyond it.
+
+use crate::analysis::beam_reference::{BeamResponse, beam_response};
+use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
+use crate::report::Reporter;
+use crate::run::PreparedRun;
+use crate::run::error_budget::{Window, WindowEnd, window};
+use crate::run::{MethodChoice, SimulationOptions, Trajectory};
+use crate::{Error, Result};
+use plotters::prelude::*;
+use std::fmt;
+use std::io::Write;
+use std::str::FromStr;
+use telescopic_runtime::{Basis, MAX_MODES, Method, Scene};
+
+/// One model size: the basis and the modes per section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ModelSize {
+    /// The basis.
+    pub basis: Basis,
+    /// Modes per section (every section the same).
+    pub modes: usize,
+}
+
+impl FromStr for ModelSize {
+    type Err = String;
+
+    /// `N` (the paper's modes) or `static:N` (with the static correction shapes).
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let (basis, n) = match s.trim().split_once(':') {
+            Some(("static", n)) => (Basis::ModesAndStatic, n),
+            None => (Basis::Modes, s.trim()),
+            Some(_) => return Err(format!("`{s}` is not N or static:N")),
+        };
+        match n.parse::<usize>() {
+            Ok(modes) if (1..=MAX_MODES).contains(&modes) => Ok(ModelSize { basis, modes }),
+            _ => Err(format!(
+                "`{s}`: the modes per section must be 1 to {MAX_MODES} (N or static:N)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for ModelSize {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.basis {
+            Basis::Modes => write!(f, "{}", self.modes),
+            Basis::ModesAndStatic => write!(f, "static:{}", self.modes),
+        }
+    }
+}
+
+/// Options of [`model_size_study`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelSizeOptions {
+    /// The sizes to compare.
+    pub sizes: Vec<ModelSize>,
+    /// Methods (`auto` is simulate's default); each adaptive one runs at every tolerance.
+    pub methods: Vec<MethodChoice>,
+    /// Relative tolerances (`atol = 1e-3 rtol`) of the adaptive methods.
+    pub rtols: Vec<f64>,
+    /// Timed repetitions per run (the median is reported).
+    pub repeat: usize,
+}
+
+impl Default for ModelSizeOptions {
+    fn default() -> Self {
+        ModelSizeOptions {
+            sizes: ["4", "6", "8", "static:2", "static:3", "static:4"]
+                .iter()
+                .map(|s| s.parse().expect("valid sizes"))
+                .collect(),
+            methods: vec![MethodChoice::Auto],
+            rtols: vec![1e-4, 1e-5, 1e-6, 1e-7],
+            repeat: 3,
+        }
+    }
+}
+
+/// One run of the study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SizePoint {
+    /// The model size.
+    pub size: ModelSize,
+    /// The method's name (`auto` resolved).
+    pub method: String,
+    /// `rtol=...`, or `exact`.
+    pub setting: String,
+    /// Median wall time (s).
+    pub wall: f64,
+    /// Largest `|tip_rel|` difference from the beams inside the window (m).
+    pub tip_error: f64,
+    /// With clearance, the larger relative difference of the RMS and peak of `tip_rel`
+    /// beyond the window; 0 without.
+    pub statistics_error: f64,
+    /// Not beaten in both wall time and `tip_error` by another point (with statistics within
+    /// 5 % where there are any).
+    pub pareto: bool,
+}
+
+/// The result of [`model_size_study`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelSizeStudy {
+    /// The scene's name.
+    pub scene: String,
+    /// The beams' window.
+    pub window: Window,
+    /// What the errors are measured against.
+    pub reference: String,
+    /// One point per run.
+    pub points: Vec<SizePoint>,
+}
+
+/// Relative statistics error a point may carry and still count (for the front and the
+/// cheapest choices).
+pub const STATISTICS_LIMIT: f64 = 0.05;
+
+/// Every size with every method and tolerance against the beams (see the module docs).
+///
+/// # Errors
+/// [`Error::Option`] for no sizes, no methods or a repeat count out of range; any error of
+/// the beam reference.
+pub fn model_size_study(
+    scene: &Scene,
+    options: &ModelSizeOptions,
+    reporter: &dyn Reporter,
+) -> Result<ModelSizeStudy> {
+    if options.sizes.is_empty() || options.methods.is_empty() {
+        return Err(Error::option(
+            "ModelSizeOptions::sizes",
+            "give at least one model size and one method",
+        ));
+    }
+    if !(1..=crate::analysis::work_precision::MAX_REPEAT).contains(&options.repeat) {
+        return Err(Error::option(
+            "WorkPrecisionOptions::repeat",
+            format!(
+                "must be 1 to {} (got {})",
+                crate::analysis::work_precision::MAX_REPEAT,
+                options.repeat
+            ),
+        ));
+    }
+    let beams = beam_response(scene, &[], reporter)?;
+    let window = window(&scene.params, &beams.trajectory);
+    reporter.note(&format!(
+        "errors against {}, pointwise up to t = {} s",
+        beams.reference, window.end
+    ));
+    let mut points = Vec::new();
+    for &size in &options.sizes {
+        let sized = sized(scene, size);
+        for &method in &options.methods {
+            for (setting, simulation) in settings(&sized, method, &options.rtols)? {
+                let point = measure(
+                    &sized,
+                    size,
+                    &setting,
+                    &simulation,
+                    options.repeat,
+                    (&beams, window),
+                    reporter,
+                )?;
+                if let Some(p) = point {
+                    reporter.note(&describe(&p));
+                    points.push(p);
+                }
+            }
+        }
+    }
+    mark_front(&mut points);
+    Ok(ModelSizeStudy {
+        scene: scene.name.clone(),
+        window,
+        reference: beams.reference.to_string(),
+        points,
+    })
+}
+
+/// `scene` with `size`.
+fn sized(scene: &Scene, size: ModelSize) -> Scene {
+    let mut s = scene.clone();
+    s.params.basis = size.basis;
+    for section in &mut s.params.sections {
+        section.modes = size.modes;
+    }
+    s
+}
+
+/// The runs of `method`: one per tolerance for an adaptive method, one for `exact`.
+fn settings(
+    scene: &Scene,
+    method: MethodChoice,
+    rtols: &[f64],
+) -> Result<Vec<(String, SimulationOptions)>> {
+    let base = SimulationOptions {
+        method,
+        error_estimate: false,
+        ..SimulationOptions::default()
+    };
+    let plan = crate::run::plan(scene, &base)?;
+    if plan.method == Method::Exact {
+        return Ok(vec![("exact".into(), base)]);
+    }
+    Ok(rtols
+        .iter()
+        .map(|&r| {
+            (
+                format!("rtol={r:e}"),
+                SimulationOptions {
+                    rtol: Some(r),
+                    atol: Some(1e-3 * r),
+                    ..base.clone()
+                },
+            )
+        })
+        .collect())
+}
+
+/// One point: `repeat` timed runs; `None` for a run the budget refuses.
+fn measure(
+    scene: &Scene,
+    size: ModelSize,
+    setting: &str,
+    options: &SimulationOptions,
+    repeat: usize,
+    (beams, window): (&BeamResponse, Window),
+    reporter: &dyn Reporter,
+) -> Result<Option<SizePoint>> {
+    let run = PreparedRun::new(scene, options, &crate::Silent)?;
+    let mut walls = Vec::with_capacity(repeat);
+    let mut last: Option<Trajectory> = None;
+    for _ in 0..repeat {
+        match run.integrate(reporter) {
+            Ok(t) => {
+                walls.push(t.stats.wall.as_secs_f64());
+                last = Some(t);
+            }
+            Err(Error::Unaffordable { .. }) => return Ok(None),
+            Err(e) => return Err(e),
+        }
+    }
+    let trajectory = last.expect("at least one run");
+    walls.sort_by(f64::total_cmp);
+    let (tip_error, statistics_error) = errors(&trajectory, &beams.trajectory, window);
+    Ok(Some(SizePoint {
+        size,
+        method: run.plan.method.name().to_string(),
+        setting: setting.to_string(),
+        wall: walls[walls.len() / 2],
+        tip_error,
+        statistics_error,
+        pareto: false,
+    }))
+}
+
+/// The tip error inside `window` and the statistics error beyond it of `run` against
+/// `beams`.
+fn errors(run: &Trajectory, beams: &Trajectory, window: Window) -> (f64, f64) {
+    let (a, b) = (
+        run.column("tip_rel").expect("tip_rel"),
+        beams.column("tip_rel").expect("tip_rel"),
+    );
+    let t = run.column("t").expect("t");
+    let inside = t.iter().take_while(|&&t| t <= window.end).count();
+    let tip = a[..inside]
+        .iter()
+        .zip(&b[..inside])
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    if window.reason == WindowEnd::SpanEnd {
+        return (tip, 0.0);
+    }
+    let stats = |v: &[f64]| {
+        let rms = (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
+        (rms, v.iter().fold(0.0_f64, |m, x| m.max(x.abs())))
+    };
+    let (r1, p1) = stats(&a[inside..]);
+    let (r2, p2) = stats(&b[inside..]);
+    let relative = |x: f64, y: f64| (x - y).abs() / y.abs().max(f64::MIN_POSITIVE);
+    (tip, relative(r1, r2).max(relative(p1, p2)))
+}
+
+/// Marks the points no other point beats in both wall time and tip error (among those with
+/// statistics within [`STATISTICS_LIMIT`]).
+fn mark_front(points: &mut [SizePoint]) {
+    let counts = |p: &SizePoint| p.statistics_error <= STATISTICS_LIMIT;
+    let snapshot: Vec<(f64, f64, bool)> = points
+        .iter()
+        .map(|p| (p.wall, p.tip_error, counts(p)))
+        .collect();
+    for (i, p) in points.iter_mut().enumerate() {
+        let (w, e, ok) = snapshot[i];
+        p.pareto = ok
+            && !snapshot.iter().enumerate().any(|(j, &(w2, e2, ok2))| {
+                j != i && ok2 && w2 <= w && e2 <= e && (w2 < w || e2 < e)
+            });
+    }
+}
+
+fn describe(p: &SizePoint) -> String {
+    format!(
+        "{:>9} {:>11} {:<14} wall {:.4} s, tip error {:.2e} m, statistics {:.1} %",
+        p.size.to_string(),
+        p.method,
+        p.setting,
+        p.wall,
+        p.tip_error,
+        100.0 * p.statistics_error
+    )
+}
+
+impl ModelSizeStudy {
+    /// The cheapest point whose tip error is within `error` (m) and statistics within
+    /// [`STATISTICS_LIMIT`].
+    pub fn cheapest_within(&self, error: f64) -> Option<&SizePoint> {
+        self.points
+            .iter()
+            .filter(|p| p.tip_error <= error && p.statistics_error <= STATISTICS_LIMIT)
+            .min_by(|a, b| a.wall.total_cmp(&b.wall))
+    }
+
+    /// Lines for the summary: the cheapest point for 1 cm, 1 mm and 0.1 mm.
+    pub fn summary(&self) -> String {
+        [1e-2, 1e-3, 1e-4]
+            .iter()
+            .map(|&e| match self.cheapest_within(e) {
+                Some(p) => format!(
+                    "cheapest within {e:e} m: modes {} {} {} ({:.4} s, {:.2e} m)",
+                    p.size, p.method, p.setting, p.wall, p.tip_error
+                ),
+                None => format!("cheapest within {e:e} m: none of the runs"),
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    /// The CSV table, one row per run.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_table(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        writeln!(
+            w,
+            "basis,modes,method,setting,wall_s,tip_error_window_m,statistics_error_rel,pareto"
+        )?;
+        for p in &self.points {
+            writeln!(
+                w,
+                "{},{},{},{},{:e},{:e},{:e},{}",
+                p.size.basis.word(),
+                p.size.modes,
+                p.method,
+                p.setting,
+                p.wall,
+                p.tip_error,
+                p.statistics_error,
+                p.pareto
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The chart: error against wall time, one curve per size, the front marked.
+    pub fn chart(&self) -> impl Figure + '_ {
+        SizeChart { study: self }
+    }
+}
+
+struct SizeChart<'a> {
+    study: &'a ModelSizeStudy,
+}
+
+impl Figure for SizeChart<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 650)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<()> {
+        let s = self.study;
+        let title = format!(
+            "whole error against cost, {} (against the beams: {}; pointwise to {} s)",
+            s.scene, s.reference, s.window.end
+        );
+        let root = titled_page(root, &title)?;
+        let mut sizes: Vec<ModelSize> = Vec::new();
+        for p in &s.points {
+            if !sizes.contains(&p.size) {
+                sizes.push(p.size);
+            }
+        }
+        let mut series: Vec<LogSeries> = sizes
+            .iter()
+            .map(|size| LogSeries {
+                label: match size.basis {
+                    Basis::Modes => format!("{} modes", size.modes),
+                    Basis::ModesAndStatic => format!("{} modes + static", size.modes),
+                },
+                points: s
+                    .points
+                    .iter()
+                    .filter(|p| p.size == *size)
+                    .map(|p| (p.wall, p.tip_error.max(1e-16)))
+                    .collect(),
+                marks: Vec::new(),
+            })
+            .collect();
+        let mut front: Vec<&SizePoint> = s.points.iter().filter(|p| p.pareto).collect();
+        front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+        series.push(LogSeries {
+            label: "Pareto front".into(),
+            points: front
+                .iter()
+                .map(|p| (p.wall, p.tip_error.max(1e-16)))
+                .collect(),
+            marks: front.iter().map(|p| p.size.to_string()).collect(),
+        });
+        log_panel(
+            &root,
+            (
+                "tip_rel error against the beams",
+                "wall time [s]",
+                "max |error| [m]",
+            ),
+            &series,
+            YAxis::Log,
+            None,
+        )?;
+        root.present().map_err(plot_error)
+    }
+}

@@ -1,0 +1,611 @@
+//! `telescopic work-precision`: speed against accuracy for every method on one scene.
+//!
+//! A reference from two independent tight runs (dop853 at rtol 1e-12, dopri5 at 1e-10);
+//! where they agree to 1e-9 m in `tip_rel` is the scene's predictability horizon `T_h`.
+//! Each method then runs a sweep of tolerances (steps for fixed-step methods). Errors are
+//! measured pointwise on `[0, T_h]` (`tip_rel` and the first contact gap) and, over the whole
+//! span, on statistics that converge even where the motion does not: per-second peak and RMS
+//! of `tip_rel`, and the number of contact switches. Wall time is the median of repeated runs.
+
+use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
+use crate::report::Reporter;
+use crate::run::PreparedRun;
+use crate::run::Trajectory;
+use crate::run::models::{ModelChoice, ModelRegistry};
+use crate::{Error, Result};
+use plotters::prelude::*;
+use std::io::Write;
+use telescopic_runtime::integrate::stability::stability_report;
+use telescopic_runtime::{Method, Model, Scene, Settings, auto_plan};
+
+/// The methods compared by default: every method, and `auto` (simulate's default).
+pub const DEFAULT_METHODS: &str =
+    "exact,auto,dopri5,dop853,dop853-imex,esdirk,imex,bdf,galpha,rk4,verlet";
+
+/// Most timed repetitions per setting.
+pub const MAX_REPEAT: usize = 100;
+
+/// Options of [`work_precision`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkPrecisionOptions {
+    /// Methods to compare by name (`auto` is simulate's default; `exact` is skipped, with a
+    /// note, on a scene that is not linear and time-invariant between contact switches).
+    pub methods: Vec<String>,
+    /// Timed repetitions per setting (the median is reported), 1 to [`MAX_REPEAT`].
+    pub repeat: usize,
+    /// Relative tolerances of the adaptive methods' sweep (`atol = 1e-3 rtol`), each in
+    /// `(0, 0.1]` and at least 1e-13; default 1e-3 to 1e-8 by decades.
+    pub rtols: Vec<f64>,
+    /// Which model computes the right-hand side.
+    pub model: ModelChoice,
+    /// Where generated models come from (default: the committed ones).
+    pub models: ModelRegistry,
+}
+
+impl Default for WorkPrecisionOptions {
+    fn default() -> Self {
+        WorkPrecisionOptions {
+            methods: DEFAULT_METHODS.split(',').map(String::from).collect(),
+            repeat: 3,
+            rtols: TOLERANCES.to_vec(),
+            model: ModelChoice::Auto,
+            models: ModelRegistry::default(),
+        }
+    }
+}
+
+/// The result of [`work_precision`]: the reference's horizon and floor, and one point per
+/// run of the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkPrecision {
+    /// The scene's name.
+    pub scene: String,
+    /// Predictability horizon `T_h` (s): where the two references part by 1e-9 m.
+    pub horizon: f64,
+    /// End of the scene's span (s).
+    pub end: f64,
+    /// The statistics floor: how much the two references differ in per-second peak/RMS of
+    /// `tip_rel` and in the switch count (relative).
+    pub floor: (f64, f64),
+    /// One point per run.
+    pub points: Vec<Point>,
+}
+
+/// Agreement of the two reference runs that defines the predictability horizon (m).
+pub const HORIZON_AGREEMENT: f64 = 1e-9;
+/// The two reference runs: method and relative tolerance (`atol = 1e-3 rtol`). The first is
+/// the reference every run is measured against; where the two part defines the horizon.
+pub const REFERENCE_RUNS: [(Method, f64); 2] = [(Method::Dop853, 1e-12), (Method::Dopri5, 1e-10)];
+/// Agreement with the reference that ends a run's own horizon (m).
+const RUN_AGREEMENT: f64 = 1e-6;
+/// Relative tolerances of the adaptive sweep by default (`atol = 1e-3 rtol`).
+const TOLERANCES: [f64; 6] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
+/// Fixed steps as fractions of the method's stability limit (rk4, verlet).
+const EXPLICIT_FRACTIONS: [f64; 5] = [0.9, 0.5, 0.25, 0.125, 0.0625];
+/// Fixed steps of the implicit fixed-step methods (s).
+const IMPLICIT_STEPS: [f64; 5] = [1e-3, 3e-4, 1e-4, 3e-5, 1e-5];
+
+/// One run of the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    /// Method label (`auto` or a method name).
+    pub method: String,
+    /// `rtol=...` or `dt=...`.
+    pub setting: String,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Right-hand side evaluations.
+    pub rhs_evals: u64,
+    /// Median wall time (s).
+    pub wall: f64,
+    /// Largest `|tip_rel - reference|` on `[0, T_h]` (m).
+    pub tip_error: f64,
+    /// Largest gap error on `[0, T_h]` (m).
+    pub gap_error: f64,
+    /// Largest relative error of the per-second peak and RMS of `tip_rel`.
+    pub statistics_error: f64,
+    /// Contact switches.
+    pub switches: u64,
+    /// Relative error of the switch count.
+    pub switch_error: f64,
+    /// Time the run stays within 1e-6 m of the reference (s).
+    pub agrees_until: f64,
+    /// Empty when the run finished, else the error.
+    pub failure: String,
+}
+
+/// Peak and RMS of output `col` per whole second.
+fn per_second(traj: &Trajectory, col: usize) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64, usize)> = Vec::new();
+    let t0 = traj.rows[0][0];
+    for r in &traj.rows {
+        let k = (r[0] - t0).floor() as usize;
+        while out.len() <= k {
+            out.push((0.0, 0.0, 0));
+        }
+        let e = &mut out[k];
+        e.0 = e.0.max(r[col].abs());
+        e.1 += r[col] * r[col];
+        e.2 += 1;
+    }
+    out.into_iter()
+        .filter(|e| e.2 > 1)
+        .map(|(p, s, n)| (p, (s / n as f64).sqrt()))
+        .collect()
+}
+
+/// The predictability horizon `T_h` (s) of two reference runs: the first sample where their
+/// `tip_rel` differ by more than [`HORIZON_AGREEMENT`], or their last sample.
+pub fn predictability_horizon(a: &Trajectory, b: &Trajectory) -> f64 {
+    let tip = a.index("tip_rel").expect("every model has tip_rel");
+    let end = a.rows.last().map_or(0.0, |r| r[0]);
+    a.rows
+        .iter()
+        .zip(&b.rows)
+        .find(|(x, y)| (x[tip] - y[tip]).abs() > HORIZON_AGREEMENT)
+        .map_or(end, |(x, _)| x[0])
+}
+
+/// The largest relative difference of the per-second peak and RMS of `tip_rel` between `run`
+/// and `reference` (the `statistics_error_rel` of the work-precision table).
+pub fn statistics_error(run: &Trajectory, reference: &Trajectory) -> f64 {
+    let tip = reference.index("tip_rel").expect("every model has tip_rel");
+    per_second(run, tip)
+        .iter()
+        .zip(per_second(reference, tip))
+        .map(|(a, b)| ((a.0 - b.0).abs() / b.0.max(1e-12)).max((a.1 - b.1).abs() / b.1.max(1e-12)))
+        .fold(0.0, f64::max)
+}
+
+/// The largest `|tip_rel|` difference (m) of `run` from `reference` up to `horizon` (s): the
+/// `tip_error_horizon_m` of the work-precision table.
+pub fn tip_error_in_horizon(run: &Trajectory, reference: &Trajectory, horizon: f64) -> f64 {
+    let tip = reference.index("tip_rel").expect("every model has tip_rel");
+    run.rows
+        .iter()
+        .zip(&reference.rows)
+        .take_while(|(_, b)| b[0] <= horizon)
+        .map(|(a, b)| (a[tip] - b[tip]).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Compares a run with the reference.
+fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
+    let tip = reference.index("tip_rel").expect("every model has tip_rel");
+    let gap = reference
+        .names
+        .iter()
+        .position(|n| n.starts_with("xi_"))
+        .map(|i| i + 1);
+    let tip_error = tip_error_in_horizon(run, reference, horizon);
+    let mut gap_error = 0.0f64;
+    let mut agrees_until = f64::NAN;
+    for (a, b) in run.rows.iter().zip(&reference.rows) {
+        if agrees_until.is_nan() && (a[tip] - b[tip]).abs() > RUN_AGREEMENT {
+            agrees_until = a[0];
+        }
+        if let Some(g) = gap
+            && a[0] <= horizon
+        {
+            gap_error = gap_error.max((a[g] - b[g]).abs());
+        }
+    }
+    if agrees_until.is_nan() {
+        agrees_until = reference.rows.last().map_or(0.0, |r| r[0]);
+    }
+    let stats = statistics_error(run, reference);
+    let switch_error = if reference.stats.switches == 0 {
+        0.0
+    } else {
+        (run.stats.switches as f64 - reference.stats.switches as f64).abs()
+            / reference.stats.switches as f64
+    };
+    [tip_error, gap_error, stats, switch_error, agrees_until]
+}
+
+/// Adaptive settings at `rtol` with `atol = 1e-3 rtol` (m, m/s).
+fn tolerance(rtol: f64) -> Settings {
+    Settings {
+        rtol,
+        atol: 1e-3 * rtol,
+        ..Settings::default()
+    }
+}
+
+/// The settings swept for `method` on `model`, adaptive ones at `rtols`.
+fn sweep(
+    method: Method,
+    model: &dyn Model,
+    scene: &Scene,
+    rtols: &[f64],
+) -> Result<Vec<(String, Settings)>> {
+    let fixed = |dt: f64| Settings {
+        dt: Some(dt),
+        ..Settings::default()
+    };
+    Ok(match method {
+        // exact up to rounding: nothing to sweep but its long steps over closed contacts'
+        // modes, beside its short steps throughout where there are contacts to close
+        Method::Exact if scene.params.contact.clearance > 0.0 => vec![
+            ("exact".to_string(), Settings::default()),
+            (
+                "short-steps".to_string(),
+                Settings {
+                    long_steps: false,
+                    ..Settings::default()
+                },
+            ),
+        ],
+        Method::Exact => vec![("exact".to_string(), Settings::default())],
+        Method::Rk4 | Method::Verlet => {
+            let r = stability_report(model, scene.time.start)
+                .map_err(|e| Error::Analysis(format!("scene {}: {e}", scene.name)))?;
+            let limit = if method == Method::Rk4 {
+                r.rk4_step
+            } else {
+                r.verlet_step
+            };
+            EXPLICIT_FRACTIONS
+                .iter()
+                .map(|f| (format!("dt={:.3e}", f * limit), fixed(f * limit)))
+                .collect()
+        }
+        m if m.step_control() == telescopic_runtime::integrate::StepControl::Fixed => {
+            IMPLICIT_STEPS
+                .iter()
+                .map(|&dt| (format!("dt={dt:.0e}"), fixed(dt)))
+                .collect()
+        }
+        _ => rtols
+            .iter()
+            .map(|&r| (format!("rtol={r:e}"), tolerance(r)))
+            .collect(),
+    })
+}
+
+/// Speed against accuracy for every method on `scene`: the reference, its horizon and
+/// floor, then each method's sweep. Progress lines go to `reporter`.
+///
+/// # Errors
+/// [`Error::Option`] for an unknown method or a repeat count out of range; a failed
+/// reference run. A failed run of the sweep is a point with its error, not an error.
+pub fn work_precision(
+    scene: &Scene,
+    options: &WorkPrecisionOptions,
+    reporter: &dyn Reporter,
+) -> Result<WorkPrecision> {
+    if !(1..=MAX_REPEAT).contains(&options.repeat) {
+        return Err(Error::option(
+            "WorkPrecisionOptions::repeat",
+            format!(
+                "must be 1 to {MAX_REPEAT} (got {}); the median of a few timed runs is \
+                 already stable",
+                options.repeat
+            ),
+        ));
+    }
+    if options.rtols.is_empty()
+        || options
+            .rtols
+            .iter()
+            .any(|r| !(r.is_finite() && (1e-13..=0.1).contains(r)))
+    {
+        return Err(Error::option(
+            "WorkPrecisionOptions::rtols",
+            format!(
+                "each relative tolerance must be 1e-13 to 0.1, at least one (got {:?})",
+                options.rtols
+            ),
+        ));
+    }
+    let args = options;
+    // (label, method, exact stepping from): `auto` is what `simulate` runs by default
+    let methods: Vec<(String, Method, Option<f64>)> = args
+        .methods
+        .iter()
+        .map(|m| match m.trim() {
+            "auto" => {
+                let (method, exact_from, _) = auto_plan(&scene.params, &scene.time);
+                Ok(("auto".to_string(), method, exact_from))
+            }
+            name => Method::from_name(name)
+                .map(|method| (method.name(), method, None))
+                .map_err(|e| Error::option("WorkPrecisionOptions::methods", e)),
+        })
+        .collect::<Result<_>>()?;
+    let chosen = args.models.build(&scene.params, args.model)?;
+    if let Some(note) = &chosen.note {
+        reporter.note(note);
+    }
+    let [(first, first_rtol), (second, second_rtol)] = REFERENCE_RUNS;
+    reporter.note(&format!(
+        "{} on the {}: reference runs ({} rtol {first_rtol:e}, {} rtol {second_rtol:e})",
+        scene.name,
+        chosen.description,
+        first.name(),
+        second.name()
+    ));
+    // every run, the references included, on one prepared run (within the work budget)
+    let mut prepared = PreparedRun::with_model(scene, chosen, Method::Dop853, Settings::default());
+    let run = |prepared: &mut PreparedRun, method, settings: &Settings| {
+        prepared.plan.method = method;
+        prepared.plan.settings = *settings;
+        prepared.integrate(reporter)
+    };
+    let reference = run(&mut prepared, first, &tolerance(first_rtol))?;
+    let second = run(&mut prepared, second, &tolerance(second_rtol))?;
+    let end = scene.time.end;
+    let horizon = predictability_horizon(&reference, &second);
+    reporter.note(&format!(
+        "predictability horizon T_h = {horizon:.4} s (the two references agree in tip_rel to \
+         {HORIZON_AGREEMENT:e} m up to there; span {end} s)"
+    ));
+    // the statistics of two careful runs differ after T_h: no method can be judged closer
+    let floor = measure(&second, &reference, horizon);
+    reporter.note(&format!(
+        "statistics floor: the two references differ by {:.2} % in per-second peak/RMS of \
+         tip_rel and {:.2} % in contact switches",
+        100.0 * floor[2],
+        100.0 * floor[3]
+    ));
+    let mut points = Vec::new();
+    let exact_listed = methods.iter().any(|(l, _, _)| l == "exact");
+    for (label, method, exact_from) in &methods {
+        let (method, exact_from) = (*method, *exact_from);
+        if label == "auto" && method == Method::Exact && exact_from.is_none() && exact_listed {
+            reporter.note("auto: the same runs as exact on this scene");
+            continue;
+        }
+        if method == Method::Exact
+            && let Some(why) = telescopic_runtime::integrate::exact::lti_obstacle(&scene.params)
+        {
+            reporter.note(&format!("exact: skipped ({why})"));
+            continue;
+        }
+        for (setting, mut settings) in sweep(method, prepared.model(), scene, &args.rtols)? {
+            settings.exact_from = exact_from;
+            let mut walls = Vec::new();
+            let mut last = None;
+            for _ in 0..args.repeat {
+                match run(&mut prepared, method, &settings) {
+                    Ok(t) => {
+                        walls.push(t.stats.wall.as_secs_f64());
+                        last = Some(Ok(t));
+                    }
+                    Err(e) => {
+                        last = Some(Err(e));
+                        break;
+                    }
+                }
+            }
+            walls.sort_by(f64::total_cmp);
+            let point = match last.expect("repeat >= 1") {
+                Ok(traj) => {
+                    let [
+                        tip_error,
+                        gap_error,
+                        statistics_error,
+                        switch_error,
+                        agrees_until,
+                    ] = measure(&traj, &reference, horizon);
+                    Point {
+                        method: label.clone(),
+                        setting,
+                        steps: traj.stats.steps,
+                        rhs_evals: traj.stats.rhs_evals,
+                        wall: walls[walls.len() / 2],
+                        tip_error,
+                        gap_error,
+                        statistics_error,
+                        switches: traj.stats.switches,
+                        switch_error,
+                        agrees_until,
+                        failure: String::new(),
+                    }
+                }
+                Err(e) => Point {
+                    method: label.clone(),
+                    setting,
+                    steps: 0,
+                    rhs_evals: 0,
+                    wall: f64::NAN,
+                    tip_error: f64::NAN,
+                    gap_error: f64::NAN,
+                    statistics_error: f64::NAN,
+                    switches: 0,
+                    switch_error: f64::NAN,
+                    agrees_until: f64::NAN,
+                    failure: format!("{e:#}").replace([',', '\n'], ";"),
+                },
+            };
+            reporter.note(&describe(&point));
+            points.push(point);
+        }
+    }
+    Ok(WorkPrecision {
+        scene: scene.name.clone(),
+        horizon,
+        end,
+        floor: (floor[2], floor[3]),
+        points,
+    })
+}
+
+impl WorkPrecision {
+    /// The CSV table: one row per run.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_table(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        write_table(w, &self.points)
+    }
+
+    /// The six-panel chart (for [`crate::plot::save`]).
+    pub fn chart(&self) -> impl Figure + '_ {
+        WorkPrecisionChart {
+            scene: &self.scene,
+            horizon: self.horizon,
+            end: self.end,
+            points: &self.points,
+        }
+    }
+}
+
+fn describe(p: &Point) -> String {
+    if !p.failure.is_empty() {
+        return format!("{:>8} {:<14} failed: {}", p.method, p.setting, p.failure);
+    }
+    format!(
+        "{:>8} {:<14} wall {:.4} s, rhs {:>9}, tip error on [0,T_h] {:.2e} m, gap {:.2e} m, statistics {:.2e}, switches {} ({:.1} %), within 1e-6 m until {:.3} s",
+        p.method,
+        p.setting,
+        p.wall,
+        p.rhs_evals,
+        p.tip_error,
+        p.gap_error,
+        p.statistics_error,
+        p.switches,
+        100.0 * p.switch_error,
+        p.agrees_until
+    )
+}
+
+fn write_table(w: &mut dyn Write, points: &[Point]) -> std::io::Result<()> {
+    writeln!(
+        w,
+        "method,setting,steps,rhs_evals,wall_s,tip_error_horizon_m,gap_error_horizon_m,statistics_error_rel,switches,switch_error_rel,agrees_until_s,failure"
+    )?;
+    for p in points {
+        let num = |v: f64| {
+            if v.is_finite() {
+                format!("{v:e}")
+            } else {
+                String::new()
+            }
+        };
+        writeln!(
+            w,
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            p.method,
+            p.setting,
+            p.steps,
+            p.rhs_evals,
+            num(p.wall),
+            num(p.tip_error),
+            num(p.gap_error),
+            num(p.statistics_error),
+            p.switches,
+            num(p.switch_error),
+            num(p.agrees_until),
+            p.failure
+        )?;
+    }
+    Ok(())
+}
+
+/// Six log-log panels: three errors against wall time, two against rhs evaluations, and how
+/// long each run agrees with the reference.
+struct WorkPrecisionChart<'a> {
+    scene: &'a str,
+    horizon: f64,
+    end: f64,
+    points: &'a [Point],
+}
+
+type Pick = fn(&Point) -> f64;
+
+impl Figure for WorkPrecisionChart<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1500, 900)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<()> {
+        let title = format!(
+            "work-precision, {} (T_h = {:.3} s of {} s)",
+            self.scene, self.horizon, self.end
+        );
+        let root = titled_page(root, &title)?;
+        let panels: [(&str, &str, Pick, &str, Pick); 6] = [
+            (
+                "tip_rel error on [0, T_h]",
+                "wall time [s]",
+                |p| p.wall,
+                "max |error| [m]",
+                |p| p.tip_error,
+            ),
+            (
+                "gap error on [0, T_h]",
+                "wall time [s]",
+                |p| p.wall,
+                "max |error| [m]",
+                |p| p.gap_error,
+            ),
+            (
+                "statistics error (whole span)",
+                "wall time [s]",
+                |p| p.wall,
+                "per-second peak/RMS, relative",
+                |p| p.statistics_error,
+            ),
+            (
+                "tip_rel error on [0, T_h]",
+                "rhs evaluations",
+                |p| p.rhs_evals as f64,
+                "max |error| [m]",
+                |p| p.tip_error,
+            ),
+            (
+                "gap error on [0, T_h]",
+                "rhs evaluations",
+                |p| p.rhs_evals as f64,
+                "max |error| [m]",
+                |p| p.gap_error,
+            ),
+            (
+                "agreement with the reference (1e-6 m)",
+                "wall time [s]",
+                |p| p.wall,
+                "agrees until [s]",
+                |p| p.agrees_until,
+            ),
+        ];
+        let areas = root.split_evenly((2, 3));
+        let methods: Vec<&str> = {
+            let mut m: Vec<&str> = self.points.iter().map(|p| p.method.as_str()).collect();
+            m.dedup();
+            m
+        };
+        for ((title, xd, fx, yd, fy), area) in panels.iter().zip(&areas) {
+            let series: Vec<LogSeries> = methods
+                .iter()
+                .map(|m| LogSeries {
+                    label: m.to_string(),
+                    points: self
+                        .points
+                        .iter()
+                        .filter(|p| p.method == *m && p.failure.is_empty())
+                        // an exact zero error shows at the floor of the axis
+                        .map(|p| (fx(p), fy(p).max(1e-16)))
+                        .collect(),
+                    marks: Vec::new(),
+                })
+                .collect();
+            if title.starts_with("agreement") {
+                let axis = YAxis::Linear(0.0, self.end);
+                log_panel(
+                    area,
+                    (title, xd, yd),
+                    &series,
+                    axis,
+                    Some((self.horizon, "T_h")),
+                )?;
+            } else {
+                log_panel(area, (title, xd, yd), &series, YAxis::Log, None)?;
+            }
+        }
+        root.present().map_err(plot_error)
+    }
+}

@@ -1,0 +1,56 @@
+
+/* The feedforward force at t: the value of the last step at or before t. */
+static double feedforward(double t)
+{
+    int i = 0;
+    while (i < FF_COUNT && FF_TIMES[i] <= t) {
+        i++;
+    }
+    return FF_VALUES[i > 0 ? i - 1 : 0];
+}
+
+/* The rigid reference position and speed at t. */
+static void reference(double t, double *u_ref, double *v_ref)
+{
+    int i = 0;
+    while (i < REF_COUNT && REF_T[i] <= t) {
+        i++;
+    }
+    i = i > 0 ? i - 1 : 0;
+    double h = t - REF_T[i];
+    if (h < 0.0) {
+        h = 0.0;
+    }
+    *u_ref = REF_U[i] + REF_V[i] * h + 0.5 * REF_A[i] * h * h;
+    *v_ref = REF_V[i] + REF_A[i] * h;
+}
+
+/* The design points around a and the weight of the second. */
+static void weights(double a, int *i, int *j, double *w)
+{
+    const int last = TC_POINTS - 1;
+    *i = 0;
+    *j = 0;
+    *w = 0.0;
+    if (last == 0 || a <= POSITIONS[0]) {
+        return;
+    }
+    if (a >= POSITIONS[last]) {
+        *i = last;
+        *j = last;
+        return;
+    }
+    int k = 0;
+    while (k < TC_POINTS && POSITIONS[k] <= a) {
+        k++;
+    }
+    if (k < 1) {
+        k = 1;
+    }
+    if (k > last) {
+        k = last;
+    }
+    *i = k - 1;
+    *j = k;
+    *w = (a - POSITIONS[k - 1]) / (POSITIONS[k] - POSITIONS[k - 1]);
+}

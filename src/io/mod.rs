@@ -1,0 +1,5 @@
+//! Writing outputs: files written whole or not at all, standard output, and the rows of a
+//! table.
+
+pub mod output;
+pub(crate) mod rows;

@@ -1,0 +1,606 @@
+//! Charts: the paper's figures of a simulation as SVG or PNG with plotters. Case-study-like scenes get
+//! the vehicle (Fig. 8), `tip_rel` (Fig. 9), `top1_rel` (Fig. 10) and the gaps at the lower
+//! and upper contact of the first overlap (Figs. 11, 12) with the band edges `+-l_S/2`;
+//! the adams scenes get `tip_rel` (Figs. 14, 15). A second scene (`--compare`) is overlaid.
+
+pub(crate) mod bode;
+pub mod modes;
+
+use crate::run::Trajectory;
+use crate::{Error, Result};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// What a run is in a figure; each role has one colour in every figure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// The scene as given, without control (blue).
+    Scene,
+    /// A second scene compared with it, e.g. without clearance (red).
+    Compared,
+    /// The scene with a controller (green).
+    Controlled,
+}
+
+impl Role {
+    /// The role's colour.
+    pub fn color(self) -> RGBColor {
+        match self {
+            Role::Scene => COLORS[0],
+            Role::Compared => COLORS[1],
+            Role::Controlled => COLORS[2],
+        }
+    }
+}
+
+/// One scene's run, as plotted.
+pub struct Curve<'a> {
+    /// Legend label: what differs between the curves (`l_S = 10 mm`, `without control`).
+    pub label: String,
+    /// The run.
+    pub traj: &'a Trajectory,
+    /// Half the clearance `l_S/2` (m), for the band edges in gap panels.
+    pub half_band: f64,
+    /// What the run is (sets its colour).
+    pub role: Role,
+}
+
+/// Marks drawn over the panels: the drive's force limit and the residual-vibration window.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Marks {
+    /// `|F| <= limit` (N), drawn on the drive-force panel.
+    pub force_limit: Option<f64>,
+    /// `[start, end]` (s) over which the residual vibration is measured.
+    pub residual_window: Option<(f64, f64)>,
+}
+
+/// The label of a run by its clearance, e.g. `case-study, l_S = 10 mm`.
+pub fn clearance_label(scene: &telescopic_runtime::Scene) -> String {
+    let mm = 2000.0 * scene.params.contact.half_band();
+    format!(
+        "{}, l_S = {} mm",
+        scene.name,
+        crate::io::output::csv_number(mm)
+    )
+}
+
+/// A panel: output column, axis label, paper figure, and the factor from SI to the axis's
+/// unit.
+struct Panel {
+    column: String,
+    axis: String,
+    title: String,
+    scale: f64,
+}
+
+/// The panels for a scene: `tip_rel` alone for the adams scenes, else the five of Figs. 8-12.
+fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
+    let panel = |column: &str, axis: &str, title: &str| Panel {
+        column: column.to_string(),
+        axis: axis.to_string(),
+        title: title.to_string(),
+        scale: 1.0,
+    };
+    // gaps read in millimetres
+    let gap_panel = |column: &str, title: &str| Panel {
+        column: column.to_string(),
+        axis: format!("{column} [mm]"),
+        title: title.to_string(),
+        scale: 1e3,
+    };
+    if scene_name.starts_with("adams") {
+        return vec![panel(
+            "tip_rel",
+            "tip_rel [m]",
+            "load relative to the foot of the telescope (Figs. 14, 15)",
+        )];
+    }
+    let mut out = vec![
+        panel("vehicle", "vehicle [m]", "vehicle position (Fig. 8)"),
+        panel(
+            "tip_rel",
+            "tip_rel [m]",
+            "load relative to the foot (Fig. 9)",
+        ),
+        panel(
+            "top1_rel",
+            "top1_rel [m]",
+            "top of section 1 relative to the foot (Fig. 10)",
+        ),
+    ];
+    if names.iter().any(|n| n == "drive_force") {
+        out.push(panel(
+            "drive_force",
+            "drive_force [N]",
+            "force of the drive on the vehicle",
+        ));
+    }
+    let gaps: Vec<&String> = names.iter().filter(|n| n.starts_with("xi_2_")).collect();
+    if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
+        out.push(gap_panel(first, "gap at the lower contact (Fig. 11)"));
+        out.push(gap_panel(last, "gap at the upper contact (Fig. 12)"));
+    }
+    out
+}
+
+/// Output formats of [`save`], by file extension.
+const PLOT_EXTENSIONS: [&str; 2] = ["svg", "png"];
+
+/// Checks before any work that a picture file named by `flag` ends in .svg or .png.
+pub fn check_picture_path(flag: &str, path: &Path) -> Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str());
+    if !ext.is_some_and(|e| PLOT_EXTENSIONS.contains(&e)) {
+        return Err(Error::option(
+            flag,
+            format!(
+                "{}: the file name must end in .svg or .png (the format follows it)",
+                path.display()
+            ),
+        ));
+    }
+    crate::io::output::check_writable(flag, path)
+}
+
+/// Width of a plot (pixels).
+const WIDTH: u32 = 1000;
+
+/// A picture that can be drawn on any plotters backend.
+pub trait Figure {
+    /// Size in pixels.
+    fn size(&self) -> (u32, u32);
+    /// Draws the picture on `root`.
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>)
+    -> Result<()>;
+}
+
+/// Saves `figure` as SVG or PNG by the extension of `path` (written completely or not at
+/// all).
+pub fn save<F: Figure>(figure: &F, path: &Path) -> Result<()> {
+    // both backends measure text with the font
+    register_font()?;
+    let size = figure.size();
+    let bytes = match path.extension().and_then(|e| e.to_str()) {
+        Some("png") => {
+            let mut rgb = vec![0u8; 3 * (size.0 * size.1) as usize];
+            figure.draw(BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area())?;
+            encode_png(&rgb, size)?
+        }
+        _ => {
+            let mut svg = String::new();
+            figure.draw(SVGBackend::with_string(&mut svg, size).into_drawing_area())?;
+            svg.into_bytes()
+        }
+    };
+    crate::io::output::write_atomically(path, |w| w.write_all(&bytes))
+}
+
+/// The paper's figures for one scene, with overlaid runs.
+struct PaperFigure<'a> {
+    panels: Vec<Panel>,
+    curves: &'a [Curve<'a>],
+    marks: Marks,
+}
+
+impl Figure for PaperFigure<'_> {
+    fn size(&self) -> (u32, u32) {
+        (WIDTH, 320 * self.panels.len() as u32)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<()> {
+        root.fill(&WHITE).map_err(plot_error)?;
+        let areas = root.split_evenly((self.panels.len(), 1));
+        for (panel, area) in self.panels.iter().zip(&areas) {
+            draw_panel(area, panel, self.curves, &self.marks)?;
+        }
+        root.present().map_err(plot_error)
+    }
+}
+
+/// Draws the panels of `curves[0]`'s scene to an SVG or PNG file at `path` (by extension;
+/// written completely or not at all).
+pub fn plot(scene_name: &str, curves: &[Curve], marks: &Marks, path: &Path) -> Result<()> {
+    let figure = PaperFigure {
+        panels: panels(scene_name, &curves[0].traj.names),
+        curves,
+        marks: *marks,
+    };
+    save(&figure, path)
+}
+
+/// Text needs a font: DejaVu Sans, compiled in, so plots look the same on any machine.
+fn register_font() -> Result<()> {
+    plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+        .map_err(|_| Error::Plot("the built-in DejaVu Sans font could not be loaded".into()))
+}
+
+/// An RGB buffer as PNG bytes.
+fn encode_png(rgb: &[u8], (width, height): (u32, u32)) -> Result<Vec<u8>> {
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let png_error = |e: png::EncodingError| Error::Plot(format!("encoding PNG: {e}"));
+    let mut writer = encoder.write_header().map_err(png_error)?;
+    writer.write_image_data(rgb).map_err(png_error)?;
+    writer.finish().map_err(png_error)?;
+    Ok(out)
+}
+
+/// A plotters error as the library's [`Error::Plot`].
+pub fn plot_error<E: std::fmt::Debug>(e: E) -> Error {
+    Error::Plot(format!("{e:?}"))
+}
+
+/// A tick label with as many decimals as the axis span needs (exponent form below 1e-3).
+pub fn tick_label(v: f64, span: f64) -> String {
+    if span <= 0.0 || !span.is_finite() {
+        return format!("{v}");
+    }
+    // a rounding residue of zero would print as "-0.000"
+    let v = if v.abs() < 1e-9 * span { 0.0 } else { v };
+    if span < 1e-3 {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2.0 - span.log10().floor()).max(0.0) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// At most `2 buckets` points: the smallest and largest value of each of `buckets` runs of
+/// consecutive points, in time order, so peaks and chatter stay visible in a small file.
+fn decimate(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
+    if points.len() <= 2 * buckets {
+        return points;
+    }
+    let size = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets);
+    for chunk in points.chunks(size) {
+        let lo = chunk
+            .iter()
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("non-empty");
+        let hi = chunk
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("non-empty");
+        if lo.0 <= hi.0 {
+            out.extend([*lo, *hi]);
+        } else {
+            out.extend([*hi, *lo]);
+        }
+    }
+    out
+}
+
+/// Line colors, one per overlaid run or method.
+pub const COLORS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+/// The legend of a chart's labelled series, in its upper left corner on a light box.
+pub fn upper_left_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(plot_error)
+}
+
+/// A white page with `title` on top (22 px); returns the area below the title.
+pub fn titled_page<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+) -> Result<DrawingArea<DB, plotters::coord::Shift>> {
+    root.fill(&WHITE).map_err(plot_error)?;
+    root.titled(title, ("sans-serif", 22)).map_err(plot_error)
+}
+
+/// One line of a log-log panel: a label, points `(x, y)` and optional text at each point.
+pub struct LogSeries {
+    /// Legend entry.
+    pub label: String,
+    /// Points in data units (non-positive or non-finite ones are left out).
+    pub points: Vec<(f64, f64)>,
+    /// Text next to each point (empty: none).
+    pub marks: Vec<String>,
+}
+
+/// The y axis of a [`log_panel`].
+pub enum YAxis {
+    /// log10 of the values (labels show the powers).
+    Log,
+    /// The values themselves, on this range.
+    Linear(f64, f64),
+}
+
+/// A panel with a log10 x axis, one colored line with dots per series, an optional
+/// horizontal line `(y, label)` and a legend. Log axes are drawn as linear axes of log10
+/// values, labelled with the powers.
+pub fn log_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    (title, x_desc, y_desc): (&str, &str, &str),
+    series: &[LogSeries],
+    y_axis: YAxis,
+    level: Option<(f64, &str)>,
+) -> Result<()> {
+    let log_y = matches!(y_axis, YAxis::Log);
+    let transformed: Vec<Vec<(f64, f64, &str)>> = series
+        .iter()
+        .map(|s| {
+            s.points
+                .iter()
+                .enumerate()
+                .filter(|(_, (x, y))| x.is_finite() && *x > 0.0 && y.is_finite())
+                .filter(|(_, (_, y))| !log_y || *y > 0.0)
+                .map(|(i, &(x, y))| {
+                    let mark = s.marks.get(i).map_or("", String::as_str);
+                    (x.log10(), if log_y { y.log10() } else { y }, mark)
+                })
+                .collect()
+        })
+        .collect();
+    let all = || transformed.iter().flatten();
+    if all().next().is_none() {
+        return Ok(());
+    }
+    let bounds = |v: &mut dyn Iterator<Item = f64>| {
+        v.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)))
+    };
+    let (x0, x1) = bounds(&mut all().map(|p| p.0));
+    let (y0, y1) = match y_axis {
+        YAxis::Log => {
+            let (mut y0, mut y1) = bounds(&mut all().map(|p| p.1));
+            if let Some((v, _)) = level.filter(|(v, _)| *v > 0.0) {
+                (y0, y1) = (y0.min(v.log10()), y1.max(v.log10()));
+            }
+            (y0 - 0.2, y1 + 0.2)
+        }
+        YAxis::Linear(a, b) => (a, b),
+    };
+    let (x0, x1) = (x0 - 0.1, x1 + 0.1);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(plot_error)?;
+    let power = |v: &f64| format!("{:.1e}", 10f64.powf(*v));
+    let plain = |v: &f64| format!("{v:.1}");
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&power)
+        .y_label_formatter(if log_y { &power } else { &plain })
+        .draw()
+        .map_err(plot_error)?;
+    for (i, (s, line)) in series.iter().zip(&transformed).enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        let xy: Vec<(f64, f64)> = line.iter().map(|p| (p.0, p.1)).collect();
+        chart
+            .draw_series(LineSeries::new(xy.clone(), color.stroke_width(2)))
+            .map_err(plot_error)?
+            .label(s.label.as_str())
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
+        chart
+            .draw_series(xy.iter().map(|&p| Circle::new(p, 3, color.filled())))
+            .map_err(plot_error)?;
+        chart
+            .draw_series(
+                line.iter()
+                    .filter(|p| !p.2.is_empty())
+                    .map(|p| Text::new(p.2.to_string(), (p.0, p.1), ("sans-serif", 11))),
+            )
+            .map_err(plot_error)?;
+    }
+    if let Some((v, label)) = level {
+        let y = if log_y { v.log10() } else { v };
+        chart
+            .draw_series(LineSeries::new([(x0, y), (x1, y)], BLACK.stroke_width(1)))
+            .map_err(plot_error)?
+            .label(label)
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 11))
+        .draw()
+        .map_err(plot_error)
+}
+
+/// Height of the legend strip above each panel (pixels).
+const LEGEND_STRIP: u32 = 26;
+
+/// How a legend entry is drawn.
+#[derive(Clone, Copy)]
+enum Swatch {
+    Line(RGBColor),
+    Dashed(RGBColor),
+    Band(RGBColor),
+}
+
+/// A legend drawn in its own strip above the plot, so that it never covers data.
+fn legend_strip<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    entries: &[(String, Swatch)],
+) -> Result<()> {
+    let font: TextStyle = ("sans-serif", 13).into_font().into();
+    let (mut x, y) = (90i32, (LEGEND_STRIP / 2) as i32);
+    for (label, swatch) in entries {
+        match *swatch {
+            Swatch::Line(c) => {
+                area.draw(&PathElement::new([(x, y), (x + 22, y)], c.stroke_width(2)))
+            }
+            Swatch::Dashed(c) => area
+                .draw(&PathElement::new([(x, y), (x + 6, y)], c.stroke_width(2)))
+                .and_then(|_| {
+                    area.draw(&PathElement::new(
+                        [(x + 10, y), (x + 16, y)],
+                        c.stroke_width(2),
+                    ))
+                })
+                .and_then(|_| {
+                    area.draw(&PathElement::new(
+                        [(x + 20, y), (x + 22, y)],
+                        c.stroke_width(2),
+                    ))
+                }),
+            Swatch::Band(c) => area.draw(&Rectangle::new(
+                [(x, y - 6), (x + 22, y + 6)],
+                c.mix(0.25).filled(),
+            )),
+        }
+        .map_err(plot_error)?;
+        area.draw_text(label, &font, (x + 28, y - 7))
+            .map_err(plot_error)?;
+        let (w, _) = area.estimate_text_size(label, &font).map_err(plot_error)?;
+        x += 28 + w as i32 + 24;
+    }
+    Ok(())
+}
+
+/// Colour of the band edges `+-l_S/2` (dashed; distinct from the grey grid).
+const BAND_EDGE: RGBColor = RGBColor(230, 120, 0);
+/// Colour of the force limit (dashed).
+const LIMIT: RGBColor = RGBColor(120, 0, 120);
+/// Colour of the residual window's shading.
+const WINDOW: RGBColor = RGBColor(120, 120, 120);
+
+/// A dashed horizontal line at `y` from `t0` to `t1`.
+fn dashed(
+    t0: f64,
+    t1: f64,
+    y: f64,
+    color: RGBColor,
+) -> DashedLineSeries<std::vec::IntoIter<(f64, f64)>, u32> {
+    DashedLineSeries::new(vec![(t0, y), (t1, y)], 8u32, 5u32, color.stroke_width(1))
+}
+
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &Panel,
+    curves: &[Curve],
+    marks: &Marks,
+) -> Result<()> {
+    let series: Vec<(usize, Vec<(f64, f64)>)> = curves
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let col = c.traj.names.iter().position(|n| *n == panel.column)? + 1;
+            let points: Vec<(f64, f64)> = c
+                .traj
+                .rows
+                .iter()
+                .map(|r| (r[0], panel.scale * r[col]))
+                .collect();
+            Some((i, decimate(points, 2000)))
+        })
+        .collect();
+    let (mut t0, mut t1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for (_, s) in &series {
+        for &(t, y) in s {
+            t0 = t0.min(t);
+            t1 = t1.max(t);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+    }
+    let is_gap = panel.column.starts_with("xi_");
+    let band = panel.scale * curves[0].half_band;
+    if is_gap {
+        y0 = y0.min(-band);
+        y1 = y1.max(band);
+    }
+    let limit = marks.force_limit.filter(|_| panel.column == "drive_force");
+    if let Some(l) = limit {
+        y0 = y0.min(-l);
+        y1 = y1.max(l);
+    }
+    let mut legend: Vec<(String, Swatch)> = series
+        .iter()
+        .map(|(i, _)| {
+            (
+                curves[*i].label.clone(),
+                Swatch::Line(curves[*i].role.color()),
+            )
+        })
+        .collect();
+    if is_gap && band > 0.0 {
+        let edge = tick_label(band, band);
+        legend.push((
+            format!("band edges ±l_S/2 = ±{edge} mm"),
+            Swatch::Dashed(BAND_EDGE),
+        ));
+    }
+    if let Some(l) = limit {
+        legend.push((format!("force limit ±{l} N"), Swatch::Dashed(LIMIT)));
+    }
+    if marks.residual_window.is_some() {
+        legend.push(("residual window".into(), Swatch::Band(WINDOW)));
+    }
+    let (strip, plot_area) = area.split_vertically(LEGEND_STRIP + 24);
+    let pad = 0.05 * (y1 - y0).max(1e-12);
+    let mut chart = ChartBuilder::on(&plot_area)
+        .margin(10)
+        .margin_top(0)
+        .x_label_area_size(40)
+        .y_label_area_size(80)
+        .build_cartesian_2d(t0..t1, (y0 - pad)..(y1 + pad))
+        .map_err(plot_error)?;
+    let legend_area = strip
+        .titled(&panel.title, ("sans-serif", 18))
+        .map_err(plot_error)?;
+    legend_strip(&legend_area, &legend)?;
+    chart
+        .configure_mesh()
+        .x_desc("t [s]")
+        .y_desc(panel.axis.as_str())
+        .y_label_formatter(&|v| tick_label(*v, y1 - y0))
+        .draw()
+        .map_err(plot_error)?;
+    if let Some((w0, w1)) = marks.residual_window {
+        chart
+            .draw_series([Rectangle::new(
+                [(w0.max(t0), y0 - pad), (w1.min(t1), y1 + pad)],
+                WINDOW.mix(0.12).filled(),
+            )])
+            .map_err(plot_error)?;
+    }
+    if is_gap && band > 0.0 {
+        for edge in [-band, band] {
+            chart
+                .draw_series(dashed(t0, t1, edge, BAND_EDGE))
+                .map_err(plot_error)?;
+        }
+    }
+    if let Some(l) = limit {
+        for edge in [-l, l] {
+            chart
+                .draw_series(dashed(t0, t1, edge, LIMIT))
+                .map_err(plot_error)?;
+        }
+    }
+    for (i, points) in series {
+        let color = curves[i].role.color();
+        chart
+            .draw_series(LineSeries::new(points, color.stroke_width(1)))
+            .map_err(plot_error)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,385 @@
+//! A run's error in metres, in two parts: the integration error of the Ritz model it
+//! integrates, and the truncation error of that model's size against the beams it
+//! discretizes.
+//!
+//! * **Integration**: the error of the measured run that `auto` or `--accuracy` picked the
+//!   method from ([`telescopic_runtime::accuracy`]), in `tip_rel` inside the scene kind's
+//!   predictability horizon; not estimated when the method was given.
+//! * **Truncation**: a companion run of the same scene with more modes per section
+//!   ([`refined_modes`]), same basis, method and settings. Its difference from the run,
+//!   times [`TRUNCATION_FACTOR`], is the estimate: in `tip_rel` pointwise inside the
+//!   [`Window`], relative to their peaks for the moments at stations, and relative for the
+//!   statistics beyond the window.
+//!
+//! The window is the whole span without clearance. With clearance it ends at the run's first
+//! contact switch: after an impact, two models that differ by a truncation error part like
+//! any two runs of a chaotic system, and only statistics compare.
+//!
+//! The estimate is checked against an independent finite-element model of the beams
+//! ([`telescopic_runtime::ElementModel`]) on every shipped scene with fixed positions
+//! (`tests/error_budget.rs`; docs/numerics.md has the figures).
+
+use crate::named::named_enum;
+use crate::run::Trajectory;
+use serde::Serialize;
+use telescopic_runtime::{MAX_MODES, ModelParams};
+
+/// The estimate is the difference from the refined model times this factor: when the
+/// refined model's own error is at most a third of the run's (the convergence rates measured
+/// in docs/numerics.md give that for [`refined_modes`]), the run's error is at most 1.5 times
+/// the difference.
+pub const TRUNCATION_FACTOR: f64 = 1.5;
+
+/// The refined model's modes for a section with `n`: `n + max(2, ceil(n / 2))`, at most
+/// [`MAX_MODES`].
+pub fn refined_modes(n: usize) -> usize {
+    (n + 2.max(n.div_ceil(2))).min(MAX_MODES)
+}
+
+/// The refined model's parameters: every section's modes refined; `None` when every section
+/// has [`MAX_MODES`] already.
+pub fn refined(params: &ModelParams) -> Option<ModelParams> {
+    let mut p = params.clone();
+    for s in &mut p.sections {
+        s.modes = refined_modes(s.modes);
+    }
+    (p.modes() != params.modes()).then_some(p)
+}
+
+/// Why the pointwise window ends where it does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WindowEnd {
+    /// The span's end (no clearance: no impacts).
+    SpanEnd,
+    /// The run's first contact switch.
+    FirstSwitch,
+}
+
+/// Where `tip_rel` is compared pointwise.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Window {
+    /// End of the window (s); it starts at the span's start.
+    pub end: f64,
+    /// Why it ends there.
+    pub reason: WindowEnd,
+}
+
+/// A statistic of a run beyond its window.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Statistic {
+    /// RMS of `tip_rel` (m).
+    #[serde(rename = "rms-tip-rel")]
+    TipRms,
+    /// Largest `|tip_rel|` (m).
+    #[serde(rename = "peak-tip-rel")]
+    TipPeak,
+    /// Contact switches over the whole run.
+    #[serde(rename = "contact-switches")]
+    Switches,
+    /// Largest contact force magnitude (N).
+    #[serde(rename = "peak-contact-force")]
+    ContactForcePeak,
+    /// Largest moment magnitude over the stations (N m).
+    #[serde(rename = "peak-moment")]
+    MomentPeak,
+}
+
+named_enum!(Statistic, "a statistic", {
+    TipRms => "rms-tip-rel",
+    TipPeak => "peak-tip-rel",
+    Switches => "contact-switches",
+    ContactForcePeak => "peak-contact-force",
+    MomentPeak => "peak-moment",
+});
+
+/// One statistic with its relative truncation estimate.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StatisticError {
+    /// Which.
+    pub statistic: Statistic,
+    /// Its value in the run (SI units; a count for switches).
+    pub value: f64,
+    /// Relative truncation error estimate (1).
+    pub relative: f64,
+}
+
+/// A station's moment error estimate inside the window, relative to its peak over the run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MomentError {
+    /// The column, `moment_k_x`.
+    pub column: String,
+    /// Largest `|moment|` over the run (N m).
+    pub peak: f64,
+    /// Truncation estimate relative to `peak` (1).
+    pub relative: f64,
+}
+
+/// The truncation part of a run's error, from its companion run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Truncation {
+    /// Modes per section of the companion run.
+    pub refined_modes: Vec<usize>,
+    /// Estimate of the error in `tip_rel` inside the window (m).
+    pub tip_m: f64,
+    /// Per station.
+    pub moments: Vec<MomentError>,
+    /// Beyond the window (clearance scenes only).
+    pub statistics: Vec<StatisticError>,
+}
+
+/// A run's error budget.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ErrorBudget {
+    /// The pointwise window.
+    pub window: Window,
+    /// Integration error in `tip_rel` inside the horizon (m), from the measured run that
+    /// chose the method; `None` when a method was given.
+    pub integration_m: Option<f64>,
+    /// The integration part of the statistics' relative error beyond the window: that
+    /// measured run's, or with clearance the spread of correct runs of a chaotic scene.
+    pub integration_statistics: Option<f64>,
+    /// The truncation part; `None` when it was not estimated.
+    pub truncation: Option<Truncation>,
+    /// Why the truncation part is missing, when it is.
+    pub missing: Option<String>,
+}
+
+impl ErrorBudget {
+    /// The estimate of the whole error in `tip_rel` inside the window (m), when both parts
+    /// are known.
+    pub fn total_m(&self) -> Option<f64> {
+        Some(self.integration_m? + self.truncation.as_ref()?.tip_m)
+    }
+
+    /// The largest relative truncation estimate of the moments, if any station.
+    pub fn worst_moment(&self) -> Option<f64> {
+        let t = self.truncation.as_ref()?;
+        t.moments.iter().map(|m| m.relative).reduce(f64::max)
+    }
+
+    /// The largest relative truncation estimate among the `statistics`, if any.
+    pub fn worst_statistic(&self, statistics: &[Statistic]) -> Option<f64> {
+        let t = self.truncation.as_ref()?;
+        t.statistics
+            .iter()
+            .filter(|s| statistics.contains(&s.statistic))
+            .map(|s| s.relative)
+            .reduce(f64::max)
+    }
+
+    /// Lines for the run summary (also the CSV's `#` header).
+    pub fn describe(&self, modes: &[usize]) -> Vec<String> {
+        let window = match self.window.reason {
+            WindowEnd::SpanEnd => format!("on [start, {}] s", self.window.end),
+            WindowEnd::FirstSwitch => format!(
+                "up to the first contact switch at t = {} s (beyond it, statistics)",
+                self.window.end
+            ),
+        };
+        let integration = match self.integration_m {
+            Some(e) => format!("integration {e:.1e} m (the measured run behind the method)"),
+            None => "integration not estimated (a method was given: `telescopic \
+                     work-precision` measures it)"
+                .to_string(),
+        };
+        let truncation = match (&self.truncation, &self.missing) {
+            (Some(t), _) => format!(
+                "truncation {:.1e} m ({} modes per section against {})",
+                t.tip_m,
+                join(modes),
+                join(&t.refined_modes)
+            ),
+            (None, Some(why)) => format!("truncation not estimated ({why})"),
+            (None, None) => "truncation not estimated".to_string(),
+        };
+        let mut lines = vec![format!(
+            "error of tip_rel {window}: {integration}; {truncation}"
+        )];
+        if let Some(t) = &self.truncation {
+            if !t.moments.is_empty() {
+                let parts: Vec<String> = t
+                    .moments
+                    .iter()
+                    .map(|m| format!("{} {:.1} %", m.column, 100.0 * m.relative))
+                    .collect();
+                lines.push(format!(
+                    "moment truncation error in the window, of each station's peak: {}",
+                    parts.join(", ")
+                ));
+            }
+            if !t.statistics.is_empty() {
+                let parts: Vec<String> = t
+                    .statistics
+                    .iter()
+                    .map(|s| format!("{} {:.1} %", s.statistic, 100.0 * s.relative))
+                    .collect();
+                let integration = match self.integration_statistics {
+                    Some(e) => format!(
+                        "integration {:.1} % (per-second peak and RMS of tip_rel, the \
+                         measured run's, or correct runs' spread); ",
+                        100.0 * e
+                    ),
+                    None => String::new(),
+                };
+                lines.push(format!(
+                    "statistics beyond the window, relative error: {integration}truncation {}",
+                    parts.join(", ")
+                ));
+            }
+        }
+        lines
+    }
+}
+
+fn join(modes: &[usize]) -> String {
+    modes
+        .iter()
+        .map(usize::to_string)
+        .collect::<Vec<_>>()
+        .join("x")
+}
+
+/// The pointwise window of `run` on the scene of `params`: the whole span without
+/// clearance, else up to the first sample whose contact state (open or closed, from the
+/// gaps) differs from the start's.
+pub fn window(params: &ModelParams, run: &Trajectory) -> Window {
+    let end = run.rows.last().map_or(0.0, |r| r[0]);
+    let half = params.contact.half_band();
+    let gaps: Vec<usize> = (0..run.names.len())
+        .filter(|&i| run.names[i].starts_with("xi_"))
+        .map(|i| i + 1)
+        .collect();
+    if params.contact.is_linear() || gaps.is_empty() {
+        return Window {
+            end,
+            reason: WindowEnd::SpanEnd,
+        };
+    }
+    let closed = |row: &[f64]| -> Vec<bool> { gaps.iter().map(|&g| row[g].abs() > half).collect() };
+    let first = closed(&run.rows[0]);
+    match run.rows.iter().find(|r| closed(r) != first) {
+        Some(r) => Window {
+            end: r[0],
+            reason: WindowEnd::FirstSwitch,
+        },
+        None => Window {
+            end,
+            reason: WindowEnd::SpanEnd,
+        },
+    }
+}
+
+/// The truncation estimate of `run` from its `companion` (the refined model's run of the
+/// same scene with the same method and settings) inside `window`, and beyond it.
+pub fn truncation(
+    run: &Trajectory,
+    companion: &Trajectory,
+    refined_modes: Vec<usize>,
+    window: Window,
+) -> Truncation {
+    let inside = |t: f64| t <= window.end;
+    let tip = run.index("tip_rel").expect("every model has tip_rel");
+    let largest_difference = |column: usize| {
+        run.rows
+            .iter()
+            .zip(&companion.rows)
+            .take_while(|(a, _)| inside(a[0]))
+            .map(|(a, b)| (a[column] - b[column]).abs())
+            .fold(0.0, f64::max)
+    };
+    let moments = (0..run.names.len())
+        .filter(|&i| run.names[i].starts_with("moment_"))
+        .map(|i| {
+            let peak = peak_of(companion, i + 1, |_| true);
+            MomentError {
+                column: run.names[i].clone(),
+                peak,
+                relative: TRUNCATION_FACTOR * largest_difference(i + 1)
+                    / peak.max(f64::MIN_POSITIVE),
+            }
+        })
+        .collect();
+    let statistics = if window.reason == WindowEnd::FirstSwitch {
+        statistics(run, companion, window.end)
+    } else {
+        Vec::new()
+    };
+    Truncation {
+        refined_modes,
+        tip_m: TRUNCATION_FACTOR * largest_difference(tip),
+        moments,
+        statistics,
+    }
+}
+
+/// Largest `|value|` of a column over the rows whose time passes `keep`.
+fn peak_of(run: &Trajectory, column: usize, keep: impl Fn(f64) -> bool) -> f64 {
+    run.rows
+        .iter()
+        .filter(|r| keep(r[0]))
+        .map(|r| r[column].abs())
+        .fold(0.0, f64::max)
+}
+
+/// The statistics of `run` after `from` (s) with their relative differences from
+/// `companion`'s, times [`TRUNCATION_FACTOR`].
+fn statistics(run: &Trajectory, companion: &Trajectory, from: f64) -> Vec<StatisticError> {
+    let after = |t: f64| t > from;
+    let tip = run.index("tip_rel").expect("every model has tip_rel");
+    let rms = |traj: &Trajectory| {
+        let (sum, count) = traj
+            .rows
+            .iter()
+            .filter(|r| after(r[0]))
+            .fold((0.0, 0usize), |(s, n), r| (s + r[tip] * r[tip], n + 1));
+        (sum / count.max(1) as f64).sqrt()
+    };
+    let columns = |traj: &Trajectory, prefix: &str| -> Vec<usize> {
+        (0..traj.names.len())
+            .filter(|&i| traj.names[i].starts_with(prefix))
+            .map(|i| i + 1)
+            .collect()
+    };
+    let peak_over = |traj: &Trajectory, prefix: &str| {
+        columns(traj, prefix)
+            .into_iter()
+            .map(|c| peak_of(traj, c, after))
+            .fold(0.0, f64::max)
+    };
+    let mut pairs = vec![
+        (Statistic::TipRms, rms(run), rms(companion)),
+        (
+            Statistic::TipPeak,
+            peak_of(run, tip, after),
+            peak_of(companion, tip, after),
+        ),
+        (
+            Statistic::Switches,
+            run.stats.switches as f64,
+            companion.stats.switches as f64,
+        ),
+        (
+            Statistic::ContactForcePeak,
+            peak_over(run, "f_"),
+            peak_over(companion, "f_"),
+        ),
+    ];
+    if !columns(run, "moment_").is_empty() {
+        pairs.push((
+            Statistic::MomentPeak,
+            peak_over(run, "moment_"),
+            peak_over(companion, "moment_"),
+        ));
+    }
+    pairs
+        .into_iter()
+        .map(|(statistic, value, reference)| StatisticError {
+            statistic,
+            value,
+            relative: TRUNCATION_FACTOR * (value - reference).abs()
+                / reference.abs().max(f64::MIN_POSITIVE),
+        })
+        .collect()
+}

@@ -1,0 +1,201 @@
+//! The memory a command may take: predicted before anything is allocated and refused above
+//! a budget, naming the setting that drives it; a sweep's runs wait for their share of it.
+//!
+//! The budget is 2 GiB unless the environment variable `TELESCOPIC_MEMORY_BUDGET` gives
+//! another (bytes, or with a suffix `K`, `M`, `G`, `T`: `TELESCOPIC_MEMORY_BUDGET=16G`).
+
+use crate::{Error, Result};
+use std::sync::{Condvar, Mutex};
+use telescopic_runtime::Scene;
+
+/// The budget when the environment sets none (bytes): 2 GiB.
+pub const DEFAULT_MEMORY_BUDGET: u64 = 2 << 30;
+
+/// The environment variable that sets the budget.
+pub const BUDGET_VARIABLE: &str = "TELESCOPIC_MEMORY_BUDGET";
+
+/// Bytes a trajectory keeps per output value, its row vectors' overhead included (a row of
+/// `c` values is a vector of `8 c` bytes plus 40 of header and allocation).
+const BYTES_PER_VALUE: u64 = 8;
+
+/// Bytes a trajectory keeps per row beyond its values.
+const BYTES_PER_ROW: u64 = 40;
+
+/// The memory budget (bytes).
+///
+/// # Errors
+/// [`Error::Option`] naming the variable when it is set but not a size.
+pub fn budget() -> Result<u64> {
+    match std::env::var(BUDGET_VARIABLE) {
+        Err(_) => Ok(DEFAULT_MEMORY_BUDGET),
+        Ok(text) => parse_size(&text).ok_or_else(|| {
+            Error::option(
+                BUDGET_VARIABLE,
+                format!("{text:?} is not a size in bytes (e.g. 4000000000, 512M or 16G)"),
+            )
+        }),
+    }
+}
+
+/// A size in bytes with an optional binary suffix (`K`, `M`, `G`, `T`).
+fn parse_size(text: &str) -> Option<u64> {
+    let text = text.trim();
+    let (digits, shift) = match text.chars().last()?.to_ascii_uppercase() {
+        'K' => (&text[..text.len() - 1], 10),
+        'M' => (&text[..text.len() - 1], 20),
+        'G' => (&text[..text.len() - 1], 30),
+        'T' => (&text[..text.len() - 1], 40),
+        _ => (text, 0),
+    };
+    digits
+        .trim()
+        .parse::<u64>()
+        .ok()
+        .filter(|&n| n > 0)
+        .and_then(|n| n.checked_mul(1 << shift))
+}
+
+/// The bytes a simulation of `scene` keeps: its trajectory of every output at every sample.
+pub fn trajectory_bytes(scene: &Scene) -> u64 {
+    let samples = crate::run::budget::sample_count(&scene.time) as u64;
+    let p = &scene.params;
+    let motion = matches!(p.drive, telescopic_runtime::Drive::Motion(_));
+    let columns = telescopic_runtime::scene::limits::output_columns(
+        p.sections.len(),
+        p.contact_points,
+        motion,
+    );
+    samples.saturating_mul(columns * BYTES_PER_VALUE + BYTES_PER_ROW)
+}
+
+/// Refuses `bytes` above the budget: `what` says what needs them, `setting` what to change;
+/// `error` makes the error from the message.
+///
+/// # Errors
+/// `error` of a message naming the need, the budget and the setting.
+pub fn check(
+    bytes: u64,
+    what: &str,
+    setting: &str,
+    error: impl FnOnce(String) -> Error,
+) -> Result<()> {
+    let budget = budget()?;
+    if bytes <= budget {
+        return Ok(());
+    }
+    Err(error(format!(
+        "{what} would take about {} of memory, more than the budget of {} ({BUDGET_VARIABLE}); \
+         change {setting}, or raise the budget",
+        human(bytes),
+        human(budget)
+    )))
+}
+
+/// [`check`] for a scene's run: [`Error::Unaffordable`].
+fn check_scene(scene: &str, bytes: u64, what: &str, setting: &str) -> Result<()> {
+    check(bytes, what, setting, |reason| Error::Unaffordable {
+        scene: scene.to_string(),
+        reason,
+    })
+}
+
+/// Refuses runs whose trajectories, kept together, exceed the budget.
+///
+/// # Errors
+/// As [`check`], naming `time.sample`.
+pub fn check_runs(scenes: &[&Scene]) -> Result<()> {
+    let bytes = scenes.iter().map(|s| trajectory_bytes(s)).sum();
+    let name = scenes.first().map_or("", |s| s.name.as_str());
+    let what = if scenes.len() == 1 {
+        "the run's trajectory".to_string()
+    } else {
+        format!("the {} runs' trajectories", scenes.len())
+    };
+    check_scene(
+        name,
+        bytes,
+        &what,
+        "time.sample (a coarser output grid) or time.end",
+    )
+}
+
+/// A size for a message (`1.3 GiB`).
+pub fn human(bytes: u64) -> String {
+    let b = bytes as f64;
+    match bytes {
+        0..0x10_0000 => format!("{:.0} KiB", b / 1024.0),
+        0x10_0000..0x4000_0000 => format!("{:.0} MiB", b / 1048576.0),
+        _ => format!("{:.1} GiB", b / 1073741824.0),
+    }
+}
+
+/// The budget shared by runs in parallel: each takes its trajectory's share before it
+/// starts and gives it back when done; a run waits while others hold too much.
+#[derive(Debug)]
+pub struct MemoryGate {
+    free: Mutex<u64>,
+    freed: Condvar,
+    total: u64,
+}
+
+/// A share of a [`MemoryGate`], given back on drop.
+#[derive(Debug)]
+pub struct Share<'g> {
+    gate: &'g MemoryGate,
+    bytes: u64,
+}
+
+impl MemoryGate {
+    /// A gate over the whole budget.
+    ///
+    /// # Errors
+    /// As [`budget`].
+    pub fn new() -> Result<Self> {
+        let total = budget()?;
+        Ok(MemoryGate {
+            free: Mutex::new(total),
+            freed: Condvar::new(),
+            total,
+        })
+    }
+
+    /// Takes `bytes` for a run of `scene`, waiting while other runs hold them.
+    ///
+    /// # Errors
+    /// As [`check_runs`] when the run alone exceeds the whole budget.
+    pub fn take(&self, scene: &Scene) -> Result<Share<'_>> {
+        let bytes = trajectory_bytes(scene);
+        if bytes > self.total {
+            check_runs(&[scene])?;
+        }
+        let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
+        while *free < bytes {
+            free = self.freed.wait(free).unwrap_or_else(|e| e.into_inner());
+        }
+        *free -= bytes;
+        Ok(Share { gate: self, bytes })
+    }
+}
+
+impl Drop for Share<'_> {
+    fn drop(&mut self) {
+        let mut free = self.gate.free.lock().unwrap_or_else(|e| e.into_inner());
+        *free += self.bytes;
+        self.gate.freed.notify_all();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_with_binary_suffixes() {
+        assert_eq!(parse_size("4096"), Some(4096));
+        assert_eq!(parse_size("512M"), Some(512 << 20));
+        assert_eq!(parse_size("16g"), Some(16 << 30));
+        assert_eq!(parse_size("0"), None);
+        assert_eq!(parse_size("lots"), None);
+        assert_eq!(parse_size("99999999999T"), None);
+    }
+}

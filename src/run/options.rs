@@ -1,0 +1,102 @@
+//! What a run is asked for: the method (or `auto`), tolerances, the accuracy in metres, the
+//! model and the outputs at stations.
+
+use super::models::{ModelChoice, ModelRegistry};
+use std::fmt;
+use std::str::FromStr;
+use telescopic_runtime::Method;
+
+/// The method of a run: `auto` (chosen on the scene) or one named method.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum MethodChoice {
+    /// `exact` for a scene linear and time-invariant between contact switches, else
+    /// `dopri5`, handing over to `exact` once the telescopic positions rest.
+    #[default]
+    Auto,
+    /// This method throughout.
+    Method(Method),
+}
+
+impl FromStr for MethodChoice {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "auto" => Ok(MethodChoice::Auto),
+            name => Method::from_name(name).map(MethodChoice::Method),
+        }
+    }
+}
+
+impl fmt::Display for MethodChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MethodChoice::Auto => f.write_str("auto"),
+            MethodChoice::Method(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+/// Options of a simulation; the defaults are `simulate`'s.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationOptions {
+    /// The method (default `auto`).
+    pub method: MethodChoice,
+    /// Relative tolerance of adaptive methods (default 1e-6).
+    pub rtol: Option<f64>,
+    /// Absolute tolerance of adaptive methods (m, m/s; default 1e-9).
+    pub atol: Option<f64>,
+    /// Step (s) of fixed-step methods; first trial step of adaptive ones.
+    pub dt: Option<f64>,
+    /// Cap dop853's step below its stable step while a contact is closed (default true).
+    pub step_cap: bool,
+    /// Let method `exact` step over closed contacts' fast modes where certified (default
+    /// true; false: its short steps throughout, for comparison).
+    pub long_steps: bool,
+    /// Which model computes the right-hand side (default `auto`).
+    pub model: ModelChoice,
+    /// Where generated models come from (default: the committed ones).
+    pub models: ModelRegistry,
+    /// The error asked for in `tip_rel` inside the predictability horizon (m): `auto` then
+    /// picks the method and tolerance that reach it cheapest from the measured table
+    /// ([`telescopic_runtime::accuracy`]); `None`: the default accuracy, 1e-6 m, unless a
+    /// method or tolerance is given.
+    pub accuracy: Option<f64>,
+    /// Stations whose bending moment (and stress) become output columns (default none).
+    pub stations: Vec<crate::run::stress::Station>,
+    /// Keep the scene's modes and basis under [`SimulationOptions::accuracy`], which then
+    /// bounds the integration error only (default false: the accuracy is the whole error
+    /// against the beams, and the run picks the modes too).
+    pub modes_as_given: bool,
+    /// Estimate the run's truncation error from a companion run with more modes (default
+    /// true; [`crate::run::error_budget`]).
+    pub error_estimate: bool,
+    /// Largest truncation error of a station's moment, relative to its peak, that
+    /// [`SimulationOptions::accuracy`] accepts (default 0.02).
+    pub moment_tolerance: f64,
+    /// Largest relative truncation error of the statistics beyond the pointwise window
+    /// (RMS and peak of `tip_rel`, peak moment) that [`SimulationOptions::accuracy`] accepts
+    /// (default 0.05).
+    pub statistics_tolerance: f64,
+}
+
+impl Default for SimulationOptions {
+    fn default() -> Self {
+        SimulationOptions {
+            method: MethodChoice::Auto,
+            rtol: None,
+            atol: None,
+            dt: None,
+            step_cap: true,
+            long_steps: true,
+            model: ModelChoice::Auto,
+            models: ModelRegistry::default(),
+            accuracy: None,
+            stations: Vec::new(),
+            modes_as_given: false,
+            error_estimate: true,
+            moment_tolerance: 0.02,
+            statistics_tolerance: 0.05,
+        }
+    }
+}

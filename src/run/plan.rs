@@ -1,0 +1,131 @@
+//! The resolved method and settings of a run: `auto` chosen on the scene, tolerances checked.
+
+use super::options::{MethodChoice, SimulationOptions};
+use crate::{Error, Result};
+use telescopic_runtime::accuracy::Resolve;
+use telescopic_runtime::integrate::StepControl;
+use telescopic_runtime::{DEFAULT_ACCURACY_M, Method, Scene, Settings, plan_for_accuracy};
+
+/// The resolved method and settings of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The method that starts the run.
+    pub method: Method,
+    /// For `auto`: why this method (`auto: ...; `), else empty.
+    pub how: String,
+    /// Tolerances, steps and the hand-over to exact stepping.
+    pub settings: Settings,
+    /// The measured error in `tip_rel` (m) of the run the method was picked from; `None`
+    /// when a method was given.
+    pub integration_error_m: Option<f64>,
+    /// The relative error of the statistics to expect of that run (with clearance, the
+    /// spread of correct runs); `None` when a method was given.
+    pub integration_statistics_rel: Option<f64>,
+}
+
+/// Resolves `options` on `scene`: `auto` becomes a method, tolerances are checked.
+///
+/// # Errors
+/// [`Error::Option`] for an unknown method or tolerances outside their range (checked for
+/// every method, even those that do not use them).
+pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
+    let mut settings = Settings::default();
+    let mut integration_error_m = None;
+    let mut integration_statistics_rel = None;
+    // moments at stations need the contact modes resolved
+    let resolve = if options.stations.is_empty() {
+        Resolve::Displacements
+    } else {
+        Resolve::Moments
+    };
+    let (method, how) = match (options.method, options.accuracy) {
+        (MethodChoice::Auto, Some(accuracy)) => {
+            if options.rtol.is_some() || options.atol.is_some() {
+                return Err(Error::option(
+                    "SimulationOptions::accuracy",
+                    "picks the tolerances itself: give an accuracy or rtol/atol, not both",
+                ));
+            }
+            let chosen = plan_for_accuracy(&scene.params, &scene.time, accuracy, resolve)
+                .map_err(|e| Error::option("SimulationOptions::accuracy", e))?;
+            settings.exact_from = chosen.exact_from;
+            settings.rtol = chosen.rtol;
+            settings.atol = 1e-3 * chosen.rtol;
+            integration_error_m = Some(chosen.error_m);
+            integration_statistics_rel = Some(chosen.statistics_rel);
+            (
+                chosen.method,
+                format!("accuracy {accuracy:e} m: {}; ", chosen.why),
+            )
+        }
+        (MethodChoice::Method(m), Some(_)) => {
+            return Err(Error::option(
+                "SimulationOptions::accuracy",
+                format!("picks the method itself: leave the method at auto (got {m})"),
+            ));
+        }
+        (MethodChoice::Auto, None) => {
+            let chosen = plan_for_accuracy(&scene.params, &scene.time, DEFAULT_ACCURACY_M, resolve)
+                .expect("every kind of scene has a measured run within the default accuracy");
+            settings.exact_from = chosen.exact_from;
+            integration_error_m = Some(chosen.error_m);
+            integration_statistics_rel = Some(chosen.statistics_rel);
+            (chosen.method, format!("auto: {}; ", chosen.why))
+        }
+        (MethodChoice::Method(m), None) => (m, String::new()),
+    };
+    if let Some(r) = options.rtol {
+        settings.rtol = r;
+    }
+    if let Some(a) = options.atol {
+        settings.atol = a;
+    }
+    settings.dt = options.dt;
+    settings.step_cap = options.step_cap;
+    settings.long_steps = options.long_steps;
+    if !(settings.rtol > 0.0
+        && settings.rtol < 1.0
+        && settings.atol > 0.0
+        && settings.atol.is_finite())
+    {
+        return Err(Error::option(
+            "SimulationOptions::rtol/atol",
+            format!(
+                "tolerances must be positive with rtol < 1 (got rtol {}, atol {})",
+                settings.rtol, settings.atol
+            ),
+        ));
+    }
+    if let Some(dt) = settings.dt
+        && !(dt > 0.0 && dt.is_finite())
+    {
+        return Err(Error::option(
+            "SimulationOptions::dt",
+            format!("must be a finite number of seconds > 0 (got {dt})"),
+        ));
+    }
+    let span = scene.time.end - scene.time.start;
+    if let Some(dt) = settings.dt
+        && dt > span
+    {
+        return Err(Error::option(
+            "SimulationOptions::dt",
+            format!("{dt} s is longer than the scene's span ({span} s): a step must fit in it"),
+        ));
+    }
+    if method.step_control() == StepControl::Fixed && settings.dt.is_none() {
+        return Err(Error::option(
+            "SimulationOptions::dt",
+            format!(
+                "method {method} takes a fixed step: give SimulationOptions::dt (see the stability analysis)"
+            ),
+        ));
+    }
+    Ok(Plan {
+        method,
+        how,
+        settings,
+        integration_error_m,
+        integration_statistics_rel,
+    })
+}

@@ -1,0 +1,220 @@
+//! One run path: a [`PreparedRun`] is a scene with its model chosen from the registry and
+//! its method and settings resolved. Simulation, control, sweeps, convergence and
+//! work-precision all prepare a run this way and integrate it through
+//! [`PreparedRun::integrate`], which checks the work budget first.
+//!
+//! ```
+//! use telescopic::run::PreparedRun;
+//! use telescopic::run::SimulationOptions;
+//! use telescopic::{Scene, Silent};
+//!
+//! let scene = Scene::load("scenes/adams-linear.toml".as_ref(), &["time.end=0.2".into()])?;
+//! let run = PreparedRun::new(&scene, &SimulationOptions::default(), &Silent)?;
+//! let trajectory = run.integrate(&Silent)?;
+//! assert_eq!(trajectory.rows.len(), 201);
+//! # Ok::<(), telescopic::Error>(())
+//! ```
+
+use crate::report::Reporter;
+use crate::run::models::ChosenModel;
+use crate::run::stress::StationRows;
+use crate::run::{Plan, Simulation, SimulationOptions, Trajectory, plan};
+use crate::{Error, Result};
+use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
+use telescopic_runtime::{
+    Method, Model, Scene, Settings, model::rest_state, simulate, specializations,
+};
+
+/// A scene ready to integrate: its model and its resolved plan.
+pub struct PreparedRun<'s> {
+    /// The scene.
+    pub scene: &'s Scene,
+    /// The model that runs it and what it is.
+    pub chosen: ChosenModel,
+    /// The method and settings.
+    pub plan: Plan,
+    /// The stations whose moments and stresses are output columns.
+    pub stations: StationRows,
+}
+
+impl<'s> PreparedRun<'s> {
+    /// Resolves `options` on `scene` ([`plan`]) and chooses the model from
+    /// `options.models` by `options.model`; a fallback note goes to `reporter`.
+    ///
+    /// # Errors
+    /// [`Error::Option`] for bad options, [`Error::Model`] when no model can be had.
+    pub fn new(
+        scene: &'s Scene,
+        options: &SimulationOptions,
+        reporter: &dyn Reporter,
+    ) -> Result<Self> {
+        let plan = plan(scene, options)?;
+        let chosen = options.models.build(&scene.params, options.model)?;
+        let stations = StationRows::new(scene, chosen.model.as_ref(), &options.stations)?;
+        if let Some(note) = &chosen.note {
+            reporter.note(note);
+        }
+        Ok(PreparedRun {
+            scene,
+            chosen,
+            plan,
+            stations,
+        })
+    }
+
+    /// A run of `scene` on an already chosen model with `method` and `settings`.
+    pub fn with_model(
+        scene: &'s Scene,
+        chosen: ChosenModel,
+        method: Method,
+        settings: Settings,
+    ) -> Self {
+        PreparedRun {
+            scene,
+            chosen,
+            plan: Plan {
+                method,
+                how: String::new(),
+                settings,
+                integration_error_m: None,
+                integration_statistics_rel: None,
+            },
+            stations: StationRows::none(),
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> &dyn Model {
+        self.chosen.model.as_ref()
+    }
+
+    /// Integrates the scene on its model from rest, after checking the work budget.
+    ///
+    /// # Errors
+    /// [`Error::Unaffordable`] before any work, [`Error::Simulation`] or
+    /// [`Error::NonFiniteOutput`] for a failed run.
+    pub fn integrate(&self, reporter: &dyn Reporter) -> Result<Trajectory> {
+        self.integrate_on(self.model(), self.model(), reporter)
+    }
+
+    /// Integrates the scene on `model`, a wrapper of this run's model (a controller or an
+    /// observer around it), checking the budget on `budget_model` (the model whose stiffness
+    /// sets the step).
+    ///
+    /// # Errors
+    /// As [`PreparedRun::integrate`].
+    pub fn integrate_on(
+        &self,
+        model: &dyn Model,
+        budget_model: &dyn Model,
+        reporter: &dyn Reporter,
+    ) -> Result<Trajectory> {
+        let (method, settings) = (self.plan.method, &self.plan.settings);
+        crate::run::memory::check_runs(&[self.scene])?;
+        crate::run::budget::check_run(self.scene, budget_model, method, settings)?;
+        integrate_from_rest(
+            self.scene,
+            model,
+            method,
+            settings,
+            &self.stations,
+            reporter,
+        )
+    }
+
+    /// The finished simulation of this run with `trajectory`.
+    pub fn into_simulation(self, trajectory: Trajectory) -> Simulation {
+        let plan = &self.plan;
+        let specializations = specializations(
+            self.model(),
+            &self.scene.time,
+            plan.method,
+            plan.settings.exact_from,
+        );
+        Simulation {
+            scene: self.scene.name.clone(),
+            span: (self.scene.time.start, self.scene.time.end),
+            model: self.chosen.description,
+            specializations,
+            plan: self.plan,
+            modes: self.scene.params.modes(),
+            basis: self.scene.params.basis,
+            trajectory,
+            error: None,
+        }
+    }
+}
+
+/// Integrates `scene` on `model` from rest with `method` and `settings`, collecting every
+/// output sample (the model's outputs, the sensors, then the stations'); no budget check
+/// (that is [`PreparedRun::integrate`]'s).
+fn integrate_from_rest(
+    scene: &Scene,
+    model: &dyn Model,
+    method: Method,
+    settings: &Settings,
+    stations: &StationRows,
+    reporter: &dyn Reporter,
+) -> Result<Trajectory> {
+    let mut names = model.output_names();
+    let own = names.len();
+    names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
+    let with_sensors = names.len();
+    names.extend(stations.names());
+    let sensors = Sensors::new(model);
+    let dof = model.dof();
+    // the contact forces f_k_j among the model's outputs (after vehicle, tip, top1 and gaps)
+    let contacts = model.layout().contact_count();
+    let forces = 3 + contacts..3 + 2 * contacts;
+    let mut rows: Vec<Vec<f64>> = Vec::with_capacity(crate::run::budget::sample_count(&scene.time));
+    let mut out = vec![0.0; names.len()];
+    let mut bad_output: Option<(f64, String)> = None;
+    let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
+        let (model_outputs, rest) = out.split_at_mut(own);
+        let (sensor_outputs, station_outputs) = rest.split_at_mut(with_sensors - own);
+        model.outputs(t, y, ydot, model_outputs);
+        sensors.values(dof, y, ydot, sensor_outputs);
+        stations.values(
+            t,
+            dof,
+            (y, ydot),
+            &model_outputs[forces.clone()],
+            station_outputs,
+        );
+        if bad_output.is_none()
+            && let Some(i) = out.iter().position(|v| !v.is_finite())
+        {
+            bad_output = Some((t, names[i].clone()));
+        }
+        let mut row = Vec::with_capacity(out.len() + 1);
+        row.push(t);
+        row.extend_from_slice(&out);
+        rows.push(row);
+    };
+    let span = scene.time;
+    let mut tick = |t: f64| reporter.progress((t - span.start) / (span.end - span.start));
+    reporter.start(&format!("simulating {}", scene.name));
+    let y0 = rest_state(model, span.start);
+    let result = simulate(
+        model,
+        &y0,
+        &span,
+        method,
+        settings,
+        &mut observe,
+        Some(&mut tick),
+    );
+    reporter.finish();
+    let stats = result.map_err(|error| Error::Simulation {
+        scene: scene.name.clone(),
+        error,
+    })?;
+    if let Some((t, name)) = bad_output {
+        return Err(Error::NonFiniteOutput {
+            name,
+            t,
+            method: method.name(),
+        });
+    }
+    Ok(Trajectory { names, rows, stats })
+}
