@@ -80,17 +80,17 @@ fn the_strain_rate_law_damps_case_study_with_clearance_from_the_machine_sensors(
 #[test]
 fn the_strain_rate_law_holds_on_plants_it_was_not_designed_for() {
     let controller = design(&scene(&[]), &sensors()).unwrap();
-    // measured 4.9x (5.2x before 2026-11-25), 18.2x, 21.7x, 18.6x and 4.6x (docs/control.md):
+    // measured 4.9x to 5.2x, 18.2x, 21.7x, 18.6x and 4.6x (docs/control.md):
     // at least 5x on the three
     // plants whose open loop settles into a repeatable residual; the travel within 1 % of that
     // plant's open loop except for the heavier load, which the vehicle loop drives to the
     // nominal rigid travel (+9.3 %). The softer sections' open loop rattles in the residual
     // window, so its residual std is a statistic of a chaotic run: 0.035 to 0.059 m between
     // equally valid methods and tolerances (3.1x to 5.3x against the same controlled
-    // residual, 0.0111 m to four digits in each): there the 5x does not hold
+    // residual, 0.0111 m to four digits in each): there a 5x goal does not hold
     // robustly (docs/control.md), and the test asks for the bottom of that spread. The
     // heavier load's open loop rattles too: 0.224 to 0.238 m between paths (4.9x to 5.2x
-    // against 0.0459 m in each, re-measured 2026-11-25), so it gets the bottom of its spread
+    // against 0.0459 m in each), so it gets the bottom of its spread
     for (change, least) in [
         ("masses.load=30", 4.8),
         ("contact.clearance=0.005", 5.0),

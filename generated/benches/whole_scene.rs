@@ -37,7 +37,7 @@ fn cases() -> Vec<(&'static str, &'static str, Settings)> {
         ("case-study.toml", "imex", rtol(1e-7)),
         ("case-study.toml", "auto", Settings::default()),
         // the cheapest setting within 1e-6 m in T_h measured by `work-precision --rtols`:
-        // 6.0e-7 m (2026-11-25; rtol 1e-5, the earlier row, reads 1.6e-6 m since then)
+        // 6.0e-7 m (rtol 1e-5, the next row, reads 1.6e-6 m)
         ("case-study.toml", "auto", rtol(5e-6)),
         ("case-study.toml", "auto", rtol(1e-5)),
         ("case-study-no-clearance.toml", "auto", Settings::default()),

@@ -93,8 +93,8 @@ pub struct MeasuredRun {
     pub statistics_rel: f64,
 }
 
-/// The measured runs (2026-11-25, `telescopic work-precision`, median of 3, on this project's
-/// 2-core machine); `docs/wp-<scene>.csv` hold every run they were picked from. The times vary
+/// The measured runs (`telescopic work-precision`, median of 3, on the 2-core machine of
+/// docs/benchmarks.md); `docs/wp-<scene>.csv` hold every run they were picked from. The times vary
 /// by up to 1.5x between sessions of the same machine; the choices do not depend on that
 /// (the rows that compete differ by 1.4x or more, or the finer one costs little more). Errors
 /// below about 1e-9 m are at the agreement of the two references (which defines the horizon),

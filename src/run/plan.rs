@@ -83,6 +83,21 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     settings.dt = options.dt;
     settings.step_cap = options.step_cap;
     settings.long_steps = options.long_steps;
+    check_steps(scene, method, &settings)?;
+    Ok(Plan {
+        method,
+        how,
+        settings,
+        integration_error_m,
+        integration_statistics_rel,
+    })
+}
+
+/// Checks the tolerances and the fixed step of `settings` for `method` on `scene`.
+///
+/// # Errors
+/// [`Error::Option`] naming the tolerance or the step.
+fn check_steps(scene: &Scene, method: Method, settings: &Settings) -> Result<()> {
     if !(settings.rtol > 0.0
         && settings.rtol < 1.0
         && settings.atol > 0.0
@@ -121,11 +136,5 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
             ),
         ));
     }
-    Ok(Plan {
-        method,
-        how,
-        settings,
-        integration_error_m,
-        integration_statistics_rel,
-    })
+    Ok(())
 }

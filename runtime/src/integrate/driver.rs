@@ -16,8 +16,8 @@ const MAX_NEWTON_FAILURES: u32 = 12;
 
 /// Largest growth of a capped step from one step to the next while a contact is closed.
 /// There dop853 steps near its stability limit, where a ringing contact mode's error grows
-/// far faster than `h^8`: the free growth (up to 5x at small errors) was rejected at 1.2-1.5
-/// times the last step (docs/benchmarks.md, 2026-11-25, later).
+/// far faster than `h^8`: free growth (up to 5x at small errors) is rejected from 1.2-1.5
+/// times the last step on (docs/numerics.md, "Contact events").
 const CAPPED_GROWTH: f64 = 1.1;
 
 /// The first capped step after a contact closes, as a fraction of the cap: the impact sets
@@ -512,10 +512,10 @@ impl<'m> Driver<'m> {
         // error at rtol 1e-7 from 4e-11 to 2e-10 m inside the horizon, 0.1 atol at rtol 1e-5
         // from 7.5e-7 to 8e-6 m. Shrinking with rtol too, the location error vanishes against
         // the steps' own as the tolerance tightens: 1e-3 atol at rtol 1e-5, 1e-6 atol at
-        // rtol 1e-8 (the former fixed value); below about rtol 3e-8 (atol 1e-3 rtol) it is
-        // under the switch functions' rounding (1e-16 m) and the bracket's closing ends the
-        // search, as it did before. case-study's errors in its horizon stay those of 1e-6
-        // atol at every tolerance of the table (docs/benchmarks.md, 2026-11-25, later)
+        // rtol 1e-8; below about rtol 3e-8 (atol 1e-3 rtol) it is under the switch
+        // functions' rounding (1e-16 m) and the bracket's closing ends the search.
+        // case-study's errors in its horizon equal those of a fixed 1e-6 atol at every
+        // tolerance of the work-precision table
         let value_tol = 100.0 * self.settings.rtol * self.settings.atol;
         newton_in_bracket(&mut trial, (0.0, g_lo), (h, g_hi), first, tol, value_tol)
     }

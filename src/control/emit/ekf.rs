@@ -4,6 +4,7 @@
 //! [`crate::control::ekf::ExtendedKalman`] computes, operation for operation.
 
 use super::common::{LQR_LAW, banner, header, list, lit, nested, source_start};
+use crate::control::estimator_model::EstimatorModel;
 use crate::control::schema::Controller;
 use crate::{Error, Result};
 use std::fmt::Write as _;
@@ -58,6 +59,20 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
          double work[4][TC_STATES * TC_STATES];\n",
     );
     let mut s = source_start(file, &banner, start, end);
+    append_model(&mut s, model);
+    append_geometry(&mut s, model);
+    append_filter_tables(&mut s, file, model, c, w);
+    s.push_str(LQR_LAW);
+    s.push_str(MODEL_FUNCTIONS);
+    s.push_str(DENSE_FUNCTIONS);
+    s.push_str(FILTER_FUNCTIONS);
+    Ok((header, s))
+}
+
+/// The model's constants: sizes of the prediction, `M^-1`, `K`, `D_s`, the drive's response
+/// and the contact law.
+fn append_model(s: &mut String, model: &EstimatorModel) {
+    let n = model.dof();
     let _ = writeln!(
         s,
         "\n#define TC_DAMPED {}  /* structural damping D_s in the model */\n\
@@ -94,7 +109,7 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
     arrays.push(("RESP[TC_DOF]", model.drive_response.clone(), vec![n]));
     for (decl, values, dims) in arrays {
         let _ = writeln!(
-            s,
+            *s,
             "static const double {decl} = {};",
             nested(&values, &dims, "")
         );
@@ -109,13 +124,6 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
         lit(model.contact_damping),
         lit(model.clearance)
     );
-    append_geometry(&mut s, model);
-    append_filter_tables(&mut s, file, model, c, w);
-    s.push_str(LQR_LAW);
-    s.push_str(MODEL_FUNCTIONS);
-    s.push_str(DENSE_FUNCTIONS);
-    s.push_str(FILTER_FUNCTIONS);
-    Ok((header, s))
 }
 
 /// The contact vectors: their table in time (cubic Hermite, as the model's) or the fixed
