@@ -7,12 +7,12 @@
 //!
 //! The path of a scene: a TOML scene file ([`Scene`], see `docs/scenes.md`) gives the
 //! parameters; they select a model, the generated one of their configuration when
-//! `telescopic-generated` or a registered downstream set has it ([`models`]); one
-//! prepared-run path integrates it ([`run`]); the runtime integrates it with the
-//! clearance contact law ([`simulation`]); the analyses ([`modes`], [`stability`],
-//! [`work_precision`], [`converge`], [`shape_errors`]), linear models and controllers
-//! ([`linear`], [`control`]), parameter studies ([`sweep`]) and outputs ([`output`],
-//! [`plot`]) build on that.
+//! `telescopic-generated` or a registered downstream set has it ([`run::models`]); one
+//! prepared-run path integrates it with the clearance contact law and estimates its error
+//! ([`run`]); the analyses ([`analysis`]: modes, stability, work-precision, model sizes,
+//! convergence, the beams' finite-element reference), linear models and controllers
+//! ([`linear`], [`control`]), parameter studies ([`sweep`]), the FMU ([`fmu`]) and outputs
+//! ([`io`], [`plot`]) build on that.
 //!
 //! Simulate a scene file and write its CSV:
 //!

@@ -3,9 +3,9 @@
 //! function that compute what the library's sampled laws compute, operation for operation
 //! (so the two agree to rounding).
 //!
-//! [`emit_c`] dispatches on the law: the LQR on the linear filter ([`lqr`]), on the extended
-//! filter ([`ekf`]) or the strain-rate law ([`strain`]). Each writes the common part
-//! ([`common`]: banner, header, tables of the schedule, feedforward and rigid reference)
+//! [`emit_c`] dispatches on the law: the LQR on the linear filter (`lqr.rs`), on the extended
+//! filter (`ekf.rs`) or the strain-rate law (`strain.rs`). Each writes the common part
+//! (`common.rs`: banner, header, tables of the schedule, feedforward and rigid reference)
 //! with one `append_*`-style step per part, then its fixed functions. Those fixed functions
 //! are C source files under `src/control/emit/c/`, included verbatim after the generated
 //! tables they read.
