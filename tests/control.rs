@@ -112,11 +112,23 @@ fn the_controller_file_carries_a_design_anyone_can_check() {
     let ff = &controller.feedforward;
     assert!(ff.value(0.0) > 0.0 && ff.value(-1e-9) == 0.0);
     assert!(ff.value(12.0).abs() < 1e-9, "{}", ff.value(12.0));
-    // a file without the timing (written before it was a setting) reads as delayed
+    // a file of another layout version is refused before its fields, saying what to do; a
+    // file of this version without the timing is refused naming the field
     let mut old: serde_json::Value = serde_json::from_str(&controller.to_json()).unwrap();
+    old["version"] = serde_json::json!(1);
+    let err = Controller::from_json(&old.to_string())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("layout version 1") && err.contains("design the controller again"),
+        "{err}"
+    );
+    old["version"] = serde_json::json!(telescopic::control::CONTROLLER_FILE_VERSION);
     old.as_object_mut().unwrap().remove("shaper_timing");
-    let old = Controller::from_json(&old.to_string()).unwrap();
-    assert_eq!(old.shaper_timing, ShaperTiming::Delayed);
+    let err = Controller::from_json(&old.to_string())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("shaper_timing"), "{err}");
     // a profile that is not rest to rest keeps the delayed trains, and the file says so
     let coasting = scene("case-study", &["drive.force.values=[100, 0, -50, 0]"]);
     let c = design(&coasting, &DesignOptions::default()).unwrap();
@@ -569,7 +581,7 @@ fn the_extended_filter_matches_the_full_state_law_without_clearance() {
     let (a, b) = (with_filter.with.residual_std, with_state.with.residual_std);
     assert!((a - b).abs() <= 0.1 * b, "filter {a} m, full state {b} m");
     assert!(with_filter.with.peak_force <= 300.0 + 1e-9);
-    // the file records the filter's model; one written before it was cannot be emitted as C
+    // the file records the filter's model; one without it cannot be emitted as C
     let mut old = extended.clone();
     old.sampled.as_mut().unwrap().model = None;
     let err = telescopic::control::emit::emit_c(&old, 0.0, 16.0)

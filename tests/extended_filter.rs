@@ -146,16 +146,20 @@ fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_rea
     assert!(recorded.geometry_table.is_some() && recorded.fixed_geometry.is_none());
 
     // on a 30 kg load the filter predicts with the nominal 17.9 kg it was designed with; a
-    // file without the record (written before it was) falls back to the plant's own model,
-    // and the two runs differ
+    // file that records the heavy plant's own model runs differently
     let heavy = scene("case-study", &["masses.load=30"]);
     let sim = telescopic::control::comparison_options(&SimulationOptions::default()).unwrap();
     let run = |file: &Controller| {
         let prepared = PreparedRun::new(&heavy, &sim, &Silent).unwrap();
         simulate_sampled(prepared, file, &Silent).unwrap().forces
     };
+    let heavy_model = ModelRegistry::default()
+        .build(&heavy.params, ModelChoice::Auto)
+        .unwrap()
+        .model;
     let mut knowing = controller.clone();
-    knowing.sampled.as_mut().unwrap().model = None;
+    knowing.sampled.as_mut().unwrap().model =
+        Some(EstimatorModel::of(heavy_model.as_ref()).unwrap());
     let (designed, told) = (run(&controller), run(&knowing));
     let differs = designed
         .iter()
@@ -236,11 +240,7 @@ fn the_filter_step_allocates_nothing() {
     use telescopic::control::sampled::SampledController;
     let plant = scene("case-study", &[]);
     let controller = extended_design(&plant, DesignOptions::default().tip_scale);
-    let model = ModelRegistry::default()
-        .build(&plant.params, ModelChoice::Auto)
-        .unwrap()
-        .model;
-    let mut filter = ExtendedKalman::new(&controller, model.as_ref(), 0.0, 16.0).unwrap();
+    let mut filter = ExtendedKalman::new(&controller, 0.0, 16.0).unwrap();
     // measurements of a moving vehicle and a bending section (large innovations)
     let mut forces = 0.0;
     let before = allocations();

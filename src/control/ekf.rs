@@ -8,7 +8,7 @@
 //! Every step is a fixed sequence of plain loops ([`super::small_dense`]) that the emitted C
 //! ([`super::emit::emit_c`]) repeats operation for operation.
 
-use super::estimator_model::{EstimatorModel, PreparedEstimatorModel};
+use super::estimator_model::PreparedEstimatorModel;
 use super::sampled::SampledController;
 use super::schema::Controller;
 use super::small_dense::{exponential, invert_spd, multiply, multiply_transposed};
@@ -123,24 +123,20 @@ pub(crate) fn process_noise(sampled: &super::schema::SampledDesign, response: &[
 
 impl ExtendedKalman {
     /// The filter of `file`'s sampled part over `[start, end]` s, on the model the file
-    /// records (`fallback`, the scene's model, for files written before it was recorded).
+    /// records.
     ///
     /// # Errors
-    /// [`Error::Option`] for sensors that are not linear in the coordinates or a recorded
-    /// model that does not fit; [`Error::Model`] when the fallback's mass matrix cannot be
-    /// factored.
-    pub fn new(
-        file: &Controller,
-        fallback: &dyn telescopic_runtime::Model,
-        start: f64,
-        end: f64,
-    ) -> Result<Self> {
+    /// [`Error::Option`] for sensors that are not linear in the coordinates, or a recorded
+    /// model that is missing or does not fit.
+    pub fn new(file: &Controller, start: f64, end: f64) -> Result<Self> {
         let sampled = sampled_of(file)?;
-        let record = match &sampled.model {
-            Some(record) => record.clone(),
-            None => EstimatorModel::of(fallback)?,
-        };
-        let model = PreparedEstimatorModel::new(&record)?;
+        let record = sampled.model.as_ref().ok_or_else(|| {
+            Error::option(
+                "controller `sampled.model`",
+                "is missing: the extended filter predicts with the model its file records",
+            )
+        })?;
+        let model = PreparedEstimatorModel::new(record)?;
         let w = 2 * model.dof();
         let m = sampled.sensors.len();
         let mut p = vec![0.0; w * w];

@@ -202,9 +202,8 @@ pub fn simulate_sampled(
         .as_ref()
         .is_some_and(|s| s.estimator == super::schema::Estimator::Extended);
     if extended {
-        // the filter predicts with the model its file records (a file written before it
-        // was recorded: with the scene's, the plant's own)
-        let mut controller = super::ekf::ExtendedKalman::new(file, run.model(), start, end)?;
+        // the filter predicts with the model its file records, not the plant's
+        let mut controller = super::ekf::ExtendedKalman::new(file, start, end)?;
         return run_sampled(run, file, &mut controller, reporter);
     }
     if file

@@ -1,4 +1,4 @@
-//! `--accuracy METRES` as the whole error against the beams: the basis, the modes per
+//! [`SimulationOptions::accuracy`] as the whole error against the beams (m): the basis, the modes per
 //! section, the method and the tolerance that reach it cheapest.
 //!
 //! The accuracy is split: a tenth ([`INTEGRATION_SHARE`]) goes to the integration, whose
@@ -10,9 +10,10 @@
 //! `tip_rel` is within the accuracy over [`ESTIMATE_MARGIN`], every station's moment within
 //! [`SimulationOptions::moment_tolerance`] of its peak, and (with clearance) the statistics
 //! beyond the pointwise window within [`SimulationOptions::statistics_tolerance`]. Of the two
-//! bases' first sizes that pass, the one whose run was faster is kept; its companion run is
-//! the check the summary reports. A size whose run already takes four times the best one's
-//! ends its basis's search.
+//! bases' first sizes that pass, the one whose run costs fewer operations (counted from its
+//! steps, right-hand sides and matrix factorizations and exponentials, so that the pick does
+//! not depend on the machine's load) is kept; its companion run is the check the summary
+//! reports. A size whose run already costs four times the best one's ends its basis's search.
 
 use crate::report::Reporter;
 use crate::run::PreparedRun;
@@ -36,8 +37,23 @@ pub const ESTIMATE_MARGIN: f64 = 2.0;
 /// Where each basis's search starts (modes per section).
 const STARTS: [(Basis, usize); 2] = [(Basis::Modes, 4), (Basis::ModesAndStatic, 2)];
 
-/// A size's run is not worth it once it takes this many times the best passing run's.
+/// A size's run is not worth it once it costs this many times the best passing run's.
 const COST_CUTOFF: f64 = 4.0;
+
+/// The cost of a run (floating-point operations, roughly) from what it did, for a state of
+/// `n` entries: a step or a right-hand side costs a matrix-vector product, a Jacobian, a
+/// factorization or a matrix exponential a matrix-matrix one. A count, not a wall time: the
+/// pick does not depend on how busy the machine is, so the same scene picks the same size.
+fn operation_count(stats: &telescopic_runtime::RunStats, n: usize) -> f64 {
+    let (n2, n3) = ((n * n) as f64, (n * n * n) as f64);
+    (stats.steps + stats.rhs_evals) as f64 * n2
+        + (stats.jacobian_evals + stats.factorizations + stats.exponentials) as f64 * n3
+}
+
+/// The state size of `scene`'s model: every coordinate, the vehicle's included, and its rate.
+fn state_size(scene: &Scene) -> usize {
+    2 * (scene.params.coordinates().iter().sum::<usize>() + 1)
+}
 
 /// The statistics that [`SimulationOptions::statistics_tolerance`] bounds. Contact
 /// switches, peak contact forces and peak moments beyond the window are reported but not
@@ -51,6 +67,8 @@ struct Attempt {
     basis: Basis,
     modes: usize,
     wall: f64,
+    /// [`operation_count`] of its run.
+    cost: f64,
     /// The estimate of the whole error in `tip_rel` (m).
     total: Option<f64>,
     passed: bool,
@@ -62,9 +80,10 @@ impl Attempt {
             .total
             .map_or("not estimated".into(), |e| format!("{e:.1e} m"));
         format!(
-            "{} {} ({estimate}, {:.3} s{})",
+            "{} {} ({estimate}, {:.1e} operations, {:.3} s{})",
             self.basis.word(),
             self.modes,
+            self.cost,
             self.wall,
             if self.passed { "" } else { ", not within" }
         )
@@ -95,7 +114,7 @@ pub fn simulate_for_accuracy(
     let mut attempts = Vec::new();
     let mut best: Option<(Simulation, f64)> = None;
     for (basis, start) in STARTS {
-        let cutoff = best.as_ref().map(|(_, wall)| COST_CUTOFF * wall);
+        let cutoff = best.as_ref().map(|(_, cost)| COST_CUTOFF * cost);
         if let Some(found) = search(
             scene,
             &integration,
@@ -104,7 +123,7 @@ pub fn simulate_for_accuracy(
             cutoff,
             &mut attempts,
             reporter,
-        )? && best.as_ref().is_none_or(|(_, wall)| found.1 < *wall)
+        )? && best.as_ref().is_none_or(|(_, cost)| found.1 < *cost)
         {
             best = Some(found);
         }
@@ -194,7 +213,8 @@ fn run(
     }
 }
 
-/// The first size of `basis` from `start` whose budget passes, with its run's wall time (s);
+/// The first size of `basis` from `start` whose budget passes, with its run's
+/// [`operation_count`];
 /// `None` when none does within the cost cutoff or the mode limit.
 fn search(
     scene: &Scene,
@@ -210,9 +230,11 @@ fn search(
         return Ok(None);
     };
     loop {
-        let wall = current.trajectory.stats.wall.as_secs_f64();
+        let stats = &current.trajectory.stats;
+        let wall = stats.wall.as_secs_f64();
+        let cost = operation_count(stats, state_size(&sized(scene, basis, modes)));
         let refined = refined_modes(modes);
-        if refined == modes || cutoff.is_some_and(|c| wall > c) {
+        if refined == modes || cutoff.is_some_and(|c| cost > c) {
             return Ok(None);
         }
         let Some(companion) = run(&sized(scene, basis, refined), integration, reporter)? else {
@@ -236,12 +258,13 @@ fn search(
             basis,
             modes,
             wall,
+            cost,
             total: budget.total_m(),
             passed,
         });
         if passed {
             current.error = Some(budget);
-            return Ok(Some((current, wall)));
+            return Ok(Some((current, cost)));
         }
         modes = refined;
         current = companion;

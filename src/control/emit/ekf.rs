@@ -12,15 +12,14 @@ use std::fmt::Write as _;
 /// The header and the source of `file`'s extended filter and LQR over `[start, end]` s.
 ///
 /// # Errors
-/// [`Error::Option`] when the file does not record the filter's model (written before it
-/// was) or its sensors are not linear in the coordinates.
+/// [`Error::Option`] when the file does not record the filter's model or its sensors are not
+/// linear in the coordinates.
 pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(String, String)> {
     let sampled = crate::control::ekf::sampled_of(file)?;
     let model = sampled.model.as_ref().ok_or_else(|| {
         Error::option(
             "controller `sampled.model`",
-            "is missing (a file written before the filter's model was recorded): design it \
-             again to emit it",
+            "is missing: the extended filter's C predicts with the model its file records",
         )
     })?;
     let (n, nc) = (model.dof(), model.contacts);
