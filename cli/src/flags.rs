@@ -15,7 +15,7 @@ const FLAGS: &[(&str, &str)] = &[
     ("SweepOptions::out", "--out"),
     ("resume to keep them", "give --resume to keep them"),
     ("SweepOptions::jobs", "--jobs"),
-    ("Shard::from_environment", "--shard auto"),
+    ("Shard::of_job_array", "--shard auto"),
     ("give the shard count", "give --shard-count"),
     ("Shard: ", "--shard: "),
     ("SweepChart x", "--x"),
@@ -79,6 +79,7 @@ const FLAGS: &[(&str, &str)] = &[
     ("(with overrides ", "(with --set "),
     ("override ", "--set "),
     ("the stability analysis", "`telescopic stability`"),
+    ("raise the memory budget", "raise TELESCOPIC_MEMORY_BUDGET"),
     ("controller: ", "--controller: "),
 ];
 

@@ -4,6 +4,18 @@
 mod commands;
 mod flags;
 
+/// The environment variable that sets the jobs' memory budget (bytes, or `512M`, `16G`).
+const MEMORY_BUDGET_VARIABLE: &str = "TELESCOPIC_MEMORY_BUDGET";
+
+/// The jobs' memory budget (bytes): [`MEMORY_BUDGET_VARIABLE`], else the library's default.
+fn memory_budget() -> anyhow::Result<u64> {
+    let text = std::env::var(MEMORY_BUDGET_VARIABLE).ok();
+    Ok(telescopic::run::memory::parse_budget(
+        MEMORY_BUDGET_VARIABLE,
+        text.as_deref(),
+    )?)
+}
+
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Whether descriptor 1 was closed when the process started.

@@ -53,6 +53,7 @@ fn a_job_array_sweep_merges_into_the_unsharded_file() {
             jobs: 2,
             shard: Shard::whole(),
             resume: false,
+            memory_budget: telescopic::run::memory::DEFAULT_MEMORY_BUDGET,
         },
         &Silent,
     )

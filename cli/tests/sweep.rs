@@ -29,6 +29,7 @@ fn options(out: &Path, jobs: usize, shard: Shard) -> SweepOptions {
         jobs,
         shard,
         resume: false,
+        memory_budget: telescopic::run::memory::DEFAULT_MEMORY_BUDGET,
     }
 }
 

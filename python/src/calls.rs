@@ -18,6 +18,16 @@ use telescopic::run::stress::Station;
 use telescopic::run::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
 use telescopic::runtime::ContactMode;
 
+/// The environment variable that sets the calls' memory budget (bytes, or `512M`, `16G`).
+const MEMORY_BUDGET_VARIABLE: &str = "TELESCOPIC_MEMORY_BUDGET";
+
+/// The calls' memory budget (bytes): [`MEMORY_BUDGET_VARIABLE`], else the library's default.
+fn memory_budget() -> PyResult<u64> {
+    let text = std::env::var(MEMORY_BUDGET_VARIABLE).ok();
+    telescopic::run::memory::parse_budget(MEMORY_BUDGET_VARIABLE, text.as_deref())
+        .map_err(to_python)
+}
+
 /// `value` parsed by `FromStr`, or an error naming `name`.
 fn parsed<T: FromStr>(name: &str, value: &str) -> PyResult<T>
 where
@@ -168,6 +178,7 @@ pub fn simulate<'py>(
         error_estimate,
         moment_tolerance: moment_tolerance.unwrap_or(defaults.moment_tolerance),
         statistics_tolerance: statistics_tolerance.unwrap_or(defaults.statistics_tolerance),
+        memory_budget: memory_budget()?,
         ..SimulationOptions::default()
     };
     let controller = match controller {
@@ -291,6 +302,7 @@ pub fn linearize<'py>(
         model: parsed("model", model)?,
         disturbance,
         discrete,
+        memory_budget: memory_budget()?,
         ..LinearizeOptions::default()
     };
     let scene = &scene.scene;
@@ -419,10 +431,11 @@ pub fn sweep(
         jobs,
         shard: telescopic::sweep::Shard::whole(),
         resume: false,
+        memory_budget: memory_budget()?,
     };
     telescopic::interrupt::stop_between_runs();
     let result = run(py, progress, |reporter| {
-        let sweep = telescopic::sweep::Sweep::load(&path)?;
+        let sweep = telescopic::sweep::Sweep::load_within(&path, options.memory_budget)?;
         telescopic::sweep::run_sweep(&sweep, &options, reporter)?;
         telescopic::sweep::read_table(&out)
     });

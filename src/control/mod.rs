@@ -176,7 +176,7 @@ pub fn compare_with_open_loop(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<ControlComparison> {
-    crate::run::memory::check_runs(&[scene, scene])?;
+    crate::run::memory::check_runs(&[scene, scene], options.memory_budget)?;
     let controlled = simulate_controlled(scene, controller, options, reporter)?;
     let open_loop = simulate_scene(scene, &comparison_options(options)?, reporter)?;
     let window = drive_stop(scene);

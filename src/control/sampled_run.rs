@@ -46,7 +46,7 @@ pub fn run_sampled(
     let sampled = file.sampled_part()?;
     let span = scene.time;
     let (period, every) = tick_grid(sampled.rate_hz, &span)?;
-    crate::run::memory::check_runs(&[scene])?;
+    crate::run::memory::check_runs(&[scene], run.memory_budget)?;
     let base = run.model();
     let model = Controlled::sampled(base, file, span.start, span.end)?;
     let sensors = Sensors::new(&model);

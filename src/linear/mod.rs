@@ -121,7 +121,7 @@ pub fn parse_positions(s: &str) -> std::result::Result<Vec<(usize, f64)>, String
 }
 
 /// Options of [`linearize`].
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct LinearizeOptions {
     /// Telescopic positions to use, `(k, a_k)` (m); the others come from the scene.
     pub positions: Vec<(usize, f64)>,
@@ -140,6 +140,25 @@ pub struct LinearizeOptions {
     pub disturbance: bool,
     /// Also give the zero-order-hold discrete-time model at this sample period (s).
     pub discrete: Option<f64>,
+    /// The memory the grid's linear models may take (bytes; default
+    /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`]).
+    pub memory_budget: u64,
+}
+
+impl Default for LinearizeOptions {
+    fn default() -> Self {
+        LinearizeOptions {
+            positions: Vec::new(),
+            at_time: None,
+            contacts: ContactMode::default(),
+            grid: None,
+            model: ModelChoice::default(),
+            models: ModelRegistry::default(),
+            disturbance: false,
+            discrete: None,
+            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
+        }
+    }
 }
 
 /// The zero-order-hold discrete-time models of a [`LinearExport`]:
@@ -253,6 +272,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
             let numbers = (ns * ns + ns * ni + no * ns + no * ni) as u64;
             crate::run::memory::check(
                 numbers * BYTES_PER_NUMBER * values.len() as u64,
+                options.memory_budget,
                 &format!(
                     "{} linear models of {ns} states ({numbers} numbers each, held and written \
                      together)",

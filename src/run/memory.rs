@@ -1,18 +1,16 @@
 //! The memory a command may take: predicted before anything is allocated and refused above
 //! a budget, naming the setting that drives it; a sweep's runs wait for their share of it.
 //!
-//! The budget is 2 GiB unless the environment variable `TELESCOPIC_MEMORY_BUDGET` gives
-//! another (bytes, or with a suffix `K`, `M`, `G`, `T`: `TELESCOPIC_MEMORY_BUDGET=16G`).
+//! The budget is an option of each job (`memory_budget`, bytes; 2 GiB by default); the
+//! faces set it (the command and the Python package from `TELESCOPIC_MEMORY_BUDGET`, parsed
+//! by [`parse_budget`]).
 
 use crate::{Error, Result};
 use std::sync::{Condvar, Mutex};
 use telescopic_runtime::Scene;
 
-/// The budget when the environment sets none (bytes): 2 GiB.
+/// The budget when none is given (bytes): 2 GiB.
 pub const DEFAULT_MEMORY_BUDGET: u64 = 2 << 30;
-
-/// The environment variable that sets the budget.
-pub const BUDGET_VARIABLE: &str = "TELESCOPIC_MEMORY_BUDGET";
 
 /// Bytes a trajectory keeps per output value, its row vectors' overhead included (a row of
 /// `c` values is a vector of `8 c` bytes plus 40 of header and allocation).
@@ -21,16 +19,17 @@ const BYTES_PER_VALUE: u64 = 8;
 /// Bytes a trajectory keeps per row beyond its values.
 const BYTES_PER_ROW: u64 = 40;
 
-/// The memory budget (bytes).
+/// The memory budget (bytes) that `text`, the setting `name`, gives: bytes or with a binary
+/// suffix (`512M`, `16G`); [`DEFAULT_MEMORY_BUDGET`] when it is not set.
 ///
 /// # Errors
-/// [`Error::Option`] naming the variable when it is set but not a size.
-pub fn budget() -> Result<u64> {
-    match std::env::var(BUDGET_VARIABLE) {
-        Err(_) => Ok(DEFAULT_MEMORY_BUDGET),
-        Ok(text) => parse_size(&text).ok_or_else(|| {
+/// [`Error::Option`] naming `name` when `text` is not a size.
+pub fn parse_budget(name: &str, text: Option<&str>) -> Result<u64> {
+    match text {
+        None => Ok(DEFAULT_MEMORY_BUDGET),
+        Some(text) => parse_size(text).ok_or_else(|| {
             Error::option(
-                BUDGET_VARIABLE,
+                name,
                 format!("{text:?} is not a size in bytes (e.g. 4000000000, 512M or 16G)"),
             )
         }),
@@ -68,42 +67,42 @@ pub fn trajectory_bytes(scene: &Scene) -> u64 {
     samples.saturating_mul(columns * BYTES_PER_VALUE + BYTES_PER_ROW)
 }
 
-/// Refuses `bytes` above the budget: `what` says what needs them, `setting` what to change;
-/// `error` makes the error from the message.
+/// Refuses `bytes` above `budget` (bytes): `what` says what needs them, `setting` what to
+/// change; `error` makes the error from the message.
 ///
 /// # Errors
 /// `error` of a message naming the need, the budget and the setting.
 pub fn check(
     bytes: u64,
+    budget: u64,
     what: &str,
     setting: &str,
     error: impl FnOnce(String) -> Error,
 ) -> Result<()> {
-    let budget = budget()?;
     if bytes <= budget {
         return Ok(());
     }
     Err(error(format!(
-        "{what} would take about {} of memory, more than the budget of {} ({BUDGET_VARIABLE}); \
-         change {setting}, or raise the budget",
+        "{what} would take about {} of memory, more than the budget of {}; change {setting}, \
+         or raise the memory budget",
         human(bytes),
         human(budget)
     )))
 }
 
 /// [`check`] for a scene's run: [`Error::Unaffordable`].
-fn check_scene(scene: &str, bytes: u64, what: &str, setting: &str) -> Result<()> {
-    check(bytes, what, setting, |reason| Error::Unaffordable {
+fn check_scene(scene: &str, bytes: u64, budget: u64, what: &str, setting: &str) -> Result<()> {
+    check(bytes, budget, what, setting, |reason| Error::Unaffordable {
         scene: scene.to_string(),
         reason,
     })
 }
 
-/// Refuses runs whose trajectories, kept together, exceed the budget.
+/// Refuses runs whose trajectories, kept together, exceed `budget` (bytes).
 ///
 /// # Errors
 /// As [`check`], naming `time.sample`.
-pub fn check_runs(scenes: &[&Scene]) -> Result<()> {
+pub fn check_runs(scenes: &[&Scene], budget: u64) -> Result<()> {
     let bytes = scenes.iter().map(|s| trajectory_bytes(s)).sum();
     let name = scenes.first().map_or("", |s| s.name.as_str());
     let what = if scenes.len() == 1 {
@@ -114,6 +113,7 @@ pub fn check_runs(scenes: &[&Scene]) -> Result<()> {
     check_scene(
         name,
         bytes,
+        budget,
         &what,
         "time.sample (a coarser output grid) or time.end",
     )
@@ -146,17 +146,18 @@ pub struct Share<'g> {
 }
 
 impl MemoryGate {
-    /// A gate over the whole budget.
-    ///
-    /// # Errors
-    /// As [`budget`].
-    pub fn new() -> Result<Self> {
-        let total = budget()?;
-        Ok(MemoryGate {
+    /// The whole budget (bytes).
+    pub fn total(&self) -> u64 {
+        self.total
+    }
+
+    /// A gate over a budget of `total` bytes.
+    pub fn new(total: u64) -> Self {
+        MemoryGate {
             free: Mutex::new(total),
             freed: Condvar::new(),
             total,
-        })
+        }
     }
 
     /// Takes `bytes` for a run of `scene`, waiting while other runs hold them.
@@ -166,7 +167,7 @@ impl MemoryGate {
     pub fn take(&self, scene: &Scene) -> Result<Share<'_>> {
         let bytes = trajectory_bytes(scene);
         if bytes > self.total {
-            check_runs(&[scene])?;
+            check_runs(&[scene], self.total)?;
         }
         let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
         while *free < bytes {

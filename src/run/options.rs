@@ -78,6 +78,9 @@ pub struct SimulationOptions {
     /// (RMS and peak of `tip_rel`, peak moment) that [`SimulationOptions::accuracy`] accepts
     /// (default 0.05).
     pub statistics_tolerance: f64,
+    /// The memory the run's outputs may take (bytes; default
+    /// [`super::memory::DEFAULT_MEMORY_BUDGET`]): a longer run is refused before it starts.
+    pub memory_budget: u64,
 }
 
 impl Default for SimulationOptions {
@@ -97,6 +100,7 @@ impl Default for SimulationOptions {
             error_estimate: true,
             moment_tolerance: 0.02,
             statistics_tolerance: 0.05,
+            memory_budget: super::memory::DEFAULT_MEMORY_BUDGET,
         }
     }
 }

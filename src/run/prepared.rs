@@ -35,6 +35,8 @@ pub struct PreparedRun<'s> {
     pub plan: Plan,
     /// The stations whose moments and stresses are output columns.
     pub stations: StationRows,
+    /// The memory its outputs may take (bytes, [`SimulationOptions::memory_budget`]).
+    pub memory_budget: u64,
 }
 
 impl<'s> PreparedRun<'s> {
@@ -59,10 +61,12 @@ impl<'s> PreparedRun<'s> {
             chosen,
             plan,
             stations,
+            memory_budget: options.memory_budget,
         })
     }
 
-    /// A run of `scene` on an already chosen model with `method` and `settings`.
+    /// A run of `scene` on an already chosen model with `method` and `settings`, within the
+    /// default memory budget.
     pub fn with_model(
         scene: &'s Scene,
         chosen: ChosenModel,
@@ -80,6 +84,7 @@ impl<'s> PreparedRun<'s> {
                 integration_statistics_rel: None,
             },
             stations: StationRows::none(),
+            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
         }
     }
 
@@ -110,7 +115,7 @@ impl<'s> PreparedRun<'s> {
         reporter: &dyn Reporter,
     ) -> Result<Trajectory> {
         let (method, settings) = (self.plan.method, &self.plan.settings);
-        crate::run::memory::check_runs(&[self.scene])?;
+        crate::run::memory::check_runs(&[self.scene], self.memory_budget)?;
         crate::run::budget::check_run(self.scene, budget_model, method, settings)?;
         integrate_from_rest(
             self.scene,

@@ -112,14 +112,23 @@ pub fn override_text(key: &str, value: &toml::Value) -> String {
 }
 
 impl Sweep {
-    /// Reads and validates a sweep file: its own rules, then every run's scene and settings.
+    /// Reads and validates a sweep file: its own rules, then every run's scene and settings;
+    /// its runs must fit the default memory budget.
     ///
     /// # Errors
     /// [`Error::Option`] naming the file, the key and the rule, or the run and its problem;
     /// [`Error::Scene`] for an unreadable or invalid base scene.
     pub fn load(path: &Path) -> Result<Self> {
+        Self::load_within(path, crate::run::memory::DEFAULT_MEMORY_BUDGET)
+    }
+
+    /// [`Sweep::load`] with the runs' list within `memory_budget` (bytes).
+    ///
+    /// # Errors
+    /// As [`Sweep::load`].
+    pub fn load_within(path: &Path, memory_budget: u64) -> Result<Self> {
         let (text, spec) = read_spec(path)?;
-        check_memory(path, &spec)?;
+        check_memory(path, &spec, memory_budget)?;
         let (scene_path, scene_text, base) = read_base_scene(path, &spec)?;
         let mut keys: Vec<String> = Vec::new();
         let mut runs: Vec<Run> = Vec::new();
@@ -400,7 +409,7 @@ const BYTES_PER_RUN: u64 = 64;
 const BYTES_PER_VALUE: u64 = 48;
 
 /// Refuses, before any run is generated, a sweep whose runs would not fit the memory budget.
-fn check_memory(path: &Path, spec: &SweepSpec) -> Result<()> {
+fn check_memory(path: &Path, spec: &SweepSpec, budget: u64) -> Result<()> {
     let grid = spec
         .grid
         .values()
@@ -418,6 +427,7 @@ fn check_memory(path: &Path, spec: &SweepSpec) -> Result<()> {
     let bytes = runs.saturating_mul(BYTES_PER_RUN + BYTES_PER_VALUE * keys as u64);
     crate::run::memory::check(
         bytes,
+        budget,
         &format!("{runs} runs of {keys} keys"),
         "[latin] samples or the [grid] (fewer runs), or split the sweep",
         |reason| invalid(path, reason),

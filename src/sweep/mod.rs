@@ -12,6 +12,7 @@
 //!     jobs: 2,
 //!     shard: Shard::whole(),
 //!     resume: false,
+//!     memory_budget: telescopic::run::memory::DEFAULT_MEMORY_BUDGET,
 //! }, &Silent)?;
 //! println!("{} runs, {} failed", done.written, done.failed);
 //! # Ok::<(), telescopic::Error>(())

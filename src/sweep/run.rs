@@ -30,6 +30,9 @@ pub struct SweepOptions {
     pub shard: Shard,
     /// Continue `<out>.partial` (or find `<out>` complete) instead of starting afresh.
     pub resume: bool,
+    /// The memory the runs in progress may take together (bytes,
+    /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`] for the default).
+    pub memory_budget: u64,
 }
 
 /// What a sweep did.
@@ -104,7 +107,8 @@ fn status_of(e: &Error) -> &'static str {
 fn row(sweep: &Sweep, run: &Run, gate: &MemoryGate) -> (String, bool) {
     let start = Instant::now();
     let measure = || -> Result<(Vec<String>, Option<String>)> {
-        let (scene, options) = sweep.scene_of(run)?;
+        let (scene, mut options) = sweep.scene_of(run)?;
+        options.memory_budget = gate.total();
         // the run's trajectory's share of the memory budget, held until its row is made
         let _share = gate.take(&scene)?;
         let run = PreparedRun::new(&scene, &options, &Silent)?;
@@ -422,7 +426,7 @@ pub fn run_sweep(
     if let WorkFile::Partial { path, .. } = &work {
         crate::io::output::keep_on_interrupt(path);
     }
-    let gate = MemoryGate::new()?;
+    let gate = MemoryGate::new(options.memory_budget);
     let writer = Mutex::new(work);
     let counts = Mutex::new((done.len(), 0usize, 0usize)); // (finished, written, failed)
     let write_failure: Mutex<Option<std::io::Error>> = Mutex::new(None);

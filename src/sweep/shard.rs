@@ -21,16 +21,19 @@ impl Shard {
     /// The shard of a job array: Slurm's `SLURM_ARRAY_TASK_ID` (less
     /// `SLURM_ARRAY_TASK_MIN`, over `SLURM_ARRAY_TASK_STEP`) of `SLURM_ARRAY_TASK_COUNT`,
     /// else Kubernetes'
-    /// `JOB_COMPLETION_INDEX` of `count` (which Kubernetes does not export).
+    /// `JOB_COMPLETION_INDEX` of `count` (which Kubernetes does not export). `var` gives a
+    /// variable's value by name: the caller reads the environment (the library does not).
     ///
     /// # Errors
     /// [`Error::Option`] naming the missing or bad variable.
-    pub fn from_env(count: Option<usize>) -> Result<Self> {
-        let var = |name: &str| std::env::var(name).ok();
+    pub fn of_job_array(
+        var: impl Fn(&str) -> Option<String>,
+        count: Option<usize>,
+    ) -> Result<Self> {
         let parse = |name: &str, v: String| {
             v.trim().parse::<usize>().map_err(|_| {
                 Error::option(
-                    "Shard::from_environment",
+                    "Shard::of_job_array",
                     format!("{name}={v:?} is not a whole number"),
                 )
             })
@@ -45,7 +48,7 @@ impl Shard {
                 Some(v) => parse("SLURM_ARRAY_TASK_COUNT", v)?,
                 None => count.ok_or_else(|| {
                     Error::option(
-                        "Shard::from_environment",
+                        "Shard::of_job_array",
                         "SLURM_ARRAY_TASK_COUNT is not set; give the shard count",
                     )
                 })?,
@@ -62,7 +65,7 @@ impl Shard {
             };
             if shard.index >= total {
                 return Err(Error::option(
-                    "Shard::from_environment",
+                    "Shard::of_job_array",
                     format!(
                         "array task {id} (min {min}, step {step}, count {total}) is not one of an \
                          evenly spaced range; submit with sbatch --array=0-{} (optionally %LIMIT)",
@@ -74,7 +77,7 @@ impl Shard {
         } else if let Some(id) = var("JOB_COMPLETION_INDEX") {
             let total = count.ok_or_else(|| {
                 Error::option(
-                    "Shard::from_environment",
+                    "Shard::of_job_array",
                     "JOB_COMPLETION_INDEX is set but not the count: give the shard count (the job's completions)",
                 )
             })?;
@@ -84,12 +87,12 @@ impl Shard {
             }
         } else {
             return Err(Error::option(
-                "Shard::from_environment",
+                "Shard::of_job_array",
                 "neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a \
                  Kubernetes indexed job) is set",
             ));
         };
-        shard.check("Shard::from_environment")?;
+        shard.check("Shard::of_job_array")?;
         Ok(shard)
     }
 

@@ -40,6 +40,7 @@ impl OperatingPointArgs {
             at_time: self.at_time,
             contacts: self.contacts,
             model,
+            memory_budget: crate::memory_budget()?,
             ..LinearizeOptions::default()
         })
     }

@@ -114,7 +114,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         None => None,
     };
     if let Some(other) = &other {
-        telescopic::run::memory::check_runs(&[&scene, other])?;
+        telescopic::run::memory::check_runs(&[&scene, other], crate::memory_budget()?)?;
     }
     let controller = match &args.controller {
         Some(path) => {
@@ -146,6 +146,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         statistics_tolerance: args
             .statistics_tolerance
             .unwrap_or(SimulationOptions::default().statistics_tolerance),
+        memory_budget: crate::memory_budget()?,
         ..SimulationOptions::default()
     };
     let progress = Progress::new();

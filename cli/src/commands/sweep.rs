@@ -38,7 +38,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
     super::check_output("--out", Some(&args.out), &[&args.sweep])?;
     let shard = match args.shard.as_deref() {
         None => Shard::whole(),
-        Some("auto") => Shard::from_env(args.shard_count)?,
+        Some("auto") => Shard::of_job_array(|name| std::env::var(name).ok(), args.shard_count)?,
         Some(s) => s
             .parse::<Shard>()
             .map_err(|e| anyhow::anyhow!("--shard {s}: {e}"))?,
@@ -49,7 +49,8 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
             .min(telescopic::sweep::MAX_JOBS)
     });
     telescopic::sweep::check_jobs(jobs)?;
-    let sweep = Sweep::load(&args.sweep)?;
+    let memory_budget = crate::memory_budget()?;
+    let sweep = Sweep::load_within(&args.sweep, memory_budget)?;
     let mine = sweep.runs.iter().filter(|r| shard.owns(r.index)).count();
     eprintln!(
         "{}: {} runs ({} in shard {}/{}), {} at once, sweep {}",
@@ -69,6 +70,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
             jobs,
             shard,
             resume: args.resume,
+            memory_budget,
         },
         &Progress::new(),
     )?;
