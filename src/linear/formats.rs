@@ -272,9 +272,9 @@ impl LinearExport {
             self.scene_file.clone()
         } else {
             format!(
-                "{} --set {}",
+                "{} with overrides {}",
                 self.scene_file,
-                self.overrides.join(" --set ")
+                self.overrides.join(", ")
             )
         };
         [
