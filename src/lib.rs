@@ -53,6 +53,7 @@ pub mod interrupt;
 pub mod io;
 pub mod linear;
 mod named;
+#[cfg(feature = "plot")]
 pub mod plot;
 pub mod report;
 pub mod run;

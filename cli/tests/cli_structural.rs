@@ -237,7 +237,7 @@ fn fmu_refuses_bad_names_and_libraries_and_takes_a_prescribed_motion() {
         &[
             "--library",
             "/nonexistent/lib.so",
-            "cargo build --release -p telescopic-fmu",
+            "cargo build --release --manifest-path fmu/Cargo.toml",
         ],
     );
     // a prescribed motion: the FMU's input is the vehicle's acceleration

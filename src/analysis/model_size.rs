@@ -10,13 +10,11 @@
 //! peak of `tip_rel` beyond it.
 
 use crate::analysis::beam_reference::{BeamResponse, beam_response};
-use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::error_budget::{Window, WindowEnd, window};
 use crate::run::{MethodChoice, SimulationOptions, Trajectory};
 use crate::{Error, Result};
-use plotters::prelude::*;
 use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
@@ -368,76 +366,5 @@ impl ModelSizeStudy {
             )?;
         }
         Ok(())
-    }
-
-    /// The chart: error against wall time, one curve per size, the front marked.
-    pub fn chart(&self) -> impl Figure + '_ {
-        SizeChart { study: self }
-    }
-}
-
-struct SizeChart<'a> {
-    study: &'a ModelSizeStudy,
-}
-
-impl Figure for SizeChart<'_> {
-    fn size(&self) -> (u32, u32) {
-        (900, 650)
-    }
-
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> Result<()> {
-        let s = self.study;
-        let title = format!(
-            "whole error against cost, {} (against the beams: {}; pointwise to {} s)",
-            s.scene, s.reference, s.window.end
-        );
-        let root = titled_page(root, &title)?;
-        let mut sizes: Vec<ModelSize> = Vec::new();
-        for p in &s.points {
-            if !sizes.contains(&p.size) {
-                sizes.push(p.size);
-            }
-        }
-        let mut series: Vec<LogSeries> = sizes
-            .iter()
-            .map(|size| LogSeries {
-                label: match size.basis {
-                    Basis::Modes => format!("{} modes", size.modes),
-                    Basis::ModesAndStatic => format!("{} modes + static", size.modes),
-                },
-                points: s
-                    .points
-                    .iter()
-                    .filter(|p| p.size == *size)
-                    .map(|p| (p.wall, p.tip_error.max(1e-16)))
-                    .collect(),
-                marks: Vec::new(),
-            })
-            .collect();
-        let mut front: Vec<&SizePoint> = s.points.iter().filter(|p| p.pareto).collect();
-        front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
-        series.push(LogSeries {
-            label: "Pareto front".into(),
-            points: front
-                .iter()
-                .map(|p| (p.wall, p.tip_error.max(1e-16)))
-                .collect(),
-            marks: front.iter().map(|p| p.size.to_string()).collect(),
-        });
-        log_panel(
-            &root,
-            (
-                "tip_rel error against the beams",
-                "wall time [s]",
-                "max |error| [m]",
-            ),
-            &series,
-            YAxis::Log,
-            None,
-        )?;
-        root.present().map_err(plot_error)
     }
 }

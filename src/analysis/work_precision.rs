@@ -7,13 +7,11 @@
 //! span, on statistics that converge even where the motion does not: per-second peak and RMS
 //! of `tip_rel`, and the number of contact switches. Wall time is the median of repeated runs.
 
-use crate::plot::{Figure, LogSeries, YAxis, log_panel, plot_error, titled_page};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::Trajectory;
 use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
-use plotters::prelude::*;
 use std::io::Write;
 use telescopic_runtime::integrate::stability::stability_report;
 use telescopic_runtime::{Method, Model, Scene, Settings, auto_plan};
@@ -439,16 +437,6 @@ impl WorkPrecision {
     pub fn write_table(&self, w: &mut dyn Write) -> std::io::Result<()> {
         write_table(w, &self.points)
     }
-
-    /// The six-panel chart (for [`crate::plot::save`]).
-    pub fn chart(&self) -> impl Figure + '_ {
-        WorkPrecisionChart {
-            scene: &self.scene,
-            horizon: self.horizon,
-            end: self.end,
-            points: &self.points,
-        }
-    }
 }
 
 fn describe(p: &Point) -> String {
@@ -501,111 +489,4 @@ fn write_table(w: &mut dyn Write, points: &[Point]) -> std::io::Result<()> {
         )?;
     }
     Ok(())
-}
-
-/// Six log-log panels: three errors against wall time, two against rhs evaluations, and how
-/// long each run agrees with the reference.
-struct WorkPrecisionChart<'a> {
-    scene: &'a str,
-    horizon: f64,
-    end: f64,
-    points: &'a [Point],
-}
-
-type Pick = fn(&Point) -> f64;
-
-impl Figure for WorkPrecisionChart<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1500, 900)
-    }
-
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: DrawingArea<DB, plotters::coord::Shift>,
-    ) -> Result<()> {
-        let title = format!(
-            "work-precision, {} (T_h = {:.3} s of {} s)",
-            self.scene, self.horizon, self.end
-        );
-        let root = titled_page(root, &title)?;
-        let panels: [(&str, &str, Pick, &str, Pick); 6] = [
-            (
-                "tip_rel error on [0, T_h]",
-                "wall time [s]",
-                |p| p.wall,
-                "max |error| [m]",
-                |p| p.tip_error,
-            ),
-            (
-                "gap error on [0, T_h]",
-                "wall time [s]",
-                |p| p.wall,
-                "max |error| [m]",
-                |p| p.gap_error,
-            ),
-            (
-                "statistics error (whole span)",
-                "wall time [s]",
-                |p| p.wall,
-                "per-second peak/RMS, relative",
-                |p| p.statistics_error,
-            ),
-            (
-                "tip_rel error on [0, T_h]",
-                "rhs evaluations",
-                |p| p.rhs_evals as f64,
-                "max |error| [m]",
-                |p| p.tip_error,
-            ),
-            (
-                "gap error on [0, T_h]",
-                "rhs evaluations",
-                |p| p.rhs_evals as f64,
-                "max |error| [m]",
-                |p| p.gap_error,
-            ),
-            (
-                "agreement with the reference (1e-6 m)",
-                "wall time [s]",
-                |p| p.wall,
-                "agrees until [s]",
-                |p| p.agrees_until,
-            ),
-        ];
-        let areas = root.split_evenly((2, 3));
-        let methods: Vec<&str> = {
-            let mut m: Vec<&str> = self.points.iter().map(|p| p.method.as_str()).collect();
-            m.dedup();
-            m
-        };
-        for ((title, xd, fx, yd, fy), area) in panels.iter().zip(&areas) {
-            let series: Vec<LogSeries> = methods
-                .iter()
-                .map(|m| LogSeries {
-                    label: m.to_string(),
-                    points: self
-                        .points
-                        .iter()
-                        .filter(|p| p.method == *m && p.failure.is_empty())
-                        // an exact zero error shows at the floor of the axis
-                        .map(|p| (fx(p), fy(p).max(1e-16)))
-                        .collect(),
-                    marks: Vec::new(),
-                })
-                .collect();
-            if title.starts_with("agreement") {
-                let axis = YAxis::Linear(0.0, self.end);
-                log_panel(
-                    area,
-                    (title, xd, yd),
-                    &series,
-                    axis,
-                    Some((self.horizon, "T_h")),
-                )?;
-            } else {
-                log_panel(area, (title, xd, yd), &series, YAxis::Log, None)?;
-            }
-        }
-        root.present().map_err(plot_error)
-    }
 }

@@ -59,7 +59,7 @@ pub fn write_fmu(scene: &Scene, library: &Path, kind: FmuKind, out: &Path) -> Re
         Error::option(
             "fmu library",
             format!(
-                "{}: {e}; build it with `cargo build --release -p telescopic-fmu` (docs/fmu.md)",
+                "{}: {e}; build it with `cargo build --release --manifest-path fmu/Cargo.toml` (docs/fmu.md)",
                 library.display()
             ),
         )

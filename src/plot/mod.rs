@@ -4,7 +4,11 @@
 //! the adams scenes get `tip_rel` (Figs. 14, 15). A second scene (`--compare`) is overlaid.
 
 pub(crate) mod bode;
+mod converge;
+mod model_size;
 pub mod modes;
+mod shape_errors;
+mod work_precision;
 
 use crate::run::Trajectory;
 use crate::{Error, Result};

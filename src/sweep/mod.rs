@@ -18,6 +18,7 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
+#[cfg(feature = "plot")]
 mod chart;
 mod file;
 mod merge;
@@ -25,6 +26,7 @@ mod run;
 mod shard;
 mod table;
 
+#[cfg(feature = "plot")]
 pub use chart::{SweepChart, chart};
 pub use file::{MAX_RUNS, RUN_KEYS, Run, Sweep, override_text, value_text};
 pub use merge::merge_shards;
