@@ -167,8 +167,23 @@ pub fn tip_error_in_horizon(run: &Trajectory, reference: &Trajectory, horizon: f
         .fold(0.0, f64::max)
 }
 
+/// How far a run is from the reference.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct RunErrors {
+    /// Largest `tip_rel` difference inside the horizon (m).
+    tip: f64,
+    /// Largest difference of the first gap inside the horizon (m).
+    gap: f64,
+    /// Relative error of the per-second peak and RMS of `tip_rel` over the span.
+    statistics: f64,
+    /// Relative error of the switch count.
+    switches: f64,
+    /// Until when the run stays within [`RUN_AGREEMENT`] of the reference (s).
+    agrees_until: f64,
+}
+
 /// Compares a run with the reference.
-fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
+fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> RunErrors {
     let tip = reference.index("tip_rel").expect("every model has tip_rel");
     let gap = reference
         .names
@@ -198,7 +213,13 @@ fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> [f64; 5] {
         (run.stats.switches as f64 - reference.stats.switches as f64).abs()
             / reference.stats.switches as f64
     };
-    [tip_error, gap_error, stats, switch_error, agrees_until]
+    RunErrors {
+        tip: tip_error,
+        gap: gap_error,
+        statistics: stats,
+        switches: switch_error,
+        agrees_until,
+    }
 }
 
 /// Adaptive settings at `rtol` with `atol = 1e-3 rtol` (m, m/s).
@@ -272,6 +293,71 @@ pub fn work_precision(
     options: &WorkPrecisionOptions,
     reporter: &dyn Reporter,
 ) -> Result<WorkPrecision> {
+    check_options(options)?;
+    let methods = labelled_methods(scene, &options.methods)?;
+    let chosen = options.models.build(&scene.params, options.model)?;
+    if let Some(note) = &chosen.note {
+        reporter.note(note);
+    }
+    let [(first, first_rtol), (second, second_rtol)] = REFERENCE_RUNS;
+    reporter.note(&format!(
+        "{} on the {}: reference runs ({} rtol {first_rtol:e}, {} rtol {second_rtol:e})",
+        scene.name,
+        chosen.description,
+        first.name(),
+        second.name()
+    ));
+    // every run, the references included, on one prepared run (within the work budget)
+    let mut prepared = PreparedRun::with_model(scene, chosen, Method::Dop853, Settings::default());
+    let reference = run_with(&mut prepared, first, &tolerance(first_rtol), reporter)?;
+    let second = run_with(&mut prepared, second, &tolerance(second_rtol), reporter)?;
+    let end = scene.time.end;
+    let horizon = predictability_horizon(&reference, &second);
+    reporter.note(&format!(
+        "predictability horizon T_h = {horizon:.4} s (the two references agree in tip_rel to \
+         {HORIZON_AGREEMENT:e} m up to there; span {end} s)"
+    ));
+    // the statistics of two careful runs differ after T_h: no method can be judged closer
+    let floor = measure(&second, &reference, horizon);
+    reporter.note(&format!(
+        "statistics floor: the two references differ by {:.2} % in per-second peak/RMS of \
+         tip_rel and {:.2} % in contact switches",
+        100.0 * floor.statistics,
+        100.0 * floor.switches
+    ));
+    let mut points = Vec::new();
+    let exact_listed = methods.iter().any(|(l, _, _)| l == "exact");
+    for (label, method, exact_from) in &methods {
+        let (method, exact_from) = (*method, *exact_from);
+        if label == "auto" && method == Method::Exact && exact_from.is_none() && exact_listed {
+            reporter.note("auto: the same runs as exact on this scene");
+            continue;
+        }
+        if method == Method::Exact
+            && let Some(why) = telescopic_runtime::integrate::exact::lti_obstacle(&scene.params)
+        {
+            reporter.note(&format!("exact: skipped ({why})"));
+            continue;
+        }
+        for (setting, mut settings) in sweep(method, prepared.model(), scene, &options.rtols)? {
+            settings.exact_from = exact_from;
+            let outcome = timed_runs(&mut prepared, method, &settings, options.repeat, reporter);
+            let point = point_of(label, setting, outcome, &reference, horizon);
+            reporter.note(&describe(&point));
+            points.push(point);
+        }
+    }
+    Ok(WorkPrecision {
+        scene: scene.name.clone(),
+        horizon,
+        end,
+        floor: (floor.statistics, floor.switches),
+        points,
+    })
+}
+
+/// Refuses a repeat count or tolerances out of range.
+fn check_options(options: &WorkPrecisionOptions) -> Result<()> {
     if !(1..=MAX_REPEAT).contains(&options.repeat) {
         return Err(Error::option(
             "WorkPrecisionOptions::repeat",
@@ -296,10 +382,13 @@ pub fn work_precision(
             ),
         ));
     }
-    let args = options;
-    // (label, method, exact stepping from): `auto` is what `simulate` runs by default
-    let methods: Vec<(String, Method, Option<f64>)> = args
-        .methods
+    Ok(())
+}
+
+/// The methods by name, each as `(label, method, exact stepping from)`: `auto` is what
+/// `simulate` runs by default on `scene`.
+fn labelled_methods(scene: &Scene, names: &[String]) -> Result<Vec<(String, Method, Option<f64>)>> {
+    names
         .iter()
         .map(|m| match m.trim() {
             "auto" => {
@@ -310,123 +399,81 @@ pub fn work_precision(
                 .map(|method| (method.name(), method, None))
                 .map_err(|e| Error::option("WorkPrecisionOptions::methods", e)),
         })
-        .collect::<Result<_>>()?;
-    let chosen = args.models.build(&scene.params, args.model)?;
-    if let Some(note) = &chosen.note {
-        reporter.note(note);
+        .collect()
+}
+
+/// One run of `prepared` with `method` and `settings`.
+fn run_with(
+    prepared: &mut PreparedRun,
+    method: Method,
+    settings: &Settings,
+    reporter: &dyn Reporter,
+) -> Result<Trajectory> {
+    prepared.plan.method = method;
+    prepared.plan.settings = *settings;
+    prepared.integrate(reporter)
+}
+
+/// `repeat` runs (fewer when one fails): the last outcome and the median wall time (s).
+fn timed_runs(
+    prepared: &mut PreparedRun,
+    method: Method,
+    settings: &Settings,
+    repeat: usize,
+    reporter: &dyn Reporter,
+) -> Result<(Trajectory, f64)> {
+    let mut walls = Vec::new();
+    let mut last = None;
+    for _ in 0..repeat {
+        let traj = run_with(prepared, method, settings, reporter)?;
+        walls.push(traj.stats.wall.as_secs_f64());
+        last = Some(traj);
     }
-    let [(first, first_rtol), (second, second_rtol)] = REFERENCE_RUNS;
-    reporter.note(&format!(
-        "{} on the {}: reference runs ({} rtol {first_rtol:e}, {} rtol {second_rtol:e})",
-        scene.name,
-        chosen.description,
-        first.name(),
-        second.name()
-    ));
-    // every run, the references included, on one prepared run (within the work budget)
-    let mut prepared = PreparedRun::with_model(scene, chosen, Method::Dop853, Settings::default());
-    let run = |prepared: &mut PreparedRun, method, settings: &Settings| {
-        prepared.plan.method = method;
-        prepared.plan.settings = *settings;
-        prepared.integrate(reporter)
-    };
-    let reference = run(&mut prepared, first, &tolerance(first_rtol))?;
-    let second = run(&mut prepared, second, &tolerance(second_rtol))?;
-    let end = scene.time.end;
-    let horizon = predictability_horizon(&reference, &second);
-    reporter.note(&format!(
-        "predictability horizon T_h = {horizon:.4} s (the two references agree in tip_rel to \
-         {HORIZON_AGREEMENT:e} m up to there; span {end} s)"
-    ));
-    // the statistics of two careful runs differ after T_h: no method can be judged closer
-    let floor = measure(&second, &reference, horizon);
-    reporter.note(&format!(
-        "statistics floor: the two references differ by {:.2} % in per-second peak/RMS of \
-         tip_rel and {:.2} % in contact switches",
-        100.0 * floor[2],
-        100.0 * floor[3]
-    ));
-    let mut points = Vec::new();
-    let exact_listed = methods.iter().any(|(l, _, _)| l == "exact");
-    for (label, method, exact_from) in &methods {
-        let (method, exact_from) = (*method, *exact_from);
-        if label == "auto" && method == Method::Exact && exact_from.is_none() && exact_listed {
-            reporter.note("auto: the same runs as exact on this scene");
-            continue;
-        }
-        if method == Method::Exact
-            && let Some(why) = telescopic_runtime::integrate::exact::lti_obstacle(&scene.params)
-        {
-            reporter.note(&format!("exact: skipped ({why})"));
-            continue;
-        }
-        for (setting, mut settings) in sweep(method, prepared.model(), scene, &args.rtols)? {
-            settings.exact_from = exact_from;
-            let mut walls = Vec::new();
-            let mut last = None;
-            for _ in 0..args.repeat {
-                match run(&mut prepared, method, &settings) {
-                    Ok(t) => {
-                        walls.push(t.stats.wall.as_secs_f64());
-                        last = Some(Ok(t));
-                    }
-                    Err(e) => {
-                        last = Some(Err(e));
-                        break;
-                    }
-                }
+    walls.sort_by(f64::total_cmp);
+    Ok((last.expect("repeat >= 1"), walls[walls.len() / 2]))
+}
+
+/// The chart's point of a run (or of its failure) against the reference.
+fn point_of(
+    label: &str,
+    setting: String,
+    outcome: Result<(Trajectory, f64)>,
+    reference: &Trajectory,
+    horizon: f64,
+) -> Point {
+    match outcome {
+        Ok((traj, wall)) => {
+            let errors = measure(&traj, reference, horizon);
+            Point {
+                method: label.to_string(),
+                setting,
+                steps: traj.stats.steps,
+                rhs_evals: traj.stats.rhs_evals,
+                wall,
+                tip_error: errors.tip,
+                gap_error: errors.gap,
+                statistics_error: errors.statistics,
+                switches: traj.stats.switches,
+                switch_error: errors.switches,
+                agrees_until: errors.agrees_until,
+                failure: String::new(),
             }
-            walls.sort_by(f64::total_cmp);
-            let point = match last.expect("repeat >= 1") {
-                Ok(traj) => {
-                    let [
-                        tip_error,
-                        gap_error,
-                        statistics_error,
-                        switch_error,
-                        agrees_until,
-                    ] = measure(&traj, &reference, horizon);
-                    Point {
-                        method: label.clone(),
-                        setting,
-                        steps: traj.stats.steps,
-                        rhs_evals: traj.stats.rhs_evals,
-                        wall: walls[walls.len() / 2],
-                        tip_error,
-                        gap_error,
-                        statistics_error,
-                        switches: traj.stats.switches,
-                        switch_error,
-                        agrees_until,
-                        failure: String::new(),
-                    }
-                }
-                Err(e) => Point {
-                    method: label.clone(),
-                    setting,
-                    steps: 0,
-                    rhs_evals: 0,
-                    wall: f64::NAN,
-                    tip_error: f64::NAN,
-                    gap_error: f64::NAN,
-                    statistics_error: f64::NAN,
-                    switches: 0,
-                    switch_error: f64::NAN,
-                    agrees_until: f64::NAN,
-                    failure: format!("{e:#}").replace([',', '\n'], ";"),
-                },
-            };
-            reporter.note(&describe(&point));
-            points.push(point);
         }
+        Err(e) => Point {
+            method: label.to_string(),
+            setting,
+            steps: 0,
+            rhs_evals: 0,
+            wall: f64::NAN,
+            tip_error: f64::NAN,
+            gap_error: f64::NAN,
+            statistics_error: f64::NAN,
+            switches: 0,
+            switch_error: f64::NAN,
+            agrees_until: f64::NAN,
+            failure: format!("{e:#}").replace([',', '\n'], ";"),
+        },
     }
-    Ok(WorkPrecision {
-        scene: scene.name.clone(),
-        horizon,
-        end,
-        floor: (floor[2], floor[3]),
-        points,
-    })
 }
 
 impl WorkPrecision {

@@ -14,6 +14,18 @@ use crate::scene::TimeSpan;
 /// Consecutive Newton failures (each followed by a 4x shorter step) before giving up.
 const MAX_NEWTON_FAILURES: u32 = 12;
 
+/// What an accepted step did.
+struct AcceptedStep {
+    /// Its length (s), shortened to a switch it located.
+    h: f64,
+    /// Whether it ended on a contact switch.
+    switched: bool,
+    /// Whether it ended on a profile breakpoint.
+    at_break: bool,
+    /// Whether a contact closed at its end.
+    closed_one: bool,
+}
+
 /// Largest growth of a capped step from one step to the next while a contact is closed.
 /// There dop853 steps near its stability limit, where a ringing contact mode's error grows
 /// far faster than `h^8`: free growth (up to 5x at small errors) is rejected from 1.2-1.5
@@ -230,7 +242,7 @@ impl<'m> Driver<'m> {
             }
             let remaining = t_stop - self.t;
             // never leave a sliver before a stop
-            let mut h = if self.h >= remaining * (1.0 - 1e-9) {
+            let h = if self.h >= remaining * (1.0 - 1e-9) {
                 remaining
             } else {
                 self.h
@@ -272,72 +284,10 @@ impl<'m> Driver<'m> {
                 continue;
             }
             self.check_size(h, finite)?;
-
-            // contact events inside the step
-            let mut switched = false;
-            let model = self.sys.model;
-            if self
-                .sys
-                .tracker
-                .min_switch_value(model, self.t + h, &self.y1)
-                < 0.0
-            {
-                h = self.locate_switch(h);
-                switched = true;
-            }
-            let t1 = if h == remaining { t_stop } else { self.t + h };
-            let at_break = toward_break && t1 == t_break;
-            match (switched, self.stepper.end_derivative()) {
-                (false, Some(f)) => self.f1.copy_from_slice(f),
-                _ => {
-                    let (t_eval, y1) = (t1, &self.y1);
-                    self.sys.rhs(t_eval, y1, &mut self.f1);
-                }
-            }
-            self.emit_samples(t1, &mut observe);
-            self.check_positions(t1)?;
-            self.sys.stats.steps += 1;
-            if self.stepper.over_contact_modes() {
-                self.sys.stats.long_steps += 1;
-            }
-            self.stepper.accepted();
-            self.t = t1;
-            std::mem::swap(&mut self.y, &mut self.y1);
-            self.sys.time_cap = f64::INFINITY;
-            let mut closed_one = false;
-            if switched {
-                let closed_before = self.sys.tracker.closed_count();
-                self.sys.stats.switches += self.sys.tracker.switch(model, self.t, &self.y);
-                closed_one = self.sys.tracker.closed_count() > closed_before;
-            }
-            if switched || at_break {
-                self.stepper.restart();
-                let (t, y) = (self.t, &self.y);
-                self.sys.rhs(t, y, &mut self.f0);
-            } else {
-                std::mem::swap(&mut self.f0, &mut self.f1);
-            }
+            let step = self.accept(h, remaining, t_stop, toward_break, &mut observe)?;
             if self.adaptive() {
-                // a step cut short by an event or a stop says nothing about the next one
-                let base = if switched || to_stop {
-                    self.h.max(h)
-                } else {
-                    h
-                };
-                let control = self.stepper.control_error(err);
-                let factor = self.pi_factor(control, err_old, self.growth_limit(capped));
-                // a restart forgets the history, as at the start
-                err_old = if switched || at_break { 1e-4 } else { control };
-                self.h = base
-                    * if just_rejected {
-                        factor.min(1.0)
-                    } else {
-                        factor
-                    };
+                err_old = self.next_step_size(&step, err, err_old, just_rejected, capped, to_stop);
                 just_rejected = false;
-                if closed_one {
-                    self.h = self.h.min(FIRST_STEP_AFTER_CLOSING * self.step_cap);
-                }
             }
             if let Some(p) = progress.as_mut()
                 && self.t - last_report >= 0.01 * (end - self.span.start)
@@ -347,6 +297,105 @@ impl<'m> Driver<'m> {
             }
         }
         Ok(self.sys.stats.clone())
+    }
+
+    /// Accepts the trial step of `h` (s) in `y1`: locates a contact switch inside it (which
+    /// shortens it), emits the samples it passes, moves the state to its end and switches
+    /// the contacts; `remaining` is the time to `t_stop`, the step's target.
+    #[inline]
+    fn accept(
+        &mut self,
+        mut h: f64,
+        remaining: f64,
+        t_stop: f64,
+        toward_break: bool,
+        observe: &mut Observer,
+    ) -> Result<AcceptedStep, SimError> {
+        // contact events inside the step
+        let mut switched = false;
+        let model = self.sys.model;
+        if self
+            .sys
+            .tracker
+            .min_switch_value(model, self.t + h, &self.y1)
+            < 0.0
+        {
+            h = self.locate_switch(h);
+            switched = true;
+        }
+        let t1 = if h == remaining { t_stop } else { self.t + h };
+        // toward a break, the stop is the break
+        let at_break = toward_break && t1 == t_stop;
+        match (switched, self.stepper.end_derivative()) {
+            (false, Some(f)) => self.f1.copy_from_slice(f),
+            _ => {
+                let (t_eval, y1) = (t1, &self.y1);
+                self.sys.rhs(t_eval, y1, &mut self.f1);
+            }
+        }
+        self.emit_samples(t1, observe);
+        self.check_positions(t1)?;
+        self.sys.stats.steps += 1;
+        if self.stepper.over_contact_modes() {
+            self.sys.stats.long_steps += 1;
+        }
+        self.stepper.accepted();
+        self.t = t1;
+        std::mem::swap(&mut self.y, &mut self.y1);
+        self.sys.time_cap = f64::INFINITY;
+        let mut closed_one = false;
+        if switched {
+            let closed_before = self.sys.tracker.closed_count();
+            self.sys.stats.switches += self.sys.tracker.switch(model, self.t, &self.y);
+            closed_one = self.sys.tracker.closed_count() > closed_before;
+        }
+        if switched || at_break {
+            self.stepper.restart();
+            let (t, y) = (self.t, &self.y);
+            self.sys.rhs(t, y, &mut self.f0);
+        } else {
+            std::mem::swap(&mut self.f0, &mut self.f1);
+        }
+        Ok(AcceptedStep {
+            h,
+            switched,
+            at_break,
+            closed_one,
+        })
+    }
+
+    /// The next step size of an adaptive method after `step` with error `err` (the last
+    /// accepted step's control error `err_old`); returns the control error to carry on.
+    #[inline]
+    fn next_step_size(
+        &mut self,
+        step: &AcceptedStep,
+        err: f64,
+        err_old: f64,
+        just_rejected: bool,
+        capped: bool,
+        to_stop: bool,
+    ) -> f64 {
+        let restart = step.switched || step.at_break;
+        // a step cut short by an event or a stop says nothing about the next one
+        let base = if step.switched || to_stop {
+            self.h.max(step.h)
+        } else {
+            step.h
+        };
+        let control = self.stepper.control_error(err);
+        let factor = self.pi_factor(control, err_old, self.growth_limit(capped));
+        self.h = base
+            * if just_rejected {
+                factor.min(1.0)
+            } else {
+                factor
+            };
+        if step.closed_one {
+            self.h = self.h.min(FIRST_STEP_AFTER_CLOSING * self.step_cap);
+        }
+        // a restart forgets the history, as at the start
+        if restart { 1e-4 } else { control }
     }
 
     /// The next profile breakpoint after `t` (advancing `next_break` to it) and the next
