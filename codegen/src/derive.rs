@@ -270,59 +270,18 @@ fn section_terms(
         ForceFlow::External => Some("0".into()),
         ForceFlow::None => None,
     };
-    for (a, (ga, fa, ia)) in basis.iter().enumerate() {
-        for (b, (gb, fb, ib)) in basis.iter().enumerate() {
-            if ga > gb {
-                continue;
-            }
-            let lp = fa.length_power + fb.length_power;
-            let key = (*ga, *gb);
-            let tag = format!("{k}_{ia}_{ib}");
-            if !is_zero(&ints.mass[a][b]) {
-                let c = consts.add(
-                    format!("K_M_{tag}"),
-                    &ints.mass[a][b],
-                    format!("int psi_{k},{ia} psi_{k},{ib} dxi"),
-                );
-                mass.entry(key)
-                    .or_default()
-                    .push(format!("rho_a_{k}*{}*{c}", length_pow(k, lp + 1)));
-            }
-            if !is_zero(&ints.bending[a][b]) {
-                let c = consts.add(
-                    format!("K_EI_{tag}"),
-                    &ints.bending[a][b],
-                    format!("int psi_{k},{ia}'' psi_{k},{ib}'' dxi"),
-                );
-                stiffness
-                    .entry(key)
-                    .or_default()
-                    .push(format!("ei_{k}*{}*{c}", length_pow(k, lp - 3)));
-            }
-            if let Some(above) = &above {
-                if !is_zero(&ints.axial[a][b]) {
-                    let c = consts.add(
-                        format!("K_AX_{tag}"),
-                        &ints.axial[a][b],
-                        format!("int psi_{k},{ia}' psi_{k},{ib}' dxi"),
-                    );
-                    stiffness.entry(key).or_default().push(format!(
-                        "-g*(rho_a_{k}*l_{k} + {above})*{}*{c}",
-                        length_pow(k, lp - 1)
-                    ));
-                }
-                if !is_zero(&ints.axial_x[a][b]) {
-                    let c = consts.add(
-                        format!("K_AXX_{tag}"),
-                        &ints.axial_x[a][b],
-                        format!("int xi psi_{k},{ia}' psi_{k},{ib}' dxi"),
-                    );
-                    stiffness
-                        .entry(key)
-                        .or_default()
-                        .push(format!("g*rho_a_{k}*{}*{c}", length_pow(k, lp)));
-                }
-            }
+    for a in 0..basis.len() {
+        for b in 0..basis.len() {
+            pair_terms(
+                k,
+                (a, b),
+                &basis,
+                &ints,
+                above.as_deref(),
+                consts,
+                mass,
+                stiffness,
+            );
         }
     }
     // every basis function's value at the top, registered once (index 0: the translation, 1)
@@ -363,6 +322,74 @@ fn section_terms(
         section_shapes.push((*g, f.length_power, text, top.clone()));
     }
     section_shapes
+}
+
+/// The terms of basis functions `a` and `b` of section `k` (every ordered pair of global
+/// indices once) in `M` (mass) and `K` (bending, and with `above` the prestress of the
+/// weight above).
+#[allow(clippy::too_many_arguments)]
+fn pair_terms(
+    k: usize,
+    (a, b): (usize, usize),
+    basis: &[(usize, Func, usize)],
+    ints: &SectionIntegrals,
+    above: Option<&str>,
+    consts: &mut Constants,
+    mass: &mut TermEntries,
+    stiffness: &mut TermEntries,
+) {
+    let ((ga, fa, ia), (gb, fb, ib)) = (&basis[a], &basis[b]);
+    if ga > gb {
+        return;
+    }
+    let lp = fa.length_power + fb.length_power;
+    let key = (*ga, *gb);
+    let tag = format!("{k}_{ia}_{ib}");
+    if !is_zero(&ints.mass[a][b]) {
+        let c = consts.add(
+            format!("K_M_{tag}"),
+            &ints.mass[a][b],
+            format!("int psi_{k},{ia} psi_{k},{ib} dxi"),
+        );
+        mass.entry(key)
+            .or_default()
+            .push(format!("rho_a_{k}*{}*{c}", length_pow(k, lp + 1)));
+    }
+    if !is_zero(&ints.bending[a][b]) {
+        let c = consts.add(
+            format!("K_EI_{tag}"),
+            &ints.bending[a][b],
+            format!("int psi_{k},{ia}'' psi_{k},{ib}'' dxi"),
+        );
+        stiffness
+            .entry(key)
+            .or_default()
+            .push(format!("ei_{k}*{}*{c}", length_pow(k, lp - 3)));
+    }
+    if let Some(above) = above {
+        if !is_zero(&ints.axial[a][b]) {
+            let c = consts.add(
+                format!("K_AX_{tag}"),
+                &ints.axial[a][b],
+                format!("int psi_{k},{ia}' psi_{k},{ib}' dxi"),
+            );
+            stiffness.entry(key).or_default().push(format!(
+                "-g*(rho_a_{k}*l_{k} + {above})*{}*{c}",
+                length_pow(k, lp - 1)
+            ));
+        }
+        if !is_zero(&ints.axial_x[a][b]) {
+            let c = consts.add(
+                format!("K_AXX_{tag}"),
+                &ints.axial_x[a][b],
+                format!("int xi psi_{k},{ia}' psi_{k},{ib}' dxi"),
+            );
+            stiffness
+                .entry(key)
+                .or_default()
+                .push(format!("g*rho_a_{k}*{}*{c}", length_pow(k, lp)));
+        }
+    }
 }
 
 /// The generalized forces `q_i = b_i f_drive - sum_j k_i_j z_j - sum_c f_c g_c_i` as text,

@@ -125,7 +125,41 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         }
         None => None,
     };
-    let options = SimulationOptions {
+    let options = simulation_options(args)?;
+    let progress = Progress::new();
+    let (run, comparison) = match &controller {
+        Some(c) => {
+            let comparison = compare_with_open_loop(&scene, c, &options, &progress)?;
+            let summary = comparison.summary(c);
+            (comparison.controlled, Some((summary, comparison.open_loop)))
+        }
+        None => (simulate_scene(&scene, &options, &progress)?, None),
+    };
+    write_csv(&run, args.out.as_deref())?;
+    eprintln!("{}", run.summary());
+    if let Some(p) = &args.out {
+        eprintln!("wrote {} ({} rows)", p.display(), run.trajectory.rows.len());
+    }
+    let open_loop = comparison.map(|(summary, open_loop)| {
+        eprintln!("{summary}");
+        open_loop
+    });
+    if let Some(plot_path) = &args.plot {
+        let runs = PlottedRuns {
+            scene: &scene,
+            run: &run,
+            open_loop: open_loop.as_ref(),
+            other: other.as_ref(),
+            controller: controller.as_ref(),
+        };
+        plot_runs(&runs, &options, &progress, plot_path)?;
+    }
+    Ok(())
+}
+
+/// The library's options of a simulate command.
+fn simulation_options(args: &SimulateArgs) -> anyhow::Result<SimulationOptions> {
+    Ok(SimulationOptions {
         method: args.method,
         rtol: args.rtol,
         atol: args.atol,
@@ -148,74 +182,74 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
             .unwrap_or(SimulationOptions::default().statistics_tolerance),
         memory_budget: crate::memory_budget()?,
         ..SimulationOptions::default()
+    })
+}
+
+/// What a simulate command's figure shows: the run, the open loop beside a controlled run,
+/// and a compared scene (run here).
+struct PlottedRuns<'a> {
+    scene: &'a Scene,
+    run: &'a telescopic::run::Simulation,
+    open_loop: Option<&'a telescopic::run::Simulation>,
+    other: Option<&'a Scene>,
+    controller: Option<&'a Controller>,
+}
+
+/// Draws the runs' figure to `plot_path`, running the compared scene with `options`.
+fn plot_runs(
+    runs: &PlottedRuns,
+    options: &SimulationOptions,
+    progress: &Progress,
+    plot_path: &std::path::Path,
+) -> anyhow::Result<()> {
+    let (scene, run, controller) = (runs.scene, runs.run, runs.controller);
+    let half_band = scene.params.contact.half_band();
+    // the labels say what differs: the controller, or the clearance of a compared scene
+    let (label, role) = match controller {
+        Some(c) => (
+            format!("{} with {}", scene.name, c.describe()),
+            Role::Controlled,
+        ),
+        None => (clearance_label(&scene), Role::Scene),
     };
-    let progress = Progress::new();
-    let (run, comparison) = match &controller {
-        Some(c) => {
-            let comparison = compare_with_open_loop(&scene, c, &options, &progress)?;
-            let summary = comparison.summary(c);
-            (comparison.controlled, Some((summary, comparison.open_loop)))
-        }
-        None => (simulate_scene(&scene, &options, &progress)?, None),
-    };
-    write_csv(&run, args.out.as_deref())?;
-    eprintln!("{}", run.summary());
-    if let Some(p) = &args.out {
-        eprintln!("wrote {} ({} rows)", p.display(), run.trajectory.rows.len());
-    }
-    let open_loop = comparison.map(|(summary, open_loop)| {
-        eprintln!("{summary}");
-        open_loop
-    });
-    if let Some(plot_path) = &args.plot {
-        let half_band = scene.params.contact.half_band();
-        // the labels say what differs: the controller, or the clearance of a compared scene
-        let (label, role) = match &controller {
-            Some(c) => (
-                format!("{} with {}", scene.name, c.describe()),
-                Role::Controlled,
-            ),
-            None => (clearance_label(&scene), Role::Scene),
-        };
-        let mut curves = vec![Curve {
-            label,
-            traj: &run.trajectory,
+    let mut curves = vec![Curve {
+        label,
+        traj: &run.trajectory,
+        half_band,
+        role,
+    }];
+    if let Some(open) = runs.open_loop {
+        curves.push(Curve {
+            label: format!("{} without control", scene.name),
+            traj: &open.trajectory,
             half_band,
-            role,
-        }];
-        if let Some(open) = &open_loop {
-            curves.push(Curve {
-                label: format!("{} without control", scene.name),
-                traj: &open.trajectory,
-                half_band,
-                role: Role::Scene,
-            });
-        }
-        let compared = match &other {
-            Some(other) => {
-                let run = simulate_scene(other, &options, &progress)?;
-                eprintln!("{}", run.summary());
-                Some(run)
-            }
-            None => None,
-        };
-        if let (Some(other), Some(run)) = (&other, &compared) {
-            curves.push(Curve {
-                label: clearance_label(other),
-                traj: &run.trajectory,
-                half_band: other.params.contact.half_band(),
-                role: Role::Compared,
-            });
-        }
-        let marks = match &controller {
-            Some(c) => Marks {
-                force_limit: Some(c.force_limit_n),
-                residual_window: Some((drive_stop(&scene), scene.time.end)),
-            },
-            None => Marks::default(),
-        };
-        plot(&scene.name, &curves, &marks, plot_path)?;
-        eprintln!("wrote {}", plot_path.display());
+            role: Role::Scene,
+        });
     }
+    let compared = match runs.other {
+        Some(other) => {
+            let run = simulate_scene(other, options, progress)?;
+            eprintln!("{}", run.summary());
+            Some(run)
+        }
+        None => None,
+    };
+    if let (Some(other), Some(run)) = (runs.other, &compared) {
+        curves.push(Curve {
+            label: clearance_label(other),
+            traj: &run.trajectory,
+            half_band: other.params.contact.half_band(),
+            role: Role::Compared,
+        });
+    }
+    let marks = match controller {
+        Some(c) => Marks {
+            force_limit: Some(c.force_limit_n),
+            residual_window: Some((drive_stop(&scene), scene.time.end)),
+        },
+        None => Marks::default(),
+    };
+    plot(&scene.name, &curves, &marks, plot_path)?;
+    eprintln!("wrote {}", plot_path.display());
     Ok(())
 }

@@ -243,13 +243,10 @@ fn inherent_helpers(d: &Derivation, positions: &PositionsCode) -> TokenStream {
 
 /// `impl Model for GeneratedModel`: the per-call path.
 fn model_impl(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> TokenStream {
-    let n_pos = d.config.sections() - 1;
-    let (force_temps, force_sets) = force_rows(d);
-    let (jac_temps, jac_sets) = jacobian_rows(d);
-    let (table_accessor, geometry_source) = (&positions.table_accessor, &positions.source);
-    let rhs_geometry_source = &positions.rhs_source;
-    let (accel, drive_force_out) = (&drive.accel, &drive.drive_force_out);
-    let displacement_arms = displacement_arms(d);
+    let geometry = geometry_methods(d, positions);
+    let rhs = rhs_method(d, positions, drive);
+    let jacobian = jacobian_method(d, positions);
+    let outputs = output_methods(d, positions, drive);
     quote! {
         impl Model for GeneratedModel {
             fn layout(&self) -> &Layout { &self.layout }
@@ -258,100 +255,134 @@ fn model_impl(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
             fn stiffness_matrix(&self) -> &DMatrix<f64> { &self.stiffness }
             fn damping_matrix(&self) -> Option<&DMatrix<f64>> { self.damping.as_ref() }
             fn drive_vector(&self) -> &DVector<f64> { &self.drive }
+            #geometry
+            #rhs
+            #jacobian
+            #outputs
+        }
+    }
+}
 
-            #table_accessor
+/// The contact geometry's methods: the table accessor, contact vectors and gaps.
+fn geometry_methods(d: &Derivation, positions: &PositionsCode) -> TokenStream {
+    let n_pos = d.config.sections() - 1;
+    let (table_accessor, geometry_source) = (&positions.table_accessor, &positions.source);
+    quote! {
+    #table_accessor
 
-            fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
-                #geometry_source
-                for c in 0..CONTACTS { for j in 0..DOF { g[(j, c)] = geo.g[c][j]; gdot[(j, c)] = geo.gd[c][j]; } }
-            }
+    fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
+        #geometry_source
+        for c in 0..CONTACTS { for j in 0..DOF { g[(j, c)] = geo.g[c][j]; gdot[(j, c)] = geo.gd[c][j]; } }
+    }
 
-            fn contact_vectors_at(&self, positions: &[f64], rates: &[f64], g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
-                let mut at = [(0.0, 0.0); #n_pos];
-                for k in 0..#n_pos { at[k] = (positions[k], rates[k]); }
-                let geo = self.geometry_at(&at);
-                for c in 0..CONTACTS { for j in 0..DOF { g[(j, c)] = geo.g[c][j]; gdot[(j, c)] = geo.gd[c][j]; } }
-            }
+    fn contact_vectors_at(&self, positions: &[f64], rates: &[f64], g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
+        let mut at = [(0.0, 0.0); #n_pos];
+        for k in 0..#n_pos { at[k] = (positions[k], rates[k]); }
+        let geo = self.geometry_at(&at);
+        for c in 0..CONTACTS { for j in 0..DOF { g[(j, c)] = geo.g[c][j]; gdot[(j, c)] = geo.gd[c][j]; } }
+    }
 
-            fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
-                #geometry_source
-                let (a, b) = Self::gaps(geo, &y[..DOF], &y[DOF..]);
-                xi[..CONTACTS].copy_from_slice(&a);
-                xi_dot[..CONTACTS].copy_from_slice(&b);
-            }
+    fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
+        #geometry_source
+        let (a, b) = Self::gaps(geo, &y[..DOF], &y[DOF..]);
+        xi[..CONTACTS].copy_from_slice(&a);
+        xi_dot[..CONTACTS].copy_from_slice(&b);
+    }
+    }
+}
 
-            #[allow(unused_variables)]
-            fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
-                let (z, zd) = y.split_at(DOF);
-                // every contact held inside its band: no contact force, no gaps to compute
-                let open = states.is_some_and(|s| s.iter().all(|&s| s == ContactState::Free));
-                #rhs_geometry_source
-                let mut f = [0.0; CONTACTS];
-                if !open {
-                    let (xi, xi_dot) = Self::gaps(geo, z, zd);
-                    let law = self.laws(&xi, &xi_dot, states);
-                    for c in 0..CONTACTS { f[c] = law[c].force; }
-                }
-                let f_drive = self.drive_input(t);
-                #(#force_temps)*
-                let mut q = [0.0; DOF];
-                #(#force_sets)*
-                if self.damped {
-                    for i in 0..DOF { let mut s = 0.0; for j in 0..DOF { s += self.d[i][j] * zd[j]; } q[i] -= s; }
-                }
-                #accel
-                ydot[..DOF].copy_from_slice(zd);
-                ydot[DOF..2 * DOF].copy_from_slice(&acc);
-            }
+/// `rhs`: the contact forces of the closed contacts, the generalized forces, `M^-1`.
+fn rhs_method(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> TokenStream {
+    let (force_temps, force_sets) = force_rows(d);
+    let rhs_geometry_source = &positions.rhs_source;
+    let accel = &drive.accel;
+    quote! {
+    #[allow(unused_variables)]
+    fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
+        let (z, zd) = y.split_at(DOF);
+        // every contact held inside its band: no contact force, no gaps to compute
+        let open = states.is_some_and(|s| s.iter().all(|&s| s == ContactState::Free));
+        #rhs_geometry_source
+        let mut f = [0.0; CONTACTS];
+        if !open {
+            let (xi, xi_dot) = Self::gaps(geo, z, zd);
+            let law = self.laws(&xi, &xi_dot, states);
+            for c in 0..CONTACTS { f[c] = law[c].force; }
+        }
+        let f_drive = self.drive_input(t);
+        #(#force_temps)*
+        let mut q = [0.0; DOF];
+        #(#force_sets)*
+        if self.damped {
+            for i in 0..DOF { let mut s = 0.0; for j in 0..DOF { s += self.d[i][j] * zd[j]; } q[i] -= s; }
+        }
+        #accel
+        ydot[..DOF].copy_from_slice(zd);
+        ydot[DOF..2 * DOF].copy_from_slice(&acc);
+    }
+    }
+}
 
-            #[allow(unused_variables)]
-            fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
-                #geometry_source
-                let (z, zd) = y.split_at(DOF);
-                let (xi, xi_dot) = Self::gaps(geo, z, zd);
-                let law = self.laws(&xi, &xi_dot, states);
-                // dq[i][j]: d q_i / d z_j (j < DOF) and d q_i / d zd_(j - DOF)
-                let mut dq = [[0.0; 2 * DOF]; DOF];
-                #(#jac_temps)*
-                #(#jac_sets)*
-                if self.damped {
-                    for i in 0..DOF { for j in 0..DOF { dq[i][DOF + j] -= self.d[i][j]; } }
-                }
-                jac.fill(0.0);
-                for j in 0..DOF { jac[(j, DOF + j)] = 1.0; }
-                for i in 0..DOF {
-                    for col in 0..2 * DOF {
-                        let mut s = 0.0;
-                        for m in 0..DOF { s += self.minv[i][m] * dq[m][col]; }
-                        jac[(DOF + i, col)] = s;
-                    }
-                }
-            }
-
-            fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
-                let xi = x / self.lengths[section - 1];
-                let mut w = z[0];
-                match section {
-                    #(#displacement_arms)*
-                    _ => {}
-                }
-                w
-            }
-
-            fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
-                #geometry_source
-                let (z, zd) = y.split_at(DOF);
-                let (xi, xi_dot) = Self::gaps(geo, z, zd);
-                out[0] = z[0];
-                out[1] = (0..DOF).map(|j| self.tip[j] * z[j]).sum();
-                out[2] = (0..DOF).map(|j| self.top1[j] * z[j]).sum();
-                for c in 0..CONTACTS {
-                    out[3 + c] = xi[c];
-                    out[3 + CONTACTS + c] = self.contact_force(c, xi[c], xi_dot[c], None).force;
-                }
-                #drive_force_out
+/// `jacobian`: the generalized forces' derivatives through `M^-1`.
+fn jacobian_method(d: &Derivation, positions: &PositionsCode) -> TokenStream {
+    let (jac_temps, jac_sets) = jacobian_rows(d);
+    let geometry_source = &positions.source;
+    quote! {
+    #[allow(unused_variables)]
+    fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
+        #geometry_source
+        let (z, zd) = y.split_at(DOF);
+        let (xi, xi_dot) = Self::gaps(geo, z, zd);
+        let law = self.laws(&xi, &xi_dot, states);
+        // dq[i][j]: d q_i / d z_j (j < DOF) and d q_i / d zd_(j - DOF)
+        let mut dq = [[0.0; 2 * DOF]; DOF];
+        #(#jac_temps)*
+        #(#jac_sets)*
+        if self.damped {
+            for i in 0..DOF { for j in 0..DOF { dq[i][DOF + j] -= self.d[i][j]; } }
+        }
+        jac.fill(0.0);
+        for j in 0..DOF { jac[(j, DOF + j)] = 1.0; }
+        for i in 0..DOF {
+            for col in 0..2 * DOF {
+                let mut s = 0.0;
+                for m in 0..DOF { s += self.minv[i][m] * dq[m][col]; }
+                jac[(DOF + i, col)] = s;
             }
         }
+    }
+    }
+}
+
+/// `displacement` and `outputs`.
+fn output_methods(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> TokenStream {
+    let geometry_source = &positions.source;
+    let drive_force_out = &drive.drive_force_out;
+    let displacement_arms = displacement_arms(d);
+    quote! {
+    fn displacement(&self, section: usize, x: f64, z: &[f64]) -> f64 {
+        let xi = x / self.lengths[section - 1];
+        let mut w = z[0];
+        match section {
+            #(#displacement_arms)*
+            _ => {}
+        }
+        w
+    }
+
+    fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
+        #geometry_source
+        let (z, zd) = y.split_at(DOF);
+        let (xi, xi_dot) = Self::gaps(geo, z, zd);
+        out[0] = z[0];
+        out[1] = (0..DOF).map(|j| self.tip[j] * z[j]).sum();
+        out[2] = (0..DOF).map(|j| self.top1[j] * z[j]).sum();
+        for c in 0..CONTACTS {
+            out[3 + c] = xi[c];
+            out[3 + CONTACTS + c] = self.contact_force(c, xi[c], xi_dot[c], None).force;
+        }
+        #drive_force_out
+    }
     }
 }
 
