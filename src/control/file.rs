@@ -2,7 +2,7 @@
 //! scene it is applied to, each error naming the JSON field.
 
 use super::design::{FORCE_LIMIT_RANGE, SCALE_RANGE};
-use super::schema::{Controller, Estimator, SchedulePoint};
+use super::schema::{Controller, Estimator, SampledDesign, SchedulePoint};
 use crate::{Error, Result};
 use std::path::Path;
 use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
@@ -245,6 +245,21 @@ impl Controller {
                 "the extended estimator needs its process_noise_floor and model",
             ));
         }
+        self.check_discrete_points(sampled)?;
+        if let Some(model) = &sampled.model {
+            if sampled.estimator != Estimator::Extended {
+                return Err(field(
+                    "sampled.model",
+                    "is the extended estimator's model only",
+                ));
+            }
+            model.check(layout.dof(), layout.contact_count())?;
+        }
+        Ok(())
+    }
+
+    /// The discrete filters: one per design point, each matrix of its shape and finite.
+    fn check_discrete_points(&self, sampled: &SampledDesign) -> Result<()> {
         let n = self.states.len();
         let m = sampled.sensors.len();
         if sampled.points.len() != self.schedule.len() {
@@ -269,15 +284,6 @@ impl Controller {
                     ));
                 }
             }
-        }
-        if let Some(model) = &sampled.model {
-            if sampled.estimator != Estimator::Extended {
-                return Err(field(
-                    "sampled.model",
-                    "is the extended estimator's model only",
-                ));
-            }
-            model.check(layout.dof(), layout.contact_count())?;
         }
         Ok(())
     }

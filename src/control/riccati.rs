@@ -135,8 +135,69 @@ pub fn care(
     q: &DMatrix<f64>,
     r: &DMatrix<f64>,
 ) -> Result<Care, RiccatiError> {
-    let n = a.nrows();
-    let m = b.ncols();
+    let (n, m) = (a.nrows(), b.ncols());
+    let r_chol = check_problem(a, b, q, r)?;
+    let r_inv = r_chol.inverse();
+    // balance the state by powers of two: x = D x~, A~ = D^-1 A D, B~ = D^-1 B, Q~ = D Q D
+    let mut at = a.clone();
+    let d = balance_parlett_reinsch(&mut at);
+    let bt = DMatrix::from_fn(n, m, |i, j| b[(i, j)] / d[i]);
+    let qt = DMatrix::from_fn(n, n, |i, j| q[(i, j)] * d[i] * d[j]);
+    let gt = &bt * &r_inv * bt.transpose();
+    let mut h = DMatrix::zeros(2 * n, 2 * n);
+    h.view_mut((0, 0), (n, n)).copy_from(&at);
+    h.view_mut((0, n), (n, n)).copy_from(&(-&gt));
+    h.view_mut((n, 0), (n, n)).copy_from(&(-&qt));
+    h.view_mut((n, n), (n, n)).copy_from(&(-at.transpose()));
+    let w = sign(h)?;
+    // [W12; W22 + I] X = -[W11 + I; W21], in the least-squares sense
+    let mut lhs = DMatrix::zeros(2 * n, n);
+    let mut rhs = DMatrix::zeros(2 * n, n);
+    lhs.view_mut((0, 0), (n, n))
+        .copy_from(&w.view((0, n), (n, n)));
+    lhs.view_mut((n, 0), (n, n))
+        .copy_from(&(w.view((n, n), (n, n)) + DMatrix::identity(n, n)));
+    rhs.view_mut((0, 0), (n, n))
+        .copy_from(&(-(w.view((0, 0), (n, n)) + DMatrix::identity(n, n))));
+    rhs.view_mut((n, 0), (n, n))
+        .copy_from(&(-w.view((n, 0), (n, n))));
+    let svd = lhs.svd(true, true);
+    let x = svd
+        .solve(&rhs, 1e-14)
+        .map_err(|e| RiccatiError::Numerics(format!("least squares: {e}")))?;
+    let (x, res) = newton_kleinman(0.5 * (&x + x.transpose()), &at, &bt, &gt, &qt, r, &r_inv);
+    if !(res <= RESIDUAL_LIMIT) {
+        return Err(RiccatiError::Residual(res));
+    }
+    // back to the original state
+    let x = DMatrix::from_fn(n, n, |i, j| x[(i, j)] / (d[i] * d[j]));
+    let k = &r_inv * b.transpose() * &x;
+    let closed = a - b * &k;
+    let abscissa = eigenvalues(closed, "eigenvalues of A - B K")
+        .map_err(|e| RiccatiError::Numerics(e.to_string()))?
+        .iter()
+        .map(|l| l.re)
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !(abscissa < 0.0) {
+        return Err(RiccatiError::Unstable(abscissa));
+    }
+    Ok(Care {
+        residual: residual(a, &(b * &r_inv * b.transpose()), q, &x),
+        x,
+        k,
+        closed_loop_abscissa: abscissa,
+    })
+}
+
+/// Checks the problem's shapes, finiteness, symmetry and definiteness: `R`'s Cholesky
+/// factor.
+fn check_problem(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    q: &DMatrix<f64>,
+    r: &DMatrix<f64>,
+) -> Result<nalgebra::Cholesky<f64, nalgebra::Dyn>, RiccatiError> {
+    let (n, m) = (a.nrows(), b.ncols());
     if a.ncols() != n || b.nrows() != n || q.shape() != (n, n) || r.shape() != (m, m) {
         return Err(RiccatiError::Dimensions(format!(
             "A is {}x{}, B {}x{}, Q {}x{}, R {}x{}: need A n x n, B n x m, Q n x n, R m x m",
@@ -173,73 +234,38 @@ pub fn care(
             "Q must be positive semidefinite (smallest eigenvalue {q_min:.3e})"
         )));
     }
-    let r_inv = r_chol.inverse();
-    // balance the state by powers of two: x = D x~, A~ = D^-1 A D, B~ = D^-1 B, Q~ = D Q D
-    let mut at = a.clone();
-    let d = balance_parlett_reinsch(&mut at);
-    let bt = DMatrix::from_fn(n, m, |i, j| b[(i, j)] / d[i]);
-    let qt = DMatrix::from_fn(n, n, |i, j| q[(i, j)] * d[i] * d[j]);
-    let gt = &bt * &r_inv * bt.transpose();
-    let mut h = DMatrix::zeros(2 * n, 2 * n);
-    h.view_mut((0, 0), (n, n)).copy_from(&at);
-    h.view_mut((0, n), (n, n)).copy_from(&(-&gt));
-    h.view_mut((n, 0), (n, n)).copy_from(&(-&qt));
-    h.view_mut((n, n), (n, n)).copy_from(&(-at.transpose()));
-    let w = sign(h)?;
-    // [W12; W22 + I] X = -[W11 + I; W21], in the least-squares sense
-    let mut lhs = DMatrix::zeros(2 * n, n);
-    let mut rhs = DMatrix::zeros(2 * n, n);
-    lhs.view_mut((0, 0), (n, n))
-        .copy_from(&w.view((0, n), (n, n)));
-    lhs.view_mut((n, 0), (n, n))
-        .copy_from(&(w.view((n, n), (n, n)) + DMatrix::identity(n, n)));
-    rhs.view_mut((0, 0), (n, n))
-        .copy_from(&(-(w.view((0, 0), (n, n)) + DMatrix::identity(n, n))));
-    rhs.view_mut((n, 0), (n, n))
-        .copy_from(&(-w.view((n, 0), (n, n))));
-    let svd = lhs.svd(true, true);
-    let mut x = svd
-        .solve(&rhs, 1e-14)
-        .map_err(|e| RiccatiError::Numerics(format!("least squares: {e}")))?;
-    x = 0.5 * (&x + x.transpose());
-    let mut res = residual(&at, &gt, &qt, &x);
-    // Newton-Kleinman: from a stabilizing X, each step solves a Lyapunov equation
+    Ok(r_chol)
+}
+
+/// Newton-Kleinman refinement of a stabilizing `x` of the balanced problem (`at`, `bt`,
+/// `gt = bt R^-1 bt'`, `qt`): each step solves a Lyapunov equation, kept while the residual
+/// falls. The refined solution and its residual.
+fn newton_kleinman(
+    mut x: DMatrix<f64>,
+    at: &DMatrix<f64>,
+    bt: &DMatrix<f64>,
+    gt: &DMatrix<f64>,
+    qt: &DMatrix<f64>,
+    r: &DMatrix<f64>,
+    r_inv: &DMatrix<f64>,
+) -> (DMatrix<f64>, f64) {
+    let mut res = residual(at, gt, qt, &x);
     for _ in 0..MAX_NEWTON_STEPS {
         if res <= 1e-15 {
             break;
         }
-        let k = &r_inv * bt.transpose() * &x;
-        let f = &at - &bt * &k;
-        let wq = &qt + k.transpose() * r * &k;
+        let k = r_inv * bt.transpose() * &x;
+        let f = at - bt * &k;
+        let wq = qt + k.transpose() * r * &k;
         let Ok(next) = lyapunov(&f, &wq) else { break };
-        let next_res = residual(&at, &gt, &qt, &next);
+        let next_res = residual(at, gt, qt, &next);
         if !(next_res < res) {
             break;
         }
         x = next;
         res = next_res;
     }
-    if !(res <= RESIDUAL_LIMIT) {
-        return Err(RiccatiError::Residual(res));
-    }
-    // back to the original state
-    let x = DMatrix::from_fn(n, n, |i, j| x[(i, j)] / (d[i] * d[j]));
-    let k = &r_inv * b.transpose() * &x;
-    let closed = a - b * &k;
-    let abscissa = eigenvalues(closed, "eigenvalues of A - B K")
-        .map_err(|e| RiccatiError::Numerics(e.to_string()))?
-        .iter()
-        .map(|l| l.re)
-        .fold(f64::NEG_INFINITY, f64::max);
-    if !(abscissa < 0.0) {
-        return Err(RiccatiError::Unstable(abscissa));
-    }
-    Ok(Care {
-        residual: residual(a, &(b * &r_inv * b.transpose()), q, &x),
-        x,
-        k,
-        closed_loop_abscissa: abscissa,
-    })
+    (x, res)
 }
 
 #[cfg(test)]

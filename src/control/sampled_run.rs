@@ -66,27 +66,7 @@ pub fn run_sampled(
     let mut rows = Vec::with_capacity(ticks / every + 1);
     let mut forces = Vec::with_capacity(ticks);
     let mut stats = RunStats::default();
-    // a controlled scene is neither linear nor time-invariant: no exact stepping
-    let method = run.plan.method;
-    if method == telescopic_runtime::Method::Exact {
-        return Err(Error::option(
-            "SimulationOptions::method",
-            "exact stepping needs a linear time-invariant scene; with a controller, take \
-             dopri5 or another integrator",
-        ));
-    }
-    // the scene's constants of a run, once: not in every tick's run (dop853's step cap is a
-    // bisection of eigenvalue problems; per tick it made a sampled run 25 times slower)
-    let known_step_cap = if run.plan.settings.step_cap {
-        telescopic_runtime::integrate::stability::closed_contact_step_cap(&model, method, &span)
-    } else {
-        None
-    };
-    let settings = telescopic_runtime::Settings {
-        exact_from: None,
-        known_step_cap,
-        ..run.plan.settings
-    };
+    let (method, settings) = tick_settings(&run, &model, &span)?;
     reporter.start(&format!(
         "simulating {} with a sampled controller",
         scene.name
@@ -107,12 +87,7 @@ pub fn run_sampled(
         if k == ticks {
             break;
         }
-        for (m, &i) in measurement.iter_mut().zip(&measured) {
-            *m = out[i];
-        }
-        for (m, sigma) in measurement.iter_mut().zip(&sampled.noise) {
-            *m += sigma * gaussian(&mut rng);
-        }
+        measure(&out, &measured, &sampled.noise, &mut rng, &mut measurement);
         let a = scheduled.map_or(0.0, |s| model.params().positions[s - 2].value(t));
         let force = controller.step(t, &measurement, a);
         forces.push((t, force));
@@ -148,6 +123,57 @@ pub fn run_sampled(
         simulation: Simulation { plan, ..simulation },
         forces,
     })
+}
+
+/// The method and settings of every tick's integration: `run`'s, with the step cap of the
+/// closed contacts computed once for the run (not per tick).
+///
+/// # Errors
+/// [`Error::Option`] for exact stepping, which a controlled scene cannot take.
+fn tick_settings(
+    run: &PreparedRun<'_>,
+    model: &dyn Model,
+    span: &TimeSpan,
+) -> Result<(telescopic_runtime::Method, telescopic_runtime::Settings)> {
+    // a controlled scene is neither linear nor time-invariant: no exact stepping
+    let method = run.plan.method;
+    if method == telescopic_runtime::Method::Exact {
+        return Err(Error::option(
+            "SimulationOptions::method",
+            "exact stepping needs a linear time-invariant scene; with a controller, take \
+             dopri5 or another integrator",
+        ));
+    }
+    // dop853's step cap is a bisection of eigenvalue problems: per tick it made a sampled
+    // run 25 times slower
+    let known_step_cap = if run.plan.settings.step_cap {
+        telescopic_runtime::integrate::stability::closed_contact_step_cap(model, method, span)
+    } else {
+        None
+    };
+    let settings = telescopic_runtime::Settings {
+        exact_from: None,
+        known_step_cap,
+        ..run.plan.settings
+    };
+    Ok((method, settings))
+}
+
+/// The measured outputs (`out` at the columns `measured`) with Gaussian noise of standard
+/// deviations `noise`, into `measurement`.
+fn measure(
+    out: &[f64],
+    measured: &[usize],
+    noise: &[f64],
+    rng: &mut impl Rng,
+    measurement: &mut [f64],
+) {
+    for (m, &i) in measurement.iter_mut().zip(measured) {
+        *m = out[i];
+    }
+    for (m, sigma) in measurement.iter_mut().zip(noise) {
+        *m += sigma * gaussian(rng);
+    }
 }
 
 /// The controller's period (s) and how many ticks make one output sample.

@@ -462,27 +462,8 @@ impl LinearExport {
     /// # Errors
     /// The zip writer's error.
     pub fn to_npz(&self) -> std::io::Result<Vec<u8>> {
-        let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
-        let options = zip::write::SimpleFileOptions::default()
-            .compression_method(zip::CompressionMethod::Stored);
-        let mut add = |name: &str, array: Array| -> std::io::Result<()> {
-            zip.start_file(format!("{name}.npy"), options)
-                .map_err(std::io::Error::other)?;
-            npy::write(&mut zip, &array)
-        };
-        let stacked = |pick: fn(&LinearModel) -> &DMatrix<f64>| {
-            let first = pick(&self.points[0]);
-            let mut shape = vec![first.nrows(), first.ncols()];
-            if self.grid.is_some() {
-                shape.insert(0, self.points.len());
-            }
-            let data: Vec<f64> = self
-                .points
-                .iter()
-                .flat_map(|p| to_rows(pick(p)).into_iter().flatten())
-                .collect();
-            (shape, data)
-        };
+        let mut npz = Npz::new();
+        let grid = self.grid.is_some();
         for (name, pick) in [
             (
                 "A",
@@ -492,94 +473,35 @@ impl LinearExport {
             ("C", |p| &p.c),
             ("D", |p| &p.d),
         ] {
-            let (shape, data) = stacked(pick);
-            add(name, Array::Float { shape, data: &data })?;
+            npz.add_stacked(name, &self.points, pick, grid)?;
         }
         if let Some(d) = &self.discrete {
-            for (name, pick) in [
-                (
-                    "Ad",
-                    (|p: &(DMatrix<f64>, DMatrix<f64>)| &p.0)
-                        as fn(&(DMatrix<f64>, DMatrix<f64>)) -> &DMatrix<f64>,
-                ),
-                ("Bd", |p| &p.1),
-            ] {
-                let first = pick(&d.points[0]);
-                let mut shape = vec![first.nrows(), first.ncols()];
-                if self.grid.is_some() {
-                    shape.insert(0, d.points.len());
-                }
-                let data: Vec<f64> = d
-                    .points
-                    .iter()
-                    .flat_map(|p| to_rows(pick(p)).into_iter().flatten())
-                    .collect();
-                add(name, Array::Float { shape, data: &data })?;
-            }
-            add(
-                "dt",
-                Array::Float {
-                    shape: vec![],
-                    data: &[d.dt],
-                },
-            )?;
+            npz.add_stacked("Ad", &d.points, |p| &p.0, grid)?;
+            npz.add_stacked("Bd", &d.points, |p| &p.1, grid)?;
+            npz.add_floats("dt", vec![], &[d.dt])?;
         }
         let npos = self.points[0].positions.len();
-        for (name, pick) in [
-            (
-                "positions",
-                (|p: &LinearModel| &p.positions) as fn(&LinearModel) -> &Vec<f64>,
-            ),
-            ("rates", |p| &p.rates),
-        ] {
-            let data: Vec<f64> = self.points.iter().flat_map(|p| pick(p).clone()).collect();
-            add(
-                name,
-                Array::Float {
-                    shape: vec![self.points.len(), npos],
-                    data: &data,
-                },
-            )?;
-        }
-        let pos_names = self.position_names();
-        add(
-            "position_names",
-            Array::Text {
-                shape: vec![pos_names.len()],
-                data: &pos_names,
-            },
-        )?;
+        let positions: Vec<f64> = self
+            .points
+            .iter()
+            .flat_map(|p| p.positions.clone())
+            .collect();
+        npz.add_floats("positions", vec![self.points.len(), npos], &positions)?;
+        let rates: Vec<f64> = self.points.iter().flat_map(|p| p.rates.clone()).collect();
+        npz.add_floats("rates", vec![self.points.len(), npos], &rates)?;
+        npz.add_texts("position_names", &self.position_names())?;
         for (name, signals) in [
             ("states", &self.states),
             ("inputs", &self.inputs),
             ("outputs", &self.outputs),
         ] {
-            let n = names(signals);
-            let u: Vec<String> = signals.iter().map(|s| s.unit.clone()).collect();
-            add(
-                name,
-                Array::Text {
-                    shape: vec![n.len()],
-                    data: &n,
-                },
-            )?;
-            add(
-                &format!("{}_units", name.trim_end_matches('s')),
-                Array::Text {
-                    shape: vec![u.len()],
-                    data: &u,
-                },
-            )?;
+            npz.add_texts(name, &names(signals))?;
+            let units: Vec<String> = signals.iter().map(|s| s.unit.clone()).collect();
+            npz.add_texts(&format!("{}_units", name.trim_end_matches('s')), &units)?;
         }
         if let Some((param, values)) = &self.grid {
-            add(
-                "grid",
-                Array::Float {
-                    shape: vec![values.len()],
-                    data: values,
-                },
-            )?;
-            add(
+            npz.add_floats("grid", vec![values.len()], values)?;
+            npz.add(
                 "grid_parameter",
                 Array::Text {
                     shape: vec![],
@@ -587,8 +509,7 @@ impl LinearExport {
                 },
             )?;
         }
-        let cursor = zip.finish().map_err(std::io::Error::other)?;
-        Ok(cursor.into_inner())
+        npz.finish()
     }
 
     /// A LaTeX document with the names, units and the entries of `A`, `B`, `C` and `D` (six
@@ -673,5 +594,71 @@ impl LinearExport {
         }
         s += "\\end{document}\n";
         s
+    }
+}
+
+/// An `.npz` archive being written: `.npy` arrays stored uncompressed.
+struct Npz {
+    zip: zip::ZipWriter<std::io::Cursor<Vec<u8>>>,
+}
+
+impl Npz {
+    fn new() -> Self {
+        Npz {
+            zip: zip::ZipWriter::new(std::io::Cursor::new(Vec::new())),
+        }
+    }
+
+    /// Adds `array` as `name.npy`.
+    fn add(&mut self, name: &str, array: Array) -> std::io::Result<()> {
+        let options = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Stored);
+        self.zip
+            .start_file(format!("{name}.npy"), options)
+            .map_err(std::io::Error::other)?;
+        npy::write(&mut self.zip, &array)
+    }
+
+    /// Adds numbers of `shape`.
+    fn add_floats(&mut self, name: &str, shape: Vec<usize>, data: &[f64]) -> std::io::Result<()> {
+        self.add(name, Array::Float { shape, data })
+    }
+
+    /// Adds a list of strings.
+    fn add_texts(&mut self, name: &str, data: &[String]) -> std::io::Result<()> {
+        self.add(
+            name,
+            Array::Text {
+                shape: vec![data.len()],
+                data,
+            },
+        )
+    }
+
+    /// Adds the matrix `pick` gives of every point, stacked along a first axis over a grid
+    /// (`grid`), else the one point's.
+    fn add_stacked<P>(
+        &mut self,
+        name: &str,
+        points: &[P],
+        pick: fn(&P) -> &DMatrix<f64>,
+        grid: bool,
+    ) -> std::io::Result<()> {
+        let first = pick(&points[0]);
+        let mut shape = vec![first.nrows(), first.ncols()];
+        if grid {
+            shape.insert(0, points.len());
+        }
+        let data: Vec<f64> = points
+            .iter()
+            .flat_map(|p| to_rows(pick(p)).into_iter().flatten())
+            .collect();
+        self.add_floats(name, shape, &data)
+    }
+
+    /// The archive's bytes.
+    fn finish(self) -> std::io::Result<Vec<u8>> {
+        let cursor = self.zip.finish().map_err(std::io::Error::other)?;
+        Ok(cursor.into_inner())
     }
 }

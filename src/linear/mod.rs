@@ -264,29 +264,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         ),
         Some(g) => {
             check("LinearizeOptions::grid", g.section)?;
-            // the other positions must be valid too, whatever the grid's values
-            lpv.check_point(&positions, &rates)
-                .map_err(|e| Error::option("LinearizeOptions::positions", e.to_string()))?;
-            let values = g.values();
-            let (ns, ni, no) = (lpv.states().len(), lpv.inputs().len(), lpv.outputs().len());
-            let numbers = (ns * ns + ns * ni + no * ns + no * ni) as u64;
-            crate::run::memory::check(
-                numbers * BYTES_PER_NUMBER * values.len() as u64,
-                options.memory_budget,
-                &format!(
-                    "{} linear models of {ns} states ({numbers} numbers each, held and written \
-                     together)",
-                    values.len()
-                ),
-                "LinearizeOptions::grid (fewer points) or sections.modes",
-                |reason| Error::option("LinearizeOptions::grid", reason),
-            )?;
-            let mut points = Vec::with_capacity(values.len());
-            for &v in &values {
-                let mut p = positions.clone();
-                p[g.section - 2] = v;
-                points.push(at(&lpv, &p, &vec![0.0; npos], "LinearizeOptions::grid")?);
-            }
+            let (grid, points) = grid_points(&lpv, g, &positions, &rates, options.memory_budget)?;
             let others = if npos > 1 {
                 format!("; the other positions: {operating_point}")
             } else {
@@ -296,7 +274,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
                 "a grid of a_{} over [{}, {}] m ({} points), at rest{others}",
                 g.section, g.from, g.to, g.count
             );
-            (Some((format!("a_{}", g.section), values)), points)
+            (Some(grid), points)
         }
     };
     let discrete = options.discrete.map(|dt| DiscreteModels {
@@ -321,6 +299,46 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         points,
         discrete,
     })
+}
+
+/// The linear models over the grid `g` of one position (the others at `positions`, every
+/// rate zero), within `memory_budget` (bytes): the grid's name and values, and the models.
+fn grid_points(
+    lpv: &Lpv,
+    g: &Grid,
+    positions: &[f64],
+    rates: &[f64],
+    memory_budget: u64,
+) -> Result<((String, Vec<f64>), Vec<LinearModel>)> {
+    // the other positions must be valid too, whatever the grid's values
+    lpv.check_point(positions, rates)
+        .map_err(|e| Error::option("LinearizeOptions::positions", e.to_string()))?;
+    let values = g.values();
+    let (ns, ni, no) = (lpv.states().len(), lpv.inputs().len(), lpv.outputs().len());
+    let numbers = (ns * ns + ns * ni + no * ns + no * ni) as u64;
+    crate::run::memory::check(
+        numbers * BYTES_PER_NUMBER * values.len() as u64,
+        memory_budget,
+        &format!(
+            "{} linear models of {ns} states ({numbers} numbers each, held and written \
+             together)",
+            values.len()
+        ),
+        "LinearizeOptions::grid (fewer points) or sections.modes",
+        |reason| Error::option("LinearizeOptions::grid", reason),
+    )?;
+    let mut points = Vec::with_capacity(values.len());
+    for &v in &values {
+        let mut p = positions.to_vec();
+        p[g.section - 2] = v;
+        points.push(at(
+            lpv,
+            &p,
+            &vec![0.0; positions.len()],
+            "LinearizeOptions::grid",
+        )?);
+    }
+    Ok(((format!("a_{}", g.section), values), points))
 }
 
 /// The linear model at one operating point; a bad point is an error of `option`.

@@ -496,13 +496,9 @@ fn dashed(
     DashedLineSeries::new(vec![(t0, y), (t1, y)], 8u32, 5u32, color.stroke_width(1))
 }
 
-fn draw_panel<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    panel: &Panel,
-    curves: &[Curve],
-    marks: &Marks,
-) -> Result<()> {
-    let series: Vec<(usize, Vec<(f64, f64)>)> = curves
+/// The panel's column of every curve that has it, scaled and decimated: `(curve, points)`.
+fn panel_series(panel: &Panel, curves: &[Curve]) -> Vec<(usize, Vec<(f64, f64)>)> {
+    curves
         .iter()
         .enumerate()
         .filter_map(|(i, c)| {
@@ -515,9 +511,13 @@ fn draw_panel<DB: DrawingBackend>(
                 .collect();
             Some((i, decimate(points, 2000)))
         })
-        .collect();
+        .collect()
+}
+
+/// The smallest and largest time and value of the series, `(t0, t1, y0, y1)`.
+fn bounds(series: &[(usize, Vec<(f64, f64)>)]) -> (f64, f64, f64, f64) {
     let (mut t0, mut t1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for (_, s) in &series {
+    for (_, s) in series {
         for &(t, y) in s {
             t0 = t0.min(t);
             t1 = t1.max(t);
@@ -525,17 +525,18 @@ fn draw_panel<DB: DrawingBackend>(
             y1 = y1.max(y);
         }
     }
-    let is_gap = panel.column.starts_with("xi_");
-    let band = panel.scale * curves[0].half_band;
-    if is_gap {
-        y0 = y0.min(-band);
-        y1 = y1.max(band);
-    }
-    let limit = marks.force_limit.filter(|_| panel.column == "drive_force");
-    if let Some(l) = limit {
-        y0 = y0.min(-l);
-        y1 = y1.max(l);
-    }
+    (t0, t1, y0, y1)
+}
+
+/// The panel's legend: its curves, then the band edges (`band_edge`, the panel's unit), the
+/// force limit (N) and the residual window where they are drawn.
+fn panel_legend(
+    series: &[(usize, Vec<(f64, f64)>)],
+    curves: &[Curve],
+    band_edge: Option<f64>,
+    limit: Option<f64>,
+    marks: &Marks,
+) -> Vec<(String, Swatch)> {
     let mut legend: Vec<(String, Swatch)> = series
         .iter()
         .map(|(i, _)| {
@@ -545,7 +546,7 @@ fn draw_panel<DB: DrawingBackend>(
             )
         })
         .collect();
-    if is_gap && band > 0.0 {
+    if let Some(band) = band_edge {
         let edge = tick_label(band, band);
         legend.push((
             format!("band edges ±l_S/2 = ±{edge} mm"),
@@ -558,6 +559,34 @@ fn draw_panel<DB: DrawingBackend>(
     if marks.residual_window.is_some() {
         legend.push(("residual window".into(), Swatch::Band(WINDOW)));
     }
+    legend
+}
+
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &Panel,
+    curves: &[Curve],
+    marks: &Marks,
+) -> Result<()> {
+    let series = panel_series(panel, curves);
+    let (t0, t1, mut y0, mut y1) = bounds(&series);
+    let is_gap = panel.column.starts_with("xi_");
+    let band = panel.scale * curves[0].half_band;
+    if is_gap {
+        y0 = y0.min(-band);
+        y1 = y1.max(band);
+    }
+    let limit = marks.force_limit.filter(|_| panel.column == "drive_force");
+    if let Some(l) = limit {
+        y0 = y0.min(-l);
+        y1 = y1.max(l);
+    }
+    let band_edge = if is_gap && band > 0.0 {
+        Some(band)
+    } else {
+        None
+    };
+    let legend = panel_legend(&series, curves, band_edge, limit, marks);
     let (strip, plot_area) = area.split_vertically(LEGEND_STRIP + 24);
     let pad = 0.05 * (y1 - y0).max(1e-12);
     let mut chart = ChartBuilder::on(&plot_area)

@@ -103,6 +103,71 @@ fn status_of(e: &Error) -> &'static str {
     }
 }
 
+/// Where a sweep's progress stands: `done` of `total` runs finished, told to `reporter`.
+struct Progress<'r> {
+    total: usize,
+    done: usize,
+    reporter: &'r dyn Reporter,
+}
+
+/// Runs `pending` on `jobs` threads, each row appended to `work` (flushed) as its run
+/// finishes, until all are done, an interrupt or a failed write: the work file and the
+/// counts `(finished, written, failed)`.
+fn run_pending(
+    sweep: &Sweep,
+    pending: &[&Run],
+    jobs: usize,
+    work: WorkFile,
+    gate: &MemoryGate,
+    progress: &Progress,
+    partial: &Path,
+) -> Result<(WorkFile, (usize, usize, usize))> {
+    use rayon::prelude::*;
+    let writer = Mutex::new(work);
+    let counts = Mutex::new((progress.done, 0usize, 0usize)); // (finished, written, failed)
+    let write_failure: Mutex<Option<std::io::Error>> = Mutex::new(None);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs.min(pending.len()).max(1))
+        .build()
+        .map_err(|e| Error::option("SweepOptions::jobs", e.to_string()))?;
+    pool.install(|| {
+        pending.par_iter().for_each(|run| {
+            // after an interrupt or a failed write, no new run starts
+            let write_failed = || write_failure.lock().map_or(true, |f| f.is_some());
+            if crate::interrupt::requested() || write_failed() {
+                return;
+            }
+            let (line, failed) = row(sweep, run, gate);
+            // one write of a whole line, then flushed: a kill leaves whole rows or a torn
+            // last one, which --resume cuts off
+            let result = {
+                let mut f = writer.lock().unwrap_or_else(|e| e.into_inner());
+                f.write_all(line.as_bytes()).and_then(|()| f.flush())
+            };
+            if let Err(e) = result {
+                *write_failure.lock().unwrap_or_else(|e| e.into_inner()) = Some(e);
+                return;
+            }
+            let mut c = counts.lock().unwrap_or_else(|e| e.into_inner());
+            c.0 += 1;
+            c.1 += 1;
+            c.2 += usize::from(failed);
+            progress.reporter.runs(c.0, progress.total);
+        })
+    });
+    let work = writer.into_inner().unwrap_or_else(|e| e.into_inner());
+    if let Some(error) = write_failure
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+    {
+        return Err(Error::Write {
+            path: partial.to_path_buf(),
+            error,
+        });
+    }
+    Ok((work, counts.into_inner().unwrap_or_else(|e| e.into_inner())))
+}
+
 /// One run, as its CSV row.
 fn row(sweep: &Sweep, run: &Run, gate: &MemoryGate) -> (String, bool) {
     let start = Instant::now();
@@ -387,7 +452,6 @@ pub fn run_sweep(
     options: &SweepOptions,
     reporter: &dyn Reporter,
 ) -> Result<SweepOutcome> {
-    use rayon::prelude::*;
     let started = Instant::now();
     check_jobs(options.jobs)?;
     crate::io::output::check_not_an_input(
@@ -427,52 +491,26 @@ pub fn run_sweep(
         crate::io::output::keep_on_interrupt(path);
     }
     let gate = MemoryGate::new(options.memory_budget);
-    let writer = Mutex::new(work);
-    let counts = Mutex::new((done.len(), 0usize, 0usize)); // (finished, written, failed)
-    let write_failure: Mutex<Option<std::io::Error>> = Mutex::new(None);
     let total = mine.len();
     reporter.runs(done.len(), total);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.jobs.min(pending.len()).max(1))
-        .build()
-        .map_err(|e| Error::option("SweepOptions::jobs", e.to_string()))?;
-    pool.install(|| {
-        pending.par_iter().for_each(|run| {
-            // after an interrupt or a failed write, no new run starts
-            let write_failed = || write_failure.lock().map_or(true, |f| f.is_some());
-            if crate::interrupt::requested() || write_failed() {
-                return;
-            }
-            let (line, failed) = row(sweep, run, &gate);
-            // one write of a whole line, then flushed: a kill leaves whole rows or a torn
-            // last one, which --resume cuts off
-            let result = {
-                let mut f = writer.lock().unwrap_or_else(|e| e.into_inner());
-                f.write_all(line.as_bytes()).and_then(|()| f.flush())
-            };
-            if let Err(e) = result {
-                *write_failure.lock().unwrap_or_else(|e| e.into_inner()) = Some(e);
-                return;
-            }
-            let mut c = counts.lock().unwrap_or_else(|e| e.into_inner());
-            c.0 += 1;
-            c.1 += 1;
-            c.2 += usize::from(failed);
-            reporter.runs(c.0, total);
-        })
-    });
-    let work = writer.into_inner().unwrap_or_else(|e| e.into_inner());
+    let progress = Progress {
+        total,
+        done: done.len(),
+        reporter,
+    };
+    let (work, (finished, written, failed)) = run_pending(
+        sweep,
+        &pending,
+        options.jobs,
+        work,
+        &gate,
+        &progress,
+        &partial,
+    )?;
     let write_error = |error| Error::Write {
         path: partial.clone(),
         error,
     };
-    if let Some(e) = write_failure
-        .into_inner()
-        .unwrap_or_else(|e| e.into_inner())
-    {
-        return Err(write_error(e));
-    }
-    let (finished, written, failed) = counts.into_inner().unwrap_or_else(|e| e.into_inner());
     if finished < total {
         let kept = match &work {
             WorkFile::Partial { path, .. } => {
