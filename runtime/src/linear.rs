@@ -174,65 +174,8 @@ impl<'m> Lpv<'m> {
             Drive::Force(_) => None,
         };
         let layout = model.layout();
-        let params = model.params();
-        let sections = params.sections.len();
-        let mut rigid_rows = DMatrix::zeros(3, n);
-        let top = params.sections[sections - 1].length;
-        let l1 = params.sections[0].length;
-        for j in 0..n {
-            let mut e = vec![0.0; n];
-            e[j] = 1.0;
-            let foot = model.displacement(1, 0.0, &e);
-            rigid_rows[(0, j)] = foot;
-            rigid_rows[(1, j)] = model.displacement(sections, top, &e) - foot;
-            rigid_rows[(2, j)] = model.displacement(1, l1, &e) - foot;
-        }
-        let mut states = Vec::with_capacity(2 * n);
-        for k in 1..=sections {
-            for i in 1..=layout.modes()[k - 1] {
-                let name = state_name(k, i);
-                states.push(match (k, i) {
-                    (1, 1) => signal(
-                        name,
-                        "m",
-                        "vehicle position w_1(0,t), the rigid translation of the telescope".into(),
-                    ),
-                    (1, i) => signal(
-                        name,
-                        "m",
-                        format!(
-                            "section 1, shape coordinate {i} (basis phi_1,{i}(x) - phi_1,{i}(0))"
-                        ),
-                    ),
-                    (k, 1) => signal(
-                        name,
-                        "m",
-                        format!("section {k}, rigid offset from the vehicle (basis 1)"),
-                    ),
-                    (k, 2) => signal(
-                        name,
-                        "rad",
-                        format!("section {k}, rigid rotation (basis x)"),
-                    ),
-                    (k, i) => signal(
-                        name,
-                        "m",
-                        format!("section {k}, free-free shape coordinate {i}"),
-                    ),
-                });
-            }
-        }
-        let rates: Vec<Signal> = states
-            .iter()
-            .map(|s| {
-                signal(
-                    format!("{}_dot", s.name),
-                    &format!("{}/s", s.unit),
-                    format!("rate of: {}", s.description),
-                )
-            })
-            .collect();
-        states.extend(rates);
+        let rigid_rows = rigid_rows(model);
+        let states = state_signals(layout.modes());
         let inputs = vec![if motion.is_some() {
             signal(
                 "a_vehicle".into(),
@@ -467,6 +410,75 @@ impl<'m> Lpv<'m> {
             d: d_mat,
         })
     }
+}
+
+/// The states `[z, z']` of a model with `modes` coordinates per section: names, units and
+/// what each is.
+fn state_signals(modes: &[usize]) -> Vec<Signal> {
+    let mut states = Vec::with_capacity(2 * modes.iter().sum::<usize>());
+    for (k, &count) in (1..).zip(modes) {
+        for i in 1..=count {
+            let name = state_name(k, i);
+            states.push(match (k, i) {
+                (1, 1) => signal(
+                    name,
+                    "m",
+                    "vehicle position w_1(0,t), the rigid translation of the telescope".into(),
+                ),
+                (1, i) => signal(
+                    name,
+                    "m",
+                    format!("section 1, shape coordinate {i} (basis phi_1,{i}(x) - phi_1,{i}(0))"),
+                ),
+                (k, 1) => signal(
+                    name,
+                    "m",
+                    format!("section {k}, rigid offset from the vehicle (basis 1)"),
+                ),
+                (k, 2) => signal(
+                    name,
+                    "rad",
+                    format!("section {k}, rigid rotation (basis x)"),
+                ),
+                (k, i) => signal(
+                    name,
+                    "m",
+                    format!("section {k}, free-free shape coordinate {i}"),
+                ),
+            });
+        }
+    }
+    let rates: Vec<Signal> = states
+        .iter()
+        .map(|s| {
+            signal(
+                format!("{}_dot", s.name),
+                &format!("{}/s", s.unit),
+                format!("rate of: {}", s.description),
+            )
+        })
+        .collect();
+    states.extend(rates);
+    states
+}
+
+/// Rows of the foot's displacement, `tip_rel` and `top1_rel` on the coordinates (their
+/// rigid-body parts).
+fn rigid_rows(model: &dyn Model) -> DMatrix<f64> {
+    let (n, params) = (model.dof(), model.params());
+    let sections = params.sections.len();
+    let mut rigid_rows = DMatrix::zeros(3, n);
+    let top = params.sections[sections - 1].length;
+    let l1 = params.sections[0].length;
+    for j in 0..n {
+        let mut e = vec![0.0; n];
+        e[j] = 1.0;
+        let foot = model.displacement(1, 0.0, &e);
+        rigid_rows[(0, j)] = foot;
+        rigid_rows[(1, j)] = model.displacement(sections, top, &e) - foot;
+        rigid_rows[(2, j)] = model.displacement(1, l1, &e) - foot;
+    }
+    rigid_rows
 }
 
 /// The unit and description of an output of a run or a linear model, by its name

@@ -417,16 +417,7 @@ impl ExactRun<'_> {
         // a long step found uncertified is not tried again before this time
         let mut short_until = start;
         while t < end {
-            if self.stats.steps >= settings.max_steps {
-                return Err(SimError::TooManySteps {
-                    t,
-                    method: "exact".into(),
-                    steps: self.stats.steps,
-                    cause: "the contacts chatter without end at this time, or the step limit is \
-                            too low"
-                        .into(),
-                });
-            }
+            self.check_step_count(t, settings)?;
             let t_sample = if next_sample < self.samples.total {
                 self.samples.time(next_sample)
             } else {
@@ -447,21 +438,8 @@ impl ExactRun<'_> {
             let stop = match long {
                 Some(stop) => stop,
                 None => {
-                    let (on_grid, t_grid) = next_grid_point(t, anchor, self.branches[current].h);
-                    let stop = t_grid.min(limit);
-                    let tau = stop - t;
-                    if on_grid && stop == t_grid {
-                        let b = &self.branches[current];
-                        mat_vec(&b.phi, self.y.as_slice(), 1.0, self.y1.as_mut_slice());
-                        self.y1 += &b.gamma;
-                        self.taylor_len = 0;
-                    } else {
-                        self.expand(current, tau)?;
-                        self.sum_taylor(tau);
-                    }
-                    self.check_size(t, tau)?;
-                    self.stats.steps += 1;
-                    if let Some(tau_event) = self.find_event(current, t, tau)? {
+                    let stop = self.regular_step(current, t, anchor, limit)?;
+                    if let Some(tau_event) = self.find_event(current, t, stop - t)? {
                         // y1 holds the state just past the crossing
                         t += tau_event;
                         std::mem::swap(&mut self.y, &mut self.y1);
@@ -498,6 +476,48 @@ impl ExactRun<'_> {
             }
         }
         Ok(())
+    }
+
+    /// Refuses another step past the step limit.
+    fn check_step_count(&self, t: f64, settings: &Settings) -> Result<(), SimError> {
+        if self.stats.steps >= settings.max_steps {
+            return Err(SimError::TooManySteps {
+                t,
+                method: "exact".into(),
+                steps: self.stats.steps,
+                cause: "the contacts chatter without end at this time, or the step limit is too \
+                        low"
+                .into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// One regular step from `t` on branch `current` into `y1`: to the next point of the
+    /// grid `anchor + k h` (a matrix-vector product), or a shorter one to `limit` (a Taylor
+    /// sum). Its end time (s).
+    fn regular_step(
+        &mut self,
+        current: usize,
+        t: f64,
+        anchor: f64,
+        limit: f64,
+    ) -> Result<f64, SimError> {
+        let (on_grid, t_grid) = next_grid_point(t, anchor, self.branches[current].h);
+        let stop = t_grid.min(limit);
+        let tau = stop - t;
+        if on_grid && stop == t_grid {
+            let b = &self.branches[current];
+            mat_vec(&b.phi, self.y.as_slice(), 1.0, self.y1.as_mut_slice());
+            self.y1 += &b.gamma;
+            self.taylor_len = 0;
+        } else {
+            self.expand(current, tau)?;
+            self.sum_taylor(tau);
+        }
+        self.check_size(t, tau)?;
+        self.stats.steps += 1;
+        Ok(stop)
     }
 
     /// The branch for the current contact states and drive `segment`, built on first use.

@@ -92,13 +92,43 @@ pub fn unit_note(params: &ModelParams) -> String {
 pub fn check(params: &ModelParams) -> Vec<FieldError> {
     let mut errors = Vec::new();
     check_clearance(params, &mut errors);
-    let section_mass = |k: usize| params.sections[k].mass_per_length * params.sections[k].length;
+    check_masses(params, &mut errors);
+    check_contact_law(params, &mut errors);
+    // name the field most likely at fault first, and say that values are SI
+    let suspects = unit_suspects(params);
+    for e in &mut errors {
+        if e.field == "contact.clearance" {
+            continue;
+        }
+        let index = |f: &str| f.rsplit_once('[').map(|(_, i)| i.to_string());
+        if let Some((field, hint)) = suspects
+            .iter()
+            .find(|(f, _)| index(f).is_some_and(|i| e.field.contains(&format!("[{i}"))))
+            .or(suspects.first())
+        {
+            e.field = format!("{field} (or {})", e.field);
+            e.rule = format!(
+                "{}. Values are SI: `{field}` = {hint}",
+                e.rule.trim_end_matches('.')
+            );
+        }
+    }
+    errors
+}
+
+/// A section's mass (kg).
+fn section_mass(params: &ModelParams, k: usize) -> f64 {
+    params.sections[k].mass_per_length * params.sections[k].length
+}
+
+/// The masses of the model are within [`MAX_MASS_RATIO`] of each other.
+fn check_masses(params: &ModelParams, errors: &mut Vec<FieldError>) {
     // masses: the lightest section against the heaviest mass of the model
     let mut masses: Vec<(String, f64)> = (0..params.sections.len())
         .map(|k| {
             (
                 format!("sections.area[{k}] and sections.density[{k}]"),
-                section_mass(k),
+                section_mass(params, k),
             )
         })
         .collect();
@@ -120,7 +150,7 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
         .expect("at least one section");
     if heaviest.1 > MAX_MASS_RATIO * lightest.1 {
         fail(
-            &mut errors,
+            errors,
             format!("{} against {}", heaviest.0, lightest.0),
             format!(
                 "a mass of {:.3e} kg against a section of {:.3e} kg: masses that differ by more \
@@ -130,6 +160,11 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
             ),
         );
     }
+}
+
+/// The contact spring against the bending stiffness of the sections it joins, and the
+/// contacts' damping ratio.
+fn check_contact_law(params: &ModelParams, errors: &mut Vec<FieldError>) {
     // contacts: spring against the bending stiffness of the sections they join, damping
     let law = &params.contact;
     for k in 1..params.sections.len() {
@@ -139,7 +174,7 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
             let ratio = law.stiffness / bending;
             if !(1.0 / MAX_STIFFNESS_RATIO..=MAX_STIFFNESS_RATIO).contains(&ratio) {
                 fail(
-                    &mut errors,
+                    errors,
                     format!(
                         "contact.stiffness against sections.youngs_modulus[{j}] and sections.inertia[{j}]"
                     ),
@@ -154,11 +189,11 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
                 );
             }
         }
-        let m = section_mass(k - 1).min(section_mass(k));
+        let m = section_mass(params, k - 1).min(section_mass(params, k));
         let zeta = law.damping / (2.0 * (law.stiffness * m).sqrt());
         if zeta.is_nan() || zeta > MAX_DAMPING_RATIO {
             fail(
-                &mut errors,
+                errors,
                 "contact.damping".into(),
                 format!(
                     "the contacts' damping ratio d / (2 sqrt(c m)) = {zeta:.3e} (d = {:.3e} N s/m \
@@ -170,26 +205,6 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
             );
         }
     }
-    // name the field most likely at fault first, and say that values are SI
-    let suspects = unit_suspects(params);
-    for e in &mut errors {
-        if e.field == "contact.clearance" {
-            continue;
-        }
-        let index = |f: &str| f.rsplit_once('[').map(|(_, i)| i.to_string());
-        if let Some((field, hint)) = suspects
-            .iter()
-            .find(|(f, _)| index(f).is_some_and(|i| e.field.contains(&format!("[{i}"))))
-            .or(suspects.first())
-        {
-            e.field = format!("{field} (or {})", e.field);
-            e.rule = format!(
-                "{}. Values are SI: `{field}` = {hint}",
-                e.rule.trim_end_matches('.')
-            );
-        }
-    }
-    errors
 }
 
 /// A clearance is small against the sections' lengths (a value in millimetres is not).

@@ -134,38 +134,15 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     let mut r = Rules::default();
     let s = &file.sections;
     let n = s.count;
-    // checked before anything is sized by it
-    let n_fits = (1..=MAX_SECTIONS).contains(&n);
-    if !n_fits {
-        r.fail(
-            "sections.count",
-            format!(
-                "must be in 1..={MAX_SECTIONS} (got {n}); the limit keeps the model's dense \
-                 matrices and eigen analysis small (see docs/scenes.md)"
-            ),
-        );
-    }
-    let per_section = |r: &mut Rules, field: &str, spec: &PerSection<f64>| {
-        if n_fits {
-            r.per_section(field, spec, n, |r, f, v| r.positive(f, v))
-        } else {
-            None
-        }
-    };
-    let lengths = per_section(&mut r, "sections.length", &s.length);
-    let areas = per_section(&mut r, "sections.area", &s.area);
-    let inertias = per_section(&mut r, "sections.inertia", &s.inertia);
-    let densities = per_section(&mut r, "sections.density", &s.density);
-    let moduli = per_section(&mut r, "sections.youngs_modulus", &s.youngs_modulus);
-    let modes = if n_fits {
-        r.per_section("sections.modes", &s.modes, n, |r, f, v| {
-            if !(1..=MAX_MODES).contains(&v) {
-                r.fail(f, format!("must be in 1..={MAX_MODES} (got {v})"));
-            }
-        })
-    } else {
-        None
-    };
+    let SectionChecks {
+        n_fits,
+        lengths,
+        areas,
+        inertias,
+        densities,
+        moduli,
+        modes,
+    } = section_rules(&mut r, s);
     let damping = damping_rules(&mut r, s);
     if n_fits {
         section_modulus_rules(&mut r, s, n);
@@ -192,11 +169,7 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         output_size_rules(&mut r, &file, n);
     }
 
-    for (i, col) in file.reference.iter().enumerate() {
-        for (j, &f) in col.frequencies_hz.iter().enumerate() {
-            r.positive(&format!("reference[{i}].frequencies_hz[{j}]"), f);
-        }
-    }
+    reference_rules(&mut r, &file);
 
     if !r.errors.is_empty() {
         return Err(SceneError::Invalid {
@@ -241,6 +214,73 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         references: file.reference.clone(),
         file,
     })
+}
+
+/// A scene's per-section values, each checked (`None` where a rule failed).
+struct SectionChecks {
+    /// Whether the section count is within its limit (nothing is sized by it otherwise).
+    n_fits: bool,
+    lengths: Option<Vec<f64>>,
+    areas: Option<Vec<f64>>,
+    inertias: Option<Vec<f64>>,
+    densities: Option<Vec<f64>>,
+    moduli: Option<Vec<f64>>,
+    modes: Option<Vec<usize>>,
+}
+
+/// The section count and every per-section value.
+fn section_rules(r: &mut Rules, s: &SectionsSpec) -> SectionChecks {
+    let n = s.count;
+    // checked before anything is sized by it
+    let n_fits = (1..=MAX_SECTIONS).contains(&n);
+    if !n_fits {
+        r.fail(
+            "sections.count",
+            format!(
+                "must be in 1..={MAX_SECTIONS} (got {n}); the limit keeps the model's dense \
+                 matrices and eigen analysis small (see docs/scenes.md)"
+            ),
+        );
+    }
+    let per_section = |r: &mut Rules, field: &str, spec: &PerSection<f64>| {
+        if n_fits {
+            r.per_section(field, spec, n, |r, f, v| r.positive(f, v))
+        } else {
+            None
+        }
+    };
+    let lengths = per_section(r, "sections.length", &s.length);
+    let areas = per_section(r, "sections.area", &s.area);
+    let inertias = per_section(r, "sections.inertia", &s.inertia);
+    let densities = per_section(r, "sections.density", &s.density);
+    let moduli = per_section(r, "sections.youngs_modulus", &s.youngs_modulus);
+    let modes = if n_fits {
+        r.per_section("sections.modes", &s.modes, n, |r, f, v| {
+            if !(1..=MAX_MODES).contains(&v) {
+                r.fail(f, format!("must be in 1..={MAX_MODES} (got {v})"));
+            }
+        })
+    } else {
+        None
+    };
+    SectionChecks {
+        n_fits,
+        lengths,
+        areas,
+        inertias,
+        densities,
+        moduli,
+        modes,
+    }
+}
+
+/// The reference frequencies the scene records (Hz) are positive.
+fn reference_rules(r: &mut Rules, file: &SceneFile) {
+    for (i, col) in file.reference.iter().enumerate() {
+        for (j, &f) in col.frequencies_hz.iter().enumerate() {
+            r.positive(&format!("reference[{i}].frequencies_hz[{j}]"), f);
+        }
+    }
 }
 
 /// Structural damping: modal ratios in `[0, 1)` or Rayleigh coefficients >= 0, not both.
