@@ -129,6 +129,77 @@ fn every_listed_configuration_was_generated_and_is_found_by_key() {
     }
 }
 
+/// `M`, `K`, `b` and `D_s` of the two models (`variant` 0 has no structural damping).
+fn compare_matrices(key: &str, variant: usize, generated: &dyn Model, assembled: &dyn Model) {
+    assert_close(
+        &format!("{key}: M"),
+        generated.mass_matrix(),
+        assembled.mass_matrix(),
+        1e-12,
+    );
+    assert_close(
+        &format!("{key}: K"),
+        generated.stiffness_matrix(),
+        assembled.stiffness_matrix(),
+        1e-12,
+    );
+    assert_eq!(
+        generated.drive_vector(),
+        assembled.drive_vector(),
+        "{key}: b"
+    );
+    match (generated.damping_matrix(), assembled.damping_matrix()) {
+        (None, None) => assert_eq!(variant, 0, "{key}: damping given, none built"),
+        (Some(d1), Some(d2)) => assert_close(&format!("{key}: D_s"), d1, d2, 1e-10),
+        _ => panic!("{key}: one model has structural damping, the other not"),
+    }
+}
+
+/// The outputs and the displacements of the two models at `(t, y)`; `rel` is the contact
+/// vectors' tolerance there (above 1e-12 between table nodes).
+fn compare_outputs(
+    key: &str,
+    p: &ModelParams,
+    t: f64,
+    y: &[f64],
+    rel: f64,
+    generated: &dyn Model,
+    assembled: &dyn Model,
+) {
+    let n = assembled.dof();
+    let names = assembled.output_names();
+    assert_eq!(generated.output_names(), names);
+    let mut ydot = vec![0.0; 2 * n];
+    assembled.rhs(t, y, None, &mut ydot);
+    let (mut o1, mut o2) = (vec![0.0; names.len()], vec![0.0; names.len()]);
+    generated.outputs(t, y, &ydot, &mut o1);
+    assembled.outputs(t, y, &ydot, &mut o2);
+    // between table nodes a contact force c (g . z) carries the 1e-12 of g, and
+    // more where g . z is a small difference of larger terms (measured 3e-12)
+    let output_rel = if rel > 1e-12 { 1e-10 } else { 1e-12 };
+    for (i, name) in names.iter().enumerate() {
+        let scale = o2[i].abs().max(1e-9);
+        assert!(
+            (o1[i] - o2[i]).abs()
+                <= output_rel * scale.max(o2.iter().fold(0.0_f64, |m, v| m.max(v.abs())) * 1e-3),
+            "{key}: output {name}: {} vs {}",
+            o1[i],
+            o2[i]
+        );
+    }
+    for k in 1..=p.sections.len() {
+        let x = 0.37 * p.sections[k - 1].length;
+        let (w1, w2) = (
+            generated.displacement(k, x, &y[..n]),
+            assembled.displacement(k, x, &y[..n]),
+        );
+        assert!(
+            (w1 - w2).abs() <= 1e-12 * w2.abs().max(1.0),
+            "{key}: w_{k}: {w1} vs {w2}"
+        );
+    }
+}
+
 #[test]
 fn generated_models_agree_with_the_assembled_model() {
     let mut rng = Rng(0x2545f4914f6cdd1d);
@@ -140,28 +211,7 @@ fn generated_models_agree_with_the_assembled_model() {
             let key = c.key();
             let n = assembled.dof();
             let nc = assembled.layout().contact_count();
-            assert_close(
-                &format!("{key}: M"),
-                generated.mass_matrix(),
-                assembled.mass_matrix(),
-                1e-12,
-            );
-            assert_close(
-                &format!("{key}: K"),
-                generated.stiffness_matrix(),
-                assembled.stiffness_matrix(),
-                1e-12,
-            );
-            assert_eq!(
-                generated.drive_vector(),
-                assembled.drive_vector(),
-                "{key}: b"
-            );
-            match (generated.damping_matrix(), assembled.damping_matrix()) {
-                (None, None) => assert_eq!(variant, 0, "{key}: damping given, none built"),
-                (Some(d1), Some(d2)) => assert_close(&format!("{key}: D_s"), d1, d2, 1e-10),
-                _ => panic!("{key}: one model has structural damping, the other not"),
-            }
+            compare_matrices(&key, variant, generated.as_ref(), &assembled);
             // moving positions: the generated model interpolates its contact vectors from a
             // table (telescopic_runtime::ContactTable), exact at the nodes (compared to 1e-12
             // there) and within the table's tolerances between them
@@ -217,38 +267,7 @@ fn generated_models_agree_with_the_assembled_model() {
                     assembled.jacobian(t, &y, st, &mut j2);
                     assert_close(&format!("{key} t = {t}: Jacobian"), &j1, &j2, rhs_rel);
                 }
-                let names = assembled.output_names();
-                assert_eq!(generated.output_names(), names);
-                let mut ydot = vec![0.0; 2 * n];
-                assembled.rhs(t, &y, None, &mut ydot);
-                let (mut o1, mut o2) = (vec![0.0; names.len()], vec![0.0; names.len()]);
-                generated.outputs(t, &y, &ydot, &mut o1);
-                assembled.outputs(t, &y, &ydot, &mut o2);
-                // between table nodes a contact force c (g . z) carries the 1e-12 of g, and
-                // more where g . z is a small difference of larger terms (measured 3e-12)
-                let output_rel = if rel > 1e-12 { 1e-10 } else { 1e-12 };
-                for (i, name) in names.iter().enumerate() {
-                    let scale = o2[i].abs().max(1e-9);
-                    assert!(
-                        (o1[i] - o2[i]).abs()
-                            <= output_rel
-                                * scale.max(o2.iter().fold(0.0_f64, |m, v| m.max(v.abs())) * 1e-3),
-                        "{key}: output {name}: {} vs {}",
-                        o1[i],
-                        o2[i]
-                    );
-                }
-                for k in 1..=c.sections() {
-                    let x = 0.37 * p.sections[k - 1].length;
-                    let (w1, w2) = (
-                        generated.displacement(k, x, &y[..n]),
-                        assembled.displacement(k, x, &y[..n]),
-                    );
-                    assert!(
-                        (w1 - w2).abs() <= 1e-12 * w2.abs().max(1.0),
-                        "{key}: w_{k}: {w1} vs {w2}"
-                    );
-                }
+                compare_outputs(&key, &p, t, &y, rel, generated.as_ref(), &assembled);
             }
         }
     }

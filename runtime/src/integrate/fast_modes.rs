@@ -299,6 +299,36 @@ mod tests {
     /// certifies keeps every switch function positive at 400 points inside the step (the
     /// flow composed from `exp(A h / 400)`, an independent path); among the refused are
     /// steps that end positive but cross inside, which a check of the ends would pass.
+    /// `y` (coordinates then rates, `n` each) moved by a wave of a size between 1e-12 and
+    /// 1e-5 that depends on `case`, its rates scaled by the fastest rate `omega` (1/s).
+    fn perturbed(y: &[f64], case: usize, n: usize, omega: f64) -> DVector<f64> {
+        let size = 10f64.powf(-12.0 + 7.0 * (case % 40) as f64 / 39.0);
+        DVector::from_fn(y.len(), |i, _| {
+            let wave = (1.3 * i as f64 + 0.77 * case as f64).sin();
+            let scale = if i < n {
+                1.0
+            } else {
+                omega / (1 + case % 3) as f64
+            };
+            y[i] + size * wave * scale
+        })
+    }
+
+    /// `y0` and `steps` applications of the affine flow `y -> phi y + gamma`.
+    fn flow_path(
+        phi: &DMatrix<f64>,
+        gamma: &DVector<f64>,
+        y0: &DVector<f64>,
+        steps: usize,
+    ) -> Vec<DVector<f64>> {
+        let mut path = vec![y0.clone()];
+        for _ in 0..steps {
+            let next = phi * path.last().unwrap() + gamma;
+            path.push(next);
+        }
+        path
+    }
+
     #[test]
     fn a_certified_step_never_crosses_inside() {
         use crate::integrate::{Method, Settings, events::ContactTracker, simulate};
@@ -360,22 +390,8 @@ mod tests {
         let (mut certified, mut refused, mut hidden) = (0, 0, 0);
         let k = modes.len();
         for case in 0..240 {
-            let size = 10f64.powf(-12.0 + 7.0 * (case % 40) as f64 / 39.0);
-            let y0 = DVector::from_fn(n2, |i, _| {
-                let wave = (1.3 * i as f64 + 0.77 * case as f64).sin();
-                y[i] + size
-                    * wave
-                    * if i < n {
-                        1.0
-                    } else {
-                        omega / (1 + case % 3) as f64
-                    }
-            });
-            let mut path = vec![y0.clone()];
-            for _ in 0..400 {
-                let next = &phi * path.last().unwrap() + &gamma;
-                path.push(next);
-            }
+            let y0 = perturbed(&y, case, n, omega);
+            let path = flow_path(&phi, &gamma, &y0, 400);
             let y1 = path.last().unwrap();
             let (v0, r0) = gaps(&y0);
             let (v1, r1) = gaps(y1);
