@@ -131,6 +131,15 @@ fn the_filter_model_is_the_generated_model_in_every_contact_branch() {
     }
 }
 
+/// The extended filter's record of `scene`'s own model.
+fn own_model(scene: &Scene) -> EstimatorModel {
+    let model = ModelRegistry::default()
+        .build(&scene.params, ModelChoice::Auto)
+        .unwrap()
+        .model;
+    EstimatorModel::of(model.as_ref()).unwrap()
+}
+
 #[test]
 fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_reach_it() {
     let nominal = scene("case-study", &[]);
@@ -138,11 +147,7 @@ fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_rea
     let back = Controller::from_json(&controller.to_json()).unwrap();
     assert!(back == controller, "the controller file round-trips");
     let recorded = controller.sampled.as_ref().unwrap().model.clone().unwrap();
-    let model = ModelRegistry::default()
-        .build(&nominal.params, ModelChoice::Auto)
-        .unwrap()
-        .model;
-    assert_eq!(recorded, EstimatorModel::of(model.as_ref()).unwrap());
+    assert_eq!(recorded, own_model(&nominal));
     assert!(recorded.geometry_table.is_some() && recorded.fixed_geometry.is_none());
 
     // on a 30 kg load the filter predicts with the nominal 17.9 kg it was designed with; a
@@ -153,13 +158,8 @@ fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_rea
         let prepared = PreparedRun::new(&heavy, &sim, &Silent).unwrap();
         simulate_sampled(prepared, file, &Silent).unwrap().forces
     };
-    let heavy_model = ModelRegistry::default()
-        .build(&heavy.params, ModelChoice::Auto)
-        .unwrap()
-        .model;
     let mut knowing = controller.clone();
-    knowing.sampled.as_mut().unwrap().model =
-        Some(EstimatorModel::of(heavy_model.as_ref()).unwrap());
+    knowing.sampled.as_mut().unwrap().model = Some(own_model(&heavy));
     let (designed, told) = (run(&controller), run(&knowing));
     let differs = designed
         .iter()

@@ -405,6 +405,13 @@ fn work_precision_writes_a_converging_table_and_a_chart() {
         ],
         &["unknown method `euler`"],
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn work_precision_runs_auto_on_a_moving_scene_on_the_reference() {
+    let dir = scratch("wp-auto");
+    let csv = dir.join("wp.csv");
     // `auto` on a scene whose position moves (no clearance: imex, which steps once per
     // sample): its own rows, not skipped as plain exact, and on the reference over the whole
     // span at every tolerance (measured 3.2e-10 to 3.7e-9 m)

@@ -390,6 +390,24 @@ fn pdflatex_compiles_the_latex_export() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The largest difference of a Bode curve from python-control's frequency response (real
+/// and imaginary parts at the same frequencies), relative to each point's own size with a
+/// floor far below the curve's peak.
+fn worst_relative_difference(
+    curve: &telescopic::linear::bode::ResponseCurve,
+    re: &serde_json::Value,
+    im: &serde_json::Value,
+) -> f64 {
+    let scale = curve.magnitude.iter().fold(0.0_f64, |m, x| m.max(*x));
+    let mut worst = 0.0_f64;
+    for (k, (mag, phase)) in curve.magnitude.iter().zip(&curve.phase_deg).enumerate() {
+        let theirs = Complex::new(re[k].as_f64().unwrap(), im[k].as_f64().unwrap());
+        let ours = Complex::from_polar(*mag, phase.to_radians());
+        worst = worst.max((ours - theirs).norm() / theirs.norm().max(1e-9 * scale));
+    }
+    worst
+}
+
 #[test]
 #[ignore = "needs python-control, NumPy and SciPy: run ./scripts/test"]
 fn bode_equals_python_control_and_the_discrete_model_equals_scipys_cont2discrete() {
@@ -465,17 +483,7 @@ fn bode_equals_python_control_and_the_discrete_model_equals_scipys_cont2discrete
             index("outputs", &curve.output),
             index("inputs", &curve.input),
         );
-        let scale = curve.magnitude.iter().fold(0.0_f64, |m, x| m.max(*x));
-        let mut worst = 0.0_f64;
-        for (k, (mag, phase)) in curve.magnitude.iter().zip(&curve.phase_deg).enumerate() {
-            let theirs = Complex::new(
-                v["re"][o][i][k].as_f64().unwrap(),
-                v["im"][o][i][k].as_f64().unwrap(),
-            );
-            let ours = Complex::from_polar(*mag, phase.to_radians());
-            // relative to the point's own size, with a floor far below the curve's peak
-            worst = worst.max((ours - theirs).norm() / theirs.norm().max(1e-9 * scale));
-        }
+        let worst = worst_relative_difference(curve, &v["re"][o][i], &v["im"][o][i]);
         eprintln!(
             "{} from {}: worst relative difference {worst:.2e}",
             curve.output, curve.input

@@ -482,6 +482,12 @@ fn outputs_to_devices_are_streamed_and_never_replaced() {
         common::succeeds(&args);
         assert!(null_is_a_device(), "{args:?} replaced /dev/null");
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn fifos_are_streamed_symlinks_followed_and_directories_refused() {
+    let dir = common::scratch("out-streams");
     // a FIFO is written as a stream: the reader gets what a file would hold
     let fifo = dir.join("fifo");
     let c_path = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();

@@ -510,6 +510,13 @@ fn sweep_files_are_validated_before_any_run() {
             "1e12",
         ],
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_missing_base_scene_and_bad_options_are_refused() {
+    let dir = scratch("sweep-validate-options");
+    let out = dir.join("r.csv");
     // the base scene must exist, relative to the sweep file
     std::fs::write(
         dir.join("missing.toml"),
@@ -557,6 +564,44 @@ fn sweep_files_are_validated_before_any_run() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `sweep --shard auto` of `path` into `dir/r.csv` with only the job-array variables `vars`
+/// set and the `extra` arguments: whether it succeeded, its stderr, the result table.
+fn sweep_with_variables(
+    dir: &Path,
+    path: &Path,
+    vars: &[(&str, &str)],
+    extra: &[&str],
+) -> (bool, String, Option<telescopic::sweep::SweepTable>) {
+    let out = dir.join("r.csv");
+    let _ = std::fs::remove_file(&out);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_telescopic"));
+    cmd.args([
+        "sweep",
+        path.to_str().unwrap(),
+        "--shard",
+        "auto",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    cmd.args(extra);
+    for v in [
+        "SLURM_ARRAY_TASK_ID",
+        "SLURM_ARRAY_TASK_MIN",
+        "SLURM_ARRAY_TASK_STEP",
+        "SLURM_ARRAY_TASK_COUNT",
+        "JOB_COMPLETION_INDEX",
+    ] {
+        cmd.env_remove(v);
+    }
+    cmd.envs(vars.iter().copied());
+    let o = cmd.output().unwrap();
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+        read_table(&out).ok(),
+    )
+}
+
 #[test]
 fn shard_auto_reads_the_job_array_variables() {
     let dir = scratch("sweep-auto");
@@ -566,36 +611,8 @@ fn shard_auto_reads_the_job_array_variables() {
         "adams-clearance",
         "set = [\"time.end=0.1\"]\n[grid]\n\"masses.load\" = [1.0, 2.0, 3.0, 4.0, 5.0]\n",
     );
-    let run = |vars: &[(&str, &str)], extra: &[&str]| {
-        let out = dir.join("r.csv");
-        let _ = std::fs::remove_file(&out);
-        let mut cmd = Command::new(env!("CARGO_BIN_EXE_telescopic"));
-        cmd.args([
-            "sweep",
-            path.to_str().unwrap(),
-            "--shard",
-            "auto",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        cmd.args(extra);
-        for v in [
-            "SLURM_ARRAY_TASK_ID",
-            "SLURM_ARRAY_TASK_MIN",
-            "SLURM_ARRAY_TASK_STEP",
-            "SLURM_ARRAY_TASK_COUNT",
-            "JOB_COMPLETION_INDEX",
-        ] {
-            cmd.env_remove(v);
-        }
-        cmd.envs(vars.iter().copied());
-        let o = cmd.output().unwrap();
-        (
-            o.status.success(),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
-            read_table(&out).ok(),
-        )
-    };
+    let run =
+        |vars: &[(&str, &str)], extra: &[&str]| sweep_with_variables(&dir, &path, vars, extra);
     // a Slurm array --array=3-4: task 4 is shard 1 of 2
     let (ok, err, table) = run(
         &[

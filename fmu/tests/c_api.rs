@@ -264,13 +264,27 @@ fn a_parameter_is_a_set_and_a_bad_one_is_an_error_naming_the_field() {
         fmi2FreeInstance(c);
 
         // a description from another scene: no instance, and the logger says why
+        refuses_another_scenes_description(&resources, &functions);
+        // null instances are errors, not crashes
+        assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 1), ERROR);
+        fmi2FreeInstance(std::ptr::null_mut());
+    }
+}
+
+/// `fmi2Instantiate` with a GUID that is not the scene's: no instance, the GUID named to the
+/// logger.
+///
+/// # Safety
+/// Calls the FMI functions with valid pointers only.
+unsafe fn refuses_another_scenes_description(resources: &Path, functions: &CallbackFunctions) {
+    unsafe {
         MESSAGES.lock().unwrap().clear();
         let c = fmi2Instantiate(
             c"wrong".as_ptr(),
             ffi::CO_SIMULATION,
             c"{0}".as_ptr(),
-            uri(&resources).as_ptr(),
-            &functions,
+            uri(resources).as_ptr(),
+            functions,
             0,
             0,
         );
@@ -282,9 +296,6 @@ fn a_parameter_is_a_set_and_a_bad_one_is_an_error_naming_the_field() {
                 .iter()
                 .any(|(_, m)| m.contains("GUID"))
         );
-        // null instances are errors, not crashes
-        assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 1), ERROR);
-        fmi2FreeInstance(std::ptr::null_mut());
     }
 }
 
