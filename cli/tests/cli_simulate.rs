@@ -566,3 +566,62 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
         "clap refuses --modes-as-given without --accuracy"
     );
 }
+
+#[test]
+fn the_json_summary_is_the_runs_and_agrees_with_the_text_summary_and_the_csv() {
+    let dir = scratch("json-summary");
+    let csv = dir.join("run.csv");
+    let out = telescopic(&[
+        "simulate",
+        "scenes/adams-clearance.toml",
+        "--set",
+        "time.end=1",
+        "--json",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // the same run as the text summary on stderr and the CSV
+    let text = v["text"].as_str().unwrap();
+    assert!(err.contains(text), "{err}\nagainst\n{text}");
+    let steps = v["steps"].as_u64().unwrap();
+    let switches = v["switches"].as_u64().unwrap();
+    assert!(
+        text.contains(&format!("steps {steps} "))
+            && text.contains(&format!("contact switches {switches},")),
+        "{text}"
+    );
+    let rows = std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .count()
+        - 1;
+    assert_eq!(v["samples"].as_u64().unwrap() as usize, rows);
+    assert_eq!(v["method"], "exact");
+    assert_eq!(v["modes"], serde_json::json!([5, 5]));
+    // the error budget: its total is its two parts
+    let e = &v["error"];
+    let (integration, truncation) = (
+        e["integration_m"].as_f64().unwrap(),
+        e["truncation_m"].as_f64().unwrap(),
+    );
+    let total = e["total_m"].as_f64().unwrap();
+    assert!(
+        (total - (integration + truncation)).abs() <= 1e-12 * total,
+        "{e}"
+    );
+    assert_eq!(e["window_end"], "first-switch");
+    assert!(
+        e["statistics"]["rms-tip-rel"].as_array().unwrap().len() == 2,
+        "{e}"
+    );
+    // the CSV needs a file of its own
+    fails_with(
+        &["simulate", "scenes/adams-clearance.toml", "--json"],
+        &["--out"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -60,29 +60,7 @@ fn simulation_data<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Simulatio
     let flat: Vec<f64> = traj.rows.iter().flatten().copied().collect();
     let array = Array2::from_shape_vec((traj.rows.len(), width), flat)
         .map_err(|e| crate::errors::TelescopicError::new_err(e.to_string()))?;
-    let s = &traj.stats;
-    let summary = PyDict::new(py);
-    summary.set_item("scene", &sim.scene)?;
-    summary.set_item("model", &sim.model)?;
-    summary.set_item("method", sim.plan.method.name())?;
-    summary.set_item("how", &sim.plan.how)?;
-    summary.set_item("rtol", sim.plan.settings.rtol)?;
-    summary.set_item("atol", sim.plan.settings.atol)?;
-    summary.set_item("steps", s.steps)?;
-    summary.set_item("rejected", s.rejected)?;
-    summary.set_item("rhs_evaluations", s.rhs_evals)?;
-    summary.set_item("jacobian_evaluations", s.jacobian_evals)?;
-    summary.set_item("factorizations", s.factorizations)?;
-    summary.set_item("matrix_exponentials", s.exponentials)?;
-    summary.set_item("long_steps", s.long_steps)?;
-    summary.set_item("switches", s.switches)?;
-    summary.set_item("wall_s", s.wall.as_secs_f64())?;
-    summary.set_item("samples", traj.rows.len())?;
-    summary.set_item("specializations", sim.specializations.clone())?;
-    summary.set_item("text", sim.summary())?;
-    summary.set_item("modes", sim.modes.clone())?;
-    summary.set_item("basis", sim.basis.word())?;
-    summary.set_item("error", error_dict(py, sim)?)?;
+    let summary = summary_dict(py, sim)?;
     Ok((
         traj.names.clone(),
         PyArray2::from_owned_array(py, array),
@@ -90,46 +68,25 @@ fn simulation_data<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Simulatio
     ))
 }
 
-/// The error budget as a dict (`None` when not estimated): `window_end_s`, `window_end`
-/// (`span-end` or `first-switch`), `integration_m`, `integration_statistics` (relative),
-/// `truncation_m`, `total_m`,
-/// `refined_modes`, `moments` (`{column: relative}`), `statistics` (`{name: (value,
-/// relative)}`), `missing` (why the truncation part is missing, or `None`).
-fn error_dict<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Option<Bound<'py, PyDict>>> {
-    let Some(b) = &sim.error else {
-        return Ok(None);
-    };
-    let out = PyDict::new(py);
-    out.set_item("window_end_s", b.window.end)?;
-    out.set_item(
-        "window_end",
-        match b.window.reason {
-            telescopic::run::error_budget::WindowEnd::SpanEnd => "span-end",
-            telescopic::run::error_budget::WindowEnd::FirstSwitch => "first-switch",
-        },
-    )?;
-    out.set_item("integration_m", b.integration_m)?;
-    out.set_item("integration_statistics", b.integration_statistics)?;
-    out.set_item("truncation_m", b.truncation.as_ref().map(|t| t.tip_m))?;
-    out.set_item("total_m", b.total_m())?;
-    out.set_item(
-        "refined_modes",
-        b.truncation.as_ref().map(|t| t.refined_modes.clone()),
-    )?;
-    let moments = PyDict::new(py);
-    let statistics = PyDict::new(py);
-    if let Some(t) = &b.truncation {
-        for m in &t.moments {
-            moments.set_item(&m.column, m.relative)?;
-        }
-        for s in &t.statistics {
-            statistics.set_item(s.statistic.name(), (s.value, s.relative))?;
+/// The run's summary ([`telescopic::run::RunSummary`]) as a dict with the same keys; each
+/// statistic of the error budget as a tuple `(value, relative)`.
+fn summary_dict<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Bound<'py, PyDict>> {
+    let json = sim.run_summary().to_json();
+    let summary = py
+        .import("json")?
+        .call_method1("loads", (json,))?
+        .cast_into::<PyDict>()?;
+    if let Some(error) = summary.get_item("error")?
+        && let Ok(error) = error.cast::<PyDict>()
+        && let Some(statistics) = error.get_item("statistics")?
+    {
+        let statistics = statistics.cast::<PyDict>()?;
+        for (name, pair) in statistics.iter() {
+            let pair: (f64, f64) = pair.extract()?;
+            statistics.set_item(name, pair)?;
         }
     }
-    out.set_item("moments", moments)?;
-    out.set_item("statistics", statistics)?;
-    out.set_item("missing", b.missing.clone())?;
-    Ok(Some(out))
+    Ok(summary)
 }
 
 /// Simulates a scene (see `telescopic.simulate`).

@@ -3,7 +3,8 @@
 //! checks before a run starts ([`budget`], [`memory`]), the prepared run that integrates it
 //! ([`prepared`]), the outputs at stations ([`stress`]), the samples ([`trajectory`]), the
 //! error budget ([`error_budget`]), the search for a model size and method that meets a
-//! total accuracy ([`total_accuracy`]), and the finished run ([`simulation`]).
+//! total accuracy ([`total_accuracy`]), the finished run ([`simulation`]) and its summary as
+//! data ([`summary`]).
 //!
 //! ```
 //! use telescopic::run::{SimulationOptions, simulate_scene};
@@ -27,6 +28,7 @@ pub mod prepared;
 pub mod simulate;
 pub mod simulation;
 pub mod stress;
+pub mod summary;
 pub mod total_accuracy;
 pub mod trajectory;
 
@@ -35,4 +37,5 @@ pub use plan::{Plan, plan};
 pub use prepared::PreparedRun;
 pub use simulate::{estimate_error, simulate_scene};
 pub use simulation::{Simulation, write_csv};
+pub use summary::{ErrorSummary, RunSummary};
 pub use trajectory::Trajectory;

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use telescopic::Scene;
 use telescopic::analysis::metrics::drive_stop;
 use telescopic::control::{Controller, compare_with_open_loop};
+use telescopic::io::output::write_to;
 use telescopic::plot::{Curve, Marks, Role, clearance_label, plot};
 use telescopic::run::models::ModelChoice;
 use telescopic::run::stress::Station;
@@ -67,6 +68,10 @@ pub struct SimulateArgs {
     /// default: standard output.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Also print the run summary as JSON on standard output (the keys of Python's
+    /// `summary`; the CSV then goes to --out)
+    #[arg(long, requires = "out")]
+    pub json: bool,
     /// Draw the paper's figures for this scene to an SVG or PNG file (by extension).
     #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub plot: Option<PathBuf>,
@@ -105,7 +110,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     if let (Some(plot), Some(out)) = (&args.plot, &args.out) {
         telescopic::io::output::check_not_an_input("--plot", plot, &[out])?;
     }
-    if args.out.is_none() {
+    if args.out.is_none() || args.json {
         telescopic::io::output::check_stdout_open()?;
     }
     let scene = args.scene.load()?;
@@ -137,6 +142,11 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     };
     write_csv(&run, args.out.as_deref())?;
     eprintln!("{}", run.summary());
+    if args.json {
+        write_to(None, |w| {
+            w.write_all(run.run_summary().to_json().as_bytes())
+        })?;
+    }
     if let Some(p) = &args.out {
         eprintln!("wrote {} ({} rows)", p.display(), run.trajectory.rows.len());
     }
