@@ -8,11 +8,9 @@ use std::path::{Path, PathBuf};
 use telescopic::fmu::held::HeldDrive;
 use telescopic::fmu::{Causality, FmuVariables, SCENE_RESOURCE, scene_guid};
 use telescopic::run::models::{ModelChoice, ModelRegistry};
-use telescopic::run::{SimulationOptions, plan};
+use telescopic::run::{HeldInputStepper, SimulationOptions, plan};
 use telescopic::runtime::sensors::Sensors;
-use telescopic::runtime::{
-    Drive, Method, Model, Profile, Scene, Settings, TimeSpan, rest_state, simulate,
-};
+use telescopic::runtime::{Drive, Model, Profile, Scene, rest_state};
 
 /// What an instance is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -40,8 +38,8 @@ enum Phase {
 struct Running {
     model: HeldDrive,
     sensors: Sensors,
-    method: Method,
-    settings: Settings,
+    /// Advances the model with its input held over a communication step.
+    stepper: HeldInputStepper,
     /// `[z, zd]`.
     y: Vec<f64>,
     ydot: Vec<f64>,
@@ -51,8 +49,6 @@ struct Running {
     half_band: f64,
     /// The model's own outputs (the sensors follow them).
     own_outputs: usize,
-    /// The state at the end of a step, written by the integrator's observer.
-    last: Vec<f64>,
 }
 
 /// One FMU instance.
@@ -150,34 +146,18 @@ impl Instance {
         let mut planned = self.scene.clone();
         planned.params.drive = planned_drive;
         let plan = plan(&planned, &SimulationOptions::default()).map_err(|e| e.to_string())?;
-        let span = self.scene.time;
-        let known_step_cap = if plan.settings.step_cap {
-            telescopic::runtime::integrate::stability::closed_contact_step_cap(
-                &model,
-                plan.method,
-                &span,
-            )
-        } else {
-            None
-        };
-        let settings = Settings {
-            exact_from: None,
-            known_step_cap,
-            ..plan.settings
-        };
+        let stepper = HeldInputStepper::new(&plan, &model, &self.scene.time);
         let n = model.dof();
         let nc = model.layout().contact_count();
         let outputs = self.vars.outputs;
         let own_outputs = model.output_names().len();
         self.running = Some(Running {
             own_outputs,
-            last: vec![0.0; 2 * n],
             sensors: Sensors::new(&model),
             y: rest_state(&model, self.time),
             half_band: self.scene.params.contact.half_band(),
             model,
-            method: plan.method,
-            settings,
+            stepper,
             ydot: vec![0.0; 2 * n],
             outputs: vec![0.0; outputs],
             xi: vec![0.0; nc],
@@ -307,23 +287,9 @@ impl Instance {
             return Err(format!("the communication step must be > 0 s (got {h})"));
         }
         let r = self.running("fmi2DoStep")?;
-        let span = TimeSpan {
-            start: t,
-            end: t + h,
-            sample: h,
-        };
-        let last = &mut r.last;
-        simulate(
-            &r.model,
-            &r.y,
-            &span,
-            r.method,
-            &r.settings,
-            &mut |_, s, _| last.copy_from_slice(s),
-            None,
-        )
-        .map_err(|e| format!("the step from t = {t} s to {} s failed: {e}", t + h))?;
-        r.y.copy_from_slice(&r.last);
+        r.stepper
+            .advance(&r.model, &mut r.y, t, h)
+            .map_err(|e| format!("the step from t = {t} s to {} s failed: {e}", t + h))?;
         self.time = t + h;
         Ok(())
     }

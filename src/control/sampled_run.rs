@@ -7,11 +7,11 @@ use super::sampled::{DiscreteController, SampledController};
 use super::schema::Controller;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
-use crate::run::{Simulation, Trajectory};
+use crate::run::{HeldInputStepper, Simulation, Trajectory};
 use crate::{Error, Result};
 use rand::{Rng, SeedableRng};
 use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
-use telescopic_runtime::{Model, RunStats, Scene, TimeSpan, rest_state, simulate};
+use telescopic_runtime::{Model, RunStats, Scene, TimeSpan, rest_state};
 
 /// A sampled run: the simulation and the force the controller commanded at every tick.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,14 +59,20 @@ pub fn run_sampled(
     let ticks = ((span.end - span.start) / period).round() as usize;
     let (n, mut y) = (model.dof(), rest_state(&model, span.start));
     let mut ydot = vec![0.0; 2 * n];
-    // the state at the end of each tick, written by the integrator's observer
-    let mut last = y.clone();
     let mut out = vec![0.0; names.len()];
     let mut measurement = vec![0.0; measured.len()];
     let mut rows = Vec::with_capacity(ticks / every + 1);
     let mut forces = Vec::with_capacity(ticks);
     let mut stats = RunStats::default();
-    let (method, settings) = tick_settings(&run, &model, &span)?;
+    // a controlled scene is neither linear nor time-invariant: no exact stepping
+    if run.plan.method == telescopic_runtime::Method::Exact {
+        return Err(Error::option(
+            "SimulationOptions::method",
+            "exact stepping needs a linear time-invariant scene; with a controller, take \
+             dopri5 or another integrator",
+        ));
+    }
+    let mut stepper = HeldInputStepper::new(&run.plan, &model, &span);
     reporter.start(&format!(
         "simulating {} with a sampled controller",
         scene.name
@@ -92,25 +98,12 @@ pub fn run_sampled(
         let force = controller.step(t, &measurement, a);
         forces.push((t, force));
         // one sample of computation delay: the force acts from the next tick on
-        let tick = TimeSpan {
-            start: t,
-            end: t + period,
-            sample: period,
-        };
-        let step_stats = simulate(
-            &model,
-            &y,
-            &tick,
-            method,
-            &settings,
-            &mut |_, s, _| last.copy_from_slice(s),
-            None,
-        )
-        .map_err(|error| Error::Simulation {
-            scene: scene.name.clone(),
-            error,
-        })?;
-        y.copy_from_slice(&last);
+        let step_stats = stepper
+            .advance(&model, &mut y, t, period)
+            .map_err(|error| Error::Simulation {
+                scene: scene.name.clone(),
+                error,
+            })?;
         model.law().hold(force);
         stats.add(&step_stats);
         reporter.progress((k + 1) as f64 / ticks as f64);
@@ -123,40 +116,6 @@ pub fn run_sampled(
         simulation: Simulation { plan, ..simulation },
         forces,
     })
-}
-
-/// The method and settings of every tick's integration: `run`'s, with the step cap of the
-/// closed contacts computed once for the run (not per tick).
-///
-/// # Errors
-/// [`Error::Option`] for exact stepping, which a controlled scene cannot take.
-fn tick_settings(
-    run: &PreparedRun<'_>,
-    model: &dyn Model,
-    span: &TimeSpan,
-) -> Result<(telescopic_runtime::Method, telescopic_runtime::Settings)> {
-    // a controlled scene is neither linear nor time-invariant: no exact stepping
-    let method = run.plan.method;
-    if method == telescopic_runtime::Method::Exact {
-        return Err(Error::option(
-            "SimulationOptions::method",
-            "exact stepping needs a linear time-invariant scene; with a controller, take \
-             dopri5 or another integrator",
-        ));
-    }
-    // dop853's step cap is a bisection of eigenvalue problems: per tick it made a sampled
-    // run 25 times slower
-    let known_step_cap = if run.plan.settings.step_cap {
-        telescopic_runtime::integrate::stability::closed_contact_step_cap(model, method, span)
-    } else {
-        None
-    };
-    let settings = telescopic_runtime::Settings {
-        exact_from: None,
-        known_step_cap,
-        ..run.plan.settings
-    };
-    Ok((method, settings))
 }
 
 /// The measured outputs (`out` at the columns `measured`) with Gaussian noise of standard

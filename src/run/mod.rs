@@ -1,5 +1,5 @@
 //! One simulation, from the scene to every sample: the options ([`options`]), the resolved
-//! method ([`plan`]), the model chosen for the scene's configuration ([`models`]), the
+//! method ([`mod@plan`]), the model chosen for the scene's configuration ([`models`]), the
 //! checks before a run starts ([`budget`], [`memory`]), the prepared run that integrates it
 //! ([`prepared`]), the outputs at stations ([`stress`]), the samples ([`trajectory`]), the
 //! error budget ([`error_budget`]), the search for a model size and method that meets a
@@ -20,6 +20,7 @@
 
 pub mod budget;
 pub mod error_budget;
+pub mod held;
 pub mod memory;
 pub mod models;
 pub mod options;
@@ -32,6 +33,7 @@ pub mod summary;
 pub mod total_accuracy;
 pub mod trajectory;
 
+pub use held::HeldInputStepper;
 pub use options::{MethodChoice, SimulationOptions};
 pub use plan::{Plan, plan};
 pub use prepared::PreparedRun;

@@ -40,7 +40,7 @@ pub struct PreparedRun<'s> {
 }
 
 impl<'s> PreparedRun<'s> {
-    /// Resolves `options` on `scene` ([`plan`]) and chooses the model from
+    /// Resolves `options` on `scene` ([`plan()`]) and chooses the model from
     /// `options.models` by `options.model`; a fallback note goes to `reporter`.
     ///
     /// # Errors

@@ -127,7 +127,7 @@ impl Simulation {
 /// Writes the CSV of `simulation` to `path` (atomically) or to standard output.
 ///
 /// # Errors
-/// [`Error::Write`] or [`Error::Stdout`].
+/// [`crate::Error::Write`] or [`crate::Error::Stdout`].
 pub fn write_csv(simulation: &Simulation, path: Option<&Path>) -> Result<()> {
     crate::io::output::write_to(path, |w| simulation.write_csv(w))
 }
