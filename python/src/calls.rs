@@ -82,8 +82,10 @@ fn summary_dict<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Bound<'py, P
     {
         let statistics = statistics.cast::<PyDict>()?;
         for (name, pair) in statistics.iter() {
-            let pair: (f64, f64) = pair.extract()?;
-            statistics.set_item(name, pair)?;
+            let pair: Vec<f64> = pair.extract()?;
+            if let [value, relative] = pair[..] {
+                statistics.set_item(name, (value, relative))?;
+            }
         }
     }
     Ok(summary)

@@ -15,7 +15,7 @@ def test_simulate_equals_the_cli_csv(cli, tmp_path):
     scene = telescopic.Scene.load("scenes/case-study.toml", set={"time.end": 2.0})
     sim = telescopic.simulate(scene)
     csv = tmp_path / "run.csv"
-    cli("simulate", "scenes/case-study.toml", "--set", "time.end=2", "--out", str(csv))
+    out = cli("simulate", "scenes/case-study.toml", "--set", "time.end=2", "--out", str(csv), "--json")
     theirs = pd.read_csv(csv, comment="#")
     assert list(theirs.columns) == ["t", *sim.columns]
     for name in theirs.columns:
@@ -32,6 +32,12 @@ def test_simulate_equals_the_cli_csv(cli, tmp_path):
     written = float(re.search(r"truncation ([0-9.e+-]+) m", header).group(1))
     assert abs(written - error["truncation_m"]) <= 0.05 * error["truncation_m"], header
     assert set(error["statistics"]) >= {"rms-tip-rel", "peak-tip-rel", "contact-switches"}
+    assert all(isinstance(v, tuple) and len(v) == 2 for v in error["statistics"].values())
+    # one summary behind both faces: the command's JSON has the same keys and the same run
+    theirs_summary = json.loads(out.stdout)
+    assert set(theirs_summary) == set(sim.summary)
+    for key in ("method", "steps", "rhs_evaluations", "switches", "samples", "modes", "basis"):
+        assert theirs_summary[key] == sim.summary[key], key
 
 
 def test_a_scene_from_text_and_from_its_file_agree():
