@@ -73,4 +73,4 @@ pub use params::{Basis, Drive, ForceFlow, ModelParams, SectionParams};
 pub use profile::{Profile, ShapedProfile};
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
 pub use shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction, mode_root};
-pub use specialize::{auto_method, auto_plan, specializations};
+pub use specialize::{Specialization, auto_method, auto_plan, specializations};

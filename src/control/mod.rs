@@ -107,7 +107,7 @@ pub fn simulate_controlled(
     // a controlled scene is not linear time-invariant: exact stepping never applies
     simulation
         .specializations
-        .retain(|s| !s.contains("exact stepping"));
+        .retain(|s| !s.is_exact_stepping());
     Ok(simulation)
 }
 

@@ -21,7 +21,7 @@ pub struct Simulation {
     /// The method and settings.
     pub plan: Plan,
     /// The specializations that applied, one phrase each.
-    pub specializations: Vec<String>,
+    pub specializations: Vec<telescopic_runtime::Specialization>,
     /// The samples and the run's statistics.
     pub trajectory: Trajectory,
     /// Modes per section of the model that ran.
@@ -60,7 +60,11 @@ impl Simulation {
         let special = if self.specializations.is_empty() {
             "none".to_string()
         } else {
-            self.specializations.join("; ")
+            self.specializations
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join("; ")
         };
         let stress = match crate::run::stress::StressEnvelope::of(&self.trajectory) {
             Some(envelope) => format!("\n{}", envelope.describe()),

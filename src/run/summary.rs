@@ -101,7 +101,11 @@ impl Simulation {
             switches: s.switches,
             wall_s: s.wall.as_secs_f64(),
             samples: self.trajectory.rows.len(),
-            specializations: self.specializations.clone(),
+            specializations: self
+                .specializations
+                .iter()
+                .map(ToString::to_string)
+                .collect(),
             modes: self.modes.clone(),
             basis: self.basis.word().to_string(),
             error: self.error.as_ref().map(ErrorSummary::of),
