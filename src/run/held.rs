@@ -36,11 +36,6 @@ impl HeldInputStepper {
         }
     }
 
-    /// The method of every step.
-    pub fn method(&self) -> Method {
-        self.method
-    }
-
     /// Advances the state `y` of `model` from `t` by `h` (s) with its input held; what the
     /// step did.
     ///
