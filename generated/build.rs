@@ -5,8 +5,14 @@
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     #[cfg(feature = "regenerate")]
-    telescopic_codegen::Builder::new()
-        .models_file("models.toml")
-        .compile()
-        .expect("the models of generated/models.toml generate");
+    {
+        println!("cargo:rerun-if-env-changed=TELESCOPIC_SYMBOLICA_LOCK");
+        let mut builder = telescopic_codegen::Builder::new().models_file("models.toml");
+        if let Some(lock) = std::env::var_os("TELESCOPIC_SYMBOLICA_LOCK") {
+            builder = builder.symbolica_lock(lock);
+        }
+        builder
+            .compile()
+            .expect("the models of generated/models.toml generate");
+    }
 }

@@ -4,6 +4,8 @@
 
 use std::path::PathBuf;
 
+use crate::OptionName;
+
 /// Result of the library's functions.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -14,12 +16,48 @@ pub enum Error {
     #[error(transparent)]
     Scene(#[from] telescopic_runtime::SceneError),
     /// An option is out of its range: names the option and the rule.
-    #[error("{option}: {rule}")]
+    #[error("{option}: {rule}{}", see.map_or(String::new(), |o| format!(" (see {o})")))]
     Option {
-        /// The option, as the CLI spells it (e.g. `--rtol`).
-        option: String,
+        /// The option (each face spells it its own way: a flag, an argument).
+        option: OptionName,
         /// The rule and the value given.
         rule: String,
+        /// Another option that does what was likely meant, or gives what is missing.
+        see: Option<OptionName>,
+    },
+    /// An input file (a controller, a sweep file, a sweep's results) is unreadable or breaks
+    /// a rule: the message names the file, the field and the rule.
+    #[error("{0}")]
+    Input(String),
+    /// An output path cannot be written (checked before any work).
+    #[error("{}: {rule}", path.display())]
+    Destination {
+        /// The path.
+        path: PathBuf,
+        /// Why it cannot be written.
+        rule: String,
+    },
+    /// The work would need more memory than the budget allows (checked before any work).
+    #[error(
+        "{subject}: {what} would take about {} of memory, more than the budget of {}; change \
+         {remedy}, or raise the memory budget",
+        crate::io::size::human(*bytes),
+        crate::io::size::human(*budget)
+    )]
+    OverMemoryBudget {
+        /// The option whose value asks for the work, if one does (else the scene's or the
+        /// input's size does).
+        option: Option<OptionName>,
+        /// The scene or the input the work belongs to.
+        subject: String,
+        /// What would be held.
+        what: String,
+        /// Its size (bytes).
+        bytes: u64,
+        /// The budget (bytes).
+        budget: u64,
+        /// What to change to need less.
+        remedy: String,
     },
     /// No model could be prepared for the scene.
     #[error("{0}")]
@@ -82,8 +120,21 @@ pub enum Error {
     #[error("writing to standard output: {0}")]
     Stdout(std::io::Error),
     /// A multi-run command was stopped between runs (Ctrl-C); what it finished is kept.
-    #[error("interrupted: {0}")]
-    Interrupted(String),
+    #[error(
+        "interrupted: {finished} of {total} runs done, {}",
+        match kept {
+            Some(path) => format!("kept in {}; resuming the sweep finishes it", path.display()),
+            None => "not kept (the output is a stream)".into(),
+        }
+    )]
+    Interrupted {
+        /// Runs finished.
+        finished: usize,
+        /// Runs in all.
+        total: usize,
+        /// The work file that keeps the finished runs (none when the output is a stream).
+        kept: Option<PathBuf>,
+    },
     /// One run of a multi-run command panicked: a bug in telescopic, recorded as that run's
     /// error so the others go on.
     #[error("the run panicked (a bug in telescopic; please report it with the run's values): {0}")]
@@ -104,11 +155,26 @@ impl Error {
         Error::Panicked(what)
     }
 
+    /// An [`Error::Input`] for `subject` (a file, or a field of one) breaking `rule`.
+    pub fn input(subject: impl std::fmt::Display, rule: impl std::fmt::Display) -> Self {
+        Error::Input(format!("{subject}: {rule}"))
+    }
+
     /// An [`Error::Option`] for `option` breaking `rule`.
-    pub fn option(option: &str, rule: impl Into<String>) -> Self {
+    pub fn option(option: OptionName, rule: impl Into<String>) -> Self {
         Error::Option {
-            option: option.to_string(),
+            option,
             rule: rule.into(),
+            see: None,
+        }
+    }
+
+    /// An [`Error::Option`] for `option` breaking `rule`, pointing to the option `see`.
+    pub fn option_see(option: OptionName, rule: impl Into<String>, see: OptionName) -> Self {
+        Error::Option {
+            option,
+            rule: rule.into(),
+            see: Some(see),
         }
     }
 }

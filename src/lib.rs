@@ -46,13 +46,14 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+mod cancel;
 pub mod control;
 mod error;
 pub mod fmu;
-pub mod interrupt;
 pub mod io;
 pub mod linear;
 mod named;
+mod option_name;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod report;
@@ -60,7 +61,9 @@ pub mod run;
 pub mod sweep;
 mod wrapped;
 
+pub use cancel::Cancel;
 pub use error::{Error, Result};
+pub use option_name::OptionName;
 pub use report::{Reporter, Silent};
 pub use telescopic_runtime as runtime;
 pub use telescopic_runtime::Scene;

@@ -7,7 +7,7 @@ mod common;
 
 use common::references::{References, scene};
 use telescopic::Silent;
-use telescopic::run::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};
+use telescopic::run::{MethodChoice, MethodReason, SimulationOptions, Trajectory, simulate_scene};
 use telescopic::runtime::Method;
 use telescopic::runtime::accuracy::{MEASURED, SceneKind};
 
@@ -106,7 +106,17 @@ fn accuracy_picks_the_table_s_run_and_meets_it() {
     // 8.1e-10 m), the first the cheaper
     assert_eq!(run.plan.method, Method::Dop853Imex);
     assert_eq!(run.plan.settings.rtol, 1e-7);
-    assert!(run.plan.how.contains("accuracy 3e-9 m"), "{}", run.plan.how);
+    assert!(
+        matches!(&run.plan.reason, MethodReason::Accuracy(p) if p.accuracy_m == 3e-9),
+        "{:?}",
+        run.plan.reason
+    );
+    assert!(
+        run.plan
+            .reason
+            .to_string()
+            .starts_with("accuracy 3e-9 m: dop853-imex at rtol 1e-7")
+    );
     let references = References::of(&case);
     let worst = references.worst_in_horizon(&run.trajectory);
     assert!(worst <= 3e-9, "{worst:e} m");

@@ -323,7 +323,8 @@ fn modes_as_given_keeps_the_scenes_model_and_says_whether_the_whole_error_is_met
     .unwrap_err();
     assert!(
         e.to_string().contains("SimulationOptions::accuracy")
-            && e.to_string().contains("modes_as_given"),
+            && e.to_string()
+                .contains("see SimulationOptions::modes_as_given"),
         "{e}"
     );
 }

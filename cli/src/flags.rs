@@ -1,126 +1,178 @@
-//! The library's errors name options as the library spells them (`SimulationOptions::dt`,
-//! `Settings::rtol`, `override a=b`); the command line speaks of its flags. This table is
-//! the one place that knows both.
+//! The command line's names for the library's options, and the library's errors told in
+//! them: the one place that knows both spellings.
 
-/// Library spelling -> flag, longest first where one contains another.
-const FLAGS: &[(&str, &str)] = &[
-    ("SimulationOptions::rtol/atol", "--rtol/--atol"),
-    ("SimulationOptions::method", "--method"),
-    ("SimulationOptions::rtol", "--rtol"),
-    ("SimulationOptions::atol", "--atol"),
-    ("SimulationOptions::dt", "--dt"),
-    ("Settings::rtol/atol", "--rtol/--atol"),
-    ("Settings::dt", "--dt"),
-    ("SweepOptions::resume", "--resume"),
-    ("SweepOptions::out", "--out"),
-    ("resume to keep them", "give --resume to keep them"),
-    ("SweepOptions::jobs", "--jobs"),
-    ("Shard::of_job_array", "--shard auto"),
-    ("give the shard count", "give --shard-count"),
-    ("Shard: ", "--shard: "),
-    ("SweepChart x", "--x"),
-    ("SweepChart y", "--y"),
-    ("SweepChart color", "--color"),
-    ("SweepChart heatmap", "--heatmap"),
-    ("the color column", "the --color column"),
-    (
-        "resume the sweep to finish",
-        "run again with --resume to finish",
-    ),
-    ("or do not resume", "or drop --resume"),
-    ("ShapeErrorsOptions::length", "--length"),
-    ("ShapeErrorsOptions::points", "--points"),
-    ("ConvergeOptions::tol", "--tol"),
-    ("ConvergeOptions::max_modes", "--max-modes"),
-    ("ConvergeOptions::max_contacts", "--max-contacts"),
-    ("SimulationOptions::accuracy", "--accuracy"),
-    ("SimulationOptions::modes_as_given", "--modes-as-given"),
-    ("SimulationOptions::moment_tolerance", "--moment-tolerance"),
-    (
-        "SimulationOptions::statistics_tolerance",
-        "--statistics-tolerance",
-    ),
-    ("DesignOptions::kind", "--controller"),
-    ("DesignOptions::force_limit", "--force-limit"),
-    ("DesignOptions::tip_scale", "--tip-scale"),
-    ("DesignOptions::vehicle_scale", "--vehicle-scale"),
-    ("DesignOptions::sensor_noises", "--measurement-noise"),
-    ("DesignOptions::sensors", "--sensors"),
-    ("DesignOptions::estimator", "--estimator"),
-    ("DesignOptions::rate_hz", "--rate"),
-    ("DesignOptions::law", "--law"),
-    ("DesignOptions::added_damping", "--added-damping"),
-    (
-        "DesignOptions::process_noise_floor",
-        "--process-noise-floor",
-    ),
-    ("DesignOptions::sensor_noise", "--sensor-noise"),
-    ("DesignOptions::force_noise", "--force-noise"),
-    ("DesignOptions::grid_points", "--grid-points"),
-    ("DesignOptions::design_modes", "--design-modes"),
-    ("WorkPrecisionOptions::repeat", "--repeat"),
-    ("WorkPrecisionOptions::methods", "--methods"),
-    ("WorkPrecisionOptions::rtols", "--rtols"),
-    ("LinearExport format latex", "--format latex"),
-    ("LinearizeOptions::at_time", "--at-time"),
-    ("LinearizeOptions::positions", "--positions"),
-    ("LinearizeOptions::grid", "--grid"),
-    ("SimulationOptions::stations", "--stations"),
-    ("BodeOptions::inputs", "--inputs"),
-    ("BodeOptions::outputs", "--outputs"),
-    ("BodeOptions::from_hz", "--from"),
-    ("BodeOptions::to_hz", "--to"),
-    ("BodeOptions::points", "--points"),
-    ("LinearizeOptions::discrete", "--discrete"),
-    ("fmu library", "--library"),
-    ("ModesOptions::at", "--at"),
-    ("ModesOptions::shapes", "--shapes"),
-    ("model choice `generated`", "--model generated"),
-    ("(with overrides ", "(with --set "),
-    ("override ", "--set "),
-    ("the stability analysis", "`telescopic stability`"),
-    ("raise the memory budget", "raise TELESCOPIC_MEMORY_BUDGET"),
-    ("controller: ", "--controller: "),
-];
+use telescopic::OptionName;
 
-/// `message` with the library's option names replaced by the command's flags.
-pub fn in_flags(message: &str) -> String {
-    let mut out = String::with_capacity(message.len());
-    let mut rest = message;
-    let mut word_start = true;
-    'scan: while !rest.is_empty() {
-        for (library, flag) in FLAGS.iter().filter(|_| word_start) {
-            if rest.starts_with(library) {
-                out.push_str(flag);
-                rest = &rest[library.len()..];
-                word_start = !flag.ends_with(|c: char| c.is_alphanumeric() || c == '_');
-                continue 'scan;
-            }
-        }
-        let c = rest.chars().next().expect("not empty");
-        // a name starts a word: `override ` inside `no override ` is prose
-        word_start = !(c.is_alphanumeric() || c == '_');
-        out.push(c);
-        rest = &rest[c.len_utf8()..];
+/// The flag (or environment variable) that sets `option`.
+pub fn flag(option: OptionName) -> &'static str {
+    use OptionName as O;
+    match option {
+        O::Method => "--method",
+        O::Tolerances => "--rtol/--atol",
+        O::Dt => "--dt",
+        O::Accuracy => "--accuracy",
+        O::MomentTolerance => "--moment-tolerance",
+        O::StatisticsTolerance => "--statistics-tolerance",
+        O::Stations => "--stations",
+        O::ModesAsGiven => "--modes-as-given",
+        O::Model => "--model",
+        O::MemoryBudget => crate::MEMORY_BUDGET_VARIABLE,
+        O::Controller | O::ControllerKind => "--controller",
+        O::DesignModes => "--design-modes",
+        O::ForceLimit => "--force-limit",
+        O::TipScale => "--tip-scale",
+        O::VehicleScale => "--vehicle-scale",
+        O::Sensors => "--sensors",
+        O::SensorNoises => "--measurement-noise",
+        O::Estimator => "--estimator",
+        O::RateHz => "--rate",
+        O::AddedDamping => "--added-damping",
+        O::SensorNoise => "--sensor-noise",
+        O::ForceNoise => "--force-noise",
+        O::ProcessNoiseFloor => "--process-noise-floor",
+        O::GridPoints => "--grid-points",
+        O::Jobs => "--jobs",
+        O::Resume => "--resume",
+        O::SweepOut => "--out",
+        O::Shard => "--shard auto",
+        O::ShardCount => "--shard-count",
+        O::ChartX => "--x",
+        O::ChartY => "--y",
+        O::ChartColor => "--color",
+        O::ChartHeatmap => "--heatmap",
+        O::ShapeLength => "--length",
+        O::ShapePoints | O::BodePoints => "--points",
+        O::ConvergeTol => "--tol",
+        O::MaxModes => "--max-modes",
+        O::MaxContacts => "--max-contacts",
+        O::Repeat => "--repeat",
+        O::Methods => "--methods",
+        O::Rtols => "--rtols",
+        O::Sizes => "--modes",
+        O::ModesAt => "--at",
+        O::Shapes => "--shapes",
+        O::LatexFormat => "--format latex",
+        O::AtTime => "--at-time",
+        O::Positions => "--positions",
+        O::Grid => "--grid",
+        O::Discrete => "--discrete",
+        O::BodeLinear => "--grid/--discrete",
+        O::BodeInputs => "--inputs",
+        O::BodeOutputs => "--outputs",
+        O::FromHz => "--from",
+        O::ToHz => "--to",
+        O::FmuLibrary => "--library",
     }
-    out
+}
+
+/// `error` as the command line tells it: contexts, then the library's error with its
+/// options named by their flags and the command's own remedies.
+pub fn describe(error: &anyhow::Error) -> String {
+    let mut parts = Vec::new();
+    for layer in error.chain() {
+        if let Some(e) = layer.downcast_ref::<telescopic::Error>() {
+            parts.push(library_error(e));
+            break; // a library message is whole: its causes are in it
+        }
+        if let Some(e) = layer.downcast_ref::<telescopic::runtime::SceneError>() {
+            parts.push(scene_error(e));
+            break;
+        }
+        parts.push(layer.to_string());
+    }
+    parts.join(": ")
+}
+
+/// A library error with flags for options.
+fn library_error(error: &telescopic::Error) -> String {
+    use telescopic::Error;
+    match error {
+        Error::Option { option, rule, see } => format!(
+            "{}: {rule}{}",
+            flag(*option),
+            see.map_or(String::new(), |o| format!(" (see {})", flag(o)))
+        ),
+        Error::Trial { what, error } => format!("{what}: {}", library_error(error)),
+        Error::Scene(e) => scene_error(e),
+        Error::OverMemoryBudget { option, .. } => {
+            let flag = option.map_or(String::new(), |o| format!("{}: ", flag(o)));
+            format!(
+                "{flag}{error} ({} sets the budget)",
+                crate::MEMORY_BUDGET_VARIABLE
+            )
+        }
+        Error::Interrupted {
+            finished,
+            total,
+            kept: Some(path),
+        } => format!(
+            "interrupted: {finished} of {total} runs done, kept in {}; run again with --resume \
+             to finish",
+            path.display()
+        ),
+        e => e.to_string(),
+    }
+}
+
+/// A scene error with `--set` for an override.
+fn scene_error(error: &telescopic::runtime::SceneError) -> String {
+    match error {
+        telescopic::runtime::SceneError::Override { argument, rule } => {
+            format!("--set {argument}: {rule}")
+        }
+        e => e.to_string(),
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::in_flags;
+    use super::*;
 
     #[test]
-    fn library_names_become_flags_and_prose_stays() {
-        assert_eq!(
-            in_flags("SimulationOptions::dt: must be > 0 (got -1)"),
-            "--dt: must be > 0 (got -1)"
-        );
-        assert_eq!(
-            in_flags("override a=b: no such field; loosen Settings::rtol/atol"),
-            "--set a=b: no such field; loosen --rtol/--atol"
-        );
-        assert_eq!(in_flags("a shard of 3"), "a shard of 3");
-        assert_eq!(in_flags("nooverride x"), "nooverride x");
+    fn option_errors_name_flags_and_contexts_stay() {
+        let e = anyhow::Error::new(telescopic::Error::option(
+            OptionName::Dt,
+            "must be > 0 (got -1)",
+        ))
+        .context("scene a.toml");
+        assert_eq!(describe(&e), "scene a.toml: --dt: must be > 0 (got -1)");
+        let trial = telescopic::Error::Trial {
+            what: "6 modes".into(),
+            error: Box::new(telescopic::Error::option(
+                OptionName::Tolerances,
+                "too tight",
+            )),
+        };
+        assert_eq!(describe(&trial.into()), "6 modes: --rtol/--atol: too tight");
+    }
+
+    #[test]
+    fn every_flag_is_one_the_command_has() {
+        let command = <crate::commands::Cli as clap::CommandFactory>::command();
+        let mut longs = std::collections::BTreeSet::new();
+        collect_longs(&command, &mut longs);
+        for name in OptionName::NAMES {
+            let option: OptionName = name.parse().expect("a name parses back");
+            for spelled in flag(option).split('/') {
+                let name = spelled.split(' ').next().unwrap_or("");
+                if let Some(long) = name.strip_prefix("--") {
+                    assert!(
+                        longs.contains(long),
+                        "{option:?} -> {spelled}: no such flag"
+                    );
+                }
+            }
+        }
+    }
+
+    fn collect_longs(command: &clap::Command, longs: &mut std::collections::BTreeSet<String>) {
+        for arg in command.get_arguments() {
+            if let Some(long) = arg.get_long() {
+                longs.insert(long.to_string());
+            }
+        }
+        for sub in command.get_subcommands() {
+            collect_longs(sub, longs);
+        }
     }
 }

@@ -214,7 +214,7 @@ fn a_scene_without_a_generated_model_falls_back_and_says_what_to_add() {
             "sections.modes=[6,7]",
         ],
         &[
-            "--model generated",
+            "--model: `generated`: no generated model",
             "s2_m6x7_c3_cable_linear_fixed_force",
             "models.toml",
         ],

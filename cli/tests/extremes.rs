@@ -694,6 +694,51 @@ fn memory_is_predicted_before_allocating() {
 }
 
 #[test]
+fn the_memory_budget_reaches_every_command_that_runs_scenes() {
+    let dir = common::scratch("analysis-budget");
+    let controller = dir.join("c.json");
+    let controller = controller.to_str().unwrap();
+    for args in [
+        vec!["converge", "scenes/adams-linear.toml", "--tol", "0.01"],
+        vec![
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--repeat",
+            "1",
+        ],
+        vec![
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--modes",
+            "4,6",
+            "--repeat",
+            "1",
+        ],
+        vec![
+            "design",
+            "scenes/case-study.toml",
+            "--controller",
+            "lqr",
+            "--out",
+            controller,
+        ],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+            .args(&args)
+            .env("TELESCOPIC_MEMORY_BUDGET", "64K")
+            .current_dir(common::ROOT)
+            .output()
+            .unwrap();
+        common::failed_cleanly(
+            &args,
+            &out,
+            &["more than the budget of 64 KiB", "TELESCOPIC_MEMORY_BUDGET"],
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn values_in_the_wrong_unit_name_the_field_and_say_si() {
     refused(
         &[

@@ -54,6 +54,7 @@ fn a_job_array_sweep_merges_into_the_unsharded_file() {
             shard: Shard::whole(),
             resume: false,
             memory_budget: telescopic::run::memory::DEFAULT_MEMORY_BUDGET,
+            cancel: Default::default(),
         },
         &Silent,
     )

@@ -30,6 +30,7 @@ fn options(out: &Path, jobs: usize, shard: Shard) -> SweepOptions {
         shard,
         resume: false,
         memory_budget: telescopic::run::memory::DEFAULT_MEMORY_BUDGET,
+        cancel: Default::default(),
     }
 }
 
@@ -662,7 +663,10 @@ fn shard_auto_reads_the_job_array_variables() {
         [2]
     );
     let (ok, err, _) = run(&[("JOB_COMPLETION_INDEX", "2")], &[]);
-    assert!(!ok && err.contains("give --shard-count"), "{err}");
+    assert!(
+        !ok && err.contains("give the shard count") && err.contains("(see --shard-count)"),
+        "{err}"
+    );
     let (ok, err, _) = run(&[], &[]);
     assert!(!ok && err.contains("neither SLURM_ARRAY_TASK_ID"), "{err}");
     let (ok, err, _) = run(

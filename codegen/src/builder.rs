@@ -102,6 +102,9 @@ pub enum BuildError {
          not set)"
     )]
     NoOutDir,
+    /// The Symbolica lock file cannot be the one asked for.
+    #[error("{0}")]
+    Lock(String),
     /// A file could not be written, or a directory read.
     #[error("cannot write {path}: {error}")]
     Write {
@@ -185,6 +188,7 @@ pub struct Builder {
     models_files: Vec<PathBuf>,
     out_dir: Option<PathBuf>,
     renderings: bool,
+    symbolica_lock: Option<PathBuf>,
 }
 
 impl Default for Builder {
@@ -201,6 +205,7 @@ impl Builder {
             models_files: Vec::new(),
             out_dir: None,
             renderings: true,
+            symbolica_lock: None,
         }
     }
 
@@ -220,6 +225,14 @@ impl Builder {
     /// Where [`Builder::compile`] writes (default: `OUT_DIR`).
     pub fn out_dir(mut self, dir: impl AsRef<Path>) -> Self {
         self.out_dir = Some(dir.as_ref().to_owned());
+        self
+    }
+
+    /// The lock file that serializes Symbolica across processes (default: see
+    /// [`crate::lock_path`]); every cooperating process must name the same one. One process
+    /// takes one lock: a later builder naming another fails.
+    pub fn symbolica_lock(mut self, path: impl AsRef<Path>) -> Self {
+        self.symbolica_lock = Some(path.as_ref().to_owned());
         self
     }
 
@@ -286,6 +299,9 @@ impl Builder {
     /// [`BuildError`] naming the configuration and the rule or the failed step.
     pub fn generate(&self) -> Result<Vec<GeneratedFile>, BuildError> {
         let configs = self.configurations()?;
+        if let Some(path) = &self.symbolica_lock {
+            crate::symbolic::use_lock_file(path).map_err(BuildError::Lock)?;
+        }
         let mut files = Vec::new();
         let mut keys = Vec::new();
         for (config, origin) in &configs {

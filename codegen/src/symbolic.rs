@@ -26,15 +26,35 @@ use symbolica::coefficient::CoefficientView;
 
 type Job = Box<dyn FnOnce() + Send>;
 
-/// The lock file: `$TELESCOPIC_SYMBOLICA_LOCK`, else `telescopic-symbolica-<uid>.lock` in the
-/// temporary directory.
+/// The lock file this process's Symbolica thread takes, when set before its first use.
+static LOCK_FILE: OnceLock<PathBuf> = OnceLock::new();
+
+/// The lock file: the one set by [`use_lock_file`], else `telescopic-symbolica-<uid>.lock` in
+/// the temporary directory (what every cooperating process shares).
 pub fn lock_path() -> PathBuf {
-    if let Some(p) = std::env::var_os("TELESCOPIC_SYMBOLICA_LOCK") {
-        return PathBuf::from(p);
+    if let Some(p) = LOCK_FILE.get() {
+        return p.clone();
     }
     // SAFETY: getuid has no preconditions and cannot fail.
     let uid = unsafe { libc::getuid() };
     std::env::temp_dir().join(format!("telescopic-symbolica-{uid}.lock"))
+}
+
+/// Makes `path` the lock file of this process's Symbolica thread. The thread takes its lock
+/// once, at its first use: a later, different path is refused.
+///
+/// # Errors
+/// A message naming both paths when another lock file is already in use.
+pub fn use_lock_file(path: &std::path::Path) -> Result<(), String> {
+    let chosen = LOCK_FILE.get_or_init(|| path.to_owned());
+    if chosen != path {
+        return Err(format!(
+            "the Symbolica lock file of this process is {}, not {}: one process takes one lock",
+            chosen.display(),
+            path.display()
+        ));
+    }
+    Ok(())
 }
 
 /// Takes the process-wide exclusive lock (blocking while another process holds it).

@@ -72,6 +72,18 @@ pub struct Instance {
 /// An error for the importer's logger: the message names what was wrong.
 pub type Failure = String;
 
+/// A library error as the FMU's log tells it. The FMU sets its run's options itself, so an
+/// option error names the setting and is a bug of the FMU, not of the importer.
+fn failure(error: telescopic::Error) -> Failure {
+    match error {
+        telescopic::Error::Option { option, rule, .. } => format!(
+            "the FMU's own run setting {option} breaks its rule: {rule} (a bug in telescopic's \
+             FMU export; please report it)"
+        ),
+        e => e.to_string(),
+    }
+}
+
 impl Instance {
     /// Reads the scene from the FMU's resources at `resources` (a `file:` URI or a path) and
     /// checks that the FMU's description (`guid`) is this scene's.
@@ -141,11 +153,11 @@ impl Instance {
         params.drive = base_drive;
         let chosen = ModelRegistry::default()
             .build(&params, ModelChoice::Auto)
-            .map_err(|e| e.to_string())?;
+            .map_err(failure)?;
         let model = HeldDrive::new(chosen.model, self.force).map_err(|e| e.to_string())?;
         let mut planned = self.scene.clone();
         planned.params.drive = planned_drive;
-        let plan = plan(&planned, &SimulationOptions::default()).map_err(|e| e.to_string())?;
+        let plan = plan(&planned, &SimulationOptions::default()).map_err(failure)?;
         let stepper = HeldInputStepper::new(&plan, &model, &self.scene.time);
         let n = model.dof();
         let nc = model.layout().contact_count();

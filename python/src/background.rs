@@ -1,7 +1,7 @@
 //! Long calls off the interpreter: the work runs on a thread of its own without the GIL
 //! (two Python threads simulating at once use two cores), while the calling thread wakes
 //! every 50 ms to hand progress to the caller's callable and to check for Ctrl-C. A Ctrl-C
-//! asks a sweep to stop between runs (`telescopic::interrupt`) and, once the work has
+//! asks the call to stop (its [`telescopic::Cancel`]: a sweep stops between runs) and, once the work has
 //! stopped, raises `KeyboardInterrupt`; a panic in the work becomes a `TelescopicError`.
 
 use pyo3::prelude::*;
@@ -25,6 +25,8 @@ pub struct Progress {
     runs: Mutex<(usize, usize)>,
     /// The current run's name.
     what: Mutex<String>,
+    /// This call's stop request (a Ctrl-C, or an exception of the progress callable).
+    pub cancel: telescopic::Cancel,
 }
 
 impl Reporter for Progress {
@@ -88,7 +90,7 @@ pub fn run<T: Send>(
             if let Err(error) = py.check_signals() {
                 if error.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
                     // a sweep stops between runs; a single run finishes first
-                    telescopic::interrupt::request();
+                    progress.cancel.request();
                     interrupted = true;
                 } else {
                     return Err(error);
@@ -105,7 +107,7 @@ pub fn run<T: Send>(
                         } else {
                             callback_error = Some(error);
                         }
-                        telescopic::interrupt::request();
+                        progress.cancel.request();
                     }
                 }
             }

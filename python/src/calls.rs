@@ -18,14 +18,12 @@ use telescopic::run::stress::Station;
 use telescopic::run::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
 use telescopic::runtime::ContactMode;
 
-/// The environment variable that sets the calls' memory budget (bytes, or `512M`, `16G`).
-const MEMORY_BUDGET_VARIABLE: &str = "TELESCOPIC_MEMORY_BUDGET";
+use crate::environment::MEMORY_BUDGET_VARIABLE;
 
 /// The calls' memory budget (bytes): [`MEMORY_BUDGET_VARIABLE`], else the library's default.
 fn memory_budget() -> PyResult<u64> {
     let text = std::env::var(MEMORY_BUDGET_VARIABLE).ok();
-    telescopic::run::memory::parse_budget(MEMORY_BUDGET_VARIABLE, text.as_deref())
-        .map_err(to_python)
+    telescopic::run::memory::parse_budget(text.as_deref()).map_err(to_python)
 }
 
 /// `value` parsed by `FromStr`, or an error naming `name`.
@@ -355,6 +353,7 @@ pub fn design(
         process_noise_floor: process_noise_floor.unwrap_or(defaults.process_noise_floor),
         added_damping: added_damping.unwrap_or(defaults.added_damping),
         model: parsed("model", model)?,
+        memory_budget: memory_budget()?,
         ..defaults
     };
     let scene = &scene.scene;
@@ -391,10 +390,14 @@ pub fn sweep(
         shard: telescopic::sweep::Shard::whole(),
         resume: false,
         memory_budget: memory_budget()?,
+        cancel: telescopic::Cancel::default(),
     };
-    telescopic::interrupt::stop_between_runs();
     let result = run(py, progress, |reporter| {
         let sweep = telescopic::sweep::Sweep::load_within(&path, options.memory_budget)?;
+        let options = telescopic::sweep::SweepOptions {
+            cancel: reporter.cancel.clone(),
+            ..options
+        };
         telescopic::sweep::run_sweep(&sweep, &options, reporter)?;
         telescopic::sweep::read_table(&out)
     });

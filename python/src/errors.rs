@@ -46,9 +46,10 @@ pub fn to_python(error: telescopic::Error) -> PyErr {
             let _ = err.value(py).setattr("errors", fields);
             err
         }
-        Error::Option { option, rule } => {
-            let argument = argument_name(option);
-            let err = OptionError::new_err(format!("{argument}: {rule}"));
+        Error::Option { option, rule, see } => {
+            let argument = argument_name(*option);
+            let see = see.map_or(String::new(), |o| format!(" (see {})", argument_name(o)));
+            let err = OptionError::new_err(format!("{argument}: {rule}{see}"));
             let _ = err.value(py).setattr("option", argument);
             err
         }
@@ -60,22 +61,79 @@ pub fn to_python(error: telescopic::Error) -> PyErr {
             }
             err
         }
+        Error::OverMemoryBudget { option, .. } => {
+            let argument = option.map_or(String::new(), |o| format!("{}: ", argument_name(o)));
+            SolverError::new_err(format!(
+                "{argument}{message} ({} sets the budget)",
+                crate::environment::MEMORY_BUDGET_VARIABLE
+            ))
+        }
+        Error::Input(_) | Error::Destination { .. } => OptionError::new_err(message),
         Error::Unaffordable { .. } | Error::NonFiniteOutput { .. } => SolverError::new_err(message),
         _ => TelescopicError::new_err(message),
     })
 }
 
-/// The Python argument of a library option name (`SimulationOptions::rtol/atol` ->
-/// `rtol/atol`, `DesignOptions::kind` -> `controller`): what the package's functions call it.
-fn argument_name(option: &str) -> String {
+/// The package's name for `option`: the keyword argument (or environment variable) that
+/// sets it.
+fn argument_name(option: telescopic::OptionName) -> &'static str {
+    use telescopic::OptionName as O;
     match option {
-        "DesignOptions::kind" => "controller".into(),
-        o => match o.split_once("::") {
-            Some((holder, field)) if holder.ends_with("Options") || holder == "Settings" => {
-                field.to_string()
-            }
-            _ => o.to_string(),
-        },
+        O::Method => "method",
+        O::Tolerances => "rtol/atol",
+        O::Dt => "dt",
+        O::Accuracy => "accuracy",
+        O::MomentTolerance => "moment_tolerance",
+        O::StatisticsTolerance => "statistics_tolerance",
+        O::Stations => "stations",
+        O::ModesAsGiven => "modes_as_given",
+        O::Model => "model",
+        O::MemoryBudget => crate::environment::MEMORY_BUDGET_VARIABLE,
+        O::Controller | O::ControllerKind => "controller",
+        O::DesignModes => "design_modes",
+        O::ForceLimit => "force_limit",
+        O::TipScale => "tip_scale",
+        O::VehicleScale => "vehicle_scale",
+        O::Sensors => "sensors",
+        O::SensorNoises => "sensor_noises",
+        O::Estimator => "estimator",
+        O::RateHz => "rate_hz",
+        O::AddedDamping => "added_damping",
+        O::SensorNoise => "sensor_noise",
+        O::ForceNoise => "force_noise",
+        O::ProcessNoiseFloor => "process_noise_floor",
+        O::GridPoints => "grid_points",
+        O::Jobs => "jobs",
+        O::Resume => "resume",
+        O::SweepOut => "out",
+        O::Shard => "shard",
+        O::ShardCount => "shard_count",
+        O::ChartX => "x",
+        O::ChartY => "y",
+        O::ChartColor => "color",
+        O::ChartHeatmap => "heatmap",
+        O::ShapeLength => "length",
+        O::ShapePoints | O::BodePoints => "points",
+        O::ConvergeTol => "tol",
+        O::MaxModes => "max_modes",
+        O::MaxContacts => "max_contacts",
+        O::Repeat => "repeat",
+        O::Methods => "methods",
+        O::Rtols => "rtols",
+        O::Sizes => "sizes",
+        O::ModesAt => "at",
+        O::Shapes => "points",
+        O::LatexFormat => "format",
+        O::AtTime => "at_time",
+        O::Positions => "positions",
+        O::Grid => "grid",
+        O::Discrete => "discrete",
+        O::BodeLinear => "grid/discrete",
+        O::BodeInputs => "inputs",
+        O::BodeOutputs => "outputs",
+        O::FromHz => "from_hz",
+        O::ToHz => "to_hz",
+        O::FmuLibrary => "library",
     }
 }
 

@@ -4,6 +4,7 @@
 
 mod background;
 mod calls;
+mod environment;
 mod errors;
 mod scene;
 

@@ -193,13 +193,40 @@ pub struct AccuracyPlan {
     pub rtol: f64,
     /// Exact stepping from this time on (s), once the positions rest.
     pub exact_from: Option<f64>,
-    /// Why: the kind, the row, what it measured.
-    pub why: String,
+    /// The accuracy asked for (m of `tip_rel`).
+    pub accuracy_m: f64,
+    /// The measured run it follows (its kind is the scene's).
+    pub row: MeasuredRun,
     /// The row's measured error in `tip_rel` inside the horizon (m).
     pub error_m: f64,
     /// The relative error of the statistics beyond the horizon to expect of the run (the
     /// row's, or with clearance at least [`CLEARANCE_STATISTICS_FLOOR`]).
     pub statistics_rel: f64,
+}
+
+/// Why: the row, the accuracy, the scene's kind and what the row measured.
+impl std::fmt::Display for AccuracyPlan {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let row = &self.row;
+        write!(f, "{}", row.method)?;
+        if self.method != Method::Exact {
+            write!(f, " at rtol {:e}", row.rtol)?;
+        }
+        write!(
+            f,
+            ", the cheapest measured run within {:e} m / {MARGIN} for scenes {} ({:.1e} m in \
+             {:.3} s on {})",
+            self.accuracy_m,
+            row.kind.describe(),
+            row.error_m,
+            row.wall_s,
+            row.scene
+        )?;
+        if let Some(t) = self.exact_from {
+            write!(f, "; exact stepping from t = {t} s on (positions at rest)")?;
+        }
+        Ok(())
+    }
 }
 
 /// The relative spread of the per-second peak and RMS of `tip_rel` between correct runs of a
@@ -229,29 +256,7 @@ pub fn plan_for_accuracy(
     let kind = SceneKind::of(params);
     let row = cheapest(kind, accuracy, resolve)?;
     let method = Method::from_name(row.method).expect("the table names known methods");
-    let tolerance = if method == Method::Exact {
-        String::new()
-    } else {
-        format!(" at rtol {:e}", row.rtol)
-    };
-    let mut why = format!(
-        "{}{tolerance}, the cheapest measured run within {accuracy:e} m / {MARGIN} for scenes \
-         {} ({:.1e} m in {:.3} s on {})",
-        row.method,
-        kind.describe(),
-        row.error_m,
-        row.wall_s,
-        row.scene
-    );
-    let exact_from = match exact_tail_start(params, span) {
-        Some(t) if method != Method::Exact => {
-            why.push_str(&format!(
-                "; exact stepping from t = {t} s on (positions at rest)"
-            ));
-            Some(t)
-        }
-        _ => None,
-    };
+    let exact_from = exact_tail_start(params, span).filter(|_| method != Method::Exact);
     Ok(AccuracyPlan {
         method,
         // exact stepping has no tolerance: the default one stands
@@ -261,7 +266,8 @@ pub fn plan_for_accuracy(
             crate::Settings::default().rtol
         },
         exact_from,
-        why,
+        accuracy_m: accuracy,
+        row: *row,
         error_m: row.error_m,
         statistics_rel: if params.contact.is_linear() {
             row.statistics_rel

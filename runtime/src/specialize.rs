@@ -180,7 +180,7 @@ pub fn specializations(
 pub fn auto_plan(params: &ModelParams, span: &TimeSpan) -> (Method, Option<f64>, String) {
     let plan = plan_for_accuracy(params, span, DEFAULT_ACCURACY_M, Resolve::Displacements)
         .expect("every kind of scene has a measured run within the default accuracy");
-    (plan.method, plan.exact_from, plan.why)
+    (plan.method, plan.exact_from, plan.to_string())
 }
 
 /// The method `auto` stands for on the scene of `params` (at the default accuracy), with the

@@ -505,7 +505,7 @@ fn method_names_round_trip_and_bad_names_are_listed() {
         Method::Rk4,
         &Settings::default(),
     ));
-    assert!(err.to_string().contains("give Settings::dt"), "{err}");
+    assert!(err.to_string().contains("give the step dt"), "{err}");
 }
 
 #[test]

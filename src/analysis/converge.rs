@@ -13,6 +13,7 @@
 //! Every model is the quadrature-assembled one, so costs compare like with like (a generated
 //! model exists only for the configurations in generated/models.toml).
 
+use crate::OptionName;
 use crate::analysis::metrics::peak_and_rms;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
@@ -32,6 +33,10 @@ pub struct ConvergeOptions {
     pub max_modes: usize,
     /// Most contact points per overlap tried from 2, 3 to 32 (default 5).
     pub max_contacts: usize,
+    /// The memory a run's outputs may take (bytes,
+    /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`] by default): a longer run is refused
+    /// before it starts.
+    pub memory_budget: u64,
 }
 
 impl Default for ConvergeOptions {
@@ -40,6 +45,7 @@ impl Default for ConvergeOptions {
             tol: 1e-2,
             max_modes: 12,
             max_contacts: 5,
+            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
         }
     }
 }
@@ -119,7 +125,12 @@ impl Trial {
 }
 
 /// Simulates `scene` with `modes` per section and `contacts` per overlap.
-fn trial(scene: &Scene, modes: usize, contacts: usize, reporter: &dyn Reporter) -> Result<Trial> {
+fn trial(
+    scene: &Scene,
+    (modes, contacts): (usize, usize),
+    memory_budget: u64,
+    reporter: &dyn Reporter,
+) -> Result<Trial> {
     let mut scene = scene.clone();
     for s in &mut scene.params.sections {
         s.modes = modes;
@@ -132,7 +143,7 @@ fn trial(scene: &Scene, modes: usize, contacts: usize, reporter: &dyn Reporter) 
     };
     let chosen = ChosenModel::assembled(&scene.params).map_err(in_trial)?;
     let (method, _) = auto_method(&scene.params);
-    let run = PreparedRun::with_model(&scene, chosen, method, Settings::default());
+    let run = PreparedRun::with_model(&scene, chosen, (method, Settings::default()), memory_budget);
     let model = run.model();
     let modal = modal_analysis(model, scene.time.start).map_err(|error| {
         in_trial(Error::Eigen {
@@ -176,13 +187,13 @@ pub fn converge(
 ) -> Result<Convergence> {
     if !(options.tol > 0.0 && options.tol < 1.0) {
         return Err(Error::option(
-            "ConvergeOptions::tol",
+            OptionName::ConvergeTol,
             format!("must be a relative change in (0, 1) (got {})", options.tol),
         ));
     }
     if !(2..=MAX_MODES).contains(&options.max_modes) {
         return Err(Error::option(
-            "ConvergeOptions::max_modes",
+            OptionName::MaxModes,
             format!(
                 "must be 2 to {MAX_MODES} (got {}); the shape functions are checked up to mode \
                  {MAX_MODES}",
@@ -192,7 +203,7 @@ pub fn converge(
     }
     if !(3..=MAX_CONTACT_POINTS).contains(&options.max_contacts) {
         return Err(Error::option(
-            "ConvergeOptions::max_contacts",
+            OptionName::MaxContacts,
             format!(
                 "must be 3 to {MAX_CONTACT_POINTS} (got {}): contacts are raised from 2 to at \
                  most the scene limit",
@@ -210,14 +221,14 @@ pub fn converge(
     ));
     let mut by_modes = Vec::new();
     for n in 1..=options.max_modes {
-        let t = trial(scene, n, contacts, reporter)?;
+        let t = trial(scene, (n, contacts), options.memory_budget, reporter)?;
         reporter.note(&format!("  N = {n:2}: dof {:3}, {}", t.dof, t.describe()));
         by_modes.push(t);
     }
     let Some(chosen) = first_converged(&by_modes, options.tol, pointwise) else {
         return Err(Error::Analysis(format!(
             "no model up to {} modes per section changes by less than {} to the next; raise \
-             ConvergeOptions::max_modes or ConvergeOptions::tol",
+             the largest number of modes or the tolerance",
             options.max_modes, options.tol
         )));
     };
@@ -228,7 +239,7 @@ pub fn converge(
     ));
     let mut by_contacts = Vec::new();
     for c in 2..=options.max_contacts {
-        let t = trial(scene, modes, c, reporter)?;
+        let t = trial(scene, (modes, c), options.memory_budget, reporter)?;
         reporter.note(&format!("  n_c = {c}: {}", t.describe()));
         by_contacts.push(t);
     }

@@ -9,6 +9,7 @@
 //! contact switch with it) and, with clearance, the larger relative difference of the RMS and
 //! peak of `tip_rel` beyond it.
 
+use crate::OptionName;
 use crate::analysis::beam_reference::{BeamResponse, beam_response};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
@@ -68,6 +69,10 @@ pub struct ModelSizeOptions {
     pub rtols: Vec<f64>,
     /// Timed repetitions per run (the median is reported).
     pub repeat: usize,
+    /// The memory a run's outputs may take (bytes,
+    /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`] by default): a longer run is refused
+    /// before it starts.
+    pub memory_budget: u64,
 }
 
 impl Default for ModelSizeOptions {
@@ -80,6 +85,7 @@ impl Default for ModelSizeOptions {
             methods: vec![MethodChoice::Auto],
             rtols: vec![1e-4, 1e-5, 1e-6, 1e-7],
             repeat: 3,
+            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
         }
     }
 }
@@ -134,13 +140,13 @@ pub fn model_size_study(
 ) -> Result<ModelSizeStudy> {
     if options.sizes.is_empty() || options.methods.is_empty() {
         return Err(Error::option(
-            "ModelSizeOptions::sizes",
+            OptionName::Sizes,
             "give at least one model size and one method",
         ));
     }
     if !(1..=crate::analysis::work_precision::MAX_REPEAT).contains(&options.repeat) {
         return Err(Error::option(
-            "WorkPrecisionOptions::repeat",
+            OptionName::Repeat,
             format!(
                 "must be 1 to {} (got {})",
                 crate::analysis::work_precision::MAX_REPEAT,
@@ -158,7 +164,7 @@ pub fn model_size_study(
     for &size in &options.sizes {
         let sized = sized(scene, size);
         for &method in &options.methods {
-            for (setting, simulation) in settings(&sized, method, &options.rtols)? {
+            for (setting, simulation) in settings(&sized, method, options)? {
                 let point = measure(
                     &sized,
                     size,
@@ -198,18 +204,20 @@ fn sized(scene: &Scene, size: ModelSize) -> Scene {
 fn settings(
     scene: &Scene,
     method: MethodChoice,
-    rtols: &[f64],
+    options: &ModelSizeOptions,
 ) -> Result<Vec<(String, SimulationOptions)>> {
     let base = SimulationOptions {
         method,
         error_estimate: false,
+        memory_budget: options.memory_budget,
         ..SimulationOptions::default()
     };
     let plan = crate::run::plan(scene, &base)?;
     if plan.method == Method::Exact {
         return Ok(vec![("exact".into(), base)]);
     }
-    Ok(rtols
+    Ok(options
+        .rtols
         .iter()
         .map(|&r| {
             (

@@ -13,6 +13,7 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
+use crate::OptionName;
 use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use serde::Serialize;
@@ -127,7 +128,7 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
     let t = options.at.unwrap_or(scene.time.start);
     if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
         return Err(Error::option(
-            "ModesOptions::at",
+            OptionName::ModesAt,
             format!(
                 "{t}: must lie in the scene's time span [{}, {}] s",
                 scene.time.start, scene.time.end
@@ -138,7 +139,7 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         && !(2..=MAX_SHAPE_POINTS).contains(&points)
     {
         return Err(Error::option(
-            "ModesOptions::shapes",
+            OptionName::Shapes,
             format!(
                 "must be 2 to {MAX_SHAPE_POINTS} points per section (got {points}); more add \
                  nothing a plot or table can show"

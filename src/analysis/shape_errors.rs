@@ -3,6 +3,7 @@
 //! against the printed forms in 512-bit arithmetic. Shows the failure of the naive form
 //! instead of only avoiding it.
 
+use crate::OptionName;
 use crate::{Error, Result};
 use std::io::Write;
 use telescopic_runtime::shape::{MAX_MODES, SectionKind};
@@ -49,7 +50,7 @@ pub struct ShapeErrors {
 pub fn shape_errors(options: &ShapeErrorsOptions) -> Result<ShapeErrors> {
     if !(options.length > 0.0 && options.length.is_finite()) {
         return Err(Error::option(
-            "ShapeErrorsOptions::length",
+            OptionName::ShapeLength,
             format!(
                 "must be a positive number of metres (got {})",
                 options.length
@@ -58,7 +59,7 @@ pub fn shape_errors(options: &ShapeErrorsOptions) -> Result<ShapeErrors> {
     }
     if !(2..=MAX_POINTS).contains(&options.points) {
         return Err(Error::option(
-            "ShapeErrorsOptions::points",
+            OptionName::ShapePoints,
             format!(
                 "must be 2 to {MAX_POINTS} (got {}); each point costs 512-bit evaluations of \
                  57 shape functions (1000 take about 50 s)",

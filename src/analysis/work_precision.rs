@@ -7,6 +7,7 @@
 //! span, on statistics that converge even where the motion does not: per-second peak and RMS
 //! of `tip_rel`, and the number of contact switches. Wall time is the median of repeated runs.
 
+use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::Trajectory;
@@ -38,6 +39,10 @@ pub struct WorkPrecisionOptions {
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
     pub models: ModelRegistry,
+    /// The memory a run's outputs may take (bytes,
+    /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`] by default): a longer run is refused
+    /// before it starts.
+    pub memory_budget: u64,
 }
 
 impl Default for WorkPrecisionOptions {
@@ -48,6 +53,7 @@ impl Default for WorkPrecisionOptions {
             rtols: TOLERANCES.to_vec(),
             model: ModelChoice::Auto,
             models: ModelRegistry::default(),
+            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
         }
     }
 }
@@ -308,7 +314,12 @@ pub fn work_precision(
         second.name()
     ));
     // every run, the references included, on one prepared run (within the work budget)
-    let mut prepared = PreparedRun::with_model(scene, chosen, Method::Dop853, Settings::default());
+    let mut prepared = PreparedRun::with_model(
+        scene,
+        chosen,
+        (Method::Dop853, Settings::default()),
+        options.memory_budget,
+    );
     let reference = run_with(&mut prepared, first, &tolerance(first_rtol), reporter)?;
     let second = run_with(&mut prepared, second, &tolerance(second_rtol), reporter)?;
     let end = scene.time.end;
@@ -360,7 +371,7 @@ pub fn work_precision(
 fn check_options(options: &WorkPrecisionOptions) -> Result<()> {
     if !(1..=MAX_REPEAT).contains(&options.repeat) {
         return Err(Error::option(
-            "WorkPrecisionOptions::repeat",
+            OptionName::Repeat,
             format!(
                 "must be 1 to {MAX_REPEAT} (got {}); the median of a few timed runs is \
                  already stable",
@@ -375,7 +386,7 @@ fn check_options(options: &WorkPrecisionOptions) -> Result<()> {
             .any(|r| !(r.is_finite() && (1e-13..=0.1).contains(r)))
     {
         return Err(Error::option(
-            "WorkPrecisionOptions::rtols",
+            OptionName::Rtols,
             format!(
                 "each relative tolerance must be 1e-13 to 0.1, at least one (got {:?})",
                 options.rtols
@@ -397,7 +408,7 @@ fn labelled_methods(scene: &Scene, names: &[String]) -> Result<Vec<(String, Meth
             }
             name => Method::from_name(name)
                 .map(|method| (method.name(), method, None))
-                .map_err(|e| Error::option("WorkPrecisionOptions::methods", e)),
+                .map_err(|e| Error::option(OptionName::Methods, e)),
         })
         .collect()
 }

@@ -5,6 +5,7 @@
 
 use super::schedule::{Reference, schedule_weights};
 use super::schema::Controller;
+use crate::OptionName;
 use crate::io::rows::from_rows;
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
@@ -311,15 +312,19 @@ impl<'m> Observed<'m> {
         let inner = Controlled::new(base, controller, start, end)?;
         let n = base.dof();
         let matrix = |rows: &[Vec<f64>], name: &str, shape: (usize, usize)| {
-            from_rows(rows, Some(shape))
-                .map_err(|e| Error::option("controller", format!("Kalman filter: {name} {e}")))
+            from_rows(rows, Some(shape)).map_err(|e| {
+                Error::option(OptionName::Controller, format!("Kalman filter: {name} {e}"))
+            })
         };
         let points = controller
             .schedule
             .iter()
             .map(|p| {
                 let o = p.observer.as_ref().ok_or_else(|| {
-                    Error::option("controller", "the controller has no Kalman filter")
+                    Error::option(
+                        OptionName::Controller,
+                        "the controller has no Kalman filter",
+                    )
                 })?;
                 Ok(ObserverMatrices {
                     a: matrix(&o.a_full, "A_full", (2 * n, 2 * n))?,

@@ -21,6 +21,7 @@ use super::schema::{
     SchedulePoint,
 };
 use super::shaper::{ShaperKind, ShaperTiming, jumps, shape, shape_within};
+use crate::OptionName;
 use crate::io::rows::to_rows;
 use crate::linear::Grid;
 use crate::run::models::{ModelChoice, ModelRegistry};
@@ -63,6 +64,10 @@ pub struct DesignOptions {
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
     pub models: ModelRegistry,
+    /// The memory a run's outputs may take (bytes,
+    /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`] by default): a longer run is refused
+    /// before it starts.
+    pub memory_budget: u64,
     /// The measured outputs of an output-feedback controller, run sampled through a discrete
     /// Kalman filter (empty: the continuous full-state controller).
     pub sensors: Vec<String>,
@@ -101,6 +106,7 @@ impl Default for DesignOptions {
             force_noise: 30.0,
             model: ModelChoice::Auto,
             models: ModelRegistry::default(),
+            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
             sensors: Vec::new(),
             sensor_noises: Vec::new(),
             rate_hz: super::sampled::DEFAULT_RATE_HZ,
@@ -231,7 +237,7 @@ fn kalman(
 pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     let Drive::Force(force) = &scene.params.drive else {
         return Err(Error::option(
-            "DesignOptions::kind",
+            OptionName::ControllerKind,
             "the design needs a force-driven scene (the drive force is the input)",
         ));
     };
@@ -243,7 +249,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     let n = model.dof();
     if !(1..n).contains(&options.design_modes) {
         return Err(Error::option(
-            "DesignOptions::design_modes",
+            OptionName::DesignModes,
             format!(
                 "must be 1 to {} (the model's elastic modes; got {})",
                 n - 1,
@@ -320,9 +326,9 @@ fn sampled_part(
 ) -> Result<super::schema::SampledDesign> {
     if !options.kind.has_lqr() || options.kind.has_observer() {
         return Err(Error::option(
-            "DesignOptions::sensors",
+            OptionName::Sensors,
             "an output-feedback controller is an LQR on a sampled Kalman filter: take \
-             --controller lqr or lqr+shaper with sensors",
+             the controller lqr or lqr+shaper with sensors",
         ));
     }
     let noise: Vec<f64> = if options.sensor_noises.is_empty() {
@@ -335,7 +341,7 @@ fn sampled_part(
         options.sensor_noises.clone()
     } else {
         return Err(Error::option(
-            "DesignOptions::sensor_noises",
+            OptionName::SensorNoises,
             format!(
                 "gives {} noise level(s) for {} sensor(s)",
                 options.sensor_noises.len(),
@@ -345,13 +351,13 @@ fn sampled_part(
     };
     if let Some(bad) = noise.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
         return Err(Error::option(
-            "DesignOptions::sensor_noises",
+            OptionName::SensorNoises,
             format!("must be finite numbers > 0 (got {bad})"),
         ));
     }
     if options.estimator == Estimator::None {
         return Err(Error::option(
-            "DesignOptions::estimator",
+            OptionName::Estimator,
             "`none` is the strain-rate law's (no estimator); choose linear or extended",
         ));
     }
@@ -403,7 +409,7 @@ fn strain_rate_part(
         .find(|s| !options.sensors.iter().any(|o| o == *s))
     {
         return Err(Error::option(
-            "DesignOptions::sensors",
+            OptionName::Sensors,
             format!(
                 "the strain-rate law reads {}; `{missing}` is missing",
                 STRAIN_RATE_SENSORS.join(" and ")
@@ -412,7 +418,7 @@ fn strain_rate_part(
     }
     if options.estimator != Estimator::Linear {
         return Err(Error::option(
-            "DesignOptions::estimator",
+            OptionName::Estimator,
             "the strain-rate law has no estimator; leave the estimator at its default (linear)",
         ));
     }
@@ -449,37 +455,32 @@ pub const PROCESS_NOISE_FLOOR_RANGE: (f64, f64) = (1e-20, 1.0);
 fn check_options(options: &DesignOptions) -> Result<()> {
     for (name, v, (low, high), unit) in [
         (
-            "DesignOptions::force_limit",
+            OptionName::ForceLimit,
             options.force_limit,
             FORCE_LIMIT_RANGE,
             "N",
         ),
+        (OptionName::TipScale, options.tip_scale, SCALE_RANGE, "m"),
         (
-            "DesignOptions::tip_scale",
-            options.tip_scale,
-            SCALE_RANGE,
-            "m",
-        ),
-        (
-            "DesignOptions::vehicle_scale",
+            OptionName::VehicleScale,
             options.vehicle_scale,
             SCALE_RANGE,
             "m",
         ),
         (
-            "DesignOptions::sensor_noise",
+            OptionName::SensorNoise,
             options.sensor_noise,
             SENSOR_NOISE_RANGE,
             "m",
         ),
         (
-            "DesignOptions::force_noise",
+            OptionName::ForceNoise,
             options.force_noise,
             FORCE_LIMIT_RANGE,
             "N",
         ),
         (
-            "DesignOptions::process_noise_floor",
+            OptionName::ProcessNoiseFloor,
             options.process_noise_floor,
             PROCESS_NOISE_FLOOR_RANGE,
             "(state units squared per period)",
@@ -497,7 +498,7 @@ fn check_options(options: &DesignOptions) -> Result<()> {
     }
     if !(1..=MAX_GRID_POINTS).contains(&options.grid_points) {
         return Err(Error::option(
-            "DesignOptions::grid_points",
+            OptionName::GridPoints,
             format!(
                 "must be 1 to {MAX_GRID_POINTS} (got {})",
                 options.grid_points
@@ -520,7 +521,7 @@ fn schedule_grid(scene: &Scene, options: &DesignOptions) -> Result<(Option<usize
         .collect();
     if moving.len() > 1 {
         return Err(Error::option(
-            "DesignOptions::kind",
+            OptionName::ControllerKind,
             "gain scheduling over more than one moving telescopic position is not supported; \
          design at fixed positions (telescope.positions = [...])",
         ));
@@ -578,7 +579,7 @@ fn design_point(
             at(&format!(
                 "{e}; the weights are out of balance when the force limit over the smaller \
                  scale is large (here {ratio:.1e} N/m; designs resolve to about 1e6 N/m): lower \
-                 DesignOptions::force_limit or raise DesignOptions::tip_scale / vehicle_scale"
+                 the force limit or raise the tip or vehicle scale"
             ))
         })?;
         let k_full = &solution.k * &design.w;
@@ -626,7 +627,8 @@ fn feedforward(
     if !options.kind.has_shaper() {
         return Ok((force.clone(), options.shaper_timing));
     }
-    let j = jumps(force, scene.time.start).map_err(|e| Error::option("DesignOptions::kind", e))?;
+    let j =
+        jumps(force, scene.time.start).map_err(|e| Error::option(OptionName::ControllerKind, e))?;
     let scheduled: Vec<f64> = parameter.map_or_else(
         || vec![0.0; schedule.len()],
         |k| schedule.iter().map(|p| p.positions[k - 2]).collect(),
@@ -655,7 +657,10 @@ impl Controller {
     /// [`Error::Option`] when the controller has none (a continuous full-state design).
     pub fn sampled_part(&self) -> Result<&super::schema::SampledDesign> {
         self.sampled.as_ref().ok_or_else(|| {
-            Error::option("controller", "has no sampled part (design it with sensors)")
+            Error::option(
+                OptionName::Controller,
+                "has no sampled part (design it with sensors)",
+            )
         })
     }
 

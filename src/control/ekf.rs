@@ -59,7 +59,7 @@ struct Scratch {
 pub(crate) fn sampled_of(file: &Controller) -> Result<&super::schema::SampledDesign> {
     let sampled = file.sampled_part()?;
     if let Some(s) = sampled.sensors.iter().find(|s| s.as_str() == "acc_load") {
-        return Err(Error::option(
+        return Err(Error::input(
             "controller `sampled.sensors`",
             format!("the extended filter takes outputs linear in the coordinates, not `{s}`"),
         ));
@@ -78,7 +78,7 @@ pub(crate) fn measurement_rows(
         Some(p) if p.c.len() == m && p.c.iter().all(|r| r.len() == w) => {
             Ok(p.c.iter().flatten().copied().collect())
         }
-        _ => Err(Error::option(
+        _ => Err(Error::input(
             "controller `sampled.points[0].C`",
             format!("must be {m} x {w} (sensors x the recorded model's states)"),
         )),
@@ -126,12 +126,12 @@ impl ExtendedKalman {
     /// records.
     ///
     /// # Errors
-    /// [`Error::Option`] for sensors that are not linear in the coordinates, or a recorded
+    /// [`Error::Input`] for sensors that are not linear in the coordinates, or a recorded
     /// model that is missing or does not fit.
     pub fn new(file: &Controller, start: f64, end: f64) -> Result<Self> {
         let sampled = sampled_of(file)?;
         let record = sampled.model.as_ref().ok_or_else(|| {
-            Error::option(
+            Error::input(
                 "controller `sampled.model`",
                 "is missing: the extended filter predicts with the model its file records",
             )

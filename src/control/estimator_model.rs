@@ -10,6 +10,7 @@
 //! the last bit. They equal the generated model's (derived by Symbolica) to rounding: a test
 //! compares the two.
 
+use crate::OptionName;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use telescopic_runtime::nalgebra::DMatrix;
@@ -79,7 +80,7 @@ impl EstimatorModel {
             }
             (true, None) => {
                 return Err(Error::option(
-                    "DesignOptions::estimator",
+                    OptionName::Estimator,
                     "the extended filter needs the contact vectors tabulated in time, and this \
                      scene's positions move with a rate that jumps (a piecewise-linear profile); \
                      use a smooth profile or the linear estimator",
@@ -113,7 +114,7 @@ impl EstimatorModel {
     /// [`Error::Option`] naming the field and the rule.
     pub fn check(&self, dof: usize, contacts: usize) -> Result<()> {
         let field = |name: &str, rule: String| {
-            Error::option(&format!("controller `sampled.model.{name}`"), rule)
+            Error::input(format!("controller `sampled.model.{name}`"), rule)
         };
         for (name, rows) in [
             ("mass_inverse", Some(&self.mass_inverse)),
@@ -214,7 +215,7 @@ impl PreparedEstimatorModel {
         let table = match &record.geometry_table {
             Some(parts) => Some(
                 ContactTable::from_parts(parts.clone())
-                    .map_err(|e| Error::option("controller `sampled.model.geometry_table`", e))?,
+                    .map_err(|e| Error::input("controller `sampled.model.geometry_table`", e))?,
             ),
             None => None,
         };

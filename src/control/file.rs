@@ -3,6 +3,7 @@
 
 use super::design::{FORCE_LIMIT_RANGE, SCALE_RANGE};
 use super::schema::{Controller, Estimator, SampledDesign, SchedulePoint};
+use crate::OptionName;
 use crate::{Error, Result};
 use std::path::Path;
 use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
@@ -15,24 +16,24 @@ use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
 /// unaffordably stiff.
 pub const MAX_GAIN: f64 = 1e12;
 
-fn field(name: &str, rule: impl Into<String>) -> Error {
-    Error::option(&format!("controller `{name}`"), rule)
+fn field(name: &str, rule: impl std::fmt::Display) -> Error {
+    Error::input(format!("controller `{name}`"), rule)
 }
 
 impl Controller {
     /// Reads and checks a controller file (size-capped like a scene).
     ///
     /// # Errors
-    /// [`Error::Option`] naming the file and what is wrong.
+    /// [`Error::Option`] naming the file and what is wrong, or [`Error::Input`] for a field.
     pub fn load(path: &Path) -> Result<Self> {
         let text = read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| {
             Error::option(
-                "controller",
+                OptionName::Controller,
                 format!("{}: cannot be read: {e}", path.display()),
             )
         })?;
         Controller::from_json(&text)
-            .map_err(|e| Error::option("controller", format!("{}: {e}", path.display())))
+            .map_err(|e| Error::option(OptionName::Controller, format!("{}: {e}", path.display())))
     }
 
     /// Checks that the controller fits `scene`: the same configuration and states in the
@@ -40,7 +41,8 @@ impl Controller {
     /// in ascending order, finite and bounded gains, a valid feedforward profile.
     ///
     /// # Errors
-    /// [`Error::Option`] naming the field and the rule.
+    /// [`Error::Input`] naming the field and the rule; [`Error::Option`] for a scene the
+    /// controller cannot drive.
     pub fn check_fits(&self, scene: &Scene) -> Result<()> {
         self.check_params(&scene.params)
     }
@@ -111,7 +113,7 @@ impl Controller {
         }
         if !matches!(params.drive, Drive::Force(_)) {
             return Err(Error::option(
-                "controller",
+                OptionName::Controller,
                 "the scene has a prescribed motion; a controller drives a force",
             ));
         }

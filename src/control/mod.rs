@@ -36,6 +36,7 @@ pub use schema::{
 };
 pub use shaper::{ShaperKind, ShaperTiming};
 
+use crate::OptionName;
 use crate::analysis::metrics::{RunMetrics, drive_stop, metrics};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
@@ -49,7 +50,7 @@ fn controlled_method(options: &SimulationOptions) -> Result<Method> {
     match options.method {
         MethodChoice::Auto => Ok(Method::Dopri5),
         MethodChoice::Method(Method::Exact) => Err(Error::option(
-            "SimulationOptions::method",
+            OptionName::Method,
             "exact stepping needs a linear time-invariant scene; with a controller, take \
              dopri5 or another integrator",
         )),
@@ -86,13 +87,13 @@ pub fn simulate_controlled(
     }
     let mut run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
     let method = run.plan.method;
-    run.plan.how = format!("controller {}; ", controller.kind);
+    run.plan.reason = crate::run::MethodReason::Controller(controller.kind);
     let base = run.model();
     let (start, end) = (scene.time.start, scene.time.end);
     let trajectory = if controller.kind.has_observer() {
         if !matches!(method, Method::Dopri5 | Method::Dop853) {
             return Err(Error::option(
-                "SimulationOptions::method",
+                OptionName::Method,
                 "a controller with a Kalman filter runs with dopri5 or dop853",
             ));
         }
@@ -217,6 +218,7 @@ pub fn compare_variants(
     let sim = comparison_options(&SimulationOptions {
         model: options.model,
         models: options.models.clone(),
+        memory_budget: options.memory_budget,
         ..SimulationOptions::default()
     })?;
     let window = drive_stop(scene);

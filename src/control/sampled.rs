@@ -17,6 +17,7 @@
 //! law's gains are.
 
 use super::schema::{Controller, DiscretePoint, SampledDesign};
+use crate::OptionName;
 use crate::io::rows::{from_rows, to_rows};
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
@@ -115,7 +116,7 @@ pub fn design_sampled(
                 .ok_or_else(|| {
                     let known: Vec<&str> = lpv.outputs().iter().map(|o| o.name.as_str()).collect();
                     Error::option(
-                        "DesignOptions::sensors",
+                        OptionName::Sensors,
                         format!(
                             "`{s}` is not an output of the scene; its outputs: {}",
                             known.join(", ")
@@ -170,7 +171,7 @@ pub fn design_sampled(
 pub fn check_rate(rate_hz: f64) -> Result<()> {
     if !(rate_hz.is_finite() && (1.0..=1e6).contains(&rate_hz)) {
         return Err(Error::option(
-            "DesignOptions::rate_hz",
+            OptionName::RateHz,
             format!("must be 1 to 1e6 Hz (got {rate_hz})"),
         ));
     }
@@ -218,7 +219,7 @@ impl DiscreteController {
     pub fn new(file: &Controller, start: f64, end: f64) -> Result<Self> {
         let sampled = file.sampled_part()?;
         if !file.kind.has_lqr() || sampled.points.len() != file.schedule.len() {
-            return Err(Error::option(
+            return Err(Error::input(
                 "controller `sampled.points`",
                 "needs one discrete point per design point and an LQR gain",
             ));
@@ -227,7 +228,7 @@ impl DiscreteController {
         for (p, s) in sampled.points.iter().zip(&file.schedule) {
             let m = |rows: &[Vec<f64>], name: &str| {
                 from_rows(rows, None)
-                    .map_err(|e| Error::option(&format!("controller `sampled.{name}`"), e))
+                    .map_err(|e| Error::input(format!("controller `sampled.{name}`"), e))
             };
             let k = DVector::from_column_slice(&s.k[0]);
             points.push(PointMatrices {

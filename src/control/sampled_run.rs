@@ -5,6 +5,7 @@
 use super::controlled::Controlled;
 use super::sampled::{DiscreteController, SampledController};
 use super::schema::Controller;
+use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::{HeldInputStepper, Simulation, Trajectory};
@@ -67,7 +68,7 @@ pub fn run_sampled(
     // a controlled scene is neither linear nor time-invariant: no exact stepping
     if run.plan.method == telescopic_runtime::Method::Exact {
         return Err(Error::option(
-            "SimulationOptions::method",
+            OptionName::Method,
             "exact stepping needs a linear time-invariant scene; with a controller, take \
              dopri5 or another integrator",
         ));
@@ -110,7 +111,7 @@ pub fn run_sampled(
     }
     reporter.finish();
     let mut plan = run.plan.clone();
-    plan.how = format!("sampled controller at {} Hz; ", sampled.rate_hz);
+    plan.reason = crate::run::MethodReason::SampledController(sampled.rate_hz);
     let simulation = run.into_simulation(Trajectory { names, rows, stats });
     Ok(SampledRun {
         simulation: Simulation { plan, ..simulation },
@@ -143,7 +144,7 @@ fn tick_grid(rate_hz: f64, span: &TimeSpan) -> Result<(f64, usize)> {
     let period = 1.0 / rate_hz;
     let ratio = span.sample / period;
     if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
-        return Err(Error::option(
+        return Err(Error::input(
             "time.sample",
             format!(
                 "{} s is not a multiple of the controller's period {period} s ({rate_hz} Hz)",
@@ -163,7 +164,7 @@ fn measured_columns(names: &[String], sensors: &[String]) -> Result<Vec<usize>> 
         .iter()
         .map(|s| {
             names.iter().position(|n| n == s).ok_or_else(|| {
-                Error::option(
+                Error::input(
                     "controller `sampled.sensors`",
                     format!("`{s}` is not an output of the scene"),
                 )

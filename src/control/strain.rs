@@ -20,6 +20,7 @@
 
 use super::sampled::SampledController;
 use super::schema::{Controller, StrainRateLaw, StrainRatePoint};
+use crate::OptionName;
 use crate::{Error, Result};
 use telescopic_runtime::{ContactMode, Lpv, Model, modal_analysis_with};
 
@@ -85,7 +86,7 @@ pub fn design_strain_rate(
 ) -> Result<StrainRateLaw> {
     if !(added_damping > 0.0 && added_damping <= 2.0) {
         return Err(Error::option(
-            "DesignOptions::added_damping",
+            OptionName::AddedDamping,
             format!("must be a damping ratio in (0, 2] (got {added_damping})"),
         ));
     }
@@ -142,7 +143,7 @@ impl StrainRateController {
     /// # Errors
     /// [`Error::Option`] naming what the file lacks.
     pub fn new(file: &Controller, start: f64, end: f64) -> Result<Self> {
-        let lacks = |what: &str| Error::option("controller `sampled.strain_rate`", what);
+        let lacks = |what: &str| Error::input("controller `sampled.strain_rate`", what);
         let sampled = file.sampled.as_ref().ok_or_else(|| lacks("is absent"))?;
         let law = sampled
             .strain_rate
@@ -157,7 +158,7 @@ impl StrainRateController {
                 .iter()
                 .position(|s| s == name)
                 .ok_or_else(|| {
-                    Error::option(
+                    Error::input(
                         "controller `sampled.sensors`",
                         format!("the strain-rate law reads `{name}`, which is not among them"),
                     )

@@ -22,6 +22,7 @@ pub mod variables;
 pub use description::{FmuKind, guid, model_description, scene_guid};
 pub use variables::{Causality, FmuVariables, Variable};
 
+use crate::OptionName;
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;
@@ -57,7 +58,7 @@ pub fn write_fmu(scene: &Scene, library: &Path, kind: FmuKind, out: &Path) -> Re
     let xml = model_description(&scene, kind)?;
     let binary = std::fs::read(library).map_err(|e| {
         Error::option(
-            "fmu library",
+            OptionName::FmuLibrary,
             format!(
                 "{}: {e}; build it with `cargo build --release --manifest-path fmu/Cargo.toml` (docs/fmu.md)",
                 library.display()

@@ -3,3 +3,4 @@
 
 pub mod output;
 pub(crate) mod rows;
+pub mod size;

@@ -4,56 +4,12 @@
 //! renamed into place when complete, so an error leaves the old file or none; a symlink's
 //! target is the file written. A character device (`/dev/null`) or a FIFO is written as a
 //! stream and never replaced; anything else (a directory, a block device) is refused. The
-//! temporary files in progress are registered, so a signal handler can remove them
-//! ([`remove_partial_files`]): `tempfile`'s cleanup runs on drop, which an interrupted
-//! process never reaches, hence this small hand-written registry.
+//! temporary file's name ([`temporary_path`]: the final name and the process id) lets a
+//! signal handler of the caller's find and remove what an interrupted process left.
 
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-
-/// Temporary files being written now (removed by [`remove_partial_files`]).
-static IN_PROGRESS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-
-fn registry() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
-    // a panic while holding the lock leaves a list that is still valid
-    IN_PROGRESS.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// Removes every temporary file still being written; for a SIGINT/SIGTERM handler, which
-/// then exits. Returns how many were removed.
-pub fn remove_partial_files() -> usize {
-    let mut files = registry();
-    let removed = files
-        .iter()
-        .filter(|p| std::fs::remove_file(p).is_ok())
-        .count();
-    files.clear();
-    removed
-}
-
-/// Work files that an interrupt keeps (a sweep's finished rows), for the handler's message.
-static KEPT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-
-/// Registers a work file that an interrupt keeps (see [`kept_files`]).
-pub fn keep_on_interrupt(path: &Path) {
-    KEPT.lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .push(path.to_owned());
-}
-
-/// Unregisters a work file once it is done with.
-pub fn forget_kept(path: &Path) {
-    KEPT.lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .retain(|p| p != path);
-}
-
-/// The work files an interrupt now would keep, for a signal handler's message.
-pub fn kept_files() -> Vec<PathBuf> {
-    KEPT.lock().unwrap_or_else(|e| e.into_inner()).clone()
-}
 
 /// The temporary path beside `path` that [`write_atomically`] writes first.
 pub fn temporary_path(path: &Path) -> PathBuf {
@@ -63,6 +19,15 @@ pub fn temporary_path(path: &Path) -> PathBuf {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     dir.join(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+/// Whether `path` is a temporary file that [`write_atomically`] of this process writes (what a
+/// signal handler removes when it stops the process).
+pub fn is_temporary_of_this_process(path: &Path) -> bool {
+    let suffix = format!(".tmp-{}", std::process::id());
+    path.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with('.') && n.ends_with(&suffix))
 }
 
 /// The directory a file path lives in (`.` for a bare name).
@@ -125,13 +90,17 @@ impl Destination {
 }
 
 /// Checks before any work that `path` can be written: a regular file (new or existing) in
-/// an existing, writable directory, or a character device or FIFO. `option` names the flag
-/// in the error.
+/// an existing, writable directory, or a character device or FIFO.
 ///
 /// # Errors
-/// [`Error::Option`] naming the option, the path and the problem.
-pub fn check_writable(option: &str, path: &Path) -> Result<()> {
-    let bad = |why: String| Err(Error::option(option, format!("{}: {why}", path.display())));
+/// [`Error::Destination`] naming the path and the problem.
+pub fn check_writable(path: &Path) -> Result<()> {
+    let bad = |rule: String| {
+        Err(Error::Destination {
+            path: path.to_path_buf(),
+            rule,
+        })
+    };
     let file = match Destination::of(path) {
         Ok(Destination::Stream(_)) => return Ok(()),
         Ok(Destination::File(file)) => file,
@@ -159,8 +128,8 @@ pub fn check_writable(option: &str, path: &Path) -> Result<()> {
 /// on disk: device and inode), so that writing the output cannot destroy an input.
 ///
 /// # Errors
-/// [`Error::Option`] naming `option` and the input it would overwrite.
-pub fn check_not_an_input(option: &str, out: &Path, inputs: &[&Path]) -> Result<()> {
+/// [`Error::Destination`] naming the input it would overwrite.
+pub fn check_not_an_input(out: &Path, inputs: &[&Path]) -> Result<()> {
     use std::os::unix::fs::MetadataExt;
     let Ok(out_meta) = std::fs::metadata(out) else {
         return Ok(()); // a new file is no input
@@ -172,14 +141,13 @@ pub fn check_not_an_input(option: &str, out: &Path, inputs: &[&Path]) -> Result<
         if let Ok(m) = std::fs::metadata(input)
             && (m.dev(), m.ino()) == (out_meta.dev(), out_meta.ino())
         {
-            return Err(Error::option(
-                option,
-                format!(
-                    "{} is the input {}: writing it would destroy the input; choose another file",
-                    out.display(),
+            return Err(Error::Destination {
+                path: out.to_path_buf(),
+                rule: format!(
+                    "is the input {}: writing it would destroy the input; choose another file",
                     input.display()
                 ),
-            ));
+            });
         }
     }
     Ok(())
@@ -205,7 +173,6 @@ pub fn write_atomically(
         Err(why) => return Err(write_error(std::io::Error::other(why))),
     };
     let tmp = temporary_path(&file);
-    registry().push(tmp.clone());
     let result = (|| -> std::io::Result<()> {
         let handle = std::fs::File::create(&tmp)?;
         let mut w = std::io::BufWriter::new(handle);
@@ -213,7 +180,6 @@ pub fn write_atomically(
         w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         std::fs::rename(&tmp, &file)
     })();
-    registry().retain(|p| p != &tmp);
     if let Err(e) = result {
         let _ = std::fs::remove_file(&tmp);
         return Err(write_error(e));
@@ -235,7 +201,7 @@ fn write_stream(
 /// Writes to `path` atomically, or to standard output when `path` is `None`.
 ///
 /// # Errors
-/// [`Error::Write`] or [`Error::Stdout`] (a closed or broken standard output included).
+/// [`Error::Write`] or [`Error::Stdout`] (a broken standard output).
 pub fn write_to(
     path: Option<&Path>,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
@@ -243,41 +209,11 @@ pub fn write_to(
     match path {
         Some(p) => write_atomically(p, fill),
         None => {
-            check_stdout_open()?;
             let stdout = std::io::stdout();
             let mut w = std::io::BufWriter::new(stdout.lock());
             fill(&mut w).and_then(|()| w.flush()).map_err(Error::Stdout)
         }
     }
-}
-
-/// Set by a binary that found its standard output closed when the process started (see
-/// [`note_stdout_closed_at_start`]).
-static STDOUT_CLOSED_AT_START: std::sync::atomic::AtomicBool =
-    std::sync::atomic::AtomicBool::new(false);
-
-/// Records that standard output was closed when the process started. Rust's runtime puts
-/// `/dev/null` on a closed descriptor 1 before `main` runs, so only code that ran earlier (a
-/// binary's constructor) can know; such a binary calls this at the start of `main`.
-pub fn note_stdout_closed_at_start() {
-    STDOUT_CLOSED_AT_START.store(true, std::sync::atomic::Ordering::Relaxed);
-}
-
-/// Fails when standard output is closed: writes to it would be discarded silently (by the
-/// standard library, or into the `/dev/null` the runtime put in its place), which would lose
-/// the output with exit code 0.
-///
-/// # Errors
-/// [`Error::Stdout`].
-pub fn check_stdout_open() -> Result<()> {
-    // SAFETY: F_GETFD only queries the descriptor's flags.
-    let closed_now = unsafe { libc::fcntl(1, libc::F_GETFD) } == -1;
-    if closed_now || STDOUT_CLOSED_AT_START.load(std::sync::atomic::Ordering::Relaxed) {
-        return Err(Error::Stdout(std::io::Error::other(
-            "standard output is closed; give an output file instead",
-        )));
-    }
-    Ok(())
 }
 
 /// A number as CSV text: shortest round-trip digits, positional for moderate magnitudes and

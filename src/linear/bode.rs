@@ -19,6 +19,7 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
+use crate::OptionName;
 use crate::linear::{LinearExport, LinearizeOptions, linearize};
 use crate::{Error, Result};
 use std::io::Write;
@@ -108,7 +109,7 @@ pub fn frequency_response(
 ) -> Result<FrequencyResponse> {
     if options.linear.grid.is_some() || options.linear.discrete.is_some() {
         return Err(Error::option(
-            "BodeOptions::linear",
+            OptionName::BodeLinear,
             "a frequency response is of one continuous-time model: no grid, no discrete",
         ));
     }
@@ -116,11 +117,11 @@ pub fn frequency_response(
     linear.disturbance = options.inputs.iter().any(|i| i == "F_load");
     let model = linearize(scene, &linear)?;
     let point = &model.points[0];
-    let inputs = pick(&model.inputs, &options.inputs, "BodeOptions::inputs", true)?;
+    let inputs = pick(&model.inputs, &options.inputs, OptionName::BodeInputs, true)?;
     let outputs = pick(
         &model.outputs,
         &options.outputs,
-        "BodeOptions::outputs",
+        OptionName::BodeOutputs,
         false,
     )?;
     let natural_hz = natural_frequencies(&point.a)?;
@@ -172,7 +173,7 @@ pub fn frequency_response(
 fn pick(
     signals: &[telescopic_runtime::Signal],
     wanted: &[String],
-    flag: &str,
+    flag: OptionName,
     default_first: bool,
 ) -> Result<Vec<usize>> {
     if wanted.is_empty() && default_first {
@@ -219,19 +220,19 @@ fn grid(options: &BodeOptions, natural_hz: &[f64]) -> Result<Vec<f64>> {
     let to = options.to_hz.unwrap_or(1.5 * highest);
     if !(from.is_finite() && from > 0.0) {
         return Err(Error::option(
-            "BodeOptions::from_hz",
+            OptionName::FromHz,
             format!("must be a frequency > 0 Hz (got {from})"),
         ));
     }
     if !(to.is_finite() && to > from) {
         return Err(Error::option(
-            "BodeOptions::to_hz",
-            format!("must be a frequency above BodeOptions::from_hz = {from} Hz (got {to})"),
+            OptionName::ToHz,
+            format!("must be a frequency above the lower end of the band, {from} Hz (got {to})"),
         ));
     }
     if !(2..=MAX_POINTS).contains(&options.points) {
         return Err(Error::option(
-            "BodeOptions::points",
+            OptionName::BodePoints,
             format!("must be 2 to {MAX_POINTS} (got {})", options.points),
         ));
     }
@@ -260,7 +261,7 @@ fn response(
         .ok_or_else(|| {
             Error::Analysis(format!(
                 "the frequency {} Hz is an eigenvalue of the linear model (an undamped mode): \
-                 move the grid (BodeOptions::from_hz, BodeOptions::to_hz, BodeOptions::points)",
+                 move the frequency grid (its ends or its number of points)",
                 w / (2.0 * std::f64::consts::PI)
             ))
         })?;

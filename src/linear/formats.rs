@@ -3,6 +3,7 @@
 
 use super::npy::{self, Array};
 use super::{DiscreteModels, LinearExport};
+use crate::OptionName;
 use crate::io::rows::{from_rows, to_rows};
 use crate::{Error, Result};
 use serde_json::{Value, json};
@@ -76,14 +77,14 @@ impl LinearExport {
     pub fn check_format(&self, format: Format) -> Result<()> {
         if format == Format::Latex && self.discrete.is_some() {
             return Err(Error::option(
-                "LinearExport format latex",
+                OptionName::LatexFormat,
                 "writes the continuous-time model only; the discrete-time model is in json, \
                  matlab, npz and python",
             ));
         }
         if format == Format::Latex && self.states.len() > MAX_LATEX_STATES {
             return Err(Error::option(
-                "LinearExport format latex",
+                OptionName::LatexFormat,
                 format!(
                     "is for small models: at most {MAX_LATEX_STATES} states, this one has {}; \
                      use json, matlab, npz or python",

@@ -21,6 +21,7 @@ mod npy;
 
 pub use formats::{Format, MAX_LATEX_STATES};
 
+use crate::OptionName;
 use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use std::str::FromStr;
@@ -218,7 +219,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         && !(dt.is_finite() && dt > 0.0)
     {
         return Err(Error::option(
-            "LinearizeOptions::discrete",
+            OptionName::Discrete,
             format!("the sample period must be a finite number of seconds > 0 (got {dt})"),
         ));
     }
@@ -226,7 +227,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
     let t = options.at_time.unwrap_or(scene.time.start);
     if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
         return Err(Error::option(
-            "LinearizeOptions::at_time",
+            OptionName::AtTime,
             format!(
                 "{t}: must lie in the scene's time span [{}, {}] s",
                 scene.time.start, scene.time.end
@@ -236,7 +237,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
     let mut positions: Vec<f64> = scene.params.positions.iter().map(|p| p.value(t)).collect();
     let mut rates: Vec<f64> = scene.params.positions.iter().map(|p| p.rate(t)).collect();
     let mut operating_point = format!("positions and speeds of the scene at t = {t} s");
-    let check = |option: &str, k: usize| {
+    let check = |option: OptionName, k: usize| {
         if !(2..=npos + 1).contains(&k) {
             return Err(Error::option(
                 option,
@@ -251,7 +252,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
     };
     if !options.positions.is_empty() {
         for &(k, v) in &options.positions {
-            check("LinearizeOptions::positions", k)?;
+            check(OptionName::Positions, k)?;
             positions[k - 2] = v;
             rates[k - 2] = 0.0;
         }
@@ -260,10 +261,10 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
     let (grid, points) = match &options.grid {
         None => (
             None,
-            vec![at(&lpv, &positions, &rates, "LinearizeOptions::positions")?],
+            vec![at(&lpv, &positions, &rates, OptionName::Positions)?],
         ),
         Some(g) => {
-            check("LinearizeOptions::grid", g.section)?;
+            check(OptionName::Grid, g.section)?;
             let (grid, points) = grid_points(&lpv, g, &positions, &rates, options.memory_budget)?;
             let others = if npos > 1 {
                 format!("; the other positions: {operating_point}")
@@ -312,37 +313,35 @@ fn grid_points(
 ) -> Result<((String, Vec<f64>), Vec<LinearModel>)> {
     // the other positions must be valid too, whatever the grid's values
     lpv.check_point(positions, rates)
-        .map_err(|e| Error::option("LinearizeOptions::positions", e.to_string()))?;
+        .map_err(|e| Error::option(OptionName::Positions, e.to_string()))?;
     let values = g.values();
     let (ns, ni, no) = (lpv.states().len(), lpv.inputs().len(), lpv.outputs().len());
     let numbers = (ns * ns + ns * ni + no * ns + no * ni) as u64;
     crate::run::memory::check(
         numbers * BYTES_PER_NUMBER * values.len() as u64,
         memory_budget,
-        &format!(
+        (
+            Some(OptionName::Grid),
+            "the grid of operating points".into(),
+        ),
+        format!(
             "{} linear models of {ns} states ({numbers} numbers each, held and written \
              together)",
             values.len()
         ),
-        "LinearizeOptions::grid (fewer points) or sections.modes",
-        |reason| Error::option("LinearizeOptions::grid", reason),
+        "the grid (fewer points) or sections.modes",
     )?;
     let mut points = Vec::with_capacity(values.len());
     for &v in &values {
         let mut p = positions.to_vec();
         p[g.section - 2] = v;
-        points.push(at(
-            lpv,
-            &p,
-            &vec![0.0; positions.len()],
-            "LinearizeOptions::grid",
-        )?);
+        points.push(at(lpv, &p, &vec![0.0; positions.len()], OptionName::Grid)?);
     }
     Ok(((format!("a_{}", g.section), values), points))
 }
 
 /// The linear model at one operating point; a bad point is an error of `option`.
-fn at(lpv: &Lpv, positions: &[f64], rates: &[f64], option: &str) -> Result<LinearModel> {
+fn at(lpv: &Lpv, positions: &[f64], rates: &[f64], option: OptionName) -> Result<LinearModel> {
     lpv.at(positions, rates)
         .map_err(|e| Error::option(option, e.to_string()))
 }

@@ -130,19 +130,19 @@ fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
 /// Output formats of [`save`], by file extension.
 const PLOT_EXTENSIONS: [&str; 2] = ["svg", "png"];
 
-/// Checks before any work that a picture file named by `flag` ends in .svg or .png.
-pub fn check_picture_path(flag: &str, path: &Path) -> Result<()> {
+/// Checks before any work that a picture file ends in .svg or .png and can be written.
+///
+/// # Errors
+/// [`Error::Destination`] naming the path and the rule.
+pub fn check_picture_path(path: &Path) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str());
     if !ext.is_some_and(|e| PLOT_EXTENSIONS.contains(&e)) {
-        return Err(Error::option(
-            flag,
-            format!(
-                "{}: the file name must end in .svg or .png (the format follows it)",
-                path.display()
-            ),
-        ));
+        return Err(Error::Destination {
+            path: path.to_path_buf(),
+            rule: "the file name must end in .svg or .png (the format follows it)".into(),
+        });
     }
-    crate::io::output::check_writable(flag, path)
+    crate::io::output::check_writable(path)
 }
 
 /// Width of a plot (pixels).

@@ -17,6 +17,7 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
+use crate::OptionName;
 use crate::analysis::modes::{ModeKind, ModesReport};
 use crate::plot::{Figure, plot_error, titled_page, upper_left_legend};
 use crate::{Error, Result};
@@ -71,7 +72,7 @@ impl ModeShapeFigure {
     pub fn new(scene: &Scene, report: &ModesReport) -> Result<Self> {
         let shapes = report.mode_shapes.as_ref().ok_or_else(|| {
             Error::option(
-                "ModesOptions::shapes",
+                OptionName::Shapes,
                 "a mode-shape plot needs the shapes sampled (2 or more points per section)",
             )
         })?;

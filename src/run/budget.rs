@@ -111,8 +111,8 @@ pub fn check_run(
     let span = scene.time.end - scene.time.start;
     let reason = match estimate.rates {
         None => format!(
-            "method {method} with SimulationOptions::dt {:.3e} s needs about {:.2e} steps over {span} s, more \
-             than the step limit of {limit:.0e}; raise SimulationOptions::dt (the stability analysis gives the \
+            "method {method} with the step dt = {:.3e} s needs about {:.2e} steps over {span} s, more \
+             than the step limit of {limit:.0e}; raise the step dt (the stability analysis gives the \
              largest stable step) or use an adaptive method",
             estimate.step, estimate.steps
         ),
@@ -142,7 +142,7 @@ pub fn check_run(
             let alternative = if method == Method::Exact {
                 "exact stepping resolves every mode too; check the parameters"
             } else {
-                "an implicit method is not bound by it (SimulationOptions::method esdirk or bdf), or check the \
+                "an implicit method is not bound by it (the method esdirk or bdf), or check the \
                  parameters"
             };
             format!(

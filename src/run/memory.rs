@@ -5,7 +5,7 @@
 //! faces set it (the command and the Python package from `TELESCOPIC_MEMORY_BUDGET`, parsed
 //! by [`parse_budget`]).
 
-use crate::{Error, Result};
+use crate::{Error, OptionName, Result};
 use std::sync::{Condvar, Mutex};
 use telescopic_runtime::Scene;
 
@@ -19,17 +19,17 @@ const BYTES_PER_VALUE: u64 = 8;
 /// Bytes a trajectory keeps per row beyond its values.
 const BYTES_PER_ROW: u64 = 40;
 
-/// The memory budget (bytes) that `text`, the setting `name`, gives: bytes or with a binary
-/// suffix (`512M`, `16G`); [`DEFAULT_MEMORY_BUDGET`] when it is not set.
+/// The memory budget (bytes) that `text` gives: bytes or with a binary suffix (`512M`,
+/// `16G`); [`DEFAULT_MEMORY_BUDGET`] when it is not set.
 ///
 /// # Errors
-/// [`Error::Option`] naming `name` when `text` is not a size.
-pub fn parse_budget(name: &str, text: Option<&str>) -> Result<u64> {
+/// [`Error::Option`] naming [`OptionName::MemoryBudget`] when `text` is not a size.
+pub fn parse_budget(text: Option<&str>) -> Result<u64> {
     match text {
         None => Ok(DEFAULT_MEMORY_BUDGET),
         Some(text) => parse_size(text).ok_or_else(|| {
             Error::option(
-                name,
+                OptionName::MemoryBudget,
                 format!("{text:?} is not a size in bytes (e.g. 4000000000, 512M or 16G)"),
             )
         }),
@@ -67,34 +67,29 @@ pub fn trajectory_bytes(scene: &Scene) -> u64 {
     samples.saturating_mul(columns * BYTES_PER_VALUE + BYTES_PER_ROW)
 }
 
-/// Refuses `bytes` above `budget` (bytes): `what` says what needs them, `setting` what to
-/// change; `error` makes the error from the message.
+/// Refuses `bytes` above `budget` (bytes): `subject` is the scene or input the work belongs
+/// to (and `option` the option that asks for it, if one does), `what` says what needs the
+/// bytes, `remedy` what to change.
 ///
 /// # Errors
-/// `error` of a message naming the need, the budget and the setting.
+/// [`Error::OverMemoryBudget`] naming the need, the budget and the remedy.
 pub fn check(
     bytes: u64,
     budget: u64,
-    what: &str,
-    setting: &str,
-    error: impl FnOnce(String) -> Error,
+    (option, subject): (Option<OptionName>, String),
+    what: String,
+    remedy: &str,
 ) -> Result<()> {
     if bytes <= budget {
         return Ok(());
     }
-    Err(error(format!(
-        "{what} would take about {} of memory, more than the budget of {}; change {setting}, \
-         or raise the memory budget",
-        human(bytes),
-        human(budget)
-    )))
-}
-
-/// [`check`] for a scene's run: [`Error::Unaffordable`].
-fn check_scene(scene: &str, bytes: u64, budget: u64, what: &str, setting: &str) -> Result<()> {
-    check(bytes, budget, what, setting, |reason| Error::Unaffordable {
-        scene: scene.to_string(),
-        reason,
+    Err(Error::OverMemoryBudget {
+        option,
+        subject,
+        what,
+        bytes,
+        budget,
+        remedy: remedy.to_string(),
     })
 }
 
@@ -110,23 +105,13 @@ pub fn check_runs(scenes: &[&Scene], budget: u64) -> Result<()> {
     } else {
         format!("the {} runs' trajectories", scenes.len())
     };
-    check_scene(
-        name,
+    check(
         bytes,
         budget,
-        &what,
+        (None, format!("scene {name}")),
+        what,
         "time.sample (a coarser output grid) or time.end",
     )
-}
-
-/// A size for a message (`1.3 GiB`).
-pub fn human(bytes: u64) -> String {
-    let b = bytes as f64;
-    match bytes {
-        0..0x10_0000 => format!("{:.0} KiB", b / 1024.0),
-        0x10_0000..0x4000_0000 => format!("{:.0} MiB", b / 1048576.0),
-        _ => format!("{:.1} GiB", b / 1073741824.0),
-    }
 }
 
 /// The budget shared by runs in parallel: each takes its trajectory's share before it

@@ -35,7 +35,7 @@ pub mod trajectory;
 
 pub use held::HeldInputStepper;
 pub use options::{MethodChoice, SimulationOptions};
-pub use plan::{Plan, plan};
+pub use plan::{MethodReason, Plan, plan};
 pub use prepared::PreparedRun;
 pub use simulate::{estimate_error, simulate_scene};
 pub use simulation::{Simulation, write_csv};

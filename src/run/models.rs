@@ -21,7 +21,7 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
-use crate::{Error, Result};
+use crate::{Error, OptionName, Result};
 use std::fmt;
 use telescopic_runtime::{
     AssembledModel, Basis, Model, ModelParams, configuration_key, models_toml_entry,
@@ -190,17 +190,20 @@ impl ModelRegistry {
     /// The model for `params` by `choice`.
     ///
     /// # Errors
-    /// [`Error::Model`] when `generated` is asked for a configuration that no set holds, or a
-    /// model rejects the parameters.
+    /// [`Error::Option`] naming [`OptionName::Model`] when `generated` is asked for a
+    /// configuration that no set holds; [`Error::Model`] when a model rejects the parameters.
     pub fn build(&self, params: &ModelParams, choice: ModelChoice) -> Result<ChosenModel> {
         if params.basis != Basis::Modes {
             // the generator emits the paper's shape functions only
             if choice == ModelChoice::Generated {
-                return Err(Error::Model(format!(
-                    "model choice `generated`: generated models have the basis `modes`; \
-                     sections.basis = \"{}\" runs on the quadrature-assembled model",
-                    params.basis.word()
-                )));
+                return Err(Error::option(
+                    OptionName::Model,
+                    format!(
+                        "`generated`: generated models have the basis `modes`; sections.basis = \
+                         \"{}\" runs on the quadrature-assembled model",
+                        params.basis.word()
+                    ),
+                ));
             }
             return ChosenModel::assembled(params);
         }
@@ -225,10 +228,13 @@ impl ModelRegistry {
             });
         }
         if choice == ModelChoice::Generated {
-            return Err(Error::Model(format!(
-                "model choice `generated`: no generated model for configuration {key}; {}",
-                how_to_generate(params)
-            )));
+            return Err(Error::option(
+                OptionName::Model,
+                format!(
+                    "`generated`: no generated model for configuration {key}; {}",
+                    how_to_generate(params)
+                ),
+            ));
         }
         let mut chosen = ChosenModel::assembled(params)?;
         chosen.note = (choice == ModelChoice::Auto).then(|| {

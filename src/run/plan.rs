@@ -1,18 +1,80 @@
 //! The resolved method and settings of a run: `auto` chosen on the scene, tolerances checked.
 
 use super::options::{MethodChoice, SimulationOptions};
+use crate::OptionName;
 use crate::{Error, Result};
+use telescopic_runtime::accuracy::AccuracyPlan;
 use telescopic_runtime::accuracy::Resolve;
 use telescopic_runtime::integrate::StepControl;
-use telescopic_runtime::{DEFAULT_ACCURACY_M, Method, Scene, Settings, plan_for_accuracy};
+use telescopic_runtime::{Basis, DEFAULT_ACCURACY_M, Method, Scene, Settings, plan_for_accuracy};
+
+/// Why a run has its method.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MethodReason {
+    /// The method was given.
+    Given,
+    /// `auto`: the cheapest measured run within the default accuracy.
+    Auto(AccuracyPlan),
+    /// `auto` for an integration accuracy: the cheapest measured run within it.
+    Accuracy(AccuracyPlan),
+    /// A controlled run (its method is the controller's comparison method).
+    Controller(crate::control::ControllerKind),
+    /// A sampled controller's run at its rate (Hz).
+    SampledController(f64),
+    /// The size picked for a whole accuracy (m), and how its integration was planned.
+    TotalAccuracy {
+        /// The accuracy asked for (m of `tip_rel`).
+        accuracy_m: f64,
+        /// The run's estimated whole error (m).
+        estimated_m: f64,
+        /// The basis picked.
+        basis: Basis,
+        /// Modes per section picked.
+        modes: usize,
+        /// The sizes tried, described.
+        tried: Vec<String>,
+        /// The integration's own reason.
+        integration: Box<MethodReason>,
+    },
+}
+
+/// The reason as the run's summary says it: empty for a given method, else `...; `.
+impl std::fmt::Display for MethodReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MethodReason::Given => Ok(()),
+            MethodReason::Auto(plan) => write!(f, "auto: {plan}; "),
+            MethodReason::Accuracy(plan) => write!(f, "accuracy {:e} m: {plan}; ", plan.accuracy_m),
+            MethodReason::Controller(kind) => write!(f, "controller {kind}; "),
+            MethodReason::SampledController(rate_hz) => {
+                write!(f, "sampled controller at {rate_hz} Hz; ")
+            }
+            MethodReason::TotalAccuracy {
+                accuracy_m,
+                estimated_m,
+                basis,
+                modes,
+                tried,
+                integration,
+            } => write!(
+                f,
+                "accuracy {accuracy_m:e} m in all (estimated {estimated_m:.1e} m): basis {}, \
+                 {modes} modes per section, the cheapest size within it of those tried ({}); \
+                 {integration}",
+                basis.word(),
+                tried.join(", "),
+            ),
+        }
+    }
+}
 
 /// The resolved method and settings of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
     /// The method that starts the run.
     pub method: Method,
-    /// For `auto`: why this method (`auto: ...; `), else empty.
-    pub how: String,
+    /// Why this method.
+    pub reason: MethodReason,
     /// Tolerances, steps and the hand-over to exact stepping.
     pub settings: Settings,
     /// The measured error in `tip_rel` (m) of the run the method was picked from; `None`
@@ -38,29 +100,26 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     } else {
         Resolve::Moments
     };
-    let (method, how) = match (options.method, options.accuracy) {
+    let (method, reason) = match (options.method, options.accuracy) {
         (MethodChoice::Auto, Some(accuracy)) => {
             if options.rtol.is_some() || options.atol.is_some() {
                 return Err(Error::option(
-                    "SimulationOptions::accuracy",
+                    OptionName::Accuracy,
                     "picks the tolerances itself: give an accuracy or rtol/atol, not both",
                 ));
             }
             let chosen = plan_for_accuracy(&scene.params, &scene.time, accuracy, resolve)
-                .map_err(|e| Error::option("SimulationOptions::accuracy", e))?;
+                .map_err(|e| Error::option(OptionName::Accuracy, e))?;
             settings.exact_from = chosen.exact_from;
             settings.rtol = chosen.rtol;
             settings.atol = 1e-3 * chosen.rtol;
             integration_error_m = Some(chosen.error_m);
             integration_statistics_rel = Some(chosen.statistics_rel);
-            (
-                chosen.method,
-                format!("accuracy {accuracy:e} m: {}; ", chosen.why),
-            )
+            (chosen.method, MethodReason::Accuracy(chosen))
         }
         (MethodChoice::Method(m), Some(_)) => {
             return Err(Error::option(
-                "SimulationOptions::accuracy",
+                OptionName::Accuracy,
                 format!("picks the method itself: leave the method at auto (got {m})"),
             ));
         }
@@ -70,9 +129,9 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
             settings.exact_from = chosen.exact_from;
             integration_error_m = Some(chosen.error_m);
             integration_statistics_rel = Some(chosen.statistics_rel);
-            (chosen.method, format!("auto: {}; ", chosen.why))
+            (chosen.method, MethodReason::Auto(chosen))
         }
-        (MethodChoice::Method(m), None) => (m, String::new()),
+        (MethodChoice::Method(m), None) => (m, MethodReason::Given),
     };
     if let Some(r) = options.rtol {
         settings.rtol = r;
@@ -86,7 +145,7 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     check_steps(scene, method, &settings)?;
     Ok(Plan {
         method,
-        how,
+        reason,
         settings,
         integration_error_m,
         integration_statistics_rel,
@@ -104,7 +163,7 @@ fn check_steps(scene: &Scene, method: Method, settings: &Settings) -> Result<()>
         && settings.atol.is_finite())
     {
         return Err(Error::option(
-            "SimulationOptions::rtol/atol",
+            OptionName::Tolerances,
             format!(
                 "tolerances must be positive with rtol < 1 (got rtol {}, atol {})",
                 settings.rtol, settings.atol
@@ -115,7 +174,7 @@ fn check_steps(scene: &Scene, method: Method, settings: &Settings) -> Result<()>
         && !(dt > 0.0 && dt.is_finite())
     {
         return Err(Error::option(
-            "SimulationOptions::dt",
+            OptionName::Dt,
             format!("must be a finite number of seconds > 0 (got {dt})"),
         ));
     }
@@ -124,15 +183,15 @@ fn check_steps(scene: &Scene, method: Method, settings: &Settings) -> Result<()>
         && dt > span
     {
         return Err(Error::option(
-            "SimulationOptions::dt",
+            OptionName::Dt,
             format!("{dt} s is longer than the scene's span ({span} s): a step must fit in it"),
         ));
     }
     if method.step_control() == StepControl::Fixed && settings.dt.is_none() {
         return Err(Error::option(
-            "SimulationOptions::dt",
+            OptionName::Dt,
             format!(
-                "method {method} takes a fixed step: give SimulationOptions::dt (see the stability analysis)"
+                "method {method} takes a fixed step: give the step dt (see the stability analysis)"
             ),
         ));
     }

@@ -65,26 +65,26 @@ impl<'s> PreparedRun<'s> {
         })
     }
 
-    /// A run of `scene` on an already chosen model with `method` and `settings`, within the
-    /// default memory budget.
+    /// A run of `scene` on an already chosen model with `method` and `settings`, its outputs
+    /// within `memory_budget` (bytes).
     pub fn with_model(
         scene: &'s Scene,
         chosen: ChosenModel,
-        method: Method,
-        settings: Settings,
+        (method, settings): (Method, Settings),
+        memory_budget: u64,
     ) -> Self {
         PreparedRun {
             scene,
             chosen,
             plan: Plan {
                 method,
-                how: String::new(),
+                reason: super::MethodReason::Given,
                 settings,
                 integration_error_m: None,
                 integration_statistics_rel: None,
             },
             stations: StationRows::none(),
-            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
+            memory_budget,
         }
     }
 

@@ -88,7 +88,7 @@ impl Simulation {
             self.scene,
             self.model,
             self.plan.method,
-            self.plan.how,
+            self.plan.reason,
             self.span.0,
             self.span.1,
             self.trajectory.rows.len(),

@@ -15,6 +15,7 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
+use crate::OptionName;
 use crate::run::Trajectory;
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::DVector;
@@ -41,7 +42,7 @@ impl Station {
             .map(|entry| {
                 let bad = || {
                     Error::option(
-                        "SimulationOptions::stations",
+                        OptionName::Stations,
                         format!(
                             "'{entry}' is not SECTION:X (a section number from 1 and a \
                              distance in metres from that section's foot, e.g. 1:0.5)"
@@ -289,7 +290,7 @@ fn check_stations(scene: &Scene, stations: &[Station]) -> Result<()> {
     for s in stations {
         if !(1..=sections.len()).contains(&s.section) {
             return Err(Error::option(
-                "SimulationOptions::stations",
+                OptionName::Stations,
                 format!(
                     "section {} does not exist: the scene has sections 1..={}",
                     s.section,
@@ -300,7 +301,7 @@ fn check_stations(scene: &Scene, stations: &[Station]) -> Result<()> {
         let l = sections[s.section - 1].length;
         if !(s.x.is_finite() && (0.0..=l).contains(&s.x)) {
             return Err(Error::option(
-                "SimulationOptions::stations",
+                OptionName::Stations,
                 format!(
                     "x = {} m is outside section {} (from its foot, 0 ..= {l} m)",
                     s.x, s.section

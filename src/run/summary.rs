@@ -88,7 +88,7 @@ impl Simulation {
             scene: self.scene.clone(),
             model: self.model.clone(),
             method: self.plan.method.name(),
-            how: self.plan.how.clone(),
+            how: self.plan.reason.to_string(),
             rtol: self.plan.settings.rtol,
             atol: self.plan.settings.atol,
             steps: s.steps,

@@ -15,10 +15,11 @@
 //! not depend on the machine's load) is kept; its companion run is the check the summary
 //! reports. A size whose run already costs four times the best one's ends its basis's search.
 
+use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::error_budget::{self, ErrorBudget, Statistic, refined_modes};
-use crate::run::{Simulation, SimulationOptions, plan};
+use crate::run::{MethodReason, Simulation, SimulationOptions, plan};
 use crate::{Error, Result};
 use telescopic_runtime::{Basis, Scene};
 
@@ -131,7 +132,7 @@ pub fn simulate_for_accuracy(
     let tried: Vec<String> = attempts.iter().map(Attempt::describe).collect();
     let Some((mut simulation, _)) = best else {
         return Err(Error::option(
-            "SimulationOptions::accuracy",
+            OptionName::Accuracy,
             format!(
                 "{accuracy:e} m (with moments within {} % and statistics within {} %) is not \
                  reached by any size tried: {}; ask for a coarser accuracy",
@@ -145,15 +146,14 @@ pub fn simulate_for_accuracy(
         .error
         .as_ref()
         .expect("a passing run has its budget");
-    simulation.plan.how = format!(
-        "accuracy {accuracy:e} m in all (estimated {:.1e} m): basis {}, {} modes per section, \
-         the cheapest size within it of those tried ({}); {}",
-        budget.total_m().unwrap_or(f64::NAN),
-        simulation.basis.word(),
-        simulation.modes[0],
-        tried.join(", "),
-        simulation.plan.how
-    );
+    simulation.plan.reason = MethodReason::TotalAccuracy {
+        accuracy_m: accuracy,
+        estimated_m: budget.total_m().unwrap_or(f64::NAN),
+        basis: simulation.basis,
+        modes: simulation.modes[0],
+        tried,
+        integration: Box::new(simulation.plan.reason.clone()),
+    };
     Ok(simulation)
 }
 
@@ -161,22 +161,20 @@ pub fn simulate_for_accuracy(
 fn check_options(accuracy: f64, options: &SimulationOptions) -> Result<()> {
     let (low, high) = TOTAL_ACCURACY_RANGE;
     if !(accuracy.is_finite() && (low..=high).contains(&accuracy)) {
-        return Err(Error::option(
-            "SimulationOptions::accuracy",
+        return Err(Error::option_see(
+            OptionName::Accuracy,
             format!(
                 "must be {low:e} to {high:e} m of tip_rel in all (got {accuracy:e} m); for an \
-                 integration accuracy alone keep the scene's modes (SimulationOptions::modes_as_given)"
+                 integration accuracy alone keep the scene's modes"
             ),
+            OptionName::ModesAsGiven,
         ));
     }
     for (value, name) in [
-        (
-            options.moment_tolerance,
-            "SimulationOptions::moment_tolerance",
-        ),
+        (options.moment_tolerance, OptionName::MomentTolerance),
         (
             options.statistics_tolerance,
-            "SimulationOptions::statistics_tolerance",
+            OptionName::StatisticsTolerance,
         ),
     ] {
         if !(value > 0.0 && value < 1.0) {

@@ -2,6 +2,7 @@
 //! second key, or a heat map over both.
 
 use super::table::{SweepTable, split_csv};
+use crate::OptionName;
 use crate::plot::{COLORS, Figure, plot_error, tick_label, titled_page, upper_left_legend};
 use crate::{Error, Result};
 use plotters::prelude::*;
@@ -35,7 +36,7 @@ pub fn chart(
     heatmap: bool,
 ) -> Result<SweepChart> {
     let columns = split_csv(&table.columns);
-    let find = |name: &str, option: &str| {
+    let find = |name: &str, option: OptionName| {
         columns.iter().position(|c| c == name).ok_or_else(|| {
             Error::option(
                 option,
@@ -46,9 +47,9 @@ pub fn chart(
             )
         })
     };
-    let (ix, iy) = (find(x, "SweepChart x")?, find(y, "SweepChart y")?);
-    let ic = color.map(|c| find(c, "SweepChart color")).transpose()?;
-    let status = find("status", "SweepChart y")?;
+    let (ix, iy) = (find(x, OptionName::ChartX)?, find(y, OptionName::ChartY)?);
+    let ic = color.map(|c| find(c, OptionName::ChartColor)).transpose()?;
+    let status = find("status", OptionName::ChartY)?;
     let mut groups: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     // the group of each label: linear in the rows however many labels there are
     let mut group_of: std::collections::HashMap<String, usize> = Default::default();
@@ -79,7 +80,7 @@ pub fn chart(
     }
     if !heatmap && groups.len() > MAX_LINES {
         return Err(Error::option(
-            "SweepChart color",
+            OptionName::ChartColor,
             format!(
                 "`{}` has {} distinct values; a line chart shows at most {MAX_LINES} lines: \
                  draw a heat map, or color by a column with fewer values",
@@ -90,13 +91,13 @@ pub fn chart(
     }
     if groups.is_empty() {
         return Err(Error::option(
-            "SweepChart y",
+            OptionName::ChartY,
             format!("no successful run has numbers in both `{x}` and `{y}`"),
         ));
     }
     if heatmap && groups.iter().any(|(l, _)| l.parse::<f64>().is_err()) {
         return Err(Error::option(
-            "SweepChart heatmap",
+            OptionName::ChartHeatmap,
             format!("the color column `{}` is not numeric", color.unwrap_or("")),
         ));
     }

@@ -92,7 +92,7 @@ pub struct Sweep {
 }
 
 fn invalid(path: &Path, what: String) -> Error {
-    Error::option("sweep file", format!("{}: {what}", path.display()))
+    Error::input("sweep file", format!("{}: {what}", path.display()))
 }
 
 /// A value as TOML text, floats short (`0.005`, `10.0`, `8.3e-11`, `1e15`) and still floats.
@@ -116,7 +116,7 @@ impl Sweep {
     /// its runs must fit the default memory budget.
     ///
     /// # Errors
-    /// [`Error::Option`] naming the file, the key and the rule, or the run and its problem;
+    /// [`Error::Input`] naming the file, the key and the rule, or the run and its problem;
     /// [`Error::Scene`] for an unreadable or invalid base scene.
     pub fn load(path: &Path) -> Result<Self> {
         Self::load_within(path, crate::run::memory::DEFAULT_MEMORY_BUDGET)
@@ -177,7 +177,7 @@ impl Sweep {
     /// The scene of a run, and its simulation options.
     ///
     /// # Errors
-    /// [`Error::Scene`] or [`Error::Option`] for the run's values.
+    /// [`Error::Scene`] or [`Error::Input`] for the run's values.
     pub fn scene_of(&self, run: &Run) -> Result<(Scene, SimulationOptions)> {
         let mut overrides = Vec::with_capacity(self.set.len() + self.keys.len());
         let mut options = SimulationOptions::default();
@@ -191,7 +191,7 @@ impl Sweep {
                         .ok()
                         .and_then(|mut t| t.remove("v"))
                         .ok_or_else(|| {
-                            Error::option("`set`", format!("{entry:?}: the value is not TOML"))
+                            Error::input("`set`", format!("{entry:?}: the value is not TOML"))
                         })?;
                     settings.push((key.to_string(), value));
                 }
@@ -205,7 +205,7 @@ impl Sweep {
             .filter_map(|(k, v)| v.as_ref().map(|v| (k.clone(), v.clone())));
         for (key, value) in settings.into_iter().chain(run_values) {
             let (key, value) = (&key, &value);
-            let option = |rule: String| Error::option(&format!("`{key}`"), rule);
+            let option = |rule: String| Error::input(format!("`{key}`"), rule);
             match key.as_str() {
                 "method" => {
                     let name = value
@@ -428,9 +428,9 @@ fn check_memory(path: &Path, spec: &SweepSpec, budget: u64) -> Result<()> {
     crate::run::memory::check(
         bytes,
         budget,
-        &format!("{runs} runs of {keys} keys"),
+        (None, format!("sweep file {}", path.display())),
+        format!("{runs} runs of {keys} keys"),
         "[latin] samples or the [grid] (fewer runs), or split the sweep",
-        |reason| invalid(path, reason),
     )
 }
 

@@ -9,9 +9,9 @@ use std::path::Path;
 /// header, every shard once, every index `0..runs` exactly once; rows sorted by index.
 ///
 /// # Errors
-/// [`Error::Option`] naming the mismatch, the missing shards or indices, or the duplicates.
+/// [`Error::Input`] naming the mismatch, the missing shards or indices, or the duplicates.
 pub fn merge_shards(paths: &[&Path]) -> Result<SweepTable> {
-    let refuse = |why: String| Error::option("sweep-merge", why);
+    let refuse = |why: String| Error::input("sweep-merge", why);
     if paths.is_empty() {
         return Err(refuse("no shard files given".into()));
     }

@@ -13,6 +13,7 @@
 //!     shard: Shard::whole(),
 //!     resume: false,
 //!     memory_budget: telescopic::run::memory::DEFAULT_MEMORY_BUDGET,
+//!     cancel: Default::default(),
 //! }, &Silent)?;
 //! println!("{} runs, {} failed", done.written, done.failed);
 //! # Ok::<(), telescopic::Error>(())
@@ -30,6 +31,8 @@ mod table;
 pub use chart::{SweepChart, chart};
 pub use file::{MAX_RUNS, RUN_KEYS, Run, Sweep, override_text, value_text};
 pub use merge::merge_shards;
-pub use run::{MAX_JOBS, SweepOptions, SweepOutcome, check_jobs, discard_sweep, run_sweep};
+pub use run::{
+    MAX_JOBS, SweepOptions, SweepOutcome, check_jobs, discard_sweep, partial_path, run_sweep,
+};
 pub use shard::Shard;
 pub use table::{MAX_RESULT_BYTES, METRIC_COLUMNS, STATUSES, SweepTable, read_table, split_csv};

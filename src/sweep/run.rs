@@ -5,6 +5,7 @@
 
 use super::file::{Run, Sweep};
 use super::shard::Shard;
+use crate::OptionName;
 use crate::analysis::metrics::{drive_stop, metrics, peak_and_rms};
 use crate::io::output::csv_number;
 use crate::report::{Reporter, Silent};
@@ -33,6 +34,8 @@ pub struct SweepOptions {
     /// The memory the runs in progress may take together (bytes,
     /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`] for the default).
     pub memory_budget: u64,
+    /// Asked to stop: no new run starts, the finished rows are kept in the work file.
+    pub cancel: crate::Cancel,
 }
 
 /// What a sweep did.
@@ -85,9 +88,9 @@ pub(super) fn csv_text(s: &str) -> String {
 fn status_of(e: &Error) -> &'static str {
     match e {
         Error::Scene(_) => "invalid",
-        Error::Option { .. } => "option",
+        Error::Option { .. } | Error::Input(_) => "option",
         Error::Model(_) => "model",
-        Error::Unaffordable { .. } => "unaffordable",
+        Error::Unaffordable { .. } | Error::OverMemoryBudget { .. } => "unaffordable",
         Error::Simulation { error, .. } => match error {
             SimError::Diverged { .. } => "diverged",
             SimError::StepUnderflow { .. } => "step-underflow",
@@ -110,13 +113,13 @@ struct Progress<'r> {
     reporter: &'r dyn Reporter,
 }
 
-/// Runs `pending` on `jobs` threads, each row appended to `work` (flushed) as its run
-/// finishes, until all are done, an interrupt or a failed write: the work file and the
-/// counts `(finished, written, failed)`.
+/// Runs `pending` on `options.jobs` threads, each row appended to `work` (flushed) as its
+/// run finishes, until all are done, `options.cancel` is asked or a write fails: the work
+/// file and the counts `(finished, written, failed)`.
 fn run_pending(
     sweep: &Sweep,
     pending: &[&Run],
-    jobs: usize,
+    options: &SweepOptions,
     work: WorkFile,
     gate: &MemoryGate,
     progress: &Progress,
@@ -127,14 +130,14 @@ fn run_pending(
     let counts = Mutex::new((progress.done, 0usize, 0usize)); // (finished, written, failed)
     let write_failure: Mutex<Option<std::io::Error>> = Mutex::new(None);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.min(pending.len()).max(1))
+        .num_threads(options.jobs.min(pending.len()).max(1))
         .build()
-        .map_err(|e| Error::option("SweepOptions::jobs", e.to_string()))?;
+        .map_err(|e| Error::option(OptionName::Jobs, e.to_string()))?;
     pool.install(|| {
         pending.par_iter().for_each(|run| {
             // after an interrupt or a failed write, no new run starts
             let write_failed = || write_failure.lock().map_or(true, |f| f.is_some());
-            if crate::interrupt::requested() || write_failed() {
+            if options.cancel.requested() || write_failed() {
                 return;
             }
             let (line, failed) = row(sweep, run, gate);
@@ -253,8 +256,8 @@ pub fn discard_sweep(out: &Path) {
     }
 }
 
-/// The work file beside `out`.
-fn partial_path(out: &Path) -> PathBuf {
+/// The work file beside `out` (`<out>.partial`) that keeps a sweep's finished rows.
+pub fn partial_path(out: &Path) -> PathBuf {
     let mut name = out
         .file_name()
         .map(|n| n.to_os_string())
@@ -273,7 +276,7 @@ pub const MAX_JOBS: usize = 256;
 pub fn check_jobs(jobs: usize) -> Result<()> {
     if !(1..=MAX_JOBS).contains(&jobs) {
         return Err(Error::option(
-            "SweepOptions::jobs",
+            OptionName::Jobs,
             format!("must be 1 to {MAX_JOBS} (got {jobs})"),
         ));
     }
@@ -318,7 +321,7 @@ fn open_work_file(
     if matches!(Destination::of(out), Ok(Destination::Stream(_))) {
         if resume {
             return Err(Error::option(
-                "SweepOptions::resume",
+                OptionName::Resume,
                 format!(
                     "{} is a stream, which keeps no rows to resume",
                     out.display()
@@ -341,7 +344,7 @@ fn open_work_file(
         .map_err(write_error)?;
     if let Err(e) = file.try_lock() {
         return Err(Error::option(
-            "SweepOptions::out",
+            OptionName::SweepOut,
             format!(
                 "another sweep is writing {} (its work file {} is locked: {e}); wait for it or \
                  choose another output",
@@ -391,7 +394,7 @@ fn kept_rows(
     if length == 0 {
         return Ok(None);
     }
-    let refuse = |why: String| Err(Error::option("SweepOptions::resume", why));
+    let refuse = |why: String| Err(Error::option(OptionName::Resume, why));
     let foreign = |found: &str| {
         refuse(format!(
             "{} belongs to another sweep or shard (its header: {}); remove it to start afresh",
@@ -454,11 +457,8 @@ pub fn run_sweep(
 ) -> Result<SweepOutcome> {
     let started = Instant::now();
     check_jobs(options.jobs)?;
-    crate::io::output::check_not_an_input(
-        "SweepOptions::out",
-        &options.out,
-        &[&sweep.path, &sweep.scene_path],
-    )?;
+    crate::io::output::check_not_an_input(&options.out, &[&sweep.path, &sweep.scene_path])
+        .map_err(|e| Error::option(OptionName::SweepOut, e.to_string()))?;
     let header = header_line(sweep, options.shard);
     let columns = column_line(sweep);
     let mine: Vec<&Run> = sweep
@@ -487,9 +487,6 @@ pub fn run_sweep(
         .copied()
         .filter(|r| !finished_before.contains(&r.index))
         .collect();
-    if let WorkFile::Partial { path, .. } = &work {
-        crate::io::output::keep_on_interrupt(path);
-    }
     let gate = MemoryGate::new(options.memory_budget);
     let total = mine.len();
     reporter.runs(done.len(), total);
@@ -498,35 +495,27 @@ pub fn run_sweep(
         done: done.len(),
         reporter,
     };
-    let (work, (finished, written, failed)) = run_pending(
-        sweep,
-        &pending,
-        options.jobs,
-        work,
-        &gate,
-        &progress,
-        &partial,
-    )?;
+    let (work, (finished, written, failed)) =
+        run_pending(sweep, &pending, options, work, &gate, &progress, &partial)?;
     let write_error = |error| Error::Write {
         path: partial.clone(),
         error,
     };
     if finished < total {
         let kept = match &work {
-            WorkFile::Partial { path, .. } => {
-                format!("kept in {}; resume the sweep to finish", path.display())
-            }
-            WorkFile::Memory(_) => "not kept (the output is a stream)".into(),
+            WorkFile::Partial { path, .. } => Some(path.clone()),
+            WorkFile::Memory(_) => None,
         };
-        return Err(Error::Interrupted(format!(
-            "{finished} of {total} runs done, {kept}"
-        )));
+        return Err(Error::Interrupted {
+            finished,
+            total,
+            kept,
+        });
     }
     // every row is there: sorted by index into the result file, written whole
     let table = finished_table(&work)?;
     crate::io::output::write_atomically(&options.out, |w| table.write(w))?;
     if let WorkFile::Partial { path, .. } = &work {
-        crate::io::output::forget_kept(path);
         std::fs::remove_file(path).map_err(write_error)?;
     }
     Ok(SweepOutcome {

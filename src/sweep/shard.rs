@@ -1,5 +1,6 @@
 //! Which runs of a sweep one process makes (`--shard I/N`), and its parsing.
 
+use crate::OptionName;
 use crate::{Error, Result};
 use std::str::FromStr;
 
@@ -33,7 +34,7 @@ impl Shard {
         let parse = |name: &str, v: String| {
             v.trim().parse::<usize>().map_err(|_| {
                 Error::option(
-                    "Shard::of_job_array",
+                    OptionName::Shard,
                     format!("{name}={v:?} is not a whole number"),
                 )
             })
@@ -47,9 +48,10 @@ impl Shard {
             let total = match var("SLURM_ARRAY_TASK_COUNT") {
                 Some(v) => parse("SLURM_ARRAY_TASK_COUNT", v)?,
                 None => count.ok_or_else(|| {
-                    Error::option(
-                        "Shard::of_job_array",
+                    Error::option_see(
+                        OptionName::Shard,
                         "SLURM_ARRAY_TASK_COUNT is not set; give the shard count",
+                        OptionName::ShardCount,
                     )
                 })?,
             };
@@ -65,7 +67,7 @@ impl Shard {
             };
             if shard.index >= total {
                 return Err(Error::option(
-                    "Shard::of_job_array",
+                    OptionName::Shard,
                     format!(
                         "array task {id} (min {min}, step {step}, count {total}) is not one of an \
                          evenly spaced range; submit with sbatch --array=0-{} (optionally %LIMIT)",
@@ -76,9 +78,11 @@ impl Shard {
             shard
         } else if let Some(id) = var("JOB_COMPLETION_INDEX") {
             let total = count.ok_or_else(|| {
-                Error::option(
-                    "Shard::of_job_array",
-                    "JOB_COMPLETION_INDEX is set but not the count: give the shard count (the job's completions)",
+                Error::option_see(
+                    OptionName::Shard,
+                    "JOB_COMPLETION_INDEX is set but not the count: give the shard count (the \
+                     job's completions)",
+                    OptionName::ShardCount,
                 )
             })?;
             Shard {
@@ -87,20 +91,25 @@ impl Shard {
             }
         } else {
             return Err(Error::option(
-                "Shard::of_job_array",
+                OptionName::Shard,
                 "neither SLURM_ARRAY_TASK_ID (a Slurm job array) nor JOB_COMPLETION_INDEX (a \
                  Kubernetes indexed job) is set",
             ));
         };
-        shard.check("Shard::of_job_array")?;
+        shard.check(OptionName::Shard)?;
         Ok(shard)
     }
 
-    fn check(&self, option: &str) -> Result<()> {
+    fn check(&self, option: OptionName) -> Result<()> {
+        self.rule().map_err(|rule| Error::option(option, rule))
+    }
+
+    /// The rule a shard keeps: index below a non-zero count.
+    fn rule(&self) -> std::result::Result<(), String> {
         if self.count == 0 || self.index >= self.count {
-            return Err(Error::option(
-                option,
-                format!("shard {} of {}: need 0 <= I < N", self.index, self.count),
+            return Err(format!(
+                "shard {} of {}: need 0 <= I < N",
+                self.index, self.count
             ));
         }
         Ok(())
@@ -128,7 +137,7 @@ impl FromStr for Shard {
             index: parse(i)?,
             count: parse(n)?,
         };
-        shard.check("Shard").map_err(|e| e.to_string())?;
+        shard.rule()?;
         Ok(shard)
     }
 }

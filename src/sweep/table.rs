@@ -345,7 +345,7 @@ fn parse(
     reader: &mut impl std::io::BufRead,
     ending: Ending,
 ) -> Result<(SweepTable, usize)> {
-    let bad = |why: String| Error::option("sweep results", format!("{}: {why}", path.display()));
+    let bad = |why: String| Error::input("sweep results", format!("{}: {why}", path.display()));
     let header = next_line(reader, 1).map_err(bad)?.unwrap_or_default();
     let header = header.trim_end_matches('\n');
     if !header.starts_with("# telescopic sweep ") {
@@ -426,7 +426,7 @@ fn check_closing(
 
 /// Opens a result file, refusing a regular file over [`MAX_RESULT_BYTES`] before reading.
 fn open(path: &Path) -> Result<std::io::BufReader<std::fs::File>> {
-    let bad = |why: String| Error::option("sweep results", format!("{}: {why}", path.display()));
+    let bad = |why: String| Error::input("sweep results", format!("{}: {why}", path.display()));
     let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot be read: {e}")))?;
     let meta = file
         .metadata()
@@ -446,7 +446,7 @@ fn open(path: &Path) -> Result<std::io::BufReader<std::fs::File>> {
 /// Reads a complete result file (of a sweep, a shard or a merge), every row checked.
 ///
 /// # Errors
-/// [`Error::Option`] naming the file, the line and the rule.
+/// [`Error::Input`] naming the file, the line and the rule.
 pub fn read_table(path: &Path) -> Result<SweepTable> {
     Ok(parse(path, &mut open(path)?, Ending::Closed)?.0)
 }
@@ -455,7 +455,7 @@ pub fn read_table(path: &Path) -> Result<SweepTable> {
 /// line, from a killed process, lies beyond it).
 ///
 /// # Errors
-/// [`Error::Option`] naming the file, the line and the rule.
+/// [`Error::Input`] naming the file, the line and the rule.
 pub(super) fn read_work_file(path: &Path) -> Result<(SweepTable, usize)> {
     parse(path, &mut open(path)?, Ending::Open)
 }

@@ -3,6 +3,7 @@
 
 use super::progress::Progress;
 use super::{SceneArgs, check_chart, check_output};
+use crate::stdout::{check_stdout_open, write_to};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::analysis::converge::{ConvergeOptions, converge as run_converge};
@@ -12,7 +13,6 @@ use telescopic::analysis::stability::stability_analysis;
 use telescopic::analysis::work_precision::{
     DEFAULT_METHODS, WorkPrecisionOptions, work_precision as run_wp,
 };
-use telescopic::io::output::{check_stdout_open, write_to};
 use telescopic::plot::{Figure, save};
 use telescopic::run::MethodChoice;
 use telescopic::run::models::ModelChoice;
@@ -133,6 +133,7 @@ pub fn work_precision(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
             args.rtols.clone()
         },
         model: args.model,
+        memory_budget: crate::memory_budget()?,
         ..defaults
     };
     let result = run_wp(&scene, &options, &Progress::new())?;
@@ -164,6 +165,7 @@ fn model_sizes(args: &WorkPrecisionArgs, scene: &telescopic::Scene) -> anyhow::R
             args.rtols.clone()
         },
         repeat: args.repeat,
+        memory_budget: crate::memory_budget()?,
     };
     let study = model_size_study(scene, &options, &Progress::new())?;
     eprintln!("{}", study.summary());
@@ -197,6 +199,7 @@ pub fn converge(args: &ConvergeArgs) -> anyhow::Result<()> {
         tol: args.tol,
         max_modes: args.max_modes,
         max_contacts: args.max_contacts,
+        memory_budget: crate::memory_budget()?,
     };
     let result = run_converge(&scene, &options, &Progress::new())?;
     let text = result.render();

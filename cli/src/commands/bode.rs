@@ -2,9 +2,9 @@
 
 use super::control::OperatingPointArgs;
 use super::{SceneArgs, check_chart, check_output};
+use crate::stdout::{check_stdout_open, write_to};
 use clap::Args;
 use std::path::PathBuf;
-use telescopic::io::output::{check_stdout_open, write_to};
 use telescopic::linear::bode::{BodeOptions, DEFAULT_POINTS, frequency_response};
 use telescopic::run::models::ModelChoice;
 
@@ -54,7 +54,8 @@ pub fn bode(args: &BodeArgs) -> anyhow::Result<()> {
     check_output("--out", args.out.as_deref(), &inputs)?;
     check_chart("--plot", args.plot.as_deref(), &inputs)?;
     if let (Some(plot), Some(out)) = (&args.plot, &args.out) {
-        telescopic::io::output::check_not_an_input("--plot", plot, &[out])?;
+        telescopic::io::output::check_not_an_input(plot, &[out])
+            .map_err(super::of_flag("--plot"))?;
     }
     if args.out.is_none() {
         check_stdout_open()?;

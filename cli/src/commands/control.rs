@@ -2,10 +2,10 @@
 //! tools controls engineers use.
 
 use super::{SceneArgs, check_output};
+use crate::stdout::{check_stdout_open, write_to};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::control::DesignOptions;
-use telescopic::io::output::{check_stdout_open, write_to};
 use telescopic::linear::{
     Format, Grid, LinearizeOptions, linearize as run_linearize, parse_positions,
 };
@@ -224,11 +224,15 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         added_damping: args.added_damping,
         model: args.model,
         models: Default::default(),
+        memory_budget: crate::memory_budget()?,
     };
     if let Some(dir) = &args.emit_c
         && !dir.is_dir()
     {
         anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
+    }
+    if let Some(dir) = &args.emit_c {
+        crate::signals::watch_output_dir(dir.clone());
     }
     let controller = telescopic::control::design(&scene, &options)?;
     if controller.shaper.is_some() && controller.shaper_timing != options.shaper_timing {

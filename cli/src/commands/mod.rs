@@ -92,18 +92,25 @@ impl SceneArgs {
 /// none of the command's `inputs`.
 pub fn check_output(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyhow::Result<()> {
     if let Some(p) = path {
-        telescopic::io::output::check_writable(option, p)?;
-        telescopic::io::output::check_not_an_input(option, p, inputs)?;
+        crate::signals::watch_output(p);
+        telescopic::io::output::check_writable(p).map_err(of_flag(option))?;
+        telescopic::io::output::check_not_an_input(p, inputs).map_err(of_flag(option))?;
     }
     Ok(())
+}
+
+/// A library error about the path that `flag` gives, told as that flag's.
+pub fn of_flag(flag: &str) -> impl Fn(telescopic::Error) -> anyhow::Error + '_ {
+    move |e| anyhow::Error::new(e).context(flag.to_string())
 }
 
 /// Checks a chart's path before any work: .svg or .png in a writable directory, and none of
 /// the command's `inputs`.
 pub fn check_chart(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyhow::Result<()> {
     if let Some(p) = path {
-        telescopic::plot::check_picture_path(option, p)?;
-        telescopic::io::output::check_not_an_input(option, p, inputs)?;
+        crate::signals::watch_output(p);
+        telescopic::plot::check_picture_path(p).map_err(of_flag(option))?;
+        telescopic::io::output::check_not_an_input(p, inputs).map_err(of_flag(option))?;
     }
     Ok(())
 }

@@ -41,7 +41,7 @@ const PLOT_POINTS: usize = 61;
 
 /// Runs `telescopic modes`.
 pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
-    telescopic::io::output::check_stdout_open()?;
+    crate::stdout::check_stdout_open()?;
     check_chart(
         "--plot",
         args.plot.as_deref(),
@@ -88,7 +88,7 @@ pub struct EquationsArgs {
 
 /// Runs `telescopic equations`.
 pub fn equations(args: &EquationsArgs) -> anyhow::Result<()> {
-    telescopic::io::output::check_stdout_open()?;
+    crate::stdout::check_stdout_open()?;
     let scene = args.scene.load()?;
     let text = rendered_equations(&scene, args.format, &Default::default())?;
     write_to(None, |w| w.write_all(text.as_bytes()))?;

@@ -108,10 +108,11 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     check_chart("--plot", args.plot.as_deref(), &inputs)?;
     check_output("--out", args.out.as_deref(), &inputs)?;
     if let (Some(plot), Some(out)) = (&args.plot, &args.out) {
-        telescopic::io::output::check_not_an_input("--plot", plot, &[out])?;
+        telescopic::io::output::check_not_an_input(plot, &[out])
+            .map_err(super::of_flag("--plot"))?;
     }
     if args.out.is_none() || args.json {
-        telescopic::io::output::check_stdout_open()?;
+        crate::stdout::check_stdout_open()?;
     }
     let scene = args.scene.load()?;
     let other = match &args.compare {

@@ -62,7 +62,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
         jobs.min(mine.max(1)),
         sweep.hash
     );
-    telescopic::interrupt::stop_between_runs();
+    let cancel = crate::signals::watch_sweep(telescopic::sweep::partial_path(&args.out));
     let outcome = run_sweep(
         &sweep,
         &SweepOptions {
@@ -71,6 +71,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<()> {
             shard,
             resume: args.resume,
             memory_budget,
+            cancel,
         },
         &Progress::new(),
     )?;

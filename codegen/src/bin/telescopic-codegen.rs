@@ -11,6 +11,9 @@
 use std::process::ExitCode;
 use telescopic_codegen::Builder;
 
+/// The environment variable that names the Symbolica lock file.
+const LOCK_VARIABLE: &str = "TELESCOPIC_SYMBOLICA_LOCK";
+
 const USAGE: &str = "usage: telescopic-codegen write|verify MODELS.toml DIR [--no-renderings]";
 
 fn main() -> ExitCode {
@@ -25,7 +28,11 @@ fn main() -> ExitCode {
         eprintln!("{USAGE}");
         return ExitCode::from(2);
     };
-    let builder = Builder::new().models_file(models).renderings(renderings);
+    let mut builder = Builder::new().models_file(models).renderings(renderings);
+    // the lock file every cooperating generator process shares, when not the default
+    if let Some(lock) = std::env::var_os(LOCK_VARIABLE) {
+        builder = builder.symbolica_lock(lock);
+    }
     let start = std::time::Instant::now();
     let result = match command.as_str() {
         "write" => builder.write_to(dir).map(|w| {

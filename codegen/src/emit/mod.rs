@@ -76,10 +76,15 @@ pub fn emit(d: &Derivation, header: &str) -> Result<String, String> {
 fn format_module(file: TokenStream, header: &str) -> Result<String, String> {
     let text = unsuffixed(file).to_string();
     let parsed = syn::parse_file(&text).map_err(|e| {
-        if let Some(dump) = std::env::var_os("TELESCOPIC_CODEGEN_DUMP") {
-            let _ = std::fs::write(dump, &text);
+        // a generator bug: keep what did not parse for its report
+        let dump = std::env::temp_dir().join(format!(
+            "telescopic-codegen-unparsed-{}.rs",
+            std::process::id()
+        ));
+        match std::fs::write(&dump, &text) {
+            Ok(()) => format!("{e} (the unparsed tokens are in {})", dump.display()),
+            Err(_) => e.to_string(),
         }
-        format!("{e} (set TELESCOPIC_CODEGEN_DUMP=path to keep the unparsed tokens)")
     })?;
     let body = prettyplease::unparse(&parsed);
     let mut out = String::new();

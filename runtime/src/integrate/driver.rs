@@ -82,12 +82,12 @@ impl<'m> Driver<'m> {
         match (control, settings.dt) {
             (StepControl::Fixed, None) => {
                 return Err(SimError::Settings(format!(
-                    "method {method} has a fixed step: give Settings::dt (s)"
+                    "method {method} has a fixed step: give the step dt (s)"
                 )));
             }
             (_, Some(dt)) if !(dt > 0.0 && dt.is_finite()) => {
                 return Err(SimError::Settings(format!(
-                    "Settings::dt must be a positive number of seconds (got {dt})"
+                    "the step dt must be a positive number of seconds (got {dt})"
                 )));
             }
             _ => {}
@@ -456,7 +456,7 @@ impl<'m> Driver<'m> {
         let remedy = if self.adaptive() {
             ""
         } else {
-            "; a fixed step cannot be cut: take a smaller Settings::dt or the adaptive galpha"
+            "; a fixed step cannot be cut: take a smaller step dt or the adaptive galpha"
         };
         let stiffness = self
             .stiffness(h)
@@ -726,13 +726,13 @@ impl<'m> Driver<'m> {
             Some(s) if s.too_stiff() => s.describe(self.method),
             Some(s) if self.adaptive() => format!(
                 "{}, so stiffness is not the cause: the tolerance is too tight or the contacts \
-                 chatter; loosen Settings::rtol/atol",
+                 chatter; loosen the tolerances rtol/atol",
                 s.describe(self.method)
             ),
             _ if self.adaptive() => "the tolerance is too tight or the contacts chatter; loosen \
-                                     Settings::rtol/atol"
+                                     the tolerances rtol/atol"
                 .into(),
-            _ => "the fixed step is too small for the span; take a larger Settings::dt".into(),
+            _ => "the fixed step is too small for the span; take a larger step dt".into(),
         }
     }
 

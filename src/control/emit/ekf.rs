@@ -12,12 +12,12 @@ use std::fmt::Write as _;
 /// The header and the source of `file`'s extended filter and LQR over `[start, end]` s.
 ///
 /// # Errors
-/// [`Error::Option`] when the file does not record the filter's model or its sensors are not
+/// [`Error::Input`] when the file does not record the filter's model or its sensors are not
 /// linear in the coordinates.
 pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(String, String)> {
     let sampled = crate::control::ekf::sampled_of(file)?;
     let model = sampled.model.as_ref().ok_or_else(|| {
-        Error::option(
+        Error::input(
             "controller `sampled.model`",
             "is missing: the extended filter's C predicts with the model its file records",
         )
@@ -33,7 +33,7 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
         .iter()
         .any(|p| p.k.len() != 1 || p.k[0].len() != w)
     {
-        return Err(Error::option(
+        return Err(Error::input(
             "controller `schedule[].k`",
             format!("must be one row of {w} gains per design point"),
         ));

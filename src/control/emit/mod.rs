@@ -25,7 +25,7 @@ pub const C_FILES: [&str; 2] = ["telescopic_controller.h", "telescopic_controlle
 /// The header and the source of `file`'s sampled controller over `[start, end]` s.
 ///
 /// # Errors
-/// [`Error::Option`] when the controller has no sampled part.
+/// [`Error::Input`] when the controller has no sampled part.
 pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String)> {
     let sampled = file.sampled_part()?;
     if let Some(law) = &sampled.strain_rate {
@@ -35,7 +35,7 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
         return ekf::emit_extended(file, start, end);
     }
     if sampled.estimator != Estimator::Linear {
-        return Err(Error::option(
+        return Err(Error::input(
             "controller `sampled.estimator`",
             format!(
                 "the emitted C runs the linear or the extended filter, not `{}`",
