@@ -29,8 +29,9 @@ type Job = Box<dyn FnOnce() + Send>;
 /// The lock file this process's Symbolica thread takes, when set before its first use.
 static LOCK_FILE: OnceLock<PathBuf> = OnceLock::new();
 
-/// The lock file: the one set by [`use_lock_file`], else `telescopic-symbolica-<uid>.lock` in
-/// the temporary directory (what every cooperating process shares).
+/// The lock file: the one set by `Builder::symbolica_lock`, else
+/// `telescopic-symbolica-<uid>.lock` in the temporary directory (what every cooperating
+/// process shares).
 pub fn lock_path() -> PathBuf {
     if let Some(p) = LOCK_FILE.get() {
         return p.clone();

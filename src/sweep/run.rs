@@ -449,7 +449,7 @@ fn finished_table(work: &WorkFile) -> Result<super::table::SweepTable> {
 ///
 /// # Errors
 /// [`Error::Option`] for bad options or a work file of another sweep; [`Error::Write`];
-/// [`Error::Interrupted`] when stopped by [`crate::interrupt`] (every finished row kept).
+/// [`Error::Interrupted`] when `options.cancel` is asked (every finished row kept).
 pub fn run_sweep(
     sweep: &Sweep,
     options: &SweepOptions,
