@@ -47,6 +47,8 @@ pub enum OptionName {
     Estimator,
     /// `DesignOptions::rate_hz` (Hz).
     RateHz,
+    /// `DesignOptions::law`.
+    Law,
     /// `DesignOptions::added_damping`.
     AddedDamping,
     /// `DesignOptions::sensor_noise` (m).
@@ -144,6 +146,7 @@ crate::named::named_enum!(OptionName, "an option", {
     SensorNoises => "DesignOptions::sensor_noises",
     Estimator => "DesignOptions::estimator",
     RateHz => "DesignOptions::rate_hz",
+    Law => "DesignOptions::law",
     AddedDamping => "DesignOptions::added_damping",
     SensorNoise => "DesignOptions::sensor_noise",
     ForceNoise => "DesignOptions::force_noise",

@@ -26,6 +26,12 @@ pub trait Reporter: Sync {
     fn note(&self, line: &str) {
         let _ = line;
     }
+
+    /// Whether the caller asks the current run to stop (checked with each progress report: a
+    /// run then ends with a [`SimError::Stopped`](telescopic_runtime::SimError::Stopped)).
+    fn stop_requested(&self) -> bool {
+        false
+    }
 }
 
 /// One phase of a call made of consecutive runs (a run and its companion): its progress is
@@ -59,6 +65,9 @@ impl Reporter for Phase<'_> {
     }
     fn note(&self, line: &str) {
         self.inner.note(line);
+    }
+    fn stop_requested(&self) -> bool {
+        self.inner.stop_requested()
     }
 }
 

@@ -142,3 +142,23 @@ fn absurd_runs_are_refused_before_they_start_with_the_estimate_and_the_cause() {
         "{err}"
     );
 }
+
+#[test]
+fn an_unaffordable_run_blames_the_structural_damping_when_it_is_the_cause() {
+    // stiffness-proportional damping within the plausibility bound still puts a damping rate
+    // of beta omega^2 far above the fastest frequency: an explicit method's step collapses
+    let scene = scene("case-study", &["sections.rayleigh_beta=1e3"]);
+    let options = SimulationOptions {
+        method: MethodChoice::Method(Method::Dopri5),
+        ..SimulationOptions::default()
+    };
+    let err = simulate_scene(&scene, &options, &Silent).unwrap_err();
+    assert!(matches!(err, Error::Unaffordable { .. }), "{err}");
+    let message = err.to_string();
+    assert!(
+        message.contains("the damping: the fastest damping rate")
+            && message
+                .contains("The cause lies in sections.rayleigh_alpha and sections.rayleigh_beta"),
+        "{message}"
+    );
+}

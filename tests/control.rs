@@ -470,6 +470,77 @@ fn the_emitted_c_controllers_match_the_library_in_the_loop() {
     }
 }
 
+/// The emitted C controllers under AddressSanitizer and UBSan (built with
+/// `-fno-sanitize-recover`, so any finding aborts): a driver feeds each a NaN and an infinite
+/// measurement, an infinite time, a NaN position and a time far beyond its tables; every
+/// bad tick is rejected and counted, every force stays finite within the limit.
+#[test]
+#[ignore = "needs a C compiler (cc) with sanitizers; the test command installs gcc"]
+fn the_emitted_c_controllers_reject_non_finite_ticks_under_sanitizers() {
+    use telescopic::control::emit::{C_FILES, write_c};
+    let driver = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/c/hostile_ticks.c");
+    for (plant, law, estimator) in [
+        ("case-study", "lqr", "linear"),
+        ("case-study", "strain-rate", "linear"),
+        ("adams-clearance", "lqr", "extended"),
+    ] {
+        let plant = scene(plant, &[]);
+        let options = DesignOptions {
+            sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+            law: law.parse().unwrap(),
+            estimator: estimator.parse().unwrap(),
+            tip_scale: 0.05,
+            ..DesignOptions::default()
+        };
+        let controller = design(&plant, &options).unwrap();
+        let dir = std::env::temp_dir().join(format!(
+            "telescopic-hostile-c-{}-{}-{law}-{estimator}",
+            std::process::id(),
+            plant.name
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        write_c(&controller, plant.time.start, plant.time.end, &dir).unwrap();
+        let program = dir.join("hostile_ticks");
+        let compiled = std::process::Command::new("cc")
+            .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O1", "-g"])
+            .args(["-fsanitize=address,undefined", "-fno-sanitize-recover=all"])
+            .arg("-I")
+            .arg(&dir)
+            .arg(&driver)
+            .arg(dir.join(C_FILES[1]))
+            .arg("-o")
+            .arg(&program)
+            .arg("-lm")
+            .output()
+            .expect("cc runs");
+        assert!(
+            compiled.status.success(),
+            "{}",
+            String::from_utf8_lossy(&compiled.stderr)
+        );
+        let sampled = controller.sampled.as_ref().unwrap();
+        let position = controller.schedule[0]
+            .positions
+            .first()
+            .copied()
+            .unwrap_or(0.0);
+        let out = std::process::Command::new(&program)
+            .arg((1.0 / sampled.rate_hz).to_string())
+            .arg(position.to_string())
+            .arg(controller.force_limit_n.to_string())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success() && out.stdout == b"ok\n",
+            "{} {law} {estimator}: {}{}",
+            plant.name,
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
 /// Designs, emits, compiles and loads the C controller, runs it and the library's in the loop
 /// on `plant`; returns the largest difference of their forces (N).
 fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
@@ -706,4 +777,62 @@ fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors(
         .unwrap_err()
         .to_string();
     assert!(err.contains("extended estimator only"), "{err}");
+}
+
+#[test]
+fn options_of_a_sampled_controller_without_sensors_are_refused() {
+    let plant = scene("case-study", &[]);
+    let refused = |options: DesignOptions| design(&plant, &options).unwrap_err().to_string();
+    let e = refused(DesignOptions {
+        law: SampledLaw::StrainRate,
+        ..DesignOptions::default()
+    });
+    assert!(
+        e.starts_with("DesignOptions::law: the law `strain-rate`")
+            && e.ends_with("(see DesignOptions::sensors)"),
+        "{e}"
+    );
+    let e = refused(DesignOptions {
+        estimator: "extended".parse().unwrap(),
+        ..DesignOptions::default()
+    });
+    assert!(e.starts_with("DesignOptions::estimator"), "{e}");
+    let e = refused(DesignOptions {
+        sensor_noises: vec![1e-4],
+        ..DesignOptions::default()
+    });
+    assert!(e.starts_with("DesignOptions::sensor_noises"), "{e}");
+    let e = refused(DesignOptions {
+        sensors: vec!["vehicle".into(), "vehicle".into()],
+        ..DesignOptions::default()
+    });
+    assert!(e.contains("`vehicle` is named twice"), "{e}");
+}
+
+#[test]
+fn unknown_fields_in_a_controller_file_are_refused() {
+    let plant = scene("case-study", &[]);
+    let options = DesignOptions {
+        sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+        ..DesignOptions::default()
+    };
+    let text = design(&plant, &options).unwrap().to_json();
+    let file: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert!(telescopic::control::Controller::from_json(&text).is_ok());
+    for path in [&[][..], &["sampled"][..], &["schedule", "0"][..]] {
+        let mut edited = file.clone();
+        let mut place = &mut edited;
+        for key in path {
+            place = match key.parse::<usize>() {
+                Ok(i) => &mut place[i],
+                Err(_) => &mut place[*key],
+            };
+        }
+        place["gain_typo"] = serde_json::json!(1.0);
+        let e = telescopic::control::Controller::from_json(&edited.to_string()).unwrap_err();
+        assert!(
+            e.to_string().contains("unknown field `gain_typo`"),
+            "{path:?}: {e}"
+        );
+    }
 }

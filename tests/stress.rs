@@ -166,6 +166,7 @@ fn bad_stations_and_section_moduli_are_refused_by_name() {
         ("3:0", "section 3 does not exist"),
         ("1:1.5", "outside section 1"),
         ("1:-0.1", "outside section 1"),
+        ("1:0.5,2:0,1:0.5", "1:0.5 is given twice"),
     ] {
         let options = SimulationOptions {
             stations: Station::parse_list(text).unwrap(),
@@ -195,4 +196,32 @@ fn bad_stations_and_section_moduli_are_refused_by_name() {
     ];
     let e = Scene::load("scenes/adams-linear.toml".as_ref(), &both).unwrap_err();
     assert!(e.to_string().contains("not both"), "{e}");
+}
+
+#[test]
+fn stations_are_priced_before_the_run_and_capped() {
+    let scene = Scene::load("scenes/adams-linear.toml".as_ref(), &[]).unwrap();
+    let budget = 2 * telescopic::run::memory::trajectory_bytes(&scene);
+    let with = |count: usize| SimulationOptions {
+        stations: (0..count)
+            .map(|i| Station {
+                section: 1,
+                x: 0.9 * i as f64 / count as f64,
+            })
+            .collect(),
+        memory_budget: budget,
+        error_estimate: false,
+        ..SimulationOptions::default()
+    };
+    // the same budget takes the run with a few stations and refuses it with many, before
+    // any step: the stations' columns count
+    assert!(simulate_scene(&scene, &with(2), &Silent).is_ok());
+    let e = simulate_scene(&scene, &with(500), &Silent).unwrap_err();
+    assert!(
+        matches!(&e, Error::OverMemoryBudget { option: Some(o), .. } if o.name() == "SimulationOptions::stations"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("500 stations"), "{e}");
+    let e = simulate_scene(&scene, &with(20_000), &Silent).unwrap_err();
+    assert!(e.to_string().contains("at most 1000"), "{e}");
 }

@@ -26,6 +26,7 @@ pub fn flag(option: OptionName) -> &'static str {
         O::SensorNoises => "--measurement-noise",
         O::Estimator => "--estimator",
         O::RateHz => "--rate",
+        O::Law => "--law",
         O::AddedDamping => "--added-damping",
         O::SensorNoise => "--sensor-noise",
         O::ForceNoise => "--force-noise",

@@ -694,6 +694,48 @@ fn memory_is_predicted_before_allocating() {
 }
 
 #[test]
+fn numeric_outputs_that_would_not_be_finite_are_refused() {
+    refused(
+        &[
+            "linearize",
+            "scenes/case-study.toml",
+            "--discrete",
+            "1e100",
+            "--out",
+            "/dev/null",
+        ],
+        &["--discrete", "not finite", "too long"],
+    );
+    for (flag, value) in [("--from", "1e-300"), ("--to", "1e300"), ("--from", "1e13")] {
+        refused(
+            &[
+                "bode",
+                "scenes/case-study.toml",
+                flag,
+                value,
+                "--out",
+                "/dev/null",
+            ],
+            &[flag, "must be a frequency"],
+        );
+    }
+}
+
+#[test]
+fn implausible_structural_damping_is_refused_naming_its_field() {
+    for (field, value) in [("rayleigh_beta", "1e150"), ("rayleigh_alpha", "1e150")] {
+        let set = format!("sections.{field}={value}");
+        for command in ["modes", "stability", "bode", "simulate"] {
+            let mut args = vec![command, "scenes/case-study.toml", "--set", &set];
+            if matches!(command, "simulate" | "bode") {
+                args.extend(["--out", "/dev/null"]);
+            }
+            refused(&args, &[&format!("sections.{field}"), "damping ratio"]);
+        }
+    }
+}
+
+#[test]
 fn the_memory_budget_reaches_every_command_that_runs_scenes() {
     let dir = common::scratch("analysis-budget");
     let controller = dir.join("c.json");

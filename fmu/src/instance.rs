@@ -34,6 +34,18 @@ enum Phase {
     Terminated,
 }
 
+impl Phase {
+    /// The state in FMI 2.0's words.
+    fn describe(self) -> &'static str {
+        match self {
+            Phase::Instantiated => "instantiated",
+            Phase::Initialization => "in initialization mode",
+            Phase::Running => "initialized (stepping)",
+            Phase::Terminated => "terminated",
+        }
+    }
+}
+
 /// The model and the integration of a running instance.
 struct Running {
     model: HeldDrive,
@@ -72,6 +84,20 @@ pub struct Instance {
 /// An error for the importer's logger: the message names what was wrong.
 pub type Failure = String;
 
+/// Largest time (s) the FMU takes: far beyond any run, and a step of a microsecond still
+/// advances it in double precision.
+const MAX_TIME_S: f64 = 1e9;
+
+/// Refuses an array of `given` entries where `call` fills `needed`.
+fn sized(call: &str, given: usize, needed: usize) -> Result<(), Failure> {
+    if given == needed {
+        return Ok(());
+    }
+    Err(format!(
+        "{call}: an array of {given} entries given, the model has {needed}"
+    ))
+}
+
 /// A library error as the FMU's log tells it. The FMU sets its run's options itself, so an
 /// option error names the setting and is a bug of the FMU, not of the importer.
 fn failure(error: telescopic::Error) -> Failure {
@@ -93,8 +119,12 @@ impl Instance {
     pub fn new(name: &str, kind: Kind, fmu_guid: &str, resources: &str) -> Result<Self, Failure> {
         let dir = resource_dir(resources)?;
         let scene_path = dir.join(SCENE_RESOURCE);
-        let scene_text = std::fs::read_to_string(&scene_path)
-            .map_err(|e| format!("reading the FMU's scene {}: {e}", scene_path.display()))?;
+        // capped like every scene: a link to an endless file is refused, not read
+        let scene_text = telescopic::runtime::input::read_text(
+            &scene_path,
+            telescopic::runtime::input::MAX_TEXT_INPUT_BYTES,
+        )
+        .map_err(|e| format!("reading the FMU's scene {}: {e}", scene_path.display()))?;
         let scene =
             Scene::from_toml_str(&scene_text, &scene_path, &[]).map_err(|e| e.to_string())?;
         let vars = FmuVariables::of(&scene).map_err(|e| e.to_string())?;
@@ -121,10 +151,25 @@ impl Instance {
         })
     }
 
-    /// `fmi2SetupExperiment`: the start time (s).
+    /// Refuses `call` outside the states of FMI 2.0's state machine it belongs to.
+    fn expect_phase(&self, call: &str, allowed: &[Phase]) -> Result<(), Failure> {
+        if allowed.contains(&self.phase) {
+            return Ok(());
+        }
+        Err(format!(
+            "{call} is not allowed now: the instance is {} (FMI 2.0's state machine)",
+            self.phase.describe()
+        ))
+    }
+
+    /// `fmi2SetupExperiment`: the start time (s), before initialization.
     pub fn setup_experiment(&mut self, start: f64) -> Result<(), Failure> {
-        if !start.is_finite() {
-            return Err(format!("the start time must be finite (got {start})"));
+        self.expect_phase("fmi2SetupExperiment", &[Phase::Instantiated])?;
+        if !(start.is_finite() && start.abs() <= MAX_TIME_S) {
+            return Err(format!(
+                "the start time must be a finite number of seconds within +-{MAX_TIME_S:e} (got \
+                 {start})"
+            ));
         }
         self.time = start;
         Ok(())
@@ -132,12 +177,14 @@ impl Instance {
 
     /// `fmi2EnterInitializationMode`.
     pub fn enter_initialization(&mut self) -> Result<(), Failure> {
+        self.expect_phase("fmi2EnterInitializationMode", &[Phase::Instantiated])?;
         self.phase = Phase::Initialization;
         Ok(())
     }
 
     /// `fmi2ExitInitializationMode`: builds the model with the parameters set.
     pub fn exit_initialization(&mut self) -> Result<(), Failure> {
+        self.expect_phase("fmi2ExitInitializationMode", &[Phase::Initialization])?;
         let mut params = self.scene.params.clone();
         // the input replaces the scene's drive: the base model is driven by nothing
         let (base_drive, planned_drive) = match params.drive {
@@ -298,6 +345,13 @@ impl Instance {
         if !(h.is_finite() && h > 0.0) {
             return Err(format!("the communication step must be > 0 s (got {h})"));
         }
+        if !(t + h > t && (t + h).abs() <= MAX_TIME_S) {
+            return Err(format!(
+                "a step of {h} s from t = {t} s does not advance the time in double precision \
+                 or leaves +-{MAX_TIME_S:e} s"
+            ));
+        }
+        self.expect_phase("fmi2DoStep", &[Phase::Running])?;
         let r = self.running("fmi2DoStep")?;
         r.stepper
             .advance(&r.model, &mut r.y, t, h)
@@ -308,8 +362,10 @@ impl Instance {
 
     /// `fmi2SetTime` (model exchange).
     pub fn set_time(&mut self, t: f64) -> Result<(), Failure> {
-        if !t.is_finite() {
-            return Err(format!("the time must be finite (got {t})"));
+        if !(t.is_finite() && t.abs() <= MAX_TIME_S) {
+            return Err(format!(
+                "the time must be a finite number of seconds within +-{MAX_TIME_S:e} (got {t})"
+            ));
         }
         self.time = t;
         Ok(())
@@ -335,8 +391,8 @@ impl Instance {
     /// `fmi2GetContinuousStates`.
     pub fn get_states(&mut self, x: &mut [f64]) -> Result<(), Failure> {
         let r = self.running("fmi2GetContinuousStates")?;
-        let n = x.len().min(r.y.len());
-        x[..n].copy_from_slice(&r.y[..n]);
+        sized("fmi2GetContinuousStates", x.len(), r.y.len())?;
+        x.copy_from_slice(&r.y);
         Ok(())
     }
 
@@ -344,9 +400,9 @@ impl Instance {
     pub fn get_derivatives(&mut self, dx: &mut [f64]) -> Result<(), Failure> {
         let t = self.time;
         let r = self.running("fmi2GetDerivatives")?;
+        sized("fmi2GetDerivatives", dx.len(), r.ydot.len())?;
         r.model.rhs(t, &r.y, None, &mut r.ydot);
-        let n = dx.len().min(r.ydot.len());
-        dx[..n].copy_from_slice(&r.ydot[..n]);
+        dx.copy_from_slice(&r.ydot);
         Ok(())
     }
 
@@ -355,6 +411,7 @@ impl Instance {
     pub fn get_event_indicators(&mut self, z: &mut [f64]) -> Result<(), Failure> {
         let t = self.time;
         let r = self.running("fmi2GetEventIndicators")?;
+        sized("fmi2GetEventIndicators", z.len(), 2 * r.xi.len())?;
         r.model.contact_gaps(t, &r.y, &mut r.xi, &mut r.xi_dot);
         for (c, &xi) in r.xi.iter().enumerate() {
             if let Some(slot) = z.get_mut(2 * c) {

@@ -348,3 +348,132 @@ fn a_prescribed_motion_takes_the_vehicle_acceleration_as_input() {
     assert!(errors[0] < 1e-3 * scale, "{errors:?}");
     assert!(errors[1] < errors[0] / 3.0, "{errors:?}");
 }
+
+/// The states of FMI 2.0's co-simulation state machine a test walks an instance to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum State {
+    Instantiated,
+    Initialization,
+    Stepping,
+    Terminated,
+}
+
+/// A co-simulation instance of adams-linear walked to `state`.
+unsafe fn instance_in(state: State, name: &str) -> *mut c_void {
+    let scene = Scene::load(&scene_file("adams-linear"), &[]).unwrap();
+    let (resources, guid) = unpacked(&scene, name);
+    let functions = callbacks();
+    unsafe {
+        let c = fmi2Instantiate(
+            c"test".as_ptr(),
+            ffi::CO_SIMULATION,
+            guid.as_ptr(),
+            uri(&resources).as_ptr(),
+            &functions,
+            0,
+            0,
+        );
+        assert!(!c.is_null());
+        if state == State::Instantiated {
+            return c;
+        }
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        if state == State::Initialization {
+            return c;
+        }
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 1), OK);
+        if state == State::Stepping {
+            return c;
+        }
+        assert_eq!(fmi2Terminate(c), OK);
+        c
+    }
+}
+
+#[test]
+fn calls_out_of_the_fmi_state_machine_are_errors() {
+    type Call = (&'static str, unsafe fn(*mut c_void) -> i32);
+    let calls: [Call; 4] = [
+        ("fmi2SetupExperiment", |c| unsafe {
+            fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0)
+        }),
+        ("fmi2EnterInitializationMode", |c| unsafe {
+            fmi2EnterInitializationMode(c)
+        }),
+        ("fmi2ExitInitializationMode", |c| unsafe {
+            fmi2ExitInitializationMode(c)
+        }),
+        ("fmi2DoStep", |c| unsafe {
+            let mut t = 0.0;
+            fmi2GetRealStatus(c, 2 /* fmi2LastSuccessfulTime */, &mut t);
+            fmi2DoStep(c, t, 1e-3, 1)
+        }),
+    ];
+    // (call, the one state it is allowed in)
+    let allowed = [
+        State::Instantiated,
+        State::Instantiated,
+        State::Initialization,
+        State::Stepping,
+    ];
+    let states = [
+        State::Instantiated,
+        State::Initialization,
+        State::Stepping,
+        State::Terminated,
+    ];
+    for ((name, call), ok_in) in calls.iter().zip(allowed) {
+        for state in states {
+            let tag = format!("sm-{name}-{state:?}");
+            unsafe {
+                let c = instance_in(state, &tag);
+                let status = call(c);
+                let expected = if state == ok_in { OK } else { ERROR };
+                assert_eq!(status, expected, "{name} in {state:?}");
+                fmi2FreeInstance(c);
+            }
+        }
+    }
+}
+
+#[test]
+fn times_that_cannot_be_stepped_and_arrays_of_the_wrong_size_are_errors() {
+    unsafe {
+        let c = instance_in(State::Instantiated, "far-time");
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 1e300, 0, 0.0), ERROR);
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, f64::NAN, 0, 0.0), ERROR);
+        fmi2FreeInstance(c);
+        let c = instance_in(State::Stepping, "bad-steps");
+        for (t, h) in [
+            (1e-3, f64::INFINITY),
+            (1e-3, f64::NAN),
+            (f64::NAN, 1e-3),
+            (5.0, 1e-3),
+        ] {
+            assert_eq!(fmi2DoStep(c, t, h, 1), ERROR, "t = {t}, h = {h}");
+        }
+        // the time did not move on the refused steps
+        let mut t = f64::NAN;
+        assert_eq!(
+            fmi2GetRealStatus(c, 2 /* fmi2LastSuccessfulTime */, &mut t),
+            OK
+        );
+        assert_eq!(t, 1e-3);
+        // arrays must have the model's size: adams-linear has 2 x 10 states
+        let mut buffer = vec![f64::NAN; 64];
+        for n in [0, 19, 21, 64] {
+            assert_eq!(
+                fmi2GetContinuousStates(c, buffer.as_mut_ptr(), n),
+                ERROR,
+                "{n}"
+            );
+            assert_eq!(fmi2GetDerivatives(c, buffer.as_mut_ptr(), n), ERROR, "{n}");
+        }
+        assert!(buffer.iter().all(|v| v.is_nan()), "a refused call wrote");
+        assert_eq!(fmi2GetContinuousStates(c, buffer.as_mut_ptr(), 20), OK);
+        assert_eq!(fmi2GetEventIndicators(c, buffer.as_mut_ptr(), 64), ERROR);
+        fmi2FreeInstance(c);
+    }
+}

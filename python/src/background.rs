@@ -40,6 +40,9 @@ impl Reporter for Progress {
     fn runs(&self, done: usize, total: usize) {
         *self.runs.lock().unwrap_or_else(|e| e.into_inner()) = (done, total);
     }
+    fn stop_requested(&self) -> bool {
+        self.cancel.requested()
+    }
 }
 
 impl Progress {

@@ -98,6 +98,7 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::SensorNoises => "sensor_noises",
         O::Estimator => "estimator",
         O::RateHz => "rate_hz",
+        O::Law => "law",
         O::AddedDamping => "added_damping",
         O::SensorNoise => "sensor_noise",
         O::ForceNoise => "force_noise",

@@ -17,44 +17,59 @@ pub struct PyScene {
     overrides: Vec<String>,
 }
 
-/// A Python value as a TOML value's text (numbers, booleans, strings, lists).
-fn toml_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {
+/// Deepest nesting of lists a `set=` value may have: a scene's deepest value is a list of
+/// numbers inside a list; the bound keeps a hostile value from exhausting the stack.
+const MAX_SET_DEPTH: usize = 8;
+
+/// A Python value as a TOML value's text (numbers, booleans, strings, lists, NumPy scalars and
+/// arrays), at most [`MAX_SET_DEPTH`] lists deep.
+fn toml_value(key: &str, value: &Bound<'_, PyAny>, depth: usize) -> PyResult<String> {
+    let bad = |rule: String| argument(&format!("set[{key:?}]"), rule);
     if value.is_instance_of::<PyBool>() {
         return Ok(value.extract::<bool>()?.to_string());
     }
     if value.is_instance_of::<PyInt>() {
-        return Ok(value.extract::<i64>()?.to_string());
-    }
-    if value.is_instance_of::<PyFloat>() {
-        let v: f64 = value.extract()?;
-        if !v.is_finite() {
-            return Err(argument(
-                &format!("set[{key:?}]"),
-                format!("{v} is not a finite number"),
-            ));
-        }
-        return Ok(format!("{v:e}"));
+        return value
+            .extract::<i64>()
+            .map(|v| v.to_string())
+            .map_err(|_| bad("the integer does not fit in 64 bits".into()));
     }
     if value.is_instance_of::<PyString>() {
         return Ok(toml::Value::String(value.extract()?).to_string());
     }
-    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
-        let items: Vec<String> = value
+    let listlike = value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>();
+    if listlike || value.hasattr("tolist")? && !value.hasattr("__float__")? {
+        if depth >= MAX_SET_DEPTH {
+            return Err(bad(format!("lists nest deeper than {MAX_SET_DEPTH}")));
+        }
+        // a NumPy array becomes its nested list
+        let list = if listlike {
+            value.clone()
+        } else {
+            value.call_method0("tolist")?
+        };
+        if !(list.is_instance_of::<PyList>() || list.is_instance_of::<PyTuple>()) {
+            return toml_value(key, &list, depth + 1);
+        }
+        let items: Vec<String> = list
             .try_iter()?
-            .map(|item| toml_value(key, &item?))
+            .map(|item| toml_value(key, &item?, depth + 1))
             .collect::<PyResult<_>>()?;
         return Ok(format!("[{}]", items.join(", ")));
     }
-    // numpy scalars and anything else with a float value
+    // NumPy integers have __index__; floats (Python's and NumPy's) __float__
+    if !value.is_instance_of::<PyFloat>()
+        && let Ok(v) = value.extract::<i64>()
+    {
+        return Ok(v.to_string());
+    }
     match value.extract::<f64>() {
-        Ok(v) => Ok(format!("{v:e}")),
-        Err(_) => Err(argument(
-            &format!("set[{key:?}]"),
-            format!(
-                "{} is not a number, string, bool or list",
-                value.get_type().name()?
-            ),
-        )),
+        Ok(v) if v.is_finite() => Ok(format!("{v:e}")),
+        Ok(v) => Err(bad(format!("{v} is not a finite number"))),
+        Err(_) => Err(bad(format!(
+            "{} is not a number, string, bool or list",
+            value.get_type().name()?
+        ))),
     }
 }
 
@@ -68,7 +83,13 @@ pub fn overrides(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
             let key: String = k
                 .extract()
                 .map_err(|_| argument("set", "keys are dotted scene keys (strings)"))?;
-            Ok(format!("{key}={}", toml_value(&key, &v)?))
+            if key.contains('=') {
+                return Err(argument(
+                    &format!("set[{key:?}]"),
+                    "a key holds no `=` (the value is the dictionary's)",
+                ));
+            }
+            Ok(format!("{key}={}", toml_value(&key, &v, 0)?))
         })
         .collect()
 }

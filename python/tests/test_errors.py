@@ -25,6 +25,36 @@ def test_a_scene_error_names_the_field_and_the_rule():
     assert issubclass(telescopic.SceneError, telescopic.TelescopicError)
 
 
+def test_set_values_are_bounded_and_take_numpy():
+    import numpy as np
+
+    deep = 1.0
+    for _ in range(10_000):
+        deep = [deep]
+    with pytest.raises(telescopic.OptionError, match="nest deeper than 8"):
+        telescopic.Scene.load("scenes/adams-linear.toml", set={"sections.modes": deep})
+    with pytest.raises(telescopic.OptionError, match="holds no `=`"):
+        telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end=0.1": 0.2})
+    with pytest.raises(telescopic.OptionError, match="not a finite number"):
+        telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": np.float64("nan")})
+    # NumPy scalars and arrays give the same scene as Python's numbers and lists
+    plain = telescopic.Scene.load(
+        "scenes/adams-linear.toml", set={"sections.modes": [3, 4], "time.end": 0.25}
+    )
+    numpy = telescopic.Scene.load(
+        "scenes/adams-linear.toml",
+        set={"sections.modes": np.array([3, 4]), "time.end": np.float64(0.25)},
+    )
+    assert numpy.to_toml() == plain.to_toml()
+    assert numpy.time == plain.time == (0.0, 0.25, plain.time[2])
+    ints = telescopic.Scene.load(
+        "scenes/adams-linear.toml", set={"sections.modes": [np.int64(3), np.int32(4)]}
+    )
+    assert ints.to_toml() == telescopic.Scene.load(
+        "scenes/adams-linear.toml", set={"sections.modes": [3, 4]}
+    ).to_toml()
+
+
 @pytest.mark.parametrize(
     "kwargs, argument",
     [
@@ -121,3 +151,77 @@ def test_ctrl_c_in_a_long_sweep_raises_keyboard_interrupt_and_leaves_no_file(tmp
     # it stops after the run in progress (measured 0.23-0.37 s), not after the 399 left
     assert waited < 20.0, waited
     assert list(tmp_path.iterdir()) == [], "no file left behind"
+
+
+# a single run of some 50 s: dopri5 at a tight tolerance over 600 s of case-study
+LONG_RUN = (
+    'telescopic.simulate(telescopic.Scene.load("scenes/case-study.toml", set={"time.end": 600.0}), '
+    'method="dopri5", rtol=1e-10, atol=1e-13, error_estimate=False, progress=progress)'
+)
+
+
+def test_ctrl_c_stops_a_single_run():
+    script = textwrap.dedent(
+        f"""
+        import sys, telescopic
+        announced = []
+        def progress(fraction):
+            if fraction > 0 and not announced:
+                announced.append(fraction)
+                print("running", flush=True)
+        try:
+            {LONG_RUN}
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(7)
+        print("finished", flush=True)
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "running"
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=300)
+    assert p.returncode == 7 and "interrupted" in out and "finished" not in out, out
+    # the run stops at its next progress report (1 % of the span), not at its end
+    assert time.monotonic() - sent < 20.0
+
+
+def test_an_exception_in_the_progress_callable_stops_its_own_call_only():
+    import threading
+
+    # a sweep in another thread runs on while this thread's run is stopped by its callable
+    sweep_started = threading.Event()
+    results = {}
+
+    def sweep():
+        def progress(fraction):
+            sweep_started.set()
+
+        results["sweep"] = telescopic.sweep(
+            {
+                "scene": "scenes/case-study.toml",
+                "grid": {"masses.load": [10.0 + 0.5 * i for i in range(8)]},
+            },
+            jobs=1,
+            progress=progress,
+        )
+
+    worker = threading.Thread(target=sweep)
+    worker.start()
+    assert sweep_started.wait(timeout=120)
+
+    class Refused(Exception):
+        pass
+
+    def progress(fraction):
+        if fraction > 0:
+            raise Refused("enough")
+
+    started = time.monotonic()
+    with pytest.raises(Refused):
+        eval(LONG_RUN, {"telescopic": telescopic, "progress": progress})
+    assert time.monotonic() - started < 20.0
+    worker.join(timeout=300)
+    frame = results["sweep"]
+    assert len(frame) == 8 and (frame["status"] == "ok").all(), frame

@@ -451,8 +451,44 @@ pub const SENSOR_NOISE_RANGE: (f64, f64) = (1e-12, 1e3);
 /// The usable range of the extended filter's process-noise floor (variance per period).
 pub const PROCESS_NOISE_FLOOR_RANGE: (f64, f64) = (1e-20, 1.0);
 
+/// Refuses options of a sampled controller given without its sensors (they would be
+/// ignored) and a sensor named twice.
+fn check_sampled_options(options: &DesignOptions) -> Result<()> {
+    if options.sensors.is_empty() {
+        let needs = |option: OptionName, what: &str| {
+            Err(Error::option_see(
+                option,
+                format!("{what} is of a sampled controller: name its sensors"),
+                OptionName::Sensors,
+            ))
+        };
+        if options.law != SampledLaw::Auto {
+            return needs(OptionName::Law, &format!("the law `{}`", options.law));
+        }
+        if options.estimator != Estimator::Linear {
+            return needs(
+                OptionName::Estimator,
+                &format!("the estimator `{}`", options.estimator),
+            );
+        }
+        if !options.sensor_noises.is_empty() {
+            return needs(OptionName::SensorNoises, "a measurement noise");
+        }
+    }
+    for (k, sensor) in options.sensors.iter().enumerate() {
+        if options.sensors[..k].contains(sensor) {
+            return Err(Error::option(
+                OptionName::Sensors,
+                format!("`{sensor}` is named twice"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Checks the design settings' ranges.
 fn check_options(options: &DesignOptions) -> Result<()> {
+    check_sampled_options(options)?;
     for (name, v, (low, high), unit) in [
         (
             OptionName::ForceLimit,

@@ -18,6 +18,7 @@ use telescopic_runtime::{ContactLaw, ContactTable, ContactTableParts, Model};
 
 /// The estimator's model: `M z'' = b u - K z - D_s z' - sum_c f_c(xi_c, xi_dot_c) g_c(t)`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct EstimatorModel {
     /// `M^-1`, rows (1/kg in the vehicle's coordinate; units of the coordinates).
     pub mass_inverse: Vec<Vec<f64>>,

@@ -108,6 +108,15 @@ pub fn run_sampled(
         model.law().hold(force);
         stats.add(&step_stats);
         reporter.progress((k + 1) as f64 / ticks as f64);
+        if reporter.stop_requested() {
+            return Err(Error::Simulation {
+                scene: scene.name.clone(),
+                error: telescopic_runtime::SimError::Stopped {
+                    t: t + period,
+                    method: run.plan.method.name(),
+                },
+            });
+        }
     }
     reporter.finish();
     let mut plan = run.plan.clone();

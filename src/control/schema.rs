@@ -98,6 +98,7 @@ crate::named::named_enum!(SampledLaw, "a sampled law", {
 /// gain on it is `K_modal = R^-1 B' X` with `X` the stabilizing solution of the Riccati
 /// equation of `(A, B, Q, R)`, and on the full state `K = K_modal W`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SchedulePoint {
     /// Telescopic positions `a_2..a_n` (m).
     pub positions: Vec<f64>,
@@ -140,6 +141,7 @@ pub struct SchedulePoint {
 /// `vehicle` and `tip_rel` (`y = C_meas x`), run on the full linear model
 /// `x_hat' = A x_hat + B F + L (y - C_meas x_hat)` with `L = [Phi 0; 0 Phi] L_modal`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ObserverPoint {
     /// Measurement rows on the design model's states.
     #[serde(rename = "C_modal")]
@@ -169,6 +171,7 @@ pub struct ObserverPoint {
 
 /// A designed controller: what `design` writes and `simulate --controller` reads.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Controller {
     /// `telescopic controller`.
     pub format: String,
@@ -210,6 +213,7 @@ pub struct Controller {
 
 /// The sampled output-feedback part of a controller file: what a machine needs to run it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SampledDesign {
     /// Controller rate (Hz).
     pub rate_hz: f64,
@@ -240,6 +244,7 @@ pub struct SampledDesign {
 
 /// The discrete model and Kalman gain of one design point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DiscretePoint {
     /// `Ad = exp(A T)`, rows.
     #[serde(rename = "Ad")]
@@ -257,6 +262,7 @@ pub struct DiscretePoint {
 
 /// The strain-rate law of a controller file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct StrainRateLaw {
     /// Damping ratio added to the first mode (the design's knob).
     pub added_damping: f64,
@@ -281,6 +287,7 @@ impl StrainRateLaw {
 
 /// The strain-rate law at one design point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct StrainRatePoint {
     /// `tip_rel` per `kappa_1_0` in the first elastic mode (m^2).
     pub tip_per_curvature_m2: f64,

@@ -148,6 +148,16 @@ pub fn frequency_response(
                 format!("{}_from_{}", output.name, input.name)
             };
             let values: Vec<Complex<f64>> = responses.iter().map(|h| h[(o, i)]).collect();
+            if let Some(k) = values
+                .iter()
+                .position(|h| !(h.re.is_finite() && h.im.is_finite()))
+            {
+                return Err(Error::Analysis(format!(
+                    "the response {column} at {} Hz is not finite (the model is singular there); \
+                     move the frequency grid",
+                    f_hz[k]
+                )));
+            }
             curves.push(ResponseCurve {
                 input: input.name.clone(),
                 output: output.name.clone(),
@@ -212,22 +222,30 @@ fn natural_frequencies(a: &DMatrix<f64>) -> Result<Vec<f64>> {
     Ok(f)
 }
 
+/// The frequencies a response is computed at (Hz): `2 pi f` and `(2 pi f)^2` stay far from
+/// underflow and overflow, and the band covers any structure's modes.
+pub const FREQUENCY_RANGE_HZ: (f64, f64) = (1e-9, 1e12);
+
 /// The log-spaced frequencies of `options` (defaults from the natural frequencies).
 fn grid(options: &BodeOptions, natural_hz: &[f64]) -> Result<Vec<f64>> {
     let lowest = natural_hz.first().copied().unwrap_or(1.0);
     let highest = natural_hz.last().copied().unwrap_or(100.0);
     let from = options.from_hz.unwrap_or(lowest / 10.0);
     let to = options.to_hz.unwrap_or(1.5 * highest);
-    if !(from.is_finite() && from > 0.0) {
+    let (low, high) = FREQUENCY_RANGE_HZ;
+    if !(from.is_finite() && (low..high).contains(&from)) {
         return Err(Error::option(
             OptionName::FromHz,
-            format!("must be a frequency > 0 Hz (got {from})"),
+            format!("must be a frequency of {low:e} to {high:e} Hz (got {from})"),
         ));
     }
-    if !(to.is_finite() && to > from) {
+    if !(to.is_finite() && to > from && to <= high) {
         return Err(Error::option(
             OptionName::ToHz,
-            format!("must be a frequency above the lower end of the band, {from} Hz (got {to})"),
+            format!(
+                "must be a frequency above the lower end of the band, {from} Hz, and at most \
+                 {high:e} Hz (got {to})"
+            ),
         ));
     }
     if !(2..=MAX_POINTS).contains(&options.points) {

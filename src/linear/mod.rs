@@ -278,13 +278,16 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
             (Some(grid), points)
         }
     };
-    let discrete = options.discrete.map(|dt| DiscreteModels {
-        dt,
-        points: points
-            .iter()
-            .map(|p| zero_order_hold(&p.a, &p.b, dt))
-            .collect(),
-    });
+    let discrete = options
+        .discrete
+        .map(|dt| -> Result<DiscreteModels> {
+            let points = points
+                .iter()
+                .map(|p| finite_hold(p, dt))
+                .collect::<Result<_>>()?;
+            Ok(DiscreteModels { dt, points })
+        })
+        .transpose()?;
     Ok(LinearExport {
         scene: scene.name.clone(),
         scene_file: String::new(),
@@ -344,6 +347,24 @@ fn grid_points(
 fn at(lpv: &Lpv, positions: &[f64], rates: &[f64], option: OptionName) -> Result<LinearModel> {
     lpv.at(positions, rates)
         .map_err(|e| Error::option(option, e.to_string()))
+}
+
+/// The zero-order hold of `point` at `dt` (s), refused when a number of it is not finite (a
+/// period so long that the exponential of an unstable or undamped model's matrix overflows).
+fn finite_hold(point: &LinearModel, dt: f64) -> Result<(DMatrix<f64>, DMatrix<f64>)> {
+    let (ad, bd) = zero_order_hold(&point.a, &point.b, dt);
+    if ad.iter().chain(bd.iter()).all(|v| v.is_finite()) {
+        return Ok((ad, bd));
+    }
+    let rate = point.a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    Err(Error::option(
+        OptionName::Discrete,
+        format!(
+            "the sample period {dt} s gives a discrete model that is not finite: it is too long \
+             against the model's fastest rate (|A| up to {rate:.3e} 1/s); take a period of the \
+             controller's, well below 1 s"
+        ),
+    ))
 }
 
 /// `(Ad, Bd)`: the zero-order-hold discretization of `(A, B)` with period `period` (s), from

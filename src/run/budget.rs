@@ -12,7 +12,9 @@
 use crate::{Error, Result};
 use telescopic_runtime::integrate::StepControl;
 use telescopic_runtime::integrate::stability::{linearization_times, stable_h_rho};
-use telescopic_runtime::{FastestRates, Method, Model, Scene, Settings, TimeSpan, fastest_rates};
+use telescopic_runtime::{
+    FastestRates, Method, Model, Scene, Settings, StructuralDamping, TimeSpan, fastest_rates,
+};
 
 /// Output samples of a span (the start included, and the end when it is off the grid);
 /// bounded by the scene's validation.
@@ -118,13 +120,30 @@ pub fn check_run(
         ),
         Some(r) => {
             let (cause, fields) = if r.damping_rate > r.omega_max {
+                // the damping rate is of the contacts' and the structure's damping together
+                let (what, fields) = match scene.params.damping {
+                    StructuralDamping::None => (
+                        "the contact damping",
+                        "contact.damping against the masses at the contacts",
+                    ),
+                    StructuralDamping::Rayleigh { .. } => (
+                        "the damping",
+                        "sections.rayleigh_alpha and sections.rayleigh_beta, or contact.damping \
+                         against the masses at the contacts",
+                    ),
+                    StructuralDamping::Modal { .. } => (
+                        "the damping",
+                        "sections.damping_ratio, or contact.damping against the masses at the \
+                         contacts",
+                    ),
+                };
                 (
                     format!(
-                        "the contact damping: the fastest damping rate with closed contacts is \
-                         {:.3e} 1/s, above the fastest natural frequency {:.3e} rad/s",
+                        "{what}: the fastest damping rate with closed contacts is {:.3e} 1/s, \
+                         above the fastest natural frequency {:.3e} rad/s",
                         r.damping_rate, r.omega_max
                     ),
-                    "contact.damping against the masses at the contacts",
+                    fields,
                 )
             } else {
                 (

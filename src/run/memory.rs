@@ -114,6 +114,37 @@ pub fn check_runs(scenes: &[&Scene], budget: u64) -> Result<()> {
     )
 }
 
+/// Most output stations of a run: each adds a moment and a stress column and a sum over the
+/// modes at every sample.
+pub const MAX_STATIONS: usize = 1000;
+
+/// Refuses a run with `stations` output stations whose trajectory, their columns included,
+/// exceeds `budget` (bytes), or more than [`MAX_STATIONS`] stations.
+///
+/// # Errors
+/// [`Error::Option`] naming the stations for too many; [`Error::OverMemoryBudget`] as
+/// [`check`].
+pub fn check_stations(scene: &Scene, stations: usize, budget: u64) -> Result<()> {
+    if stations > MAX_STATIONS {
+        return Err(Error::option(
+            OptionName::Stations,
+            format!(
+                "{stations} stations; at most {MAX_STATIONS} (a moment and a stress column each)"
+            ),
+        ));
+    }
+    let samples = crate::run::budget::sample_count(&scene.time) as u64;
+    let columns = 2 * stations as u64 * BYTES_PER_VALUE;
+    let bytes = trajectory_bytes(scene).saturating_add(samples.saturating_mul(columns));
+    check(
+        bytes,
+        budget,
+        (Some(OptionName::Stations), format!("scene {}", scene.name)),
+        format!("the run's trajectory with {stations} stations' moments and stresses"),
+        "the stations (fewer), time.sample (a coarser output grid) or time.end",
+    )
+}
+
 /// The budget shared by runs in parallel: each takes its trajectory's share before it
 /// starts and gives it back when done; a run waits while others hold too much.
 #[derive(Debug)]

@@ -52,6 +52,7 @@ impl<'s> PreparedRun<'s> {
     ) -> Result<Self> {
         let plan = plan(scene, options)?;
         let chosen = options.models.build(&scene.params, options.model)?;
+        crate::run::memory::check_stations(scene, options.stations.len(), options.memory_budget)?;
         let stations = StationRows::new(scene, chosen.model.as_ref(), &options.stations)?;
         if let Some(note) = &chosen.note {
             reporter.note(note);
@@ -197,7 +198,10 @@ fn integrate_from_rest(
         rows.push(row);
     };
     let span = scene.time;
-    let mut tick = |t: f64| reporter.progress((t - span.start) / (span.end - span.start));
+    let mut tick = |t: f64| {
+        reporter.progress((t - span.start) / (span.end - span.start));
+        !reporter.stop_requested()
+    };
     reporter.start(&format!("simulating {}", scene.name));
     let y0 = rest_state(model, span.start);
     let result = simulate(

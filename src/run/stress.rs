@@ -284,10 +284,20 @@ fn equilibrium_rows(model: &dyn Model, s: &Station) -> (Vec<f64>, Vec<f64>) {
     (z_row, a_row)
 }
 
-/// Refuses stations on sections that do not exist or outside their section.
+/// Refuses stations on sections that do not exist, outside their section, or given twice
+/// (their columns would share a name).
 fn check_stations(scene: &Scene, stations: &[Station]) -> Result<()> {
     let sections = &scene.params.sections;
-    for s in stations {
+    for (k, s) in stations.iter().enumerate() {
+        if stations[..k]
+            .iter()
+            .any(|o| o.section == s.section && o.x == s.x)
+        {
+            return Err(Error::option(
+                OptionName::Stations,
+                format!("{}:{} is given twice", s.section, s.x),
+            ));
+        }
         if !(1..=sections.len()).contains(&s.section) {
             return Err(Error::option(
                 OptionName::Stations,

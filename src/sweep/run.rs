@@ -98,6 +98,7 @@ fn status_of(e: &Error) -> &'static str {
             SimError::PositionOutOfRange { .. } => "position",
             SimError::TooManySteps { .. } => "step-limit",
             SimError::Settings(_) => "settings",
+            SimError::Stopped { .. } => "stopped",
         },
         Error::NonFiniteOutput { .. } => "non-finite",
         Error::Eigen { .. } => "eigen",

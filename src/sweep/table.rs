@@ -39,7 +39,7 @@ pub const MAX_RESULT_BYTES: u64 = 4 << 30;
 const QUOTE_LIMIT: usize = 200;
 
 /// The `status` values a row may hold: `ok`, or the kind of error its run ended with.
-pub const STATUSES: [&str; 15] = [
+pub const STATUSES: [&str; 16] = [
     "ok",
     "invalid",
     "option",
@@ -51,6 +51,7 @@ pub const STATUSES: [&str; 15] = [
     "position",
     "step-limit",
     "settings",
+    "stopped",
     "non-finite",
     "eigen",
     "panic",

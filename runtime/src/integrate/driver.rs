@@ -292,7 +292,12 @@ impl<'m> Driver<'m> {
             if let Some(p) = progress.as_mut()
                 && self.t - last_report >= 0.01 * (end - self.span.start)
             {
-                p(self.t);
+                if !p(self.t) {
+                    return Err(SimError::Stopped {
+                        t: self.t,
+                        method: self.method.name(),
+                    });
+                }
                 last_report = self.t;
             }
         }

@@ -471,7 +471,12 @@ impl ExactRun<'_> {
             if let Some(p) = progress.as_mut()
                 && t - last_report >= 0.01 * (end - start)
             {
-                p(t);
+                if !p(t) {
+                    return Err(SimError::Stopped {
+                        t,
+                        method: "exact".into(),
+                    });
+                }
                 last_report = t;
             }
         }

@@ -455,6 +455,14 @@ pub enum SimError {
     /// Settings that cannot work.
     #[error("{0}")]
     Settings(String),
+    /// The caller asked the run to stop (its progress callback returned false).
+    #[error("stopped on request at t = {t:.6} s (method {method})")]
+    Stopped {
+        /// Time reached (s).
+        t: f64,
+        /// Method name.
+        method: String,
+    },
 }
 
 impl SimError {
@@ -465,7 +473,8 @@ impl SimError {
             | SimError::StepUnderflow { t, method, .. }
             | SimError::NewtonFailure { t, method, .. }
             | SimError::PositionOutOfRange { t, method, .. }
-            | SimError::TooManySteps { t, method, .. } => Some((*t, method.as_str())),
+            | SimError::TooManySteps { t, method, .. }
+            | SimError::Stopped { t, method } => Some((*t, method.as_str())),
             SimError::Settings(_) => None,
         }
     }
@@ -669,8 +678,9 @@ impl SampleGrid {
 /// Sample callback: `(t, y, ydot)` at each output time.
 pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);
 
-/// Progress callback: called now and then with the current time (s).
-pub type Progress<'a> = &'a mut dyn FnMut(f64);
+/// Progress callback: called now and then (every 1 % of the span) with the current time (s);
+/// returns whether to go on (false stops the run with [`SimError::Stopped`]).
+pub type Progress<'a> = &'a mut dyn FnMut(f64) -> bool;
 
 /// Integrates `model` from `y0` at `span.start` to `span.end`, calling `observe(t, y, ydot)`
 /// at every sample time `start + k sample` (and at `end`).
@@ -743,7 +753,9 @@ fn method_then_exact(
             observe(t, y, ydot);
             y_exact.copy_from_slice(y);
         };
-        let head_progress = progress.as_mut().map(|p| &mut **p as &mut dyn FnMut(f64));
+        let head_progress = progress
+            .as_mut()
+            .map(|p| &mut **p as &mut dyn FnMut(f64) -> bool);
         Driver::new(model, y0, &head, method, settings)?.run(&mut keep_last, head_progress)?
     };
     // the tail's samples are t_exact + k sample; report them as the span's own grid times

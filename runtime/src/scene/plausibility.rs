@@ -94,9 +94,12 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
     check_clearance(params, &mut errors);
     check_masses(params, &mut errors);
     check_contact_law(params, &mut errors);
-    // name the field most likely at fault first, and say that values are SI
+    let structural = errors.len();
+    check_rayleigh(params, &mut errors);
+    // name the field most likely at fault first, and say that values are SI (not for the
+    // structural damping, whose fields are the cause)
     let suspects = unit_suspects(params);
-    for e in &mut errors {
+    for e in &mut errors[..structural] {
         if e.field == "contact.clearance" {
             continue;
         }
@@ -201,6 +204,49 @@ fn check_contact_law(params: &ModelParams, errors: &mut Vec<FieldError>) {
                      {MAX_DAMPING_RATIO:e}: its damping rate outruns every frequency of the \
                      model by more than double precision keeps",
                     law.damping, law.stiffness
+                ),
+            );
+        }
+    }
+}
+
+/// Rayleigh damping's ratios at each section's first cantilever frequency
+/// `3.516 sqrt(EI / (m' l^4))` are within [`MAX_DAMPING_RATIO`]: beyond it the damping
+/// rates outrun the model's frequencies by more than double precision keeps (and the eigen
+/// analyses cannot resolve them).
+fn check_rayleigh(params: &ModelParams, errors: &mut Vec<FieldError>) {
+    let crate::params::StructuralDamping::Rayleigh { alpha, beta } = params.damping else {
+        return;
+    };
+    let frequencies = params
+        .sections
+        .iter()
+        .map(|s| 3.516 * (s.bending_stiffness / (s.mass_per_length * s.length.powi(4))).sqrt());
+    let (lowest, highest) = frequencies.fold((f64::INFINITY, 0.0f64), |(lo, hi), w| {
+        (lo.min(w), hi.max(w))
+    });
+    for (field, ratio, omega, law) in [
+        (
+            "sections.rayleigh_beta",
+            beta * highest / 2.0,
+            highest,
+            "beta omega / 2",
+        ),
+        (
+            "sections.rayleigh_alpha",
+            alpha / (2.0 * lowest),
+            lowest,
+            "alpha / (2 omega)",
+        ),
+    ] {
+        if ratio.is_nan() || ratio > MAX_DAMPING_RATIO {
+            fail(
+                errors,
+                field.into(),
+                format!(
+                    "its damping ratio {law} = {ratio:.3e} at a section's first bending \
+                     frequency {omega:.3e} rad/s is beyond {MAX_DAMPING_RATIO:e}: damping \
+                     rates that far beyond the frequencies are not resolved in double precision"
                 ),
             );
         }

@@ -95,12 +95,15 @@ pub(crate) fn header(
          #define TC_SENSORS {m} /* measurements: {names} */\n\
          #define TC_POINTS {p}  /* design points of the schedule */\n\n\
          /* The controller's memory: {what}. */\n\
-         typedef struct {{\n{fields}}} tc_state;\n\n\
+         typedef struct {{\n{fields}    unsigned long rejected; /* ticks refused: inputs not finite */\n\
+         }} tc_state;\n\n\
          /* Starts the controller at rest, with no force applied. */\n\
          void tc_init(tc_state *s);\n\n\
          /* One tick at time t (s): the measurements y (in the order above, SI units) and the\n \
          * scheduled telescopic position a (m); returns the force (N) to apply from the next\n \
-         * tick on, within +-{limit} N. */\n\
+         * tick on, within +-{limit} N. A tick whose t, y or a is not finite (NaN, +-inf) is\n \
+         * rejected: the state is held, the last force is returned again and s->rejected\n \
+         * counts it; the controller goes on from the held state when finite ticks return. */\n\
          double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a);\n\n\
          #endif\n",
         m = sampled.sensors.len(),

@@ -11,6 +11,7 @@ void tc_init(tc_state *s)
         s->p[r * TC_STATES + r] = INITIAL_COVARIANCE;
     }
     s->u = 0.0;
+    s->rejected = 0;
 }
 
 /* The measurement update with y: Kalman gain from S = C P C^T + R, Joseph's form of the
@@ -120,6 +121,10 @@ static void predict_state(tc_state *s, double t)
 
 double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
 {
+    if (!inputs_are_finite(t, y, a)) {
+        s->rejected += 1;
+        return s->u;
+    }
     update(s, y);
     predict_covariance(s, t);
     predict_state(s, t);

@@ -5,10 +5,15 @@ void tc_init(tc_state *s)
         s->x_hat[r] = 0.0;
     }
     s->u = 0.0;
+    s->rejected = 0;
 }
 
 double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
 {
+    if (!inputs_are_finite(t, y, a)) {
+        s->rejected += 1;
+        return s->u;
+    }
     int i, j;
     double w;
     weights(a, &i, &j, &w);

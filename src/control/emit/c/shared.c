@@ -54,3 +54,18 @@ static void weights(double a, int *i, int *j, double *w)
     *j = k;
     *w = (a - POSITIONS[k - 1]) / (POSITIONS[k] - POSITIONS[k - 1]);
 }
+
+/* Whether a tick's inputs can be used: the time, every measurement and the position finite.
+   A tick that fails this is rejected by tc_step (state held, force repeated, counted). */
+static int inputs_are_finite(double t, const double y[TC_SENSORS], double a)
+{
+    if (!isfinite(t) || !isfinite(a)) {
+        return 0;
+    }
+    for (int q = 0; q < TC_SENSORS; q++) {
+        if (!isfinite(y[q])) {
+            return 0;
+        }
+    }
+    return 1;
+}

@@ -7,10 +7,15 @@ void tc_init(tc_state *s)
     s->vehicle_rate = 0.0;
     s->kappa_rate = 0.0;
     s->u = 0.0;
+    s->rejected = 0;
 }
 
 double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
 {
+    if (!inputs_are_finite(t, y, a)) {
+        s->rejected += 1;
+        return s->u;
+    }
     const double u = y[VEHICLE];
     const double kappa = y[KAPPA];
     if (s->started) {
