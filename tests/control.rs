@@ -836,3 +836,29 @@ fn unknown_fields_in_a_controller_file_are_refused() {
         );
     }
 }
+
+#[test]
+fn a_sampled_run_too_costly_in_ticks_is_refused_with_the_estimate() {
+    let plant = scene("case-study", &[]);
+    let design_at = |rate_hz: f64| {
+        design(
+            &plant,
+            &DesignOptions {
+                sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+                estimator: "extended".parse().unwrap(),
+                rate_hz,
+                ..DesignOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    // 100 kHz over 16 s: 1.6e6 ticks of the extended filter, each a covariance update
+    let fast = design_at(1e5);
+    let e = simulate_controlled(&plant, &fast, &SimulationOptions::default(), &Silent).unwrap_err();
+    assert!(matches!(e, telescopic::Error::Unaffordable { .. }), "{e}");
+    let message = e.to_string();
+    assert!(
+        message.contains("1.600e6 ticks") && message.contains("lower rate"),
+        "{message}"
+    );
+}

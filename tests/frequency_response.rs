@@ -114,6 +114,13 @@ fn the_csv_has_a_magnitude_and_a_phase_column_per_output_and_bad_requests_are_re
         ),
         (
             BodeOptions {
+                outputs: vec!["tip_rel".into(), "vehicle".into(), "tip_rel".into()],
+                ..BodeOptions::default()
+            },
+            "BodeOptions::outputs: `tip_rel` is named twice",
+        ),
+        (
+            BodeOptions {
                 from_hz: Some(-1.0),
                 ..BodeOptions::default()
             },

@@ -31,47 +31,73 @@ create_exception!(
     "A numerical failure: `.time` (s), `.method` and the likely cause in the message."
 );
 
-/// The Python exception of a library error.
+/// The Python exception of a library error, with the attributes its class documents on every
+/// path (`None` where the error has no such value).
 pub fn to_python(error: telescopic::Error) -> PyErr {
     use telescopic::Error;
     let message = error.to_string();
     Python::attach(|py| match &error {
-        Error::Scene(e) => {
-            let err = SceneError::new_err(message);
-            let fields: Vec<(String, String)> = e
-                .field_errors()
-                .iter()
-                .map(|f| (f.field.clone(), f.rule.clone()))
-                .collect();
-            let _ = err.value(py).setattr("errors", fields);
-            err
-        }
+        Error::Scene(e) => scene_error(py, e, message),
         Error::Option { option, rule, see } => {
             let argument = argument_name(*option);
             let see = see.map_or(String::new(), |o| format!(" (see {})", argument_name(o)));
-            let err = OptionError::new_err(format!("{argument}: {rule}{see}"));
-            let _ = err.value(py).setattr("option", argument);
-            err
+            option_error(py, format!("{argument}: {rule}{see}"), Some(argument))
         }
-        Error::Simulation { error: sim, .. } => {
-            let err = SolverError::new_err(message);
-            if let Some((t, method)) = sim.at() {
-                let _ = err.value(py).setattr("time", t);
-                let _ = err.value(py).setattr("method", method.to_string());
-            }
-            err
+        Error::Input(_) | Error::Destination { .. } => option_error(py, message, None),
+        Error::Simulation { error: sim, .. } => solver_error(py, message, sim.at()),
+        Error::NonFiniteOutput { t, method, .. } => {
+            solver_error(py, message, Some((*t, method.as_str())))
         }
         Error::OverMemoryBudget { option, .. } => {
             let argument = option.map_or(String::new(), |o| format!("{}: ", argument_name(o)));
-            SolverError::new_err(format!(
+            let message = format!(
                 "{argument}{message} ({} sets the budget)",
                 crate::environment::MEMORY_BUDGET_VARIABLE
-            ))
+            );
+            solver_error(py, message, None)
         }
-        Error::Input(_) | Error::Destination { .. } => OptionError::new_err(message),
-        Error::Unaffordable { .. } | Error::NonFiniteOutput { .. } => SolverError::new_err(message),
+        Error::Unaffordable { .. } => solver_error(py, message, None),
         _ => TelescopicError::new_err(message),
     })
+}
+
+/// A `SceneError` with `.errors`: every broken rule, or the one field (or `""` for the file)
+/// of a file that cannot be read or parsed.
+fn scene_error(py: Python<'_>, error: &telescopic::runtime::SceneError, message: String) -> PyErr {
+    use telescopic::runtime::SceneError as E;
+    let fields: Vec<(String, String)> = match error {
+        E::Invalid { errors, .. } => errors
+            .iter()
+            .map(|f| (f.field.clone(), f.rule.clone()))
+            .collect(),
+        E::Schema { field, message, .. } => vec![(field.clone(), message.clone())],
+        E::Override { argument, rule } => {
+            let key = argument
+                .split_once('=')
+                .map_or(argument.as_str(), |(k, _)| k);
+            vec![(key.to_string(), rule.clone())]
+        }
+        E::Syntax { message, .. } => vec![(String::new(), message.clone())],
+        E::Io { error, .. } => vec![(String::new(), error.to_string())],
+    };
+    let err = SceneError::new_err(message);
+    let _ = err.value(py).setattr("errors", fields);
+    err
+}
+
+/// An `OptionError` with `.option`, the argument's name (`None` for an input file's error).
+fn option_error(py: Python<'_>, message: String, option: Option<&str>) -> PyErr {
+    let err = OptionError::new_err(message);
+    let _ = err.value(py).setattr("option", option);
+    err
+}
+
+/// A `SolverError` with `.time` (s) and `.method` (`None` for a refusal before the run).
+fn solver_error(py: Python<'_>, message: String, at: Option<(f64, &str)>) -> PyErr {
+    let err = SolverError::new_err(message);
+    let _ = err.value(py).setattr("time", at.map(|a| a.0));
+    let _ = err.value(py).setattr("method", at.map(|a| a.1.to_string()));
+    err
 }
 
 /// The package's name for `option`: the keyword argument (or environment variable) that
@@ -138,7 +164,7 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
     }
 }
 
-/// An argument error naming `argument`.
+/// An argument error naming `argument` (also its `.option`).
 pub fn argument(argument: &str, rule: impl std::fmt::Display) -> PyErr {
-    OptionError::new_err(format!("{argument}: {rule}"))
+    Python::attach(|py| option_error(py, format!("{argument}: {rule}"), Some(argument)))
 }

@@ -137,6 +137,30 @@ impl PyScene {
         Self::build(text, PathBuf::from("<string>"), overrides(set)?)
     }
 
+    /// Pickling (multiprocessing with `spawn` needs it): the scene is rebuilt from its text,
+    /// origin and overrides, and validated again.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (String, String, Vec<String>))> {
+        let restore = slf.get_type().getattr("_restore")?;
+        let scene = slf.get();
+        Ok((
+            restore,
+            (
+                scene.text.clone(),
+                scene.origin.to_string_lossy().into_owned(),
+                scene.overrides.clone(),
+            ),
+        ))
+    }
+
+    /// The scene of a pickle: its text, origin and overrides.
+    #[staticmethod]
+    fn _restore(text: String, origin: String, overrides: Vec<String>) -> PyResult<Self> {
+        Self::build(text, PathBuf::from(origin), overrides)
+    }
+
     /// A new scene: this one with more overrides (checked like `--set`).
     fn with_set(&self, set: &Bound<'_, PyDict>) -> PyResult<Self> {
         let mut all = self.overrides.clone();

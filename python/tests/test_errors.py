@@ -225,3 +225,38 @@ def test_an_exception_in_the_progress_callable_stops_its_own_call_only():
     worker.join(timeout=300)
     frame = results["sweep"]
     assert len(frame) == 8 and (frame["status"] == "ok").all(), frame
+
+
+def test_exceptions_carry_their_attributes_on_every_path():
+    with pytest.raises(telescopic.SceneError) as e:
+        telescopic.Scene.load("scenes/adams-linear.toml", set={"contact.nonsense": 1})
+    assert [field for field, _ in e.value.errors] == ["contact.nonsense"], e.value.errors
+    with pytest.raises(telescopic.SceneError) as e:
+        telescopic.Scene.from_toml("this is not toml")
+    assert len(e.value.errors) == 1
+    # the binding's own argument errors name the argument too
+    scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.1})
+    with pytest.raises(telescopic.OptionError) as e:
+        telescopic.modes(scene, count=-1)
+    assert e.value.option == "count"
+    # a run refused before it starts has no time or method, but has the attributes
+    with pytest.raises(telescopic.SolverError) as e:
+        telescopic.simulate(scene, method="rk4", dt=1e-9)
+    assert e.value.time is None and e.value.method is None
+
+
+def test_scene_text_is_capped_and_a_long_line_is_not_quoted_whole():
+    with pytest.raises(telescopic.SceneError, match="at most 16777216 bytes"):
+        telescopic.Scene.from_toml("# " + "x" * (17 << 20))
+    with pytest.raises(telescopic.SceneError) as e:
+        telescopic.Scene.from_toml("a = " + "[" * 100 + "1" * 1_000_000)
+    assert len(str(e.value)) < 10_000
+
+
+def test_a_scene_pickles():
+    import pickle
+
+    scene = telescopic.Scene.load("scenes/case-study.toml", set={"contact.clearance": 0.004})
+    back = pickle.loads(pickle.dumps(scene))
+    assert back.to_toml() == scene.to_toml()
+    assert back.overrides == scene.overrides and back.path == scene.path

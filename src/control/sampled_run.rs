@@ -4,7 +4,7 @@
 
 use super::controlled::Controlled;
 use super::sampled::{DiscreteController, SampledController};
-use super::schema::Controller;
+use super::schema::{Controller, Estimator};
 use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
@@ -48,6 +48,7 @@ pub fn run_sampled(
     let span = scene.time;
     let (period, every) = tick_grid(sampled.rate_hz, &span)?;
     crate::run::memory::check_runs(&[scene], run.memory_budget)?;
+    check_ticks(scene, file, run.model().dof(), period)?;
     let base = run.model();
     let model = Controlled::sampled(base, file, span.start, span.end)?;
     let sensors = Sensors::new(&model);
@@ -143,6 +144,42 @@ fn measure(
     for (m, sigma) in measurement.iter_mut().zip(noise) {
         *m += sigma * gaussian(rng);
     }
+}
+
+/// Most operations a sampled-controller run may take (about 20 s on one core): beyond it a
+/// run is refused before it starts, with the estimate.
+pub const MAX_SAMPLED_OPERATIONS: f64 = 2e10;
+
+/// Refuses a sampled run whose ticks cost more than [`MAX_SAMPLED_OPERATIONS`]: each tick
+/// evaluates the model (`~ (2 n)^2` for `n` degrees of freedom, with an integrator's stages)
+/// and runs the controller (the extended filter's covariance `~ 10 m^3` for `m` states, the
+/// linear filter's `~ 4 m^2`).
+fn check_ticks(scene: &Scene, file: &Controller, dof: usize, period: f64) -> Result<()> {
+    let sampled = file.sampled_part()?;
+    let ticks = (scene.time.end - scene.time.start) / period;
+    let m = file.states.len() as f64;
+    let controller = match (sampled.estimator, &sampled.strain_rate) {
+        (_, Some(_)) | (Estimator::None, None) => 50.0,
+        (Estimator::Extended, None) => 10.0 * m * m * m,
+        (Estimator::Linear, None) => 4.0 * m * m,
+    };
+    let model = 12.0 * (2.0 * dof as f64).powi(2);
+    let operations = ticks * (model + controller);
+    if operations <= MAX_SAMPLED_OPERATIONS {
+        return Ok(());
+    }
+    Err(Error::Unaffordable {
+        scene: scene.name.clone(),
+        reason: format!(
+            "the sampled controller at {} Hz over {} s is {ticks:.3e} ticks of about {:.1e} \
+             operations each ({operations:.1e} in all), more than the limit of \
+             {MAX_SAMPLED_OPERATIONS:.0e}; design the controller at a lower rate, or shorten \
+             time.end",
+            sampled.rate_hz,
+            scene.time.end - scene.time.start,
+            model + controller
+        ),
+    })
 }
 
 /// The controller's period (s) and how many ticks make one output sample.

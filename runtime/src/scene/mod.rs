@@ -155,11 +155,21 @@ impl Scene {
         path: &Path,
         overrides: &[String],
     ) -> Result<Self, SceneError> {
+        if text.len() as u64 > crate::input::MAX_TEXT_INPUT_BYTES {
+            return Err(SceneError::Io {
+                path: path.to_owned(),
+                error: std::io::Error::other(format!(
+                    "{} bytes of text; a scene is at most {} bytes",
+                    text.len(),
+                    crate::input::MAX_TEXT_INPUT_BYTES
+                )),
+            });
+        }
         let table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| SceneError::Syntax {
                 path: path.to_owned(),
-                message: e.to_string(),
+                message: clipped_lines(&e.to_string()),
             })?;
         Self::from_table(table, path, overrides)
     }
@@ -197,4 +207,20 @@ impl Scene {
             })?;
         validate::build(file, &origin)
     }
+}
+
+/// Longest line of a parser's message kept whole: the parser quotes the offending line, which
+/// in a hostile file can be megabytes long.
+const MAX_MESSAGE_LINE: usize = 240;
+
+/// `message` with every line cut to [`MAX_MESSAGE_LINE`] characters (marked with `...`).
+fn clipped_lines(message: &str) -> String {
+    message
+        .lines()
+        .map(|line| match line.char_indices().nth(MAX_MESSAGE_LINE) {
+            Some((cut, _)) => format!("{}...", &line[..cut]),
+            None => line.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
