@@ -501,22 +501,16 @@ fn the_emitted_c_controllers_reject_non_finite_ticks_under_sanitizers() {
         std::fs::create_dir_all(&dir).unwrap();
         write_c(&controller, plant.time.start, plant.time.end, &dir).unwrap();
         let program = dir.join("hostile_ticks");
-        let compiled = std::process::Command::new("cc")
-            .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O1", "-g"])
-            .args(["-fsanitize=address,undefined", "-fno-sanitize-recover=all"])
-            .arg("-I")
-            .arg(&dir)
-            .arg(&driver)
-            .arg(dir.join(C_FILES[1]))
-            .arg("-o")
-            .arg(&program)
-            .arg("-lm")
-            .output()
-            .expect("cc runs");
-        assert!(
-            compiled.status.success(),
-            "{}",
-            String::from_utf8_lossy(&compiled.stderr)
+        compile_c(
+            &[
+                "-O1",
+                "-g",
+                "-fsanitize=address,undefined",
+                "-fno-sanitize-recover=all",
+            ],
+            &[&driver, &dir.join(C_FILES[1])],
+            &dir,
+            &program,
         );
         let sampled = controller.sampled.as_ref().unwrap();
         let position = controller.schedule[0]
@@ -541,6 +535,32 @@ fn the_emitted_c_controllers_reject_non_finite_ticks_under_sanitizers() {
     }
 }
 
+/// Compiles C99 `sources` (headers from `include`) with every warning an error and `flags`
+/// into `out`, linking the maths library.
+fn compile_c(
+    flags: &[&str],
+    sources: &[&std::path::Path],
+    include: &std::path::Path,
+    out: &std::path::Path,
+) {
+    let compiled = std::process::Command::new("cc")
+        .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .args(flags)
+        .arg("-I")
+        .arg(include)
+        .args(sources)
+        .arg("-o")
+        .arg(out)
+        .arg("-lm")
+        .output()
+        .expect("cc runs");
+    assert!(
+        compiled.status.success(),
+        "{}",
+        String::from_utf8_lossy(&compiled.stderr)
+    );
+}
+
 /// Designs, emits, compiles and loads the C controller, runs it and the library's in the loop
 /// on `plant`; returns the largest difference of their forces (N).
 fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
@@ -562,27 +582,11 @@ fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
     std::fs::create_dir_all(&dir).unwrap();
     write_c(&controller, plant.time.start, plant.time.end, &dir).unwrap();
     let library = dir.join("libtc.so");
-    let compiled = std::process::Command::new("cc")
-        .args([
-            "-std=c99",
-            "-Wall",
-            "-Wextra",
-            "-Werror",
-            "-pedantic",
-            "-O2",
-            "-shared",
-            "-fPIC",
-        ])
-        .arg(dir.join(C_FILES[1]))
-        .arg("-o")
-        .arg(&library)
-        .arg("-lm")
-        .output()
-        .expect("cc runs");
-    assert!(
-        compiled.status.success(),
-        "{}",
-        String::from_utf8_lossy(&compiled.stderr)
+    compile_c(
+        &["-O2", "-shared", "-fPIC"],
+        &[&dir.join(C_FILES[1])],
+        &dir,
+        &library,
     );
 
     // the C controller behind the same trait as the library's

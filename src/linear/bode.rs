@@ -192,7 +192,11 @@ fn pick(
     if wanted.is_empty() {
         return Err(Error::option(flag, "name at least one"));
     }
-    if let Some((k, name)) = wanted.iter().enumerate().find(|(k, n)| wanted[..*k].contains(n)) {
+    if let Some((k, name)) = wanted
+        .iter()
+        .enumerate()
+        .find(|(k, n)| wanted[..*k].contains(n))
+    {
         return Err(Error::option(
             flag,
             format!("`{name}` is named twice (again as entry {})", k + 1),
