@@ -264,6 +264,19 @@ fn bad_operating_points_and_grids_are_refused_with_the_rule() {
     .unwrap_err()
     .to_string();
     assert!(err.contains("its positions are a2..a2"), "{err}");
+    let err = linearize(
+        &scene,
+        &LinearizeOptions {
+            positions: vec![(2, 0.5), (2, 0.7)],
+            ..LinearizeOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err == "LinearizeOptions::positions: a2 is given twice",
+        "{err}"
+    );
     for bad in ["a2=1:2", "b2=0:1:3", "a2=0:1:1", "a2=0:x:3"] {
         assert!(bad.parse::<Grid>().is_err(), "{bad} parsed");
     }

@@ -251,8 +251,14 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         Ok(())
     };
     if !options.positions.is_empty() {
-        for &(k, v) in &options.positions {
+        for (i, &(k, v)) in options.positions.iter().enumerate() {
             check(OptionName::Positions, k)?;
+            if options.positions[..i].iter().any(|&(other, _)| other == k) {
+                return Err(Error::option(
+                    OptionName::Positions,
+                    format!("a{k} is given twice"),
+                ));
+            }
             positions[k - 2] = v;
             rates[k - 2] = 0.0;
         }
