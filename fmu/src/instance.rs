@@ -61,6 +61,9 @@ struct Running {
     half_band: f64,
     /// The model's own outputs (the sensors follow them).
     own_outputs: usize,
+    /// The longest communication step the step limit affords (s), and the stable step it
+    /// assumes (s); infinite for a method without a bound.
+    affordable: (f64, f64),
 }
 
 /// One FMU instance.
@@ -206,6 +209,13 @@ impl Instance {
         planned.params.drive = planned_drive;
         let plan = plan(&planned, &SimulationOptions::default()).map_err(failure)?;
         let stepper = HeldInputStepper::new(&plan, &model, &self.scene.time);
+        // the step limit of a whole run applies to each communication step
+        let affordable =
+            telescopic::run::budget::estimate_steps(&planned, &model, plan.method, &plan.settings)
+                .map_err(failure)?
+                .map_or((f64::INFINITY, 0.0), |e| {
+                    (e.step * plan.settings.max_steps as f64, e.step)
+                });
         let n = model.dof();
         let nc = model.layout().contact_count();
         let outputs = self.vars.outputs;
@@ -221,6 +231,7 @@ impl Instance {
             outputs: vec![0.0; outputs],
             xi: vec![0.0; nc],
             xi_dot: vec![0.0; nc],
+            affordable,
         });
         self.phase = Phase::Running;
         Ok(())
@@ -353,6 +364,14 @@ impl Instance {
         }
         self.expect_phase("fmi2DoStep", &[Phase::Running])?;
         let r = self.running("fmi2DoStep")?;
+        let (longest, stable) = r.affordable;
+        if h > longest {
+            return Err(format!(
+                "a communication step of {h} s needs about {:.2e} steps of the stable {stable:.3e} \
+                 s, more than the step limit: take steps of at most {longest:.3e} s",
+                h / stable
+            ));
+        }
         r.stepper
             .advance(&r.model, &mut r.y, t, h)
             .map_err(|e| format!("the step from t = {t} s to {} s failed: {e}", t + h))?;

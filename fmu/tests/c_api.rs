@@ -451,6 +451,8 @@ fn times_that_cannot_be_stepped_and_arrays_of_the_wrong_size_are_errors() {
             (1e-3, f64::NAN),
             (f64::NAN, 1e-3),
             (5.0, 1e-3),
+            // finite, but past the step limit however the method steps
+            (1e-3, 1e8),
         ] {
             assert_eq!(fmi2DoStep(c, t, h, 1), ERROR, "t = {t}, h = {h}");
         }
