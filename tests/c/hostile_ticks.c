@@ -1,6 +1,6 @@
 /* Hostile ticks for an emitted controller, built with AddressSanitizer and UBSan by
- * tests/control.rs: two controllers run the same ticks, one of them with a NaN measurement, an
- * infinite time, a NaN position and an infinite measurement among them, and a time far out.
+ * tests/control.rs: two controllers run the same ticks, one of them with a NaN, an infinite
+ * and a 1e308 measurement, infinite times, a NaN position and a time far out among them.
  * Checked: every force finite and within the limit, each bad tick rejected (the previous
  * force returned, counted), and the controller not stuck at a limit afterwards.
  * Usage: hostile_ticks PERIOD POSITION LIMIT; prints "ok" or what failed (exit 1). */
@@ -52,6 +52,7 @@ int main(int argc, char **argv)
         case 70: a = NAN; break;
         case 80: y[TC_SENSORS - 1] = -INFINITY; break;
         case 90: t_hit = -INFINITY; break;
+        case 110: y[0] = 1e308; break;  /* finite, but overflows an estimate or a rate */
         default: rejected = 0; break;
         }
         if (k == 100) {

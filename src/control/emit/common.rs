@@ -101,9 +101,10 @@ pub(crate) fn header(
          void tc_init(tc_state *s);\n\n\
          /* One tick at time t (s): the measurements y (in the order above, SI units) and the\n \
          * scheduled telescopic position a (m); returns the force (N) to apply from the next\n \
-         * tick on, within +-{limit} N. A tick whose t, y or a is not finite (NaN, +-inf) is\n \
-         * rejected: the state is held, the last force is returned again and s->rejected\n \
-         * counts it; the controller goes on from the held state when finite ticks return. */\n\
+         * tick on, within +-{limit} N. A tick whose t, y or a is not finite (NaN, +-inf), or\n \
+         * with a measurement beyond +-1e6 (SI), is rejected: the state is held, the last\n \
+         * force is returned again and s->rejected counts it; so is a tick that would make the\n \
+         * state non-finite. The controller goes on from the held state. */\n\
          double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a);\n\n\
          #endif\n",
         m = sampled.sensors.len(),

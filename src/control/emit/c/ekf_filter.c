@@ -121,13 +121,32 @@ static void predict_state(tc_state *s, double t)
 
 double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
 {
-    if (!inputs_are_finite(t, y, a)) {
+    if (!inputs_are_usable(t, y, a)) {
         s->rejected += 1;
         return s->u;
+    }
+    /* kept to undo a tick whose finite but absurd measurement overflows the estimate */
+    double x_kept[TC_STATES];
+    double p_kept[TC_STATES * TC_STATES];
+    for (int k = 0; k < TC_STATES * TC_STATES; k++) {
+        p_kept[k] = s->p[k];
+    }
+    for (int k = 0; k < TC_STATES; k++) {
+        x_kept[k] = s->x_hat[k];
     }
     update(s, y);
     predict_covariance(s, t);
     predict_state(s, t);
+    if (!all_finite(s->x_hat, TC_STATES) || !all_finite(s->p, TC_STATES * TC_STATES)) {
+        for (int k = 0; k < TC_STATES * TC_STATES; k++) {
+            s->p[k] = p_kept[k];
+        }
+        for (int k = 0; k < TC_STATES; k++) {
+            s->x_hat[k] = x_kept[k];
+        }
+        s->rejected += 1;
+        return s->u;
+    }
     s->u = lqr_force(t, s->x_hat, a);
     return s->u;
 }

@@ -10,7 +10,7 @@ void tc_init(tc_state *s)
 
 double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
 {
-    if (!inputs_are_finite(t, y, a)) {
+    if (!inputs_are_usable(t, y, a)) {
         s->rejected += 1;
         return s->u;
     }
@@ -38,6 +38,11 @@ double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
             v += LK[near][r][q] * innovation[q];
         }
         next_x[r] = v;
+    }
+    /* a finite but absurd measurement that overflows the estimate is rejected too */
+    if (!all_finite(next_x, TC_STATES)) {
+        s->rejected += 1;
+        return s->u;
     }
     for (int r = 0; r < TC_STATES; r++) {
         s->x_hat[r] = next_x[r];

@@ -55,15 +55,31 @@ static void weights(double a, int *i, int *j, double *w)
     *w = (a - POSITIONS[k - 1]) / (POSITIONS[k] - POSITIONS[k - 1]);
 }
 
-/* Whether a tick's inputs can be used: the time, every measurement and the position finite.
-   A tick that fails this is rejected by tc_step (state held, force repeated, counted). */
-static int inputs_are_finite(double t, const double y[TC_SENSORS], double a)
+/* Largest magnitude of a measurement (SI units): no reading of a crane's position, curvature,
+   acceleration or strain comes near it, and a filter's state stays far from overflow. */
+static const double MEASUREMENT_BOUND = 1e6;
+
+/* Whether a tick's inputs can be used: the time and the position finite, every measurement
+   finite and within MEASUREMENT_BOUND. A tick that fails this is rejected by tc_step (state
+   held, force repeated, counted). */
+static int inputs_are_usable(double t, const double y[TC_SENSORS], double a)
 {
     if (!isfinite(t) || !isfinite(a)) {
         return 0;
     }
     for (int q = 0; q < TC_SENSORS; q++) {
-        if (!isfinite(y[q])) {
+        if (!(fabs(y[q]) <= MEASUREMENT_BOUND)) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Whether the n values of v are all finite. */
+static int all_finite(const double *v, int n)
+{
+    for (int k = 0; k < n; k++) {
+        if (!isfinite(v[k])) {
             return 0;
         }
     }

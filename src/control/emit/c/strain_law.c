@@ -12,7 +12,7 @@ void tc_init(tc_state *s)
 
 double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
 {
-    if (!inputs_are_finite(t, y, a)) {
+    if (!inputs_are_usable(t, y, a)) {
         s->rejected += 1;
         return s->u;
     }
@@ -21,8 +21,17 @@ double tc_step(tc_state *s, double t, const double y[TC_SENSORS], double a)
     if (s->started) {
         const double v = (u - s->vehicle_prev) / PERIOD;
         const double kappa_dot = (kappa - s->kappa_prev) / PERIOD;
-        s->vehicle_rate += ALPHA * (v - s->vehicle_rate);
-        s->kappa_rate += ALPHA * (kappa_dot - s->kappa_rate);
+        const double rates[2] = {
+            s->vehicle_rate + ALPHA * (v - s->vehicle_rate),
+            s->kappa_rate + ALPHA * (kappa_dot - s->kappa_rate),
+        };
+        /* a finite but absurd measurement that overflows the rates is rejected too */
+        if (!all_finite(rates, 2)) {
+            s->rejected += 1;
+            return s->u;
+        }
+        s->vehicle_rate = rates[0];
+        s->kappa_rate = rates[1];
     }
     s->started = 1;
     s->vehicle_prev = u;
