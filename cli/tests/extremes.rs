@@ -742,6 +742,7 @@ fn the_memory_budget_reaches_every_command_that_runs_scenes() {
     let controller = controller.to_str().unwrap();
     for args in [
         vec!["converge", "scenes/adams-linear.toml", "--tol", "0.01"],
+        vec!["modes", "scenes/three-section.toml", "--shapes", "10000"],
         vec![
             "work-precision",
             "scenes/adams-linear.toml",

@@ -166,6 +166,7 @@ pub fn modes<'py>(
         count: count.map(|c| whole("count", &c)).transpose()?,
         shapes: Some(points.map_or(Ok(51), |p| whole("points", &p))?),
         model: parsed("model", model)?,
+        memory_budget: memory_budget()?,
         ..ModesOptions::default()
     };
     let scene = &scene.scene;

@@ -24,7 +24,7 @@ use telescopic_runtime::{
 };
 
 /// Options of [`compute_modes`].
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ModesOptions {
     /// Time (s) whose telescopic positions are used; default: the scene's start.
     pub at: Option<f64>,
@@ -36,6 +36,22 @@ pub struct ModesOptions {
     pub model: ModelChoice,
     /// Where generated models come from (default: the committed ones).
     pub models: ModelRegistry,
+    /// The memory the sampled shapes may take (bytes,
+    /// [`crate::run::memory::DEFAULT_MEMORY_BUDGET`] by default).
+    pub memory_budget: u64,
+}
+
+impl Default for ModesOptions {
+    fn default() -> Self {
+        ModesOptions {
+            at: None,
+            count: None,
+            shapes: None,
+            model: ModelChoice::default(),
+            models: ModelRegistry::default(),
+            memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
+        }
+    }
 }
 
 /// Most points per section of a sampled mode shape.
@@ -161,6 +177,17 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         error,
     })?;
     let shares = contact_energy_shares(model, &modal);
+    if let Some(points) = options.shapes {
+        // each shape holds its values and positions at every point of every section
+        let values = (count * scene.params.sections.len() * points * 2) as u64;
+        crate::run::memory::check(
+            values.saturating_mul(8),
+            options.memory_budget,
+            (Some(OptionName::Shapes), format!("scene {}", scene.name)),
+            format!("{count} mode shapes of {points} points per section"),
+            "the points per section or the count of modes",
+        )?;
+    }
     let mode_shapes = options.shapes.map(|points| {
         modal.shapes[..count]
             .iter()

@@ -54,6 +54,7 @@ pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
         shapes: args.shapes,
         model: args.model,
         models: Default::default(),
+        memory_budget: crate::memory_budget()?,
     };
     let report = compute_modes(&scene, &options)?;
     if let Some(path) = &args.plot {
