@@ -38,7 +38,8 @@ fn toml_value(key: &str, value: &Bound<'_, PyAny>, depth: usize) -> PyResult<Str
         return Ok(toml::Value::String(value.extract()?).to_string());
     }
     let listlike = value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>();
-    if listlike || value.hasattr("tolist")? && !value.hasattr("__float__")? {
+    // NumPy arrays and scalars: `tolist` gives nested lists or the Python scalar
+    if listlike || value.hasattr("tolist")? {
         if depth >= MAX_SET_DEPTH {
             return Err(bad(format!("lists nest deeper than {MAX_SET_DEPTH}")));
         }
