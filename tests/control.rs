@@ -444,6 +444,18 @@ fn sampled_output_feedback_from_vehicle_and_curvature() {
     );
 }
 
+/// The design options of the emitted C tests: `law` on `estimator` from the vehicle's
+/// position and the foot's curvature.
+fn emitted_design(law: &str, estimator: &str) -> DesignOptions {
+    DesignOptions {
+        sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+        law: law.parse().unwrap(),
+        estimator: estimator.parse().unwrap(),
+        tip_scale: 0.05,
+        ..DesignOptions::default()
+    }
+}
+
 /// The emitted C controllers (the LQR on the linear filter, the strain-rate law, and the LQR
 /// on the extended filter of the nonlinear model with the clearance), each compiled by the
 /// system's C compiler with every warning an error, loaded, and run in the loop against the
@@ -457,13 +469,7 @@ fn the_emitted_c_controllers_match_the_library_in_the_loop() {
         ("case-study", "lqr", "extended"),
         ("adams-clearance", "lqr", "extended"),
     ] {
-        let options = DesignOptions {
-            sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-            law: law.parse().unwrap(),
-            estimator: estimator.parse().unwrap(),
-            tip_scale: 0.05,
-            ..DesignOptions::default()
-        };
+        let options = emitted_design(law, estimator);
         let worst = emitted_c_in_the_loop(&scene(plant, &[]), &options);
         eprintln!("{plant}, {law} ({estimator}): largest force difference C - library {worst:e} N");
         assert!(worst <= 1e-9, "{plant}, {law}: {worst:e} N");
@@ -485,13 +491,7 @@ fn the_emitted_c_controllers_reject_non_finite_ticks_under_sanitizers() {
         ("adams-clearance", "lqr", "extended"),
     ] {
         let plant = scene(plant, &[]);
-        let options = DesignOptions {
-            sensors: vec!["vehicle".into(), "kappa_1_0".into()],
-            law: law.parse().unwrap(),
-            estimator: estimator.parse().unwrap(),
-            tip_scale: 0.05,
-            ..DesignOptions::default()
-        };
+        let options = emitted_design(law, estimator);
         let controller = design(&plant, &options).unwrap();
         let dir = std::env::temp_dir().join(format!(
             "telescopic-hostile-c-{}-{}-{law}-{estimator}",
