@@ -244,8 +244,20 @@ impl Instance {
         })
     }
 
+    /// Refuses a model-exchange call on a co-simulation instance or outside its modes.
+    pub fn model_exchange(&self, call: &str) -> Result<(), Failure> {
+        if self.kind != Kind::ModelExchange {
+            return Err(format!("{call} is for model-exchange instances"));
+        }
+        self.expect_phase(call, &[Phase::Running])
+    }
+
     /// `fmi2SetReal`.
     pub fn set_real(&mut self, refs: &[u32], values: &[f64]) -> Result<(), Failure> {
+        self.expect_phase(
+            "fmi2SetReal",
+            &[Phase::Instantiated, Phase::Initialization, Phase::Running],
+        )?;
         for (&vr, &v) in refs.iter().zip(values) {
             let var = self
                 .vars
@@ -301,6 +313,10 @@ impl Instance {
 
     /// `fmi2GetReal`.
     pub fn get_real(&mut self, refs: &[u32], values: &mut [f64]) -> Result<(), Failure> {
+        self.expect_phase(
+            "fmi2GetReal",
+            &[Phase::Initialization, Phase::Running, Phase::Terminated],
+        )?;
         let first_state = self.vars.first_state as usize;
         let states = self.vars.states;
         let outputs = self.vars.outputs;
@@ -381,6 +397,7 @@ impl Instance {
 
     /// `fmi2SetTime` (model exchange).
     pub fn set_time(&mut self, t: f64) -> Result<(), Failure> {
+        self.model_exchange("fmi2SetTime")?;
         if !(t.is_finite() && t.abs() <= MAX_TIME_S) {
             return Err(format!(
                 "the time must be a finite number of seconds within +-{MAX_TIME_S:e} (got {t})"
@@ -392,6 +409,7 @@ impl Instance {
 
     /// `fmi2SetContinuousStates`.
     pub fn set_states(&mut self, x: &[f64]) -> Result<(), Failure> {
+        self.model_exchange("fmi2SetContinuousStates")?;
         let r = self.running("fmi2SetContinuousStates")?;
         if x.len() != r.y.len() {
             return Err(format!(
@@ -409,6 +427,7 @@ impl Instance {
 
     /// `fmi2GetContinuousStates`.
     pub fn get_states(&mut self, x: &mut [f64]) -> Result<(), Failure> {
+        self.model_exchange("fmi2GetContinuousStates")?;
         let r = self.running("fmi2GetContinuousStates")?;
         sized("fmi2GetContinuousStates", x.len(), r.y.len())?;
         x.copy_from_slice(&r.y);
@@ -417,6 +436,7 @@ impl Instance {
 
     /// `fmi2GetDerivatives`.
     pub fn get_derivatives(&mut self, dx: &mut [f64]) -> Result<(), Failure> {
+        self.model_exchange("fmi2GetDerivatives")?;
         let t = self.time;
         let r = self.running("fmi2GetDerivatives")?;
         sized("fmi2GetDerivatives", dx.len(), r.ydot.len())?;
@@ -428,6 +448,7 @@ impl Instance {
     /// `fmi2GetEventIndicators`: `xi_c - l_S/2` and `xi_c + l_S/2` of every contact (the
     /// band's edges, where the contact law switches).
     pub fn get_event_indicators(&mut self, z: &mut [f64]) -> Result<(), Failure> {
+        self.model_exchange("fmi2GetEventIndicators")?;
         let t = self.time;
         let r = self.running("fmi2GetEventIndicators")?;
         sized("fmi2GetEventIndicators", z.len(), 2 * r.xi.len())?;
@@ -459,8 +480,10 @@ impl Instance {
     }
 
     /// `fmi2Terminate`.
-    pub fn terminate(&mut self) {
+    pub fn terminate(&mut self) -> Result<(), Failure> {
+        self.expect_phase("fmi2Terminate", &[Phase::Running])?;
         self.phase = Phase::Terminated;
+        Ok(())
     }
 
     /// `fmi2Reset`: back to just instantiated, parameters at their start values.

@@ -254,12 +254,7 @@ pub unsafe extern "C" fn fmi2ExitInitializationMode(c: Component) -> Status {
 
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2Terminate(c: Component) -> Status {
-    unsafe {
-        with(c, "fmi2Terminate", |i| {
-            i.terminate();
-            Ok(())
-        })
-    }
+    unsafe { with(c, "fmi2Terminate", Instance::terminate) }
 }
 
 #[unsafe(no_mangle)]
@@ -446,13 +441,18 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
 
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2EnterEventMode(c: Component) -> Status {
-    unsafe { with(c, "fmi2EnterEventMode", |_| Ok(())) }
+    unsafe {
+        with(c, "fmi2EnterEventMode", |i| {
+            i.model_exchange("fmi2EnterEventMode")
+        })
+    }
 }
 
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2NewDiscreteStates(c: Component, info: *mut EventInfo) -> Status {
     unsafe {
-        with(c, "fmi2NewDiscreteStates", |_| {
+        with(c, "fmi2NewDiscreteStates", |i| {
+            i.model_exchange("fmi2NewDiscreteStates")?;
             if info.is_null() {
                 return Err("null event info".into());
             }
@@ -472,7 +472,11 @@ pub unsafe extern "C" fn fmi2NewDiscreteStates(c: Component, info: *mut EventInf
 
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: Component) -> Status {
-    unsafe { with(c, "fmi2EnterContinuousTimeMode", |_| Ok(())) }
+    unsafe {
+        with(c, "fmi2EnterContinuousTimeMode", |i| {
+            i.model_exchange("fmi2EnterContinuousTimeMode")
+        })
+    }
 }
 
 #[unsafe(no_mangle)]
@@ -483,7 +487,8 @@ pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
     terminate: *mut Boolean,
 ) -> Status {
     unsafe {
-        with(c, "fmi2CompletedIntegratorStep", |_| {
+        with(c, "fmi2CompletedIntegratorStep", |i| {
+            i.model_exchange("fmi2CompletedIntegratorStep")?;
             if !enter_event_mode.is_null() {
                 *enter_event_mode = 0;
             }

@@ -360,13 +360,19 @@ enum State {
 
 /// A co-simulation instance of adams-linear walked to `state`.
 unsafe fn instance_in(state: State, name: &str) -> *mut c_void {
+    unsafe { instance_of(ffi::CO_SIMULATION, state, name) }
+}
+
+/// An instance of adams-linear of `kind` walked to `state` (`Stepping`: initialized, and for
+/// co-simulation one step done).
+unsafe fn instance_of(kind: std::ffi::c_int, state: State, name: &str) -> *mut c_void {
     let scene = Scene::load(&scene_file("adams-linear"), &[]).unwrap();
     let (resources, guid) = unpacked(&scene, name);
     let functions = callbacks();
     unsafe {
         let c = fmi2Instantiate(
             c"test".as_ptr(),
-            ffi::CO_SIMULATION,
+            kind,
             guid.as_ptr(),
             uri(&resources).as_ptr(),
             &functions,
@@ -383,7 +389,9 @@ unsafe fn instance_in(state: State, name: &str) -> *mut c_void {
             return c;
         }
         assert_eq!(fmi2ExitInitializationMode(c), OK);
-        assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 1), OK);
+        if kind == ffi::CO_SIMULATION {
+            assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 1), OK);
+        }
         if state == State::Stepping {
             return c;
         }
@@ -463,7 +471,9 @@ fn times_that_cannot_be_stepped_and_arrays_of_the_wrong_size_are_errors() {
             OK
         );
         assert_eq!(t, 1e-3);
+        fmi2FreeInstance(c);
         // arrays must have the model's size: adams-linear has 2 x 10 states
+        let c = instance_of(ffi::MODEL_EXCHANGE, State::Stepping, "bad-arrays");
         let mut buffer = vec![f64::NAN; 64];
         for n in [0, 19, 21, 64] {
             assert_eq!(
@@ -477,5 +487,62 @@ fn times_that_cannot_be_stepped_and_arrays_of_the_wrong_size_are_errors() {
         assert_eq!(fmi2GetContinuousStates(c, buffer.as_mut_ptr(), 20), OK);
         assert_eq!(fmi2GetEventIndicators(c, buffer.as_mut_ptr(), 64), ERROR);
         fmi2FreeInstance(c);
+    }
+}
+
+#[test]
+fn values_terminate_and_model_exchange_calls_keep_to_their_states() {
+    use State::*;
+    type Call = (&'static str, unsafe fn(*mut c_void) -> i32);
+    let calls: [(Call, &[State]); 3] = [
+        (
+            ("fmi2GetReal", |c| unsafe {
+                let mut v = 0.0;
+                fmi2GetReal(c, &2, 1, &mut v)
+            }),
+            &[Initialization, Stepping, Terminated],
+        ),
+        (
+            ("fmi2SetReal F", |c| unsafe { fmi2SetReal(c, &0, 1, &1.0) }),
+            &[Instantiated, Initialization, Stepping],
+        ),
+        (
+            ("fmi2Terminate", |c| unsafe { fmi2Terminate(c) }),
+            &[Stepping],
+        ),
+    ];
+    let me_calls: [Call; 5] = [
+        ("fmi2SetTime", |c| unsafe { fmi2SetTime(c, 0.0) }),
+        ("fmi2EnterEventMode", |c| unsafe { fmi2EnterEventMode(c) }),
+        ("fmi2EnterContinuousTimeMode", |c| unsafe {
+            fmi2EnterContinuousTimeMode(c)
+        }),
+        ("fmi2GetContinuousStates", |c| unsafe {
+            let mut x = [0.0; 20];
+            fmi2GetContinuousStates(c, x.as_mut_ptr(), 20)
+        }),
+        ("fmi2GetDerivatives", |c| unsafe {
+            let mut dx = [0.0; 20];
+            fmi2GetDerivatives(c, dx.as_mut_ptr(), 20)
+        }),
+    ];
+    let states = [Instantiated, Initialization, Stepping, Terminated];
+    let mut run = |kind, (name, call): Call, allowed: &[State]| {
+        for state in states {
+            unsafe {
+                let c = instance_of(kind, state, &format!("sm2-{kind}-{name}-{state:?}"));
+                let expected = if allowed.contains(&state) { OK } else { ERROR };
+                assert_eq!(call(c), expected, "{name} in {state:?} (kind {kind})");
+                fmi2FreeInstance(c);
+            }
+        }
+    };
+    for (call, allowed) in calls {
+        run(ffi::CO_SIMULATION, call, allowed);
+    }
+    for call in me_calls {
+        // model exchange only, once initialized; never on a co-simulation instance
+        run(ffi::MODEL_EXCHANGE, call, &[Stepping]);
+        run(ffi::CO_SIMULATION, call, &[]);
     }
 }
