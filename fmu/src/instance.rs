@@ -449,17 +449,21 @@ impl Instance {
     /// band's edges, where the contact law switches).
     pub fn get_event_indicators(&mut self, z: &mut [f64]) -> Result<(), Failure> {
         self.model_exchange("fmi2GetEventIndicators")?;
+        // the declared count: two per contact with clearance, none without
+        sized(
+            "fmi2GetEventIndicators",
+            z.len(),
+            self.vars.event_indicators,
+        )?;
+        if z.is_empty() {
+            return Ok(());
+        }
         let t = self.time;
         let r = self.running("fmi2GetEventIndicators")?;
-        sized("fmi2GetEventIndicators", z.len(), 2 * r.xi.len())?;
         r.model.contact_gaps(t, &r.y, &mut r.xi, &mut r.xi_dot);
-        for (c, &xi) in r.xi.iter().enumerate() {
-            if let Some(slot) = z.get_mut(2 * c) {
-                *slot = xi - r.half_band;
-            }
-            if let Some(slot) = z.get_mut(2 * c + 1) {
-                *slot = xi + r.half_band;
-            }
+        for (pair, &xi) in z.chunks_exact_mut(2).zip(&r.xi) {
+            pair[0] = xi - r.half_band;
+            pair[1] = xi + r.half_band;
         }
         Ok(())
     }

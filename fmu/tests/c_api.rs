@@ -511,7 +511,7 @@ fn values_terminate_and_model_exchange_calls_keep_to_their_states() {
             &[Stepping],
         ),
     ];
-    let me_calls: [Call; 5] = [
+    let me_calls: [Call; 9] = [
         ("fmi2SetTime", |c| unsafe { fmi2SetTime(c, 0.0) }),
         ("fmi2EnterEventMode", |c| unsafe { fmi2EnterEventMode(c) }),
         ("fmi2EnterContinuousTimeMode", |c| unsafe {
@@ -524,6 +524,23 @@ fn values_terminate_and_model_exchange_calls_keep_to_their_states() {
         ("fmi2GetDerivatives", |c| unsafe {
             let mut dx = [0.0; 20];
             fmi2GetDerivatives(c, dx.as_mut_ptr(), 20)
+        }),
+        ("fmi2SetContinuousStates", |c| unsafe {
+            let x = [0.0; 20];
+            fmi2SetContinuousStates(c, x.as_ptr(), 20)
+        }),
+        ("fmi2GetEventIndicators", |c| unsafe {
+            // adams-linear has no clearance: no event indicators
+            let mut z = [0.0; 1];
+            fmi2GetEventIndicators(c, z.as_mut_ptr(), 0)
+        }),
+        ("fmi2NewDiscreteStates", |c| unsafe {
+            let mut info = std::mem::zeroed::<ffi::EventInfo>();
+            fmi2NewDiscreteStates(c, &mut info)
+        }),
+        ("fmi2CompletedIntegratorStep", |c| unsafe {
+            let (mut event, mut stop) = (0, 0);
+            fmi2CompletedIntegratorStep(c, 1, &mut event, &mut stop)
         }),
     ];
     let states = [Instantiated, Initialization, Stepping, Terminated];
