@@ -252,12 +252,25 @@ impl Instance {
         self.expect_phase(call, &[Phase::Running])
     }
 
+    /// Refuses a get (`set` false) or set call of values outside the states FMI 2.0 allows it
+    /// in: gets from initialization mode on, sets until `fmi2Terminate`.
+    pub fn value_access(&self, call: &str, set: bool) -> Result<(), Failure> {
+        if set {
+            self.expect_phase(
+                call,
+                &[Phase::Instantiated, Phase::Initialization, Phase::Running],
+            )
+        } else {
+            self.expect_phase(
+                call,
+                &[Phase::Initialization, Phase::Running, Phase::Terminated],
+            )
+        }
+    }
+
     /// `fmi2SetReal`.
     pub fn set_real(&mut self, refs: &[u32], values: &[f64]) -> Result<(), Failure> {
-        self.expect_phase(
-            "fmi2SetReal",
-            &[Phase::Instantiated, Phase::Initialization, Phase::Running],
-        )?;
+        self.value_access("fmi2SetReal", true)?;
         for (&vr, &v) in refs.iter().zip(values) {
             let var = self
                 .vars
@@ -313,10 +326,7 @@ impl Instance {
 
     /// `fmi2GetReal`.
     pub fn get_real(&mut self, refs: &[u32], values: &mut [f64]) -> Result<(), Failure> {
-        self.expect_phase(
-            "fmi2GetReal",
-            &[Phase::Initialization, Phase::Running, Phase::Terminated],
-        )?;
+        self.value_access("fmi2GetReal", false)?;
         let first_state = self.vars.first_state as usize;
         let states = self.vars.states;
         let outputs = self.vars.outputs;

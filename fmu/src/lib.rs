@@ -301,7 +301,8 @@ pub unsafe extern "C" fn fmi2SetReal(
 /// none is fine, asking for one is an error.
 unsafe fn no_variables(c: Component, call: &str, n: usize) -> Status {
     unsafe {
-        with(c, call, |_| {
+        with(c, call, |i| {
+            i.value_access(call, call.starts_with("fmi2Set"))?;
             if n == 0 {
                 Ok(())
             } else {

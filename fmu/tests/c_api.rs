@@ -494,7 +494,7 @@ fn times_that_cannot_be_stepped_and_arrays_of_the_wrong_size_are_errors() {
 fn values_terminate_and_model_exchange_calls_keep_to_their_states() {
     use State::*;
     type Call = (&'static str, unsafe fn(*mut c_void) -> i32);
-    let calls: [(Call, &[State]); 3] = [
+    let calls: [(Call, &[State]); 7] = [
         (
             ("fmi2GetReal", |c| unsafe {
                 let mut v = 0.0;
@@ -509,6 +509,31 @@ fn values_terminate_and_model_exchange_calls_keep_to_their_states() {
         (
             ("fmi2Terminate", |c| unsafe { fmi2Terminate(c) }),
             &[Stepping],
+        ),
+        (
+            ("fmi2GetInteger", |c| unsafe {
+                fmi2GetInteger(c, std::ptr::null(), 0, std::ptr::null_mut())
+            }),
+            &[Initialization, Stepping, Terminated],
+        ),
+        (
+            ("fmi2SetBoolean", |c| unsafe {
+                fmi2SetBoolean(c, std::ptr::null(), 0, std::ptr::null())
+            }),
+            &[Instantiated, Initialization, Stepping],
+        ),
+        (
+            ("fmi2GetString", |c| unsafe {
+                fmi2GetString(c, std::ptr::null(), 0, std::ptr::null_mut())
+            }),
+            &[Initialization, Stepping, Terminated],
+        ),
+        (
+            ("fmi2GetFMUstate (not supported)", |c| unsafe {
+                let mut state = std::ptr::null_mut();
+                fmi2GetFMUstate(c, &mut state)
+            }),
+            &[],
         ),
     ];
     let me_calls: [Call; 9] = [
