@@ -36,12 +36,7 @@ pub fn install() {
 
 /// Notes that the command writes `path`, so that a stop removes its temporary file.
 pub fn watch_output(path: &Path) {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."))
-        .to_path_buf();
-    watch_output_dir(dir);
+    watch_output_dir(telescopic::io::output::parent_dir(path).to_path_buf());
 }
 
 /// Notes that the command writes files into `dir`.

@@ -569,7 +569,7 @@ fn values_terminate_and_model_exchange_calls_keep_to_their_states() {
         }),
     ];
     let states = [Instantiated, Initialization, Stepping, Terminated];
-    let mut run = |kind, (name, call): Call, allowed: &[State]| {
+    let run = |kind, (name, call): Call, allowed: &[State]| {
         for state in states {
             unsafe {
                 let c = instance_of(kind, state, &format!("sm2-{kind}-{name}-{state:?}"));

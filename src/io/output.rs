@@ -31,7 +31,7 @@ pub fn is_temporary_of_this_process(path: &Path) -> bool {
 }
 
 /// The directory a file path lives in (`.` for a bare name).
-fn parent_dir(path: &Path) -> &Path {
+pub fn parent_dir(path: &Path) -> &Path {
     path.parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."))

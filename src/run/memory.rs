@@ -118,13 +118,11 @@ pub fn check_runs(scenes: &[&Scene], budget: u64) -> Result<()> {
 /// modes at every sample.
 pub const MAX_STATIONS: usize = 1000;
 
-/// Refuses a run with `stations` output stations whose trajectory, their columns included,
-/// exceeds `budget` (bytes), or more than [`MAX_STATIONS`] stations.
+/// Refuses more than [`MAX_STATIONS`] output stations.
 ///
 /// # Errors
-/// [`Error::Option`] naming the stations for too many; [`Error::OverMemoryBudget`] as
-/// [`check`].
-pub fn check_stations(scene: &Scene, stations: usize, budget: u64) -> Result<()> {
+/// [`Error::Option`] naming the stations.
+pub fn check_station_count(stations: usize) -> Result<()> {
     if stations > MAX_STATIONS {
         return Err(Error::option(
             OptionName::Stations,
@@ -132,6 +130,19 @@ pub fn check_stations(scene: &Scene, stations: usize, budget: u64) -> Result<()>
                 "{stations} stations; at most {MAX_STATIONS} (a moment and a stress column each)"
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Refuses a run of `scene` with `stations` output stations whose trajectory, their columns
+/// included, exceeds `budget` (bytes).
+///
+/// # Errors
+/// As [`check_station_count`] and [`check`] (naming the stations when there are any).
+pub fn check_run(scene: &Scene, stations: usize, budget: u64) -> Result<()> {
+    check_station_count(stations)?;
+    if stations == 0 {
+        return check_runs(&[scene], budget);
     }
     let samples = crate::run::budget::sample_count(&scene.time) as u64;
     let columns = 2 * stations as u64 * BYTES_PER_VALUE;

@@ -52,7 +52,7 @@ impl<'s> PreparedRun<'s> {
     ) -> Result<Self> {
         let plan = plan(scene, options)?;
         let chosen = options.models.build(&scene.params, options.model)?;
-        crate::run::memory::check_stations(scene, options.stations.len(), options.memory_budget)?;
+        crate::run::memory::check_station_count(options.stations.len())?;
         let stations = StationRows::new(scene, chosen.model.as_ref(), &options.stations)?;
         if let Some(note) = &chosen.note {
             reporter.note(note);
@@ -116,7 +116,7 @@ impl<'s> PreparedRun<'s> {
         reporter: &dyn Reporter,
     ) -> Result<Trajectory> {
         let (method, settings) = (self.plan.method, &self.plan.settings);
-        crate::run::memory::check_runs(&[self.scene], self.memory_budget)?;
+        crate::run::memory::check_run(self.scene, self.stations.len(), self.memory_budget)?;
         crate::run::budget::check_run(self.scene, budget_model, method, settings)?;
         integrate_from_rest(
             self.scene,

@@ -177,6 +177,11 @@ impl StationRows {
         self.stations.is_empty()
     }
 
+    /// How many stations.
+    pub fn len(&self) -> usize {
+        self.stations.len()
+    }
+
     /// True when stresses come with the moments (the scene gives section moduli).
     pub fn has_stresses(&self) -> bool {
         self.moduli.is_some() && !self.is_empty()
