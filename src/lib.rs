@@ -46,6 +46,8 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+#[cfg(feature = "plot")]
+pub mod animate;
 mod cancel;
 pub mod control;
 mod error;

@@ -123,6 +123,14 @@ pub enum OptionName {
     BodePoints,
     /// The shared library an FMU archive packs.
     FmuLibrary,
+    /// `AnimationOptions::fps` (frames per second of simulation time).
+    Fps,
+    /// `AnimationOptions::scale`: the transverse deflection's exaggeration.
+    DeflectionScale,
+    /// `AnimationOptions::size` (pixels) of a GIF.
+    AnimationSize,
+    /// `AnimationOptions::speed`: simulation seconds per second of a GIF.
+    AnimationSpeed,
 }
 
 crate::named::named_enum!(OptionName, "an option", {
@@ -184,4 +192,8 @@ crate::named::named_enum!(OptionName, "an option", {
     ToHz => "BodeOptions::to_hz",
     BodePoints => "BodeOptions::points",
     FmuLibrary => "fmu library",
+    Fps => "AnimationOptions::fps",
+    DeflectionScale => "AnimationOptions::scale",
+    AnimationSize => "AnimationOptions::size",
+    AnimationSpeed => "AnimationOptions::speed",
 });

@@ -63,6 +63,10 @@ pub fn flag(option: OptionName) -> &'static str {
         O::FromHz => "--from",
         O::ToHz => "--to",
         O::FmuLibrary => "--library",
+        O::Fps => "--fps",
+        O::DeflectionScale => "--scale",
+        O::AnimationSize => "--size",
+        O::AnimationSpeed => "--speed",
     }
 }
 

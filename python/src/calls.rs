@@ -21,7 +21,7 @@ use telescopic::runtime::ContactMode;
 use crate::environment::MEMORY_BUDGET_VARIABLE;
 
 /// The calls' memory budget (bytes): [`MEMORY_BUDGET_VARIABLE`], else the library's default.
-fn memory_budget() -> PyResult<u64> {
+pub fn memory_budget() -> PyResult<u64> {
     let text = std::env::var(MEMORY_BUDGET_VARIABLE).ok();
     telescopic::run::memory::parse_budget(text.as_deref()).map_err(to_python)
 }
@@ -87,6 +87,37 @@ fn summary_dict<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<Bound<'py, P
         }
     }
     Ok(summary)
+}
+
+/// How a run is asked for from Python, as a dict with these keys (what
+/// `telescopic.Simulation` keeps to run its scene again).
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub struct RunArguments {
+    method: String,
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    dt: Option<f64>,
+    accuracy: Option<f64>,
+    model: String,
+    modes_as_given: bool,
+}
+
+impl RunArguments {
+    /// The library's options (errors name the argument).
+    pub fn into_options(self) -> PyResult<SimulationOptions> {
+        Ok(SimulationOptions {
+            method: parsed::<MethodChoice>("method", &self.method)?,
+            rtol: self.rtol,
+            atol: self.atol,
+            dt: self.dt,
+            accuracy: self.accuracy,
+            model: parsed::<ModelChoice>("model", &self.model)?,
+            modes_as_given: self.modes_as_given,
+            memory_budget: memory_budget()?,
+            ..SimulationOptions::default()
+        })
+    }
 }
 
 /// Simulates a scene (see `telescopic.simulate`).

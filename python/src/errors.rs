@@ -161,6 +161,10 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::FromHz => "from_hz",
         O::ToHz => "to_hz",
         O::FmuLibrary => "library",
+        O::Fps => "fps",
+        O::DeflectionScale => "scale",
+        O::AnimationSize => "size",
+        O::AnimationSpeed => "speed",
     }
 }
 

@@ -2,6 +2,7 @@
 //! entry points returning plain data; `telescopic/__init__.py` wraps them in NumPy, pandas and
 //! python-control objects (docs/python.md). It wraps the Rust library, never the CLI.
 
+mod animation;
 mod background;
 mod calls;
 mod environment;
@@ -15,6 +16,9 @@ use pyo3::prelude::*;
 fn _telescopic(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<scene::PyScene>()?;
+    m.add_class::<animation::PyMovie>()?;
+    m.add_function(wrap_pyfunction!(animation::animate, m)?)?;
+    m.add_function(wrap_pyfunction!(animation::animate_modes_of, m)?)?;
     m.add_function(wrap_pyfunction!(calls::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(calls::modes, m)?)?;
     m.add_function(wrap_pyfunction!(calls::linearize, m)?)?;

@@ -37,6 +37,7 @@ __all__ = [
     "Simulation",
     "Modes",
     "Controller",
+    "Animation",
     "simulate",
     "modes",
     "linearize",
@@ -74,6 +75,44 @@ def _progress(progress: Any) -> Callable[[float], None] | None:
     return progress
 
 
+class Animation:
+    """An animated view (``telescopic animate``): Jupyter shows it inline; ``save`` writes it.
+
+    ``html`` is the self-contained page (the same document the CLI writes); ``frame_count``
+    its frames (a run) or modes (a modes' view).
+    """
+
+    def __init__(self, movie: Any):
+        self._movie = movie
+
+    @property
+    def html(self) -> str:
+        """The self-contained HTML document."""
+        return self._movie.html
+
+    @property
+    def frame_count(self) -> int:
+        """Frames of a run's view, modes of a modes' view."""
+        return self._movie.frame_count
+
+    def save(self, path: str | os.PathLike) -> int:
+        """Writes the view to ``path``: ``.html``, or ``.gif`` for a run (its frames at the
+        view's rate); complete or not at all. Returns the file's size in bytes."""
+        return self._movie.save(os.fspath(path))
+
+    def _repr_html_(self) -> str:
+        """The page in a sandboxed frame of its own, so its script runs in Jupyter."""
+        import html
+
+        return (
+            '<iframe style="width: 100%; height: 640px; border: 0" sandbox="allow-scripts" '
+            f'srcdoc="{html.escape(self.html, quote=True)}"></iframe>'
+        )
+
+    def __repr__(self) -> str:
+        return f"Animation({self.frame_count} frames, {len(self.html)} bytes of HTML)"
+
+
 class Simulation:
     """A finished simulation: ``t`` and every output column as NumPy arrays.
 
@@ -81,10 +120,29 @@ class Simulation:
     after ``t``), ``sim.summary`` what ran (method, steps, switches, wall time, ...).
     """
 
-    def __init__(self, columns: list[str], data: np.ndarray, summary: dict[str, Any]):
+    def __init__(self, columns: list[str], data: np.ndarray, summary: dict[str, Any],
+                 request: dict[str, Any] | None = None):
         self.columns: list[str] = list(columns)
         self._data = data
         self.summary: dict[str, Any] = summary
+        self._request = request
+
+    def animate(self, fps: float | None = None, scale: float | None = None,
+                size: tuple[int, int] | None = None, speed: float | None = None,
+                compare: Scene | None = None, progress: Any = None) -> Animation:
+        """The run as an animated view (``telescopic animate``): the scene is run again with
+        the same options, its coordinates recorded (the same samples: runs are
+        deterministic). ``fps`` frames per second of simulation (default 50), ``scale`` the
+        deflection's exaggeration (default: readable), ``size`` and ``speed`` a GIF's,
+        ``compare`` a second scene side by side."""
+        if self._request is None:
+            raise OptionError("animate: this simulation does not know how it was run")
+        request = dict(self._request)
+        scene = request.pop("scene")
+        controller = request.pop("controller")
+        return Animation(_telescopic.animate(
+            scene, request, controller=controller, compare=compare, fps=fps, scale=scale,
+            size=size, speed=speed, progress=_progress(progress)))
 
     @property
     def t(self) -> np.ndarray:
@@ -134,7 +192,8 @@ class Simulation:
 class Modes:
     """Natural frequencies (Hz), damping and mode shapes of a scene, contacts closed."""
 
-    def __init__(self, data: dict[str, Any]):
+    def __init__(self, data: dict[str, Any], request: dict[str, Any] | None = None):
+        self._request = request
         self.frequencies_hz: np.ndarray = data["frequencies_hz"]
         self.damped_frequencies_hz: np.ndarray = data["damped_frequencies_hz"]
         self.damping_ratios: np.ndarray = data["damping_ratios"]
@@ -148,6 +207,13 @@ class Modes:
 
     def __len__(self) -> int:
         return len(self.frequencies_hz)
+
+    def animate(self) -> Animation:
+        """The modes as an animated view (``telescopic modes --animate``): each shape
+        oscillating, with its frequency, damping ratio and kind."""
+        if self._request is None:
+            raise OptionError("animate: these modes do not know how they were computed")
+        return Animation(_telescopic.animate_modes_of(**self._request))
 
     def __str__(self) -> str:
         return self._table
@@ -250,7 +316,9 @@ def simulate(
         moment_tolerance=moment_tolerance,
         statistics_tolerance=statistics_tolerance,
     )
-    return Simulation(columns, data, summary)
+    request = dict(scene=scene, method=method, rtol=rtol, atol=atol, dt=dt, accuracy=accuracy,
+                   controller=text, model=model, modes_as_given=modes_as_given)
+    return Simulation(columns, data, summary, request)
 
 
 def modes(scene: Scene, at: float | None = None, count: int | None = None, points: int = 51,
@@ -258,7 +326,8 @@ def modes(scene: Scene, at: float | None = None, count: int | None = None, point
     """Natural frequencies (Hz), damped frequencies, damping ratios, kinds (structural or
     contact) and mode shapes sampled at ``points`` per section, contacts closed, positions at
     time ``at`` (default the start)."""
-    return Modes(_telescopic.modes(scene, at=at, count=count, points=points, model=model))
+    data = _telescopic.modes(scene, at=at, count=count, points=points, model=model)
+    return Modes(data, dict(scene=scene, at=at, count=count, model=model))
 
 
 def _state_space(point: dict[str, Any], names: dict[str, Any], discrete: bool = False):

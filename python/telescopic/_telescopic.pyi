@@ -79,6 +79,29 @@ def simulate(
 ) -> tuple[list[str], np.ndarray, dict[str, Any]]:
     """Columns, samples (t first) and the run summary (with its error budget) of a simulation."""
 
+class Movie:
+    """A finished animated view: its page and what a GIF needs."""
+
+    @property
+    def html(self) -> str: ...
+    @property
+    def frame_count(self) -> int: ...
+    def save(self, path: str) -> int: ...
+
+def animate(
+    scene: Scene,
+    options: dict[str, Any],
+    controller: str | None = None,
+    compare: Scene | None = None,
+    fps: float | None = None,
+    scale: float | None = None,
+    size: tuple[int, int] | None = None,
+    speed: float | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> Movie: ...
+def animate_modes_of(
+    scene: Scene, at: float | None = None, count: int | None = None, model: str = "auto",
+) -> Movie: ...
 def modes(
     scene: Scene, at: float | None = None, count: int | None = None, points: int = 51,
     model: str = "auto",

@@ -130,6 +130,10 @@ pub struct ModesReport {
     /// Mode shapes, when asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mode_shapes: Option<Vec<ModeShape>>,
+    /// The mode shapes in the model's computing coordinates, mass-normalized, one per
+    /// reported frequency (not in the JSON document: `mode_shapes` samples them).
+    #[serde(skip)]
+    pub vectors: Vec<Vec<f64>>,
     /// Set when the model choice fell back to the assembled model.
     #[serde(skip)]
     pub note: Option<String>,
@@ -215,13 +219,7 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         damping_ratios: damped[..count].iter().map(|d| d.ratio).collect(),
         kinds: shares[..count]
             .iter()
-            .map(|&s| {
-                if s > CONTACT_MODE_SHARE {
-                    ModeKind::Contact
-                } else {
-                    ModeKind::Structural
-                }
-            })
+            .map(|&s| ModeKind::of_share(s))
             .collect(),
         contact_energy_shares: shares[..count].to_vec(),
         structural_damping: scene.params.damping.describe(),
@@ -240,8 +238,23 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
             })
             .collect(),
         mode_shapes,
+        vectors: modal.shapes[..count]
+            .iter()
+            .map(|v| v.as_slice().to_vec())
+            .collect(),
         note: chosen.note,
     })
+}
+
+impl ModeKind {
+    /// The kind of a mode whose strain energy is `share` in the contact springs.
+    fn of_share(share: f64) -> Self {
+        if share > CONTACT_MODE_SHARE {
+            ModeKind::Contact
+        } else {
+            ModeKind::Structural
+        }
+    }
 }
 
 /// The share of each mode's strain energy stored in the contact springs.

@@ -47,7 +47,12 @@ pub fn run_sampled(
     let sampled = file.sampled_part()?;
     let span = scene.time;
     let (period, every) = tick_grid(sampled.rate_hz, &span)?;
-    crate::run::memory::check_runs(&[scene], run.memory_budget)?;
+    let coordinates = if run.coordinates {
+        run.model().dof()
+    } else {
+        0
+    };
+    crate::run::memory::check_run(scene, (0, coordinates), run.memory_budget)?;
     check_ticks(scene, file, run.model().dof(), period)?;
     let base = run.model();
     let model = Controlled::sampled(base, file, span.start, span.end)?;
@@ -56,12 +61,13 @@ pub fn run_sampled(
     let own = names.len();
     names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
     let measured = measured_columns(&names, &sampled.sensors)?;
+    names.extend((0..coordinates).map(|i| format!("z_{i}")));
     let scheduled = file.scheduled_section();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(sampled.seed);
     let ticks = ((span.end - span.start) / period).round() as usize;
     let (n, mut y) = (model.dof(), rest_state(&model, span.start));
     let mut ydot = vec![0.0; 2 * n];
-    let mut out = vec![0.0; names.len()];
+    let mut out = vec![0.0; names.len() - coordinates];
     let mut measurement = vec![0.0; measured.len()];
     let mut rows = Vec::with_capacity(ticks / every + 1);
     let mut forces = Vec::with_capacity(ticks);
@@ -90,6 +96,7 @@ pub fn run_sampled(
             let mut row = Vec::with_capacity(out.len() + 1);
             row.push(t);
             row.extend_from_slice(&out);
+            row.extend_from_slice(&y[..coordinates]);
             rows.push(row);
         }
         if k == ticks {

@@ -1,7 +1,9 @@
 //! Charts: the paper's figures of a simulation as SVG or PNG with plotters. Case-study-like scenes get
-//! the vehicle (Fig. 8), `tip_rel` (Fig. 9), `top1_rel` (Fig. 10) and the gaps at the lower
-//! and upper contact of the first overlap (Figs. 11, 12) with the band edges `+-l_S/2`;
-//! the adams scenes get `tip_rel` (Figs. 14, 15). A second scene (`--compare`) is overlaid.
+//! the vehicle (Fig. 8), `tip_rel` (Fig. 9), `top1_rel` (Fig. 10) and, for two sections, the
+//! gaps at the lower and upper contact (Figs. 11, 12) with the band edges `+-l_S/2`; with
+//! more sections a panel of gaps and one of contact forces per overlap. The adams scenes get
+//! `tip_rel` (Figs. 14, 15). Titles name the paper's figures only for the paper's scenes. A
+//! second scene (`--compare`) is overlaid.
 
 pub(crate) mod bode;
 mod converge;
@@ -68,63 +70,145 @@ pub fn clearance_label(scene: &telescopic_runtime::Scene) -> String {
     )
 }
 
-/// A panel: output column, axis label, paper figure, and the factor from SI to the axis's
-/// unit.
+/// A panel: output columns (the first drawn solid, the next dashed), axis label, title, and
+/// the factor from SI to the axis's unit.
 struct Panel {
-    column: String,
+    columns: Vec<String>,
     axis: String,
     title: String,
     scale: f64,
 }
 
-/// The panels for a scene: `tip_rel` alone for the adams scenes, else the five of Figs. 8-12.
+/// The scenes whose runs are the paper's figures: their panels name the figure.
+const PAPER_SCENES: [&str; 4] = [
+    "case-study",
+    "case-study-no-clearance",
+    "adams-linear",
+    "adams-clearance",
+];
+
+/// The panels for a scene: `tip_rel` alone for the adams scenes, else the vehicle, `tip_rel`,
+/// `top1_rel` (Figs. 8-10), the drive force when there is one, and the gaps: for two
+/// sections at the lower and the upper contact (Figs. 11, 12), for more a panel of gaps and
+/// one of contact forces per overlap. Titles name the paper's figure only for its scenes.
 fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
-    let panel = |column: &str, axis: &str, title: &str| Panel {
-        column: column.to_string(),
-        axis: axis.to_string(),
-        title: title.to_string(),
-        scale: 1.0,
+    let paper = PAPER_SCENES.contains(&scene_name);
+    let figure = |title: &str, fig: &str| {
+        if paper {
+            format!("{title} ({fig})")
+        } else {
+            title.to_string()
+        }
     };
-    // gaps read in millimetres
-    let gap_panel = |column: &str, title: &str| Panel {
-        column: column.to_string(),
-        axis: format!("{column} [mm]"),
-        title: title.to_string(),
-        scale: 1e3,
+    let panel = |columns: &[&String], axis: String, title: String, scale: f64| Panel {
+        columns: columns.iter().map(|c| c.to_string()).collect(),
+        axis,
+        title,
+        scale,
     };
+    let own = |name: &str| names.iter().find(|n| *n == name);
     if scene_name.starts_with("adams") {
-        return vec![panel(
-            "tip_rel",
-            "tip_rel [m]",
-            "load relative to the foot of the telescope (Figs. 14, 15)",
-        )];
+        return own("tip_rel")
+            .map(|c| {
+                let title = figure("load relative to the foot of the telescope", "Figs. 14, 15");
+                panel(&[c], "tip_rel [m]".into(), title, 1.0)
+            })
+            .into_iter()
+            .collect();
     }
-    let mut out = vec![
-        panel("vehicle", "vehicle [m]", "vehicle position (Fig. 8)"),
-        panel(
-            "tip_rel",
-            "tip_rel [m]",
-            "load relative to the foot (Fig. 9)",
-        ),
-        panel(
+    let mut out = Vec::new();
+    for (column, title, fig) in [
+        ("vehicle", "vehicle position", "Fig. 8"),
+        ("tip_rel", "load relative to the foot", "Fig. 9"),
+        (
             "top1_rel",
-            "top1_rel [m]",
-            "top of section 1 relative to the foot (Fig. 10)",
+            "top of section 1 relative to the foot",
+            "Fig. 10",
         ),
-    ];
-    if names.iter().any(|n| n == "drive_force") {
+    ] {
+        if let Some(c) = own(column) {
+            out.push(panel(
+                &[c],
+                format!("{column} [m]"),
+                figure(title, fig),
+                1.0,
+            ));
+        }
+    }
+    if let Some(c) = own("drive_force") {
         out.push(panel(
-            "drive_force",
-            "drive_force [N]",
-            "force of the drive on the vehicle",
+            &[c],
+            "drive_force [N]".into(),
+            "force of the drive on the vehicle".into(),
+            1.0,
         ));
     }
-    let gaps: Vec<&String> = names.iter().filter(|n| n.starts_with("xi_2_")).collect();
-    if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
-        out.push(gap_panel(first, "gap at the lower contact (Fig. 11)"));
-        out.push(gap_panel(last, "gap at the upper contact (Fig. 12)"));
+    let overlaps: Vec<usize> = (2..)
+        .take_while(|k| names.iter().any(|n| n.starts_with(&format!("xi_{k}_"))))
+        .collect();
+    if overlaps.len() == 1 {
+        // two sections: the paper's two gap panels
+        let gaps = first_and_last(names, "xi", 2);
+        for (c, (title, fig)) in gaps.iter().zip([
+            ("gap at the lower contact", "Fig. 11"),
+            ("gap at the upper contact", "Fig. 12"),
+        ]) {
+            out.push(panel(&[c], format!("{c} [mm]"), figure(title, fig), 1e3));
+        }
+        return out;
+    }
+    for k in overlaps {
+        out.extend(overlap_panels(names, k));
     }
     out
+}
+
+/// The first and last of the columns `PREFIX_k_j` of overlap `k` (one if there is one).
+fn first_and_last<'a>(names: &'a [String], prefix: &str, k: usize) -> Vec<&'a String> {
+    let all: Vec<&String> = names
+        .iter()
+        .filter(|n| n.starts_with(&format!("{prefix}_{k}_")))
+        .collect();
+    match (all.first(), all.last()) {
+        (Some(a), Some(b)) if a != b => vec![*a, *b],
+        _ => all,
+    }
+}
+
+/// Overlap `k`'s two panels: the gaps, and the contact forces, at its lower (solid) and upper
+/// (dashed) contact.
+fn overlap_panels(names: &[String], k: usize) -> [Panel; 2] {
+    let gaps = first_and_last(names, "xi", k);
+    let forces = first_and_last(names, "f", k);
+    let listed = |c: &[&String]| {
+        c.iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>()
+            .join(" (solid), ")
+    };
+    let panel = |columns: &[&String], axis: &str, title: String, scale: f64| Panel {
+        columns: columns.iter().map(|c| c.to_string()).collect(),
+        axis: axis.into(),
+        title,
+        scale,
+    };
+    [
+        panel(
+            &gaps,
+            "gap [mm]",
+            format!(
+                "overlap {k}: gaps at the lower and upper contact, {} (dashed)",
+                listed(&gaps)
+            ),
+            1e3,
+        ),
+        panel(
+            &forces,
+            "contact force [N]",
+            format!("overlap {k}: contact forces, {} (dashed)", listed(&forces)),
+            1.0,
+        ),
+    ]
 }
 
 /// Output formats of [`save`], by file extension.
@@ -215,7 +299,7 @@ pub fn plot(scene_name: &str, curves: &[Curve], marks: &Marks, path: &Path) -> R
 }
 
 /// Text needs a font: DejaVu Sans, compiled in, so plots look the same on any machine.
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
         .map_err(|_| Error::Plot("the built-in DejaVu Sans font could not be loaded".into()))
 }
@@ -254,7 +338,7 @@ pub fn tick_label(v: f64, span: f64) -> String {
 
 /// At most `2 buckets` points: the smallest and largest value of each of `buckets` runs of
 /// consecutive points, in time order, so peaks and chatter stay visible in a small file.
-fn decimate(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
+pub(crate) fn decimate(points: Vec<(f64, f64)>, buckets: usize) -> Vec<(f64, f64)> {
     if points.len() <= 2 * buckets {
         return points;
     }
@@ -496,28 +580,31 @@ fn dashed(
     DashedLineSeries::new(vec![(t0, y), (t1, y)], 8u32, 5u32, color.stroke_width(1))
 }
 
-/// The panel's column of every curve that has it, scaled and decimated: `(curve, points)`.
-fn panel_series(panel: &Panel, curves: &[Curve]) -> Vec<(usize, Vec<(f64, f64)>)> {
-    curves
-        .iter()
-        .enumerate()
-        .filter_map(|(i, c)| {
-            let col = c.traj.names.iter().position(|n| *n == panel.column)? + 1;
+/// The panel's columns of every curve that has them, scaled and decimated:
+/// `(curve, column, points)`.
+fn panel_series(panel: &Panel, curves: &[Curve]) -> Vec<(usize, usize, Vec<(f64, f64)>)> {
+    let mut out = Vec::new();
+    for (i, c) in curves.iter().enumerate() {
+        for (j, column) in panel.columns.iter().enumerate() {
+            let Some(col) = c.traj.index(column) else {
+                continue;
+            };
             let points: Vec<(f64, f64)> = c
                 .traj
                 .rows
                 .iter()
                 .map(|r| (r[0], panel.scale * r[col]))
                 .collect();
-            Some((i, decimate(points, 2000)))
-        })
-        .collect()
+            out.push((i, j, decimate(points, 2000)));
+        }
+    }
+    out
 }
 
 /// The smallest and largest time and value of the series, `(t0, t1, y0, y1)`.
-fn bounds(series: &[(usize, Vec<(f64, f64)>)]) -> (f64, f64, f64, f64) {
+fn bounds(series: &[(usize, usize, Vec<(f64, f64)>)]) -> (f64, f64, f64, f64) {
     let (mut t0, mut t1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for (_, s) in series {
+    for (_, _, s) in series {
         for &(t, y) in s {
             t0 = t0.min(t);
             t1 = t1.max(t);
@@ -528,10 +615,11 @@ fn bounds(series: &[(usize, Vec<(f64, f64)>)]) -> (f64, f64, f64, f64) {
     (t0, t1, y0, y1)
 }
 
-/// The panel's legend: its curves, then the band edges (`band_edge`, the panel's unit), the
-/// force limit (N) and the residual window where they are drawn.
+/// The panel's legend: its curves (a column after the first dashed, named), then the band
+/// edges (`band_edge`, the panel's unit), the force limit (N) and the residual window where
+/// they are drawn.
 fn panel_legend(
-    series: &[(usize, Vec<(f64, f64)>)],
+    (panel, series): (&Panel, &[(usize, usize, Vec<(f64, f64)>)]),
     curves: &[Curve],
     band_edge: Option<f64>,
     limit: Option<f64>,
@@ -539,11 +627,19 @@ fn panel_legend(
 ) -> Vec<(String, Swatch)> {
     let mut legend: Vec<(String, Swatch)> = series
         .iter()
-        .map(|(i, _)| {
-            (
-                curves[*i].label.clone(),
-                Swatch::Line(curves[*i].role.color()),
-            )
+        .map(|(i, j, _)| {
+            let color = curves[*i].role.color();
+            match (panel.columns.len(), j) {
+                (1, _) => (curves[*i].label.clone(), Swatch::Line(color)),
+                (_, 0) => (
+                    format!("{}, {}", curves[*i].label, panel.columns[0]),
+                    Swatch::Line(color),
+                ),
+                (_, j) => (
+                    format!("{}, {}", curves[*i].label, panel.columns[*j]),
+                    Swatch::Dashed(color),
+                ),
+            }
         })
         .collect();
     if let Some(band) = band_edge {
@@ -570,13 +666,15 @@ fn draw_panel<DB: DrawingBackend>(
 ) -> Result<()> {
     let series = panel_series(panel, curves);
     let (t0, t1, mut y0, mut y1) = bounds(&series);
-    let is_gap = panel.column.starts_with("xi_");
+    let is_gap = panel.columns[0].starts_with("xi_");
     let band = panel.scale * curves[0].half_band;
     if is_gap {
         y0 = y0.min(-band);
         y1 = y1.max(band);
     }
-    let limit = marks.force_limit.filter(|_| panel.column == "drive_force");
+    let limit = marks
+        .force_limit
+        .filter(|_| panel.columns[0] == "drive_force");
     if let Some(l) = limit {
         y0 = y0.min(-l);
         y1 = y1.max(l);
@@ -586,7 +684,7 @@ fn draw_panel<DB: DrawingBackend>(
     } else {
         None
     };
-    let legend = panel_legend(&series, curves, band_edge, limit, marks);
+    let legend = panel_legend((panel, &series), curves, band_edge, limit, marks);
     let (strip, plot_area) = area.split_vertically(LEGEND_STRIP + 24);
     let pad = 0.05 * (y1 - y0).max(1e-12);
     let mut chart = ChartBuilder::on(&plot_area)
@@ -629,11 +727,14 @@ fn draw_panel<DB: DrawingBackend>(
                 .map_err(plot_error)?;
         }
     }
-    for (i, points) in series {
-        let color = curves[i].role.color();
-        chart
-            .draw_series(LineSeries::new(points, color.stroke_width(1)))
-            .map_err(plot_error)?;
+    for (i, j, points) in series {
+        let style = curves[i].role.color().stroke_width(1);
+        if j == 0 {
+            chart.draw_series(LineSeries::new(points, style))
+        } else {
+            chart.draw_series(DashedLineSeries::new(points, 6u32, 4u32, style))
+        }
+        .map_err(plot_error)?;
     }
     Ok(())
 }

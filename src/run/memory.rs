@@ -134,25 +134,42 @@ pub fn check_station_count(stations: usize) -> Result<()> {
     Ok(())
 }
 
-/// Refuses a run of `scene` with `stations` output stations whose trajectory, their columns
-/// included, exceeds `budget` (bytes).
+/// Refuses a run of `scene` with `stations` output stations and `coordinates` coordinate
+/// columns whose trajectory, those columns included, exceeds `budget` (bytes).
 ///
 /// # Errors
 /// As [`check_station_count`] and [`check`] (naming the stations when there are any).
-pub fn check_run(scene: &Scene, stations: usize, budget: u64) -> Result<()> {
+pub fn check_run(
+    scene: &Scene,
+    (stations, coordinates): (usize, usize),
+    budget: u64,
+) -> Result<()> {
     check_station_count(stations)?;
-    if stations == 0 {
+    if stations == 0 && coordinates == 0 {
         return check_runs(&[scene], budget);
     }
     let samples = crate::run::budget::sample_count(&scene.time) as u64;
-    let columns = 2 * stations as u64 * BYTES_PER_VALUE;
+    let columns = (2 * stations + coordinates) as u64 * BYTES_PER_VALUE;
     let bytes = trajectory_bytes(scene).saturating_add(samples.saturating_mul(columns));
+    let (option, what, remedy) = if stations > 0 {
+        (
+            Some(OptionName::Stations),
+            format!("the run's trajectory with {stations} stations' moments and stresses"),
+            "the stations (fewer), time.sample (a coarser output grid) or time.end",
+        )
+    } else {
+        (
+            None,
+            format!("the run's trajectory with its {coordinates} coordinates"),
+            "time.sample (a coarser output grid) or time.end",
+        )
+    };
     check(
         bytes,
         budget,
-        (Some(OptionName::Stations), format!("scene {}", scene.name)),
-        format!("the run's trajectory with {stations} stations' moments and stresses"),
-        "the stations (fewer), time.sample (a coarser output grid) or time.end",
+        (option, format!("scene {}", scene.name)),
+        what,
+        remedy,
     )
 }
 

@@ -81,6 +81,10 @@ pub struct SimulationOptions {
     /// The memory the run's outputs may take (bytes; default
     /// [`super::memory::DEFAULT_MEMORY_BUDGET`]): a longer run is refused before it starts.
     pub memory_budget: u64,
+    /// Also output the generalized coordinates (the computing coordinates of
+    /// [`telescopic_runtime::model`], m and dimensionless) as columns `z_0 ..` after the
+    /// others: what an animation draws from (default false).
+    pub coordinates: bool,
 }
 
 impl Default for SimulationOptions {
@@ -101,6 +105,7 @@ impl Default for SimulationOptions {
             moment_tolerance: 0.02,
             statistics_tolerance: 0.05,
             memory_budget: super::memory::DEFAULT_MEMORY_BUDGET,
+            coordinates: false,
         }
     }
 }

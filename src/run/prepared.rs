@@ -37,6 +37,9 @@ pub struct PreparedRun<'s> {
     pub stations: StationRows,
     /// The memory its outputs may take (bytes, [`SimulationOptions::memory_budget`]).
     pub memory_budget: u64,
+    /// Whether the generalized coordinates are output columns too
+    /// ([`SimulationOptions::coordinates`]).
+    pub coordinates: bool,
 }
 
 impl<'s> PreparedRun<'s> {
@@ -63,6 +66,7 @@ impl<'s> PreparedRun<'s> {
             plan,
             stations,
             memory_budget: options.memory_budget,
+            coordinates: options.coordinates,
         })
     }
 
@@ -86,6 +90,7 @@ impl<'s> PreparedRun<'s> {
             },
             stations: StationRows::none(),
             memory_budget,
+            coordinates: false,
         }
     }
 
@@ -116,16 +121,22 @@ impl<'s> PreparedRun<'s> {
         reporter: &dyn Reporter,
     ) -> Result<Trajectory> {
         let (method, settings) = (self.plan.method, &self.plan.settings);
-        crate::run::memory::check_run(self.scene, self.stations.len(), self.memory_budget)?;
-        crate::run::budget::check_run(self.scene, budget_model, method, settings)?;
-        integrate_from_rest(
+        let coordinates = if self.coordinates {
+            model.layout().dof()
+        } else {
+            0
+        };
+        crate::run::memory::check_run(
             self.scene,
-            model,
-            method,
-            settings,
-            &self.stations,
-            reporter,
-        )
+            (self.stations.len(), coordinates),
+            self.memory_budget,
+        )?;
+        crate::run::budget::check_run(self.scene, budget_model, method, settings)?;
+        let outputs = Outputs {
+            stations: &self.stations,
+            coordinates,
+        };
+        integrate_from_rest(self.scene, model, (method, settings), &outputs, reporter)
     }
 
     /// The finished simulation of this run with `trajectory`.
@@ -151,22 +162,32 @@ impl<'s> PreparedRun<'s> {
     }
 }
 
+/// The columns a run adds to its model's outputs and sensors.
+struct Outputs<'a> {
+    /// The stations' moments and stresses.
+    stations: &'a StationRows,
+    /// How many generalized coordinates follow them (0: none).
+    coordinates: usize,
+}
+
 /// Integrates `scene` on `model` from rest with `method` and `settings`, collecting every
-/// output sample (the model's outputs, the sensors, then the stations'); no budget check
-/// (that is [`PreparedRun::integrate`]'s).
+/// output sample (the model's outputs, the sensors, the stations', then the coordinates);
+/// no budget check (that is [`PreparedRun::integrate`]'s).
 fn integrate_from_rest(
     scene: &Scene,
     model: &dyn Model,
-    method: Method,
-    settings: &Settings,
-    stations: &StationRows,
+    (method, settings): (Method, &Settings),
+    outputs: &Outputs,
     reporter: &dyn Reporter,
 ) -> Result<Trajectory> {
+    let stations = outputs.stations;
     let mut names = model.output_names();
     let own = names.len();
     names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
     let with_sensors = names.len();
     names.extend(stations.names());
+    let with_stations = names.len();
+    names.extend((0..outputs.coordinates).map(|i| format!("z_{i}")));
     let sensors = Sensors::new(model);
     let dof = model.dof();
     // the contact forces f_k_j among the model's outputs (after vehicle, tip, top1 and gaps)
@@ -177,7 +198,9 @@ fn integrate_from_rest(
     let mut bad_output: Option<(f64, String)> = None;
     let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
         let (model_outputs, rest) = out.split_at_mut(own);
-        let (sensor_outputs, station_outputs) = rest.split_at_mut(with_sensors - own);
+        let (sensor_outputs, rest) = rest.split_at_mut(with_sensors - own);
+        let (station_outputs, coordinate_outputs) = rest.split_at_mut(with_stations - with_sensors);
+        coordinate_outputs.copy_from_slice(&y[..coordinate_outputs.len()]);
         model.outputs(t, y, ydot, model_outputs);
         sensors.values(dof, y, ydot, sensor_outputs);
         stations.values(

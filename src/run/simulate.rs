@@ -85,6 +85,7 @@ pub fn estimate_error(
     companion_scene.params = refined;
     let companion_options = SimulationOptions {
         error_estimate: false,
+        coordinates: false,
         // a generated model of the refined size may not exist: the registry falls back
         model: match options.model {
             ModelChoice::Generated => ModelChoice::Auto,

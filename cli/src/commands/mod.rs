@@ -2,6 +2,7 @@
 //! prints. Nothing in the library depends on this module.
 
 mod analysis;
+mod animate;
 mod bode;
 mod control;
 mod fmu;
@@ -33,6 +34,10 @@ enum Command {
     Equations(modes::EquationsArgs),
     /// Integrate the scene with the clearance contact law and write its outputs as CSV.
     Simulate(simulate::SimulateArgs),
+    /// See a run move: the telescope bending and sliding, the contacts, the load and the
+    /// vehicle, with tip_rel, the vehicle and the drive force against time; one
+    /// self-contained HTML page (offline, from disk) or an animated GIF.
+    Animate(animate::AnimateArgs),
     /// The stiffest frequency with closed contacts and the largest stable step of the
     /// fixed-step explicit methods (textbook limits and the model's own).
     Stability(analysis::StabilityArgs),
@@ -146,6 +151,7 @@ impl Cli {
             Command::Modes(args) => modes::modes(&args),
             Command::Equations(args) => modes::equations(&args),
             Command::Simulate(args) => simulate::simulate(&args),
+            Command::Animate(args) => animate::animate(&args),
             Command::Stability(args) => analysis::stability(&args),
             Command::WorkPrecision(args) => analysis::work_precision(&args),
             Command::Converge(args) => analysis::converge(&args),

@@ -1,11 +1,13 @@
 //! `telescopic modes` and `telescopic equations`: the scene's linear model, as
 //! eigenfrequencies or as the derived equations.
 
-use super::{SceneArgs, check_chart};
+use super::{SceneArgs, check_chart, of_flag};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::analysis::equations::{EquationFormat, equations as rendered_equations};
 use telescopic::analysis::modes::{ModesOptions, compute_modes};
+use telescopic::animate::geometry::DEFAULT_POINTS;
+use telescopic::animate::{AnimationFormat, animate_modes, save_modes};
 use telescopic::io::output::write_to;
 use telescopic::plot::modes::ModeShapeFigure;
 use telescopic::run::models::ModelChoice;
@@ -34,6 +36,10 @@ pub struct ModesArgs {
     /// extension): the telescope upright, each section along its own axis.
     #[arg(long, value_name = "FILE.svg|FILE.png")]
     plot: Option<PathBuf>,
+    /// Write the modes listed as a self-contained HTML page: each mode shape oscillating
+    /// (slowed to one cycle per 2 s) with its frequency, damping ratio and kind.
+    #[arg(long, value_name = "FILE.html")]
+    animate: Option<PathBuf>,
 }
 
 /// Points per section of a plotted mode shape.
@@ -47,6 +53,18 @@ pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
         args.plot.as_deref(),
         &[args.scene.scene.as_path()],
     )?;
+    if let Some(path) = &args.animate {
+        crate::signals::watch_output(path);
+        let format = AnimationFormat::of_path(path).map_err(of_flag("--animate"))?;
+        if format != AnimationFormat::Html {
+            anyhow::bail!(
+                "--animate {}: the modes' animation is a page; the file name must end in .html",
+                path.display()
+            );
+        }
+        telescopic::io::output::check_not_an_input(path, &[args.scene.scene.as_path()])
+            .map_err(of_flag("--animate"))?;
+    }
     let scene = args.scene.load()?;
     let options = ModesOptions {
         at: args.at,
@@ -60,10 +78,20 @@ pub fn modes(args: &ModesArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.plot {
         let sampled = ModesOptions {
             shapes: Some(PLOT_POINTS),
-            ..options
+            ..options.clone()
         };
         ModeShapeFigure::new(&scene, &compute_modes(&scene, &sampled)?)?.save(path)?;
         eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.animate {
+        let (_, movie) = animate_modes(&scene, &options, DEFAULT_POINTS)?;
+        let bytes = save_modes(&movie, path)?;
+        eprintln!(
+            "wrote {} ({} modes, {})",
+            path.display(),
+            movie.modes.len(),
+            telescopic::io::size::human(bytes)
+        );
     }
     if let Some(note) = &report.note {
         eprintln!("{note}");

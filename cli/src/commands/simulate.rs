@@ -14,11 +14,10 @@ use telescopic::run::models::ModelChoice;
 use telescopic::run::stress::Station;
 use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
 
-/// Options of `telescopic simulate`.
+/// How a scene is run: the method, tolerances, accuracy and model (shared by `simulate` and
+/// `animate`).
 #[derive(Debug, Args)]
-pub struct SimulateArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
+pub struct RunArgs {
     /// Integration method: auto (default: the cheapest method and tolerance that reach
     /// 1e-6 m in tip_rel by the measured table, e.g. exact for a scene that is linear and
     /// time-invariant between contact switches), exact, dopri5, dop853, esdirk, imex, bdf,
@@ -44,9 +43,6 @@ pub struct SimulateArgs {
     /// 0.05).
     #[arg(long, value_name = "FRACTION", requires = "accuracy")]
     pub statistics_tolerance: Option<f64>,
-    /// Skip the companion run with more modes that estimates the truncation error.
-    #[arg(long)]
-    pub no_error_estimate: bool,
     /// Relative tolerance of adaptive methods (default 1e-6).
     #[arg(long, value_name = "R")]
     pub rtol: Option<f64>,
@@ -64,6 +60,46 @@ pub struct SimulateArgs {
     /// over the contact's fast modes where their bound certifies it (for comparison).
     #[arg(long)]
     pub no_long_steps: bool,
+    /// Which model computes the right-hand side: auto, generated or assembled.
+    #[arg(long, default_value = "auto", value_name = "MODEL")]
+    pub model: ModelChoice,
+}
+
+impl RunArgs {
+    /// The library's options of these flags (no stations, the error estimated).
+    pub fn options(&self) -> anyhow::Result<SimulationOptions> {
+        Ok(SimulationOptions {
+            method: self.method,
+            rtol: self.rtol,
+            atol: self.atol,
+            dt: self.dt,
+            step_cap: !self.no_step_cap,
+            long_steps: !self.no_long_steps,
+            model: self.model,
+            accuracy: self.accuracy,
+            modes_as_given: self.modes_as_given,
+            moment_tolerance: self
+                .moment_tolerance
+                .unwrap_or(SimulationOptions::default().moment_tolerance),
+            statistics_tolerance: self
+                .statistics_tolerance
+                .unwrap_or(SimulationOptions::default().statistics_tolerance),
+            memory_budget: crate::memory_budget()?,
+            ..SimulationOptions::default()
+        })
+    }
+}
+
+/// Options of `telescopic simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Skip the companion run with more modes that estimates the truncation error.
+    #[arg(long)]
+    pub no_error_estimate: bool,
     /// CSV file for the outputs (written to a temporary file and renamed when complete);
     /// default: standard output.
     #[arg(long, value_name = "FILE")]
@@ -88,9 +124,6 @@ pub struct SimulateArgs {
     /// model; the run without it is made too, for the comparison in the summary and the plot.
     #[arg(long, value_name = "CONTROLLER.json")]
     pub controller: Option<PathBuf>,
-    /// Which model computes the right-hand side: auto, generated or assembled.
-    #[arg(long, default_value = "auto", value_name = "MODEL")]
-    pub model: ModelChoice,
     /// Add the bending moment (and, when the scene gives sections.section_modulus or
     /// sections.height, the stress) at these stations as columns moment_K_X (N m) and
     /// stress_K_X (Pa): section K at X metres from its foot, e.g. 1:0,1:0.675,2:0; the
@@ -122,15 +155,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     if let Some(other) = &other {
         telescopic::run::memory::check_runs(&[&scene, other], crate::memory_budget()?)?;
     }
-    let controller = match &args.controller {
-        Some(path) => {
-            let c = Controller::load(path)?;
-            c.check_fits(&scene)
-                .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
-            Some(c)
-        }
-        None => None,
-    };
+    let controller = load_controller(args.controller.as_deref(), &scene)?;
     let options = simulation_options(args)?;
     let progress = Progress::new();
     let (run, comparison) = match &controller {
@@ -168,31 +193,27 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The controller file at `path`, checked to fit `scene`.
+pub fn load_controller(
+    path: Option<&std::path::Path>,
+    scene: &Scene,
+) -> anyhow::Result<Option<Controller>> {
+    let Some(path) = path else { return Ok(None) };
+    let c = Controller::load(path)?;
+    c.check_fits(scene)
+        .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
+    Ok(Some(c))
+}
+
 /// The library's options of a simulate command.
 fn simulation_options(args: &SimulateArgs) -> anyhow::Result<SimulationOptions> {
     Ok(SimulationOptions {
-        method: args.method,
-        rtol: args.rtol,
-        atol: args.atol,
-        dt: args.dt,
-        step_cap: !args.no_step_cap,
-        long_steps: !args.no_long_steps,
-        model: args.model,
-        accuracy: args.accuracy,
         stations: match &args.stations {
             Some(text) => Station::parse_list(text)?,
             None => Vec::new(),
         },
-        modes_as_given: args.modes_as_given,
         error_estimate: !args.no_error_estimate,
-        moment_tolerance: args
-            .moment_tolerance
-            .unwrap_or(SimulationOptions::default().moment_tolerance),
-        statistics_tolerance: args
-            .statistics_tolerance
-            .unwrap_or(SimulationOptions::default().statistics_tolerance),
-        memory_budget: crate::memory_budget()?,
-        ..SimulationOptions::default()
+        ..args.run.options()?
     })
 }
 

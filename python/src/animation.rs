@@ -1,0 +1,131 @@
+//! Animated views for Python: a run's or a scene's modes' page as a `Movie` that
+//! `telescopic/__init__.py` wraps in an object Jupyter shows inline.
+
+use crate::background::run;
+use crate::errors::{argument, to_python};
+use crate::scene::PyScene;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use telescopic::analysis::modes::ModesOptions;
+use telescopic::animate::geometry::DEFAULT_POINTS;
+use telescopic::animate::options::DEFAULT_PAGE_FPS;
+use telescopic::animate::{
+    AnimationOptions, ModeMovie, RunMovie, RunRequest, animate_modes, animate_run, save_modes,
+    save_run,
+};
+use telescopic::control::Controller;
+use telescopic::run::SimulationOptions;
+
+/// A finished movie: its page, and for a run what a GIF needs.
+#[pyclass(name = "Movie", module = "telescopic._telescopic", frozen)]
+pub struct PyMovie {
+    movie: Movie,
+    options: AnimationOptions,
+}
+
+/// What a [`PyMovie`] shows.
+enum Movie {
+    Run(RunMovie),
+    Modes(ModeMovie),
+}
+
+#[pymethods]
+impl PyMovie {
+    /// The self-contained HTML document.
+    #[getter]
+    fn html(&self) -> String {
+        match &self.movie {
+            Movie::Run(m) => m.html(),
+            Movie::Modes(m) => m.html(),
+        }
+    }
+
+    /// Frames (a run) or modes (a modes' movie).
+    #[getter]
+    fn frame_count(&self) -> usize {
+        match &self.movie {
+            Movie::Run(m) => m.frame_count(),
+            Movie::Modes(m) => m.modes.len(),
+        }
+    }
+
+    /// Writes the movie to `path` (.html, or .gif for a run), completely or not at all;
+    /// returns its size in bytes.
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<u64> {
+        py.detach(|| match &self.movie {
+            Movie::Run(m) => save_run(m, &self.options, &path),
+            Movie::Modes(m) => save_modes(m, &path),
+        })
+        .map_err(to_python)
+    }
+}
+
+/// A run's movie (see `telescopic.Simulation.animate`).
+#[pyfunction]
+#[pyo3(signature = (scene, options, controller = None, compare = None, fps = None, scale = None,
+    size = None, speed = None, progress = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn animate(
+    py: Python<'_>,
+    scene: &PyScene,
+    options: crate::calls::RunArguments,
+    controller: Option<String>,
+    compare: Option<&PyScene>,
+    fps: Option<f64>,
+    scale: Option<f64>,
+    size: Option<(u32, u32)>,
+    speed: Option<f64>,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<PyMovie> {
+    let defaults = AnimationOptions::default();
+    let animation = AnimationOptions {
+        fps: fps.unwrap_or(DEFAULT_PAGE_FPS),
+        scale,
+        size: size.unwrap_or(defaults.size),
+        speed: speed.unwrap_or(defaults.speed),
+        ..defaults
+    };
+    let simulation: SimulationOptions = options.into_options()?;
+    let controller = match controller {
+        Some(text) => Some(Controller::from_json(&text).map_err(to_python)?),
+        None => None,
+    };
+    let request = RunRequest {
+        scene: &scene.scene,
+        options: simulation,
+        controller: controller.as_ref(),
+        compare: compare.map(|c| &c.scene),
+    };
+    let movie = run(py, progress, |reporter| {
+        animate_run(&request, &animation, reporter)
+    })?;
+    Ok(PyMovie {
+        movie: Movie::Run(movie),
+        options: animation,
+    })
+}
+
+/// A scene's modes' movie (see `telescopic.Modes.animate`).
+#[pyfunction]
+#[pyo3(signature = (scene, at = None, count = None, model = "auto"))]
+pub fn animate_modes_of(
+    py: Python<'_>,
+    scene: &PyScene,
+    at: Option<f64>,
+    count: Option<usize>,
+    model: &str,
+) -> PyResult<PyMovie> {
+    let options = ModesOptions {
+        at,
+        count,
+        model: model.parse().map_err(|e| argument("model", e))?,
+        memory_budget: crate::calls::memory_budget()?,
+        ..ModesOptions::default()
+    };
+    let scene = &scene.scene;
+    let (_, movie) = run(py, None, |_| animate_modes(scene, &options, DEFAULT_POINTS))?;
+    Ok(PyMovie {
+        movie: Movie::Modes(movie),
+        options: AnimationOptions::default(),
+    })
+}

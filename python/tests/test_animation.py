@@ -1,0 +1,56 @@
+"""Animated views from Python: the same document the CLI writes, shown inline in Jupyter,
+saved as a page or a GIF; bad arguments name themselves."""
+
+import html
+import re
+
+import pytest
+
+import telescopic
+
+
+def test_a_runs_view_is_the_clis_document(cli, tmp_path):
+    scene = telescopic.Scene.load("scenes/adams-clearance.toml", set={"time.end": 1.0})
+    view = telescopic.simulate(scene).animate(scale=3)
+    assert view.frame_count == 51
+    page = tmp_path / "cli.html"
+    cli("animate", "scenes/adams-clearance.toml", "--set", "time.end=1.0", "--scale", "3",
+        "--out", str(page))
+    assert view.html == page.read_text()
+    # Jupyter shows the same document in a sandboxed frame that runs its script
+    shown = view._repr_html_()
+    srcdoc = re.search(r'srcdoc="([^"]*)"', shown).group(1)
+    assert html.unescape(srcdoc) == view.html
+    assert 'sandbox="allow-scripts"' in shown
+
+
+def test_a_view_saves_as_page_and_gif(tmp_path):
+    scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.4})
+    view = telescopic.simulate(scene).animate(fps=10, size=(320, 240))
+    assert view.save(tmp_path / "run.html") == len(view.html.encode())
+    size = view.save(tmp_path / "run.gif")
+    data = (tmp_path / "run.gif").read_bytes()
+    assert data[:6] == b"GIF89a" and len(data) == size
+    assert int.from_bytes(data[6:8], "little") == 320 and int.from_bytes(data[8:10], "little") == 240
+    # one image descriptor per frame: 0.4 s at 10 per second
+    assert data.count(b"\x21\xf9\x04") == 5
+    with pytest.raises(telescopic.TelescopicError):
+        view.save(tmp_path / "run.mp4")
+    assert not (tmp_path / "run.mp4").exists()
+
+
+def test_the_modes_view_holds_each_mode():
+    rig = telescopic.Scene.load("scenes/test-rig.toml")
+    view = telescopic.modes(rig, count=4).animate()
+    assert view.frame_count == 4
+    assert '"kind":"modes"' in view.html and "https://" not in view.html
+
+
+def test_bad_animation_arguments_name_themselves():
+    scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.2})
+    sim = telescopic.simulate(scene)
+    for arguments, name in [({"fps": 0.0}, "fps"), ({"scale": float("nan")}, "scale"),
+                            ({"size": (10, 10)}, "size"), ({"speed": 1e6}, "speed")]:
+        with pytest.raises(telescopic.OptionError) as caught:
+            sim.animate(**arguments)
+        assert caught.value.option == name, (arguments, caught.value)
