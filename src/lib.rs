@@ -54,6 +54,7 @@ mod error;
 pub mod fmu;
 pub mod io;
 pub mod linear;
+pub mod moves;
 mod named;
 mod option_name;
 #[cfg(feature = "plot")]

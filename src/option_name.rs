@@ -131,6 +131,16 @@ pub enum OptionName {
     AnimationSize,
     /// `AnimationOptions::speed`: simulation seconds per second of a GIF.
     AnimationSpeed,
+    /// `MoveLimits::distance` (m).
+    Distance,
+    /// `MoveLimits::v_max`, `a_max`, `j_max`.
+    MoveLimits,
+    /// `PlanOptions::tolerance` (m).
+    MoveTolerance,
+    /// `PlanOptions::settle_s` (s).
+    Settle,
+    /// `PlanOptions::robust`.
+    Robust,
 }
 
 crate::named::named_enum!(OptionName, "an option", {
@@ -196,4 +206,9 @@ crate::named::named_enum!(OptionName, "an option", {
     DeflectionScale => "AnimationOptions::scale",
     AnimationSize => "AnimationOptions::size",
     AnimationSpeed => "AnimationOptions::speed",
+    Distance => "MoveLimits::distance",
+    MoveLimits => "MoveLimits::v_max/a_max/j_max",
+    MoveTolerance => "PlanOptions::tolerance",
+    Settle => "PlanOptions::settle_s",
+    Robust => "PlanOptions::robust",
 });

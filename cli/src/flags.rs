@@ -67,6 +67,11 @@ pub fn flag(option: OptionName) -> &'static str {
         O::DeflectionScale => "--scale",
         O::AnimationSize => "--size",
         O::AnimationSpeed => "--speed",
+        O::Distance => "--distance",
+        O::MoveLimits => "--v-max/--a-max/--j-max",
+        O::MoveTolerance => "--tolerance",
+        O::Settle => "--settle",
+        O::Robust => "--robust",
     }
 }
 

@@ -9,40 +9,10 @@
 
 mod common;
 
-use common::{fails_with, scratch, succeeds};
+use common::{Csv, fails_with, scratch, succeeds};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// A run's CSV: header and rows.
-struct Csv {
-    names: Vec<String>,
-    rows: Vec<Vec<f64>>,
-}
-
-impl Csv {
-    fn read(path: &Path) -> Csv {
-        let text = std::fs::read_to_string(path).unwrap();
-        let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-        let names = lines.next().unwrap().split(',').map(String::from).collect();
-        let rows = lines
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect();
-        Csv { names, rows }
-    }
-
-    /// The value of `name` in the row at time `t` (s).
-    fn at(&self, name: &str, t: f64) -> f64 {
-        let col = self.names.iter().position(|n| n == name).unwrap();
-        let row = self
-            .rows
-            .iter()
-            .min_by(|a, b| (a[0] - t).abs().total_cmp(&(b[0] - t).abs()))
-            .unwrap();
-        assert!((row[0] - t).abs() < 1e-9, "no sample at {t}");
-        row[col]
-    }
-}
 
 /// The case study's telescopic position `a_2(t)` (m), from the scene's definition: a
 /// quintic smoothstep from 0.35 m to 1.15 m over 12 s.

@@ -165,6 +165,11 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::DeflectionScale => "scale",
         O::AnimationSize => "size",
         O::AnimationSpeed => "speed",
+        O::Distance => "distance",
+        O::MoveLimits => "v_max/a_max/j_max",
+        O::MoveTolerance => "tolerance",
+        O::Settle => "settle",
+        O::Robust => "robust",
     }
 }
 

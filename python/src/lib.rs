@@ -7,6 +7,7 @@ mod background;
 mod calls;
 mod environment;
 mod errors;
+mod planning;
 mod scene;
 
 use pyo3::prelude::*;
@@ -19,6 +20,7 @@ fn _telescopic(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<animation::PyMovie>()?;
     m.add_function(wrap_pyfunction!(animation::animate, m)?)?;
     m.add_function(wrap_pyfunction!(animation::animate_modes_of, m)?)?;
+    m.add_function(wrap_pyfunction!(planning::plan, m)?)?;
     m.add_function(wrap_pyfunction!(calls::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(calls::modes, m)?)?;
     m.add_function(wrap_pyfunction!(calls::linearize, m)?)?;

@@ -40,6 +40,8 @@ __all__ = [
     "Animation",
     "simulate",
     "modes",
+    "plan",
+    "Plan",
     "linearize",
     "design",
     "sweep",
@@ -486,3 +488,53 @@ def equations(scene: Scene, format: str = "latex") -> str:
     """The derived equations of motion of the scene's generated model: ``text``, ``latex``,
     ``rust`` or ``json``."""
     return _telescopic.equations(scene, format=format)
+
+
+class Plan:
+    """A planned move (``telescopic plan``): ``table`` a DataFrame with a row per candidate
+    and plant, ``scene`` the best plan as a Scene (its setpoint as ``drive.motion``),
+    ``best`` its name, ``rigid_limit_s`` the time-optimal move of a rigid telescope."""
+
+    def __init__(self, rows: list[dict[str, Any]], scene_text: str, summary: dict[str, Any]):
+        import pandas as pd
+
+        self.table = pd.DataFrame(rows)
+        self.scene: Scene = Scene.from_toml(scene_text)
+        self.scene_toml: str = scene_text
+        self.best: str = summary["best"]
+        self.rigid_limit_s: float = summary["rigid_limit_s"]
+        self.first_mode_hz: float = summary["first_mode_hz"]
+        self.worst_cycle_s: float | None = summary["worst_cycle_s"]
+        self._text: str = summary["table"]
+
+    def __str__(self) -> str:
+        return self._text
+
+    def __repr__(self) -> str:
+        worst = "never" if self.worst_cycle_s is None else f"{self.worst_cycle_s:.2f} s"
+        return (f"Plan(best {self.best!r}, worst cycle {worst}, rigid limit "
+                f"{self.rigid_limit_s:.2f} s)")
+
+
+def plan(scene: Scene, distance: float, v_max: float = 2.5, a_max: float = 0.7,
+         j_max: float = 2.0, tolerance: float = 0.005,
+         robust: Mapping[str, tuple[float, float]] | None = None, settle: float = 10.0,
+         optimize: bool = True, checks: int = 4, force_limit: float | None = None,
+         method: str = "auto", progress: Any = None) -> Plan:
+    """The shortest move over ``distance`` (m) that brings the load to rest within
+    ``tolerance`` (m) (``telescopic plan``): the time-optimal S-curve within ``v_max``,
+    ``a_max``, ``j_max``, shaped by ZV/ZVD/EI/2EI (fixed and scheduled on the first mode) and
+    optimized, each on the nonlinear model and every plant of ``robust`` (``{"masses.load":
+    (10, 30)}``: its corners and centre). Returns a ``Plan``: the table as a DataFrame and
+    the best plan as a Scene."""
+    text = None
+    if robust is not None:
+        text = ",".join(f"{k}={lo}:{hi}" for k, (lo, hi) in robust.items())
+    options = dict(method=method, rtol=None, atol=None, dt=None, accuracy=None, model="auto",
+                   modes_as_given=False)
+    rows, scene_text, summary = _telescopic.plan(
+        scene, distance, v_max=v_max, a_max=a_max, j_max=j_max, tolerance=tolerance,
+        robust=text, settle=settle, optimize=optimize, checks=checks, force_limit=force_limit,
+        options=options, progress=_progress(progress))
+    return Plan(rows, scene_text, summary)
+

@@ -149,3 +149,19 @@ def sweep(
 
 def equations(scene: Scene, format: str = "latex") -> str:
     """The derived equations: text, latex, rust or json."""
+
+def plan(
+    scene: Scene,
+    distance: float,
+    v_max: float = 2.5,
+    a_max: float = 0.7,
+    j_max: float = 2.0,
+    tolerance: float = 0.005,
+    robust: str | None = None,
+    settle: float = 10.0,
+    optimize: bool = True,
+    checks: int = 4,
+    force_limit: float | None = None,
+    options: dict[str, Any] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> tuple[list[dict[str, Any]], str, dict[str, Any]]: ...

@@ -8,13 +8,19 @@
 //! force = { kind = "piecewise-constant", times = [0, 4, 8, 12], values = [100, 0, -100, 0] }
 //! force = { kind = "piecewise-linear", times = [0, 1], values = [0, 100] }
 //! position = { kind = "smoothstep", start = 0, end = 12, from = 0.35, to = 1.15 }
+//! motion = { kind = "s-curve", start = 0, distance = 23, v_max = 2.5, a_max = 0.7, j_max = 2 }
+//! motion = { kind = "shaped", base = { kind = "s-curve", ... }, impulses = [[0.5, 0], [0.5, 0.5]], period = 1.75 }
 //! ```
 //!
 //! Piecewise profiles hold their first value before the first time and their last value
 //! after the last one; piecewise-constant takes `values[i]` on `[times[i], times[i+1])`.
 //! The smoothstep is the quintic `from + (to - from)(10u^3 - 15u^4 + 6u^5)`,
-//! `u = (t - start)/(end - start)`, constant outside `[start, end]`.
+//! `u = (t - start)/(end - start)`, constant outside `[start, end]`. The S-curve is the
+//! time-optimal jerk-limited move ([`crate::setpoint::SCurve`]); a shaped setpoint is
+//! `sum_i A_i base(t - m_i P(t))`, impulses of amplitude `A_i` at multiples `m_i` of a period
+//! `P(t)` that may follow the telescopic positions ([`ShapedSetpoint`]).
 
+use crate::setpoint::SCurve;
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -64,6 +70,69 @@ pub enum ShapedProfile {
         /// Value at and after `end`.
         to: f64,
     },
+    /// A smooth monotone interpolation of `(times[i], values[i])`: cubic between the
+    /// points with slopes by Fritsch and Butland (the harmonic mean of the neighbouring
+    /// secants, zero at an extremum and at both ends), so its rate is continuous and it
+    /// never overshoots the points.
+    PiecewiseCubic {
+        /// Knot times (s), strictly increasing.
+        times: Vec<f64>,
+        /// One value per time.
+        values: Vec<f64>,
+    },
+    /// The time-optimal jerk-limited move.
+    SCurve(SCurve),
+    /// A setpoint filtered by an input shaper.
+    Shaped(ShapedSetpoint),
+}
+
+/// A setpoint filtered by an input shaper: `sum_i A_i base(t - m_i P(t))`, impulses of
+/// amplitude `A_i` (summing to 1) at multiples `m_i` of the period `P(t)` (s).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapedSetpoint {
+    /// The raw setpoint.
+    pub base: Box<Profile>,
+    /// `[amplitude, multiple of the period]` per impulse.
+    pub impulses: Vec<[f64; 2]>,
+    /// The period `P(t)` (s) the impulses are spaced by: a number, or a piecewise-linear
+    /// profile that follows the first mode as the telescopic positions move.
+    pub period: Box<Profile>,
+}
+
+impl ShapedSetpoint {
+    /// `(value, rate, acceleration)` at `t`: exact where the period's second derivative is
+    /// that of its profile (zero between the knots of a piecewise-linear one).
+    fn state(&self, t: f64) -> (f64, f64, f64) {
+        let (period, period_rate) = (self.period.value(t), self.period.rate(t));
+        let period_acceleration = self.period.acceleration(t);
+        let (mut x, mut v, mut a) = (0.0, 0.0, 0.0);
+        for &[amplitude, multiple] in &self.impulses {
+            let delayed = t - multiple * period;
+            let stretch = 1.0 - multiple * period_rate;
+            let (bx, bv, ba) = self.base.eval(delayed);
+            x += amplitude * bx;
+            v += amplitude * bv * stretch;
+            a += amplitude * (ba * stretch * stretch - bv * multiple * period_acceleration);
+        }
+        (x, v, a)
+    }
+
+    /// Times where the shaped setpoint's acceleration may jump: the base's switches delayed
+    /// by each impulse (by the period at the switch: exact for a constant period, close for
+    /// a scheduled one) and the period's knots.
+    fn breakpoints(&self) -> Vec<f64> {
+        let switches = self.base.breakpoints();
+        let mut out: Vec<f64> = self
+            .impulses
+            .iter()
+            .flat_map(|&[_, m]| switches.iter().map(move |&b| b + m * self.period.value(b)))
+            .chain(self.period.breakpoints())
+            .collect();
+        out.sort_by(f64::total_cmp);
+        out.dedup();
+        out
+    }
 }
 
 impl<'de> Deserialize<'de> for Profile {
@@ -74,7 +143,7 @@ impl<'de> Deserialize<'de> for Profile {
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
                 f.write_str(
                     "a number, or a table with kind = \"constant\", \"piecewise-constant\", \
-                     \"piecewise-linear\" or \"smoothstep\"",
+                     \"piecewise-linear\", \"piecewise-cubic\", \"smoothstep\", \"s-curve\" or \"shaped\"",
                 )
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<Profile, E> {
@@ -116,10 +185,13 @@ impl Profile {
         match self {
             Profile::Constant(_) | Profile::Shaped(ShapedProfile::Constant { .. }) => true,
             Profile::Shaped(ShapedProfile::PiecewiseConstant { values, .. })
-            | Profile::Shaped(ShapedProfile::PiecewiseLinear { values, .. }) => {
+            | Profile::Shaped(ShapedProfile::PiecewiseLinear { values, .. })
+            | Profile::Shaped(ShapedProfile::PiecewiseCubic { values, .. }) => {
                 values.windows(2).all(|w| w[0] == w[1])
             }
             Profile::Shaped(ShapedProfile::Smoothstep { from, to, .. }) => from == to,
+            Profile::Shaped(ShapedProfile::SCurve(c)) => c.distance == 0.0,
+            Profile::Shaped(ShapedProfile::Shaped(s)) => s.base.is_constant(),
         }
     }
 
@@ -128,8 +200,15 @@ impl Profile {
     pub fn has_continuous_rate(&self) -> bool {
         match self {
             Profile::Constant(_) => true,
-            Profile::Shaped(ShapedProfile::Constant { .. } | ShapedProfile::Smoothstep { .. }) => {
-                true
+            Profile::Shaped(
+                ShapedProfile::Constant { .. }
+                | ShapedProfile::Smoothstep { .. }
+                | ShapedProfile::PiecewiseCubic { .. }
+                | ShapedProfile::SCurve(_),
+            ) => true,
+            Profile::Shaped(ShapedProfile::Shaped(s)) => {
+                s.base.has_continuous_rate() && s.period.has_continuous_rate()
+                    || s.base.is_constant()
             }
             Profile::Shaped(_) => self.is_constant(),
         }
@@ -141,8 +220,11 @@ impl Profile {
         match self {
             Profile::Constant(_) | Profile::Shaped(ShapedProfile::Constant { .. }) => Vec::new(),
             Profile::Shaped(ShapedProfile::PiecewiseConstant { times, .. })
-            | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, .. }) => times.clone(),
+            | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, .. })
+            | Profile::Shaped(ShapedProfile::PiecewiseCubic { times, .. }) => times.clone(),
             Profile::Shaped(ShapedProfile::Smoothstep { start, end, .. }) => vec![*start, *end],
+            Profile::Shaped(ShapedProfile::SCurve(c)) => c.switches(),
+            Profile::Shaped(ShapedProfile::Shaped(s)) => s.breakpoints(),
         }
     }
 
@@ -179,7 +261,8 @@ impl Profile {
                 vec![("", *v)]
             }
             Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values })
-            | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, values }) => times
+            | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, values })
+            | Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values }) => times
                 .iter()
                 .map(|&t| ("times", t))
                 .chain(values.iter().map(|&v| ("values", v)))
@@ -197,12 +280,33 @@ impl Profile {
                     ("to", *to),
                 ]
             }
+            Profile::Shaped(ShapedProfile::SCurve(c)) => vec![
+                ("start", c.start),
+                ("from", c.from),
+                ("distance", c.distance),
+                ("v_max", c.v_max),
+                ("a_max", c.a_max),
+                ("j_max", c.j_max),
+            ],
+            Profile::Shaped(ShapedProfile::Shaped(s)) => s
+                .base
+                .numbers()
+                .into_iter()
+                .map(|(_, v)| ("base", v))
+                .chain(s.impulses.iter().flatten().map(|&v| ("impulses", v)))
+                .chain(s.period.numbers().into_iter().map(|(_, v)| ("period", v)))
+                .collect(),
         }
     }
 
     /// `(value, rate, acceleration)` at `t`.
     fn eval(&self, t: f64) -> (f64, f64, f64) {
         match self {
+            Profile::Shaped(ShapedProfile::SCurve(c)) => c.state(t),
+            Profile::Shaped(ShapedProfile::Shaped(s)) => s.state(t),
+            Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values }) => {
+                monotone_cubic(times, values, t)
+            }
             Profile::Constant(v) | Profile::Shaped(ShapedProfile::Constant { value: v }) => {
                 (*v, 0.0, 0.0)
             }
@@ -249,6 +353,54 @@ impl Profile {
     }
 }
 
+/// `(value, rate, acceleration)` at `t` of the monotone cubic through `(times, values)`
+/// ([`ShapedProfile::PiecewiseCubic`]).
+fn monotone_cubic(times: &[f64], values: &[f64], t: f64) -> (f64, f64, f64) {
+    let n = times.len();
+    let i = times.partition_point(|&ti| ti <= t);
+    if i == 0 {
+        return (values[0], 0.0, 0.0);
+    }
+    if i == n {
+        return (values[n - 1], 0.0, 0.0);
+    }
+    let secant = |k: usize| (values[k + 1] - values[k]) / (times[k + 1] - times[k]);
+    // Fritsch-Butland slope at knot k: zero at the ends and at an extremum
+    let slope = |k: usize| {
+        if k == 0 || k == n - 1 {
+            return 0.0;
+        }
+        let (a, b) = (secant(k - 1), secant(k));
+        if a * b <= 0.0 {
+            0.0
+        } else {
+            2.0 * a * b / (a + b)
+        }
+    };
+    let (t0, h) = (times[i - 1], times[i] - times[i - 1]);
+    let (y0, y1, m0, m1) = (values[i - 1], values[i], slope(i - 1), slope(i));
+    let u = (t - t0) / h;
+    // Hermite basis and its derivatives in u
+    let (h00, h10, h01, h11) = (
+        (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u),
+        u * (1.0 - u) * (1.0 - u),
+        u * u * (3.0 - 2.0 * u),
+        u * u * (u - 1.0),
+    );
+    let (d00, d10, d01, d11) = (
+        6.0 * u * u - 6.0 * u,
+        3.0 * u * u - 4.0 * u + 1.0,
+        6.0 * u - 6.0 * u * u,
+        3.0 * u * u - 2.0 * u,
+    );
+    let (s00, s10, s01, s11) = (12.0 * u - 6.0, 6.0 * u - 4.0, 6.0 - 12.0 * u, 6.0 * u - 2.0);
+    (
+        h00 * y0 + h10 * h * m0 + h01 * y1 + h11 * h * m1,
+        (d00 * y0 + d10 * h * m0 + d01 * y1 + d11 * h * m1) / h,
+        (s00 * y0 + s10 * h * m0 + s01 * y1 + s11 * h * m1) / (h * h),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -283,6 +435,32 @@ mod tests {
         assert_eq!(p.value(-1.0), 0.35);
         assert_eq!(p.value(6.0), 0.75);
         assert_eq!(p.value(20.0), 1.15);
+    }
+
+    #[test]
+    fn the_monotone_cubic_passes_its_points_with_a_continuous_rate_and_no_overshoot() {
+        let p = Profile::Shaped(ShapedProfile::PiecewiseCubic {
+            times: vec![0.0, 1.0, 2.0, 4.0],
+            values: vec![1.0, 1.5, 3.0, 3.0],
+        });
+        for (t, v) in [(0.0, 1.0), (1.0, 1.5), (2.0, 3.0), (4.0, 3.0), (9.0, 3.0)] {
+            assert!((p.value(t) - v).abs() < 1e-15, "{t}");
+        }
+        let h = 1e-7;
+        for t in [0.0, 1.0, 2.0, 4.0] {
+            assert!(
+                (p.rate(t - h) - p.rate(t + h)).abs() < 1e-5,
+                "rate jumps at {t}"
+            );
+        }
+        for k in 0..=400 {
+            let t = f64::from(k) / 100.0;
+            let v = p.value(t);
+            assert!((1.0 - 1e-12..=3.0 + 1e-12).contains(&v), "{t}: {v}");
+            assert!(p.rate(t) >= 0.0);
+            let fd = (p.value(t + h) - p.value(t - h)) / (2.0 * h);
+            assert!((fd - p.rate(t)).abs() < 1e-6, "{t}");
+        }
     }
 
     #[test]

@@ -181,17 +181,7 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
         error,
     })?;
     let shares = contact_energy_shares(model, &modal);
-    if let Some(points) = options.shapes {
-        // each shape holds its values and positions at every point of every section
-        let values = (count * scene.params.sections.len() * points * 2) as u64;
-        crate::run::memory::check(
-            values.saturating_mul(8),
-            options.memory_budget,
-            (Some(OptionName::Shapes), format!("scene {}", scene.name)),
-            format!("{count} mode shapes of {points} points per section"),
-            "the points per section or the count of modes",
-        )?;
-    }
+    check_shape_memory(scene, options, count)?;
     let mode_shapes = options.shapes.map(|points| {
         modal.shapes[..count]
             .iter()
@@ -244,6 +234,22 @@ pub fn compute_modes(scene: &Scene, options: &ModesOptions) -> Result<ModesRepor
             .collect(),
         note: chosen.note,
     })
+}
+
+/// Refuses sampled shapes of `count` modes that would exceed the memory budget.
+fn check_shape_memory(scene: &Scene, options: &ModesOptions, count: usize) -> Result<()> {
+    let Some(points) = options.shapes else {
+        return Ok(());
+    };
+    // each shape holds its values and positions at every point of every section
+    let values = (count * scene.params.sections.len() * points * 2) as u64;
+    crate::run::memory::check(
+        values.saturating_mul(8),
+        options.memory_budget,
+        (Some(OptionName::Shapes), format!("scene {}", scene.name)),
+        format!("{count} mode shapes of {points} points per section"),
+        "the points per section or the count of modes",
+    )
 }
 
 impl ModeKind {

@@ -7,6 +7,7 @@ mod bode;
 mod control;
 mod fmu;
 mod modes;
+mod plan;
 mod progress;
 mod simulate;
 mod sweep;
@@ -38,6 +39,10 @@ enum Command {
     /// vehicle, with tip_rel, the vehicle and the drive force against time; one
     /// self-contained HTML page (offline, from disk) or an animated GIF.
     Animate(animate::AnimateArgs),
+    /// Plan the move: the shortest cycle that brings the load to rest within a tolerance,
+    /// robust over a set of plants: the time-optimal S-curve, shaped by ZV/ZVD/EI/2EI
+    /// (fixed and scheduled on the first mode) and optimized, on the nonlinear model.
+    Plan(plan::PlanArgs),
     /// The stiffest frequency with closed contacts and the largest stable step of the
     /// fixed-step explicit methods (textbook limits and the model's own).
     Stability(analysis::StabilityArgs),
@@ -152,6 +157,7 @@ impl Cli {
             Command::Equations(args) => modes::equations(&args),
             Command::Simulate(args) => simulate::simulate(&args),
             Command::Animate(args) => animate::animate(&args),
+            Command::Plan(args) => plan::plan(&args),
             Command::Stability(args) => analysis::stability(&args),
             Command::WorkPrecision(args) => analysis::work_precision(&args),
             Command::Converge(args) => analysis::converge(&args),

@@ -88,3 +88,42 @@ pub fn without_wall(path: &Path) -> (String, Vec<String>) {
         .collect();
     (table.columns, rows)
 }
+
+/// A run's CSV as `simulate` writes it: the header (`t` first) and the rows, `#` lines left
+/// out.
+pub struct Csv {
+    /// Column names, `t` first: a name's position is its index in a row.
+    pub names: Vec<String>,
+    /// The samples.
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Csv {
+    /// Reads the CSV at `path`.
+    pub fn read(path: &Path) -> Csv {
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+        let names = lines.next().unwrap().split(',').map(String::from).collect();
+        let rows = lines
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        Csv { names, rows }
+    }
+
+    /// The index of column `name` in a row.
+    pub fn column(&self, name: &str) -> usize {
+        self.names.iter().position(|n| n == name).unwrap()
+    }
+
+    /// The value of `name` in the row at time `t` (s).
+    pub fn at(&self, name: &str, t: f64) -> f64 {
+        let col = self.column(name);
+        let row = self
+            .rows
+            .iter()
+            .min_by(|a, b| (a[0] - t).abs().total_cmp(&(b[0] - t).abs()))
+            .unwrap();
+        assert!((row[0] - t).abs() < 1e-9, "no sample at {t}");
+        row[col]
+    }
+}

@@ -8,7 +8,7 @@ use super::{FieldError, Scene, SceneError, TimeSpan};
 use crate::contact::ContactLaw;
 use crate::params::StructuralDamping;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
-use crate::profile::{Profile, ShapedProfile};
+use crate::profile::{Profile, ShapedProfile, ShapedSetpoint};
 use crate::shape::MAX_MODES;
 
 /// The broken rules of a profile read from elsewhere (a controller file's feedforward):
@@ -92,7 +92,8 @@ impl Rules {
         }
         match p {
             Profile::Shaped(ShapedProfile::PiecewiseConstant { times, values })
-            | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, values }) => {
+            | Profile::Shaped(ShapedProfile::PiecewiseLinear { times, values })
+            | Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values }) => {
                 if times.is_empty() {
                     self.fail(format!("{field}.times"), "must not be empty");
                 }
@@ -124,7 +125,47 @@ impl Rules {
                     format!("must be after start (start {start}, end {end})"),
                 );
             }
+            Profile::Shaped(ShapedProfile::SCurve(c)) => {
+                self.positive(&format!("{field}.v_max"), c.v_max);
+                self.positive(&format!("{field}.a_max"), c.a_max);
+                self.positive(&format!("{field}.j_max"), c.j_max);
+            }
+            Profile::Shaped(ShapedProfile::Shaped(s)) => self.shaped(field, s),
             _ => {}
+        }
+    }
+
+    /// A shaped setpoint: its base, impulses of positive amplitude summing to 1 at multiples
+    /// >= 0, and a positive period.
+    fn shaped(&mut self, field: &str, s: &ShapedSetpoint) {
+        self.profile(&format!("{field}.base"), &s.base);
+        self.profile(&format!("{field}.period"), &s.period);
+        let impulses = format!("{field}.impulses");
+        if s.impulses.is_empty() || s.impulses.len() > 16 {
+            self.fail(&impulses, "must hold 1 to 16 [amplitude, multiple] pairs");
+        }
+        if s.impulses
+            .iter()
+            .any(|&[a, m]| !(a > 0.0 && m >= 0.0 && m <= 16.0))
+        {
+            self.fail(
+                &impulses,
+                "each amplitude must be > 0 and each multiple 0 to 16",
+            );
+        }
+        let sum: f64 = s.impulses.iter().map(|i| i[0]).sum();
+        if (sum - 1.0).abs() > 1e-9 {
+            self.fail(
+                &impulses,
+                format!("the amplitudes must sum to 1 (they sum to {sum})"),
+            );
+        }
+        let (lo, _) = s.period.range(-1e9, 1e9);
+        if !(lo > 0.0) {
+            self.fail(
+                format!("{field}.period"),
+                format!("must be > 0 s (its least is {lo})"),
+            );
         }
     }
 }
@@ -472,7 +513,7 @@ fn drive_rules(r: &mut Rules, d: &DriveSpec) -> Option<Drive> {
             if !m.has_continuous_rate() {
                 r.fail(
                     "drive.motion",
-                    "a prescribed motion needs a continuous velocity: use a number or kind = \"smoothstep\"",
+                    "a prescribed motion needs a continuous velocity: use a number or kind = \"smoothstep\", \"s-curve\" or \"shaped\"",
                 );
             }
             Some(Drive::Motion(m.clone()))

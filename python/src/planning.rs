@@ -1,0 +1,100 @@
+//! Planning a move for Python: `telescopic.plan` gets the table as rows of plain values and
+//! the best plan as scene text, which `telescopic/__init__.py` turns into a DataFrame and a
+//! `Scene`.
+
+use crate::background::run;
+use crate::errors::to_python;
+use crate::scene::PyScene;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use telescopic::moves::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
+
+/// The plan's table as one dict per row (candidate, plant and the figures).
+fn rows<'py>(py: Python<'py>, plan: &MovePlan) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let evaluated = plan.rows.iter().map(|r| (r, true));
+    let checks = plan.checks.iter().map(|r| (r, false));
+    evaluated
+        .chain(checks)
+        .map(|(r, was_evaluated)| {
+            let m = &r.metrics;
+            let row = PyDict::new(py);
+            row.set_item("candidate", &plan.candidates[r.candidate].name)?;
+            row.set_item("plant", &r.plant)?;
+            row.set_item("evaluated", was_evaluated)?;
+            row.set_item("move_time_s", m.move_time_s)?;
+            row.set_item("settling_time_s", m.settling_time_s)?;
+            row.set_item("cycle_time_s", m.cycle_time_s)?;
+            row.set_item("peak_tip_move_m", m.peak_tip_move_m)?;
+            row.set_item("residual_m", m.residual_m)?;
+            row.set_item("peak_drive_force_n", m.peak_drive_force_n)?;
+            row.set_item("peak_contact_force_n", m.peak_contact_force_n)?;
+            row.set_item("peak_foot_stress_pa", m.peak_foot_stress_pa)?;
+            row.set_item("switches_after_arrival", m.switches_after_arrival)?;
+            Ok(row)
+        })
+        .collect()
+}
+
+/// The shortest move that brings the load to rest (see `telescopic.plan`): `(rows, plan
+/// scene TOML, summary)`.
+#[pyfunction]
+#[pyo3(signature = (scene, distance, v_max = 2.5, a_max = 0.7, j_max = 2.0, tolerance = 0.005,
+    robust = None, settle = 10.0, optimize = true, checks = 4, force_limit = None, options = None,
+    progress = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn plan<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    distance: f64,
+    v_max: f64,
+    a_max: f64,
+    j_max: f64,
+    tolerance: f64,
+    robust: Option<String>,
+    settle: f64,
+    optimize: bool,
+    checks: usize,
+    force_limit: Option<f64>,
+    options: Option<crate::calls::RunArguments>,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<(Vec<Bound<'py, PyDict>>, String, Bound<'py, PyDict>)> {
+    let simulation = match options {
+        Some(o) => o.into_options()?,
+        None => telescopic::run::SimulationOptions {
+            memory_budget: crate::calls::memory_budget()?,
+            ..Default::default()
+        },
+    };
+    let options = PlanOptions {
+        tolerance,
+        robust: match &robust {
+            Some(text) => RobustRange::parse_list(text).map_err(to_python)?,
+            None => Vec::new(),
+        },
+        settle_s: settle,
+        optimize,
+        checks,
+        force_limit,
+        simulation,
+        ..PlanOptions::new(MoveLimits {
+            distance,
+            v_max,
+            a_max,
+            j_max,
+        })
+    };
+    let scene = &scene.scene;
+    let plan = run(py, progress, |reporter| {
+        plan_move(scene, &options, reporter)
+    })?;
+    let summary = PyDict::new(py);
+    summary.set_item("rigid_limit_s", plan.rigid_limit_s)?;
+    summary.set_item("first_mode_hz", 1.0 / plan.first_period_s)?;
+    summary.set_item("best", &plan.candidates[plan.best].name)?;
+    summary.set_item(
+        "worst_cycle_s",
+        MovePlan::worst_cycle(&plan.rows, plan.best),
+    )?;
+    summary.set_item("table", plan.table())?;
+    Ok((rows(py, &plan)?, plan.scene_toml(), summary))
+}

@@ -1,0 +1,26 @@
+"""Planning a move from Python: the table as a DataFrame, the best plan as a Scene that
+simulates to the table's cycle time, the CLI's table."""
+
+import numpy as np
+
+import telescopic
+
+
+def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli):
+    scene = telescopic.Scene.load("scenes/adams-linear.toml")
+    plan = telescopic.plan(scene, 2.0, v_max=1.0, a_max=1.0, j_max=5.0, tolerance=0.002,
+                           settle=4.0, optimize=False)
+    assert abs(plan.rigid_limit_s - 3.2) < 1e-12
+    assert set(plan.table["candidate"]) >= {"s-curve", "zv", "zvd", "ei", "2ei"}
+    best = plan.table[(plan.table["candidate"] == plan.best) & (plan.table["plant"] == "nominal")]
+    cycle = float(best["cycle_time_s"].iloc[0])
+    assert cycle == plan.worst_cycle_s
+    sim = telescopic.simulate(plan.scene, error_estimate=False)
+    rest = sim["tip_rel"][sim.t >= sim.t[-1] - 1.0].mean()
+    outside = (np.abs(sim["tip_rel"] - rest) > 0.002) | (np.abs(sim["vehicle"] - 2.0) > 1e-3)
+    last = np.nonzero(outside)[0][-1]
+    assert abs(sim.t[last + 1] - cycle) < 1e-9
+    printed = cli("plan", "scenes/adams-linear.toml", "--distance", "2", "--v-max", "1",
+                  "--a-max", "1", "--j-max", "5", "--tolerance", "0.002", "--settle", "4",
+                  "--no-optimize").stdout
+    assert printed == str(plan)

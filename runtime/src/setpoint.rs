@@ -1,0 +1,256 @@
+//! The setpoint a servo drive makes for a point-to-point move: the time-optimal jerk-limited
+//! move (the S-curve: seven phases of constant jerk `+j, 0, -j, 0, -j, 0, +j`), in closed
+//! form. [`crate::profile::ShapedSetpoint`] filters it through an input shaper.
+
+use serde::{Deserialize, Serialize};
+
+/// The time-optimal rest-to-rest move over `distance` (m, either sign) within `v_max`
+/// (m/s), `a_max` (m/s^2) and `j_max` (m/s^3), starting at `start` (s) from `from` (m).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SCurve {
+    /// Start time (s).
+    pub start: f64,
+    /// Position before the move (m).
+    #[serde(default)]
+    pub from: f64,
+    /// Travel (m); negative moves backwards.
+    pub distance: f64,
+    /// Velocity limit (m/s, > 0).
+    pub v_max: f64,
+    /// Acceleration limit (m/s^2, > 0).
+    pub a_max: f64,
+    /// Jerk limit (m/s^3, > 0).
+    pub j_max: f64,
+}
+
+/// Which limits a time-optimal move reaches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReachedLimits {
+    /// Velocity and acceleration: seven phases, a cruise among them.
+    VelocityAndAcceleration,
+    /// Velocity only: the jerk phases meet, no constant acceleration.
+    Velocity,
+    /// Acceleration only: no cruise.
+    Acceleration,
+    /// Neither: four jerk phases.
+    Neither,
+}
+
+/// The phases of an S-curve: durations of jerk, constant acceleration and cruise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Phases {
+    /// Each jerk phase (s).
+    pub jerk: f64,
+    /// Each constant-acceleration phase (s).
+    pub constant_acceleration: f64,
+    /// The cruise (s).
+    pub cruise: f64,
+    /// Peak acceleration reached (m/s^2).
+    pub peak_acceleration: f64,
+    /// Peak velocity reached (m/s).
+    pub peak_velocity: f64,
+    /// Which limits are reached.
+    pub reached: ReachedLimits,
+}
+
+impl Phases {
+    /// The move's duration (s).
+    pub fn duration(&self) -> f64 {
+        4.0 * self.jerk + 2.0 * self.constant_acceleration + self.cruise
+    }
+}
+
+impl SCurve {
+    /// The phases of the time-optimal move (closed form).
+    pub fn phases(&self) -> Phases {
+        let (d, v, a, j) = (self.distance.abs(), self.v_max, self.a_max, self.j_max);
+        // accelerating to a velocity w takes w/a + a/j when the acceleration limit is met on
+        // the way (w j >= a^2), else 2 sqrt(w/j); its distance is w times that, by symmetry
+        let ramp = |w: f64| {
+            if w * j >= a * a {
+                (a / j, w / a - a / j, a)
+            } else {
+                ((w / j).sqrt(), 0.0, (w * j).sqrt())
+            }
+        };
+        let (tj, ta, ap) = ramp(v);
+        let ramp_time = 2.0 * tj + ta;
+        if d >= v * ramp_time {
+            let reached = if ta > 0.0 {
+                ReachedLimits::VelocityAndAcceleration
+            } else {
+                ReachedLimits::Velocity
+            };
+            return Phases {
+                jerk: tj,
+                constant_acceleration: ta,
+                cruise: (d - v * ramp_time) / v,
+                peak_acceleration: ap,
+                peak_velocity: v,
+                reached,
+            };
+        }
+        // no cruise: the peak velocity w with d = w (w/a + a/j), if it meets the acceleration
+        // limit, else d = 2 w sqrt(w/j)
+        let w = 0.5 * a * (-a / j + (a * a / (j * j) + 4.0 * d / a).sqrt());
+        let (w, reached) = if w * j >= a * a {
+            (w, ReachedLimits::Acceleration)
+        } else {
+            ((0.5 * d * j.sqrt()).powf(2.0 / 3.0), ReachedLimits::Neither)
+        };
+        let (tj, ta, ap) = ramp(w);
+        Phases {
+            jerk: tj,
+            constant_acceleration: ta,
+            cruise: 0.0,
+            peak_acceleration: ap,
+            peak_velocity: w,
+            reached,
+        }
+    }
+
+    /// `(position, velocity, acceleration)` at `t` (s).
+    pub fn state(&self, t: f64) -> (f64, f64, f64) {
+        let p = self.phases();
+        let sign = self.distance.signum();
+        let j = self.j_max;
+        let phases = [
+            (p.jerk, j),
+            (p.constant_acceleration, 0.0),
+            (p.jerk, -j),
+            (p.cruise, 0.0),
+            (p.jerk, -j),
+            (p.constant_acceleration, 0.0),
+            (p.jerk, j),
+        ];
+        let (mut x, mut v, mut a) = (0.0, 0.0, 0.0);
+        let mut left = t - self.start;
+        if left <= 0.0 {
+            return (self.from, 0.0, 0.0);
+        }
+        for (duration, jerk) in phases {
+            let tau = left.min(duration);
+            x += v * tau + a * tau * tau / 2.0 + jerk * tau * tau * tau / 6.0;
+            v += a * tau + jerk * tau * tau / 2.0;
+            a += jerk * tau;
+            left -= tau;
+            if left <= 0.0 {
+                return (self.from + sign * x, sign * v, sign * a);
+            }
+        }
+        // at rest after the move: exactly the target
+        (self.from + self.distance, 0.0, 0.0)
+    }
+
+    /// Times (s) where the jerk switches.
+    pub fn switches(&self) -> Vec<f64> {
+        let p = self.phases();
+        let mut t = self.start;
+        let mut out = vec![t];
+        for d in [
+            p.jerk,
+            p.constant_acceleration,
+            p.jerk,
+            p.cruise,
+            p.jerk,
+            p.constant_acceleration,
+            p.jerk,
+        ] {
+            if d > 0.0 {
+                t += d;
+                out.push(t);
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curve(distance: f64, v_max: f64, a_max: f64, j_max: f64) -> SCurve {
+        SCurve {
+            start: 1.0,
+            from: 2.0,
+            distance,
+            v_max,
+            a_max,
+            j_max,
+        }
+    }
+
+    /// Checks the closed form against its own finite differences: velocity and acceleration
+    /// are the derivatives of the position, the jerk is 0 or the limit, the limits hold, and
+    /// the move ends at rest at the target.
+    fn check_derivatives_and_limits(c: &SCurve) {
+        let p = c.phases();
+        let h = 1e-4;
+        let switches = c.switches();
+        for k in 1..2000 {
+            let t = c.start + p.duration() * f64::from(k) / 2000.0;
+            if switches.iter().any(|s| (s - t).abs() < 2.0 * h) {
+                continue; // the differences straddle a switch of the jerk
+            }
+            let ((x0, v0, a0), (x1, v1, a1), (_, v, a)) =
+                (c.state(t - h), c.state(t + h), c.state(t));
+            assert!((v - (x1 - x0) / (2.0 * h)).abs() < 1e-6, "t {t}: v");
+            assert!(
+                (a - (v1 - v0) / (2.0 * h)).abs() < 1e-6,
+                "t {t}: a {a} against {}",
+                (v1 - v0) / (2.0 * h)
+            );
+            let jerk = ((a1 - a0) / (2.0 * h)).abs();
+            assert!(
+                jerk < 1e-6
+                    || (jerk - c.j_max).abs() < 1e-6
+                    || (a1 - a0).abs() < 2.0 * h * c.j_max + 1e-9,
+                "t {t}: jerk {jerk}"
+            );
+            assert!(
+                v.abs() <= c.v_max + 1e-12 && a.abs() <= c.a_max + 1e-12,
+                "t {t}: v {v}, a {a}"
+            );
+        }
+        let (xe, ve, ae) = c.state(c.start + p.duration());
+        assert!(
+            (xe - c.from - c.distance).abs() < 1e-9 * c.distance.abs().max(1.0),
+            "{xe}"
+        );
+        assert!(ve.abs() < 1e-9 && ae.abs() < 1e-9, "{ve} {ae}");
+        let (xm, vm, _) = c.state(c.start + 0.5 * p.duration());
+        assert!((xm - c.from - 0.5 * c.distance).abs() < 1e-9 * c.distance.abs().max(1.0));
+        assert!((vm.abs() - p.peak_velocity).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_duration_is_the_closed_form_time_optimal_move_in_every_case() {
+        // velocity and acceleration reached: the case study's move, 13.12 s
+        let c = curve(23.0, 2.5, 0.7, 2.0);
+        let p = c.phases();
+        assert_eq!(p.reached, ReachedLimits::VelocityAndAcceleration);
+        let expected = 23.0 / 2.5 + 2.5 / 0.7 + 0.7 / 2.0;
+        assert!((p.duration() - expected).abs() < 1e-12, "{}", p.duration());
+        assert!((p.duration() - 13.12).abs() < 5e-3);
+        check_derivatives_and_limits(&c);
+        // velocity only (the jerk phases meet): T = d/v + 2 sqrt(v/j)
+        let c = curve(10.0, 1.0, 5.0, 2.0);
+        assert_eq!(c.phases().reached, ReachedLimits::Velocity);
+        assert!((c.phases().duration() - (10.0 + 2.0 * 0.5_f64.sqrt())).abs() < 1e-12);
+        check_derivatives_and_limits(&c);
+        // acceleration only: T = 2 (a/j + w/a) with w the peak velocity of d = w (w/a + a/j)
+        let c = curve(-3.0, 5.0, 0.7, 2.0);
+        let p = c.phases();
+        assert_eq!(p.reached, ReachedLimits::Acceleration);
+        let w = p.peak_velocity;
+        assert!((w * (w / 0.7 + 0.7 / 2.0) - 3.0).abs() < 1e-12);
+        assert!((p.duration() - 2.0 * (0.7 / 2.0 + w / 0.7)).abs() < 1e-12);
+        check_derivatives_and_limits(&c);
+        // neither: T = 4 (d / 2j)^(1/3)
+        let c = curve(0.1, 5.0, 5.0, 2.0);
+        assert_eq!(c.phases().reached, ReachedLimits::Neither);
+        assert!((c.phases().duration() - 4.0 * (0.1_f64 / 4.0).cbrt()).abs() < 1e-12);
+        check_derivatives_and_limits(&c);
+    }
+}

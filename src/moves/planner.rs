@@ -1,0 +1,313 @@
+//! The planner: the first mode along the move, the candidates on every evaluated plant, the
+//! optimized shaper, the best plan on the plants it did not see, and the plan as a scene.
+
+use super::candidates::{self, Candidate};
+use super::metrics::{CycleMetrics, cycle_metrics};
+use super::optimize::nelder_mead;
+use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
+use super::shapers::Shaper;
+use super::{MovePlan, PlanOptions, PlanRow};
+use crate::analysis::modes::{ModesOptions, compute_modes};
+use crate::report::Reporter;
+use crate::run::simulate_scene;
+use crate::{Error, OptionName, Result};
+use rayon::prelude::*;
+use telescopic_runtime::{Profile, SCurve, Scene, ShapedProfile};
+
+/// Spacing of the first mode's samples along the move (s).
+const SCHEDULE_STEP_S: f64 = 0.25;
+
+/// The range of the stretches of the spacing the optimizer tries (at the start and at the
+/// end of the move).
+const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
+
+/// Evaluations the optimizer may make (each runs every evaluated plant).
+const OPTIMIZER_BUDGET: usize = 24;
+
+/// The scene moving along `profile` (its prescribed motion) until `end` (s).
+pub fn moving_scene(scene: &Scene, profile: &Profile, end: f64) -> Result<Scene> {
+    let mut file = scene.file.clone();
+    file.drive.force = None;
+    file.drive.motion = Some(profile.clone());
+    file.time.end = end;
+    let text = toml::to_string(&file).expect("a scene file serializes");
+    Ok(Scene::from_toml_str(
+        &text,
+        std::path::Path::new(&scene.name),
+        &[],
+    )?)
+}
+
+/// The first mode's period (s) along the move, with the vehicle held: a piecewise-linear
+/// monotone cubic through its values every [`SCHEDULE_STEP_S`], and its value at `arrival` (s).
+pub fn first_period(held: &Scene, arrival: f64, end: f64) -> Result<(Profile, f64)> {
+    let start = held.time.start;
+    let steps = ((end - start) / SCHEDULE_STEP_S).ceil() as usize;
+    let period_at = |t: f64| -> Result<f64> {
+        let options = ModesOptions {
+            at: Some(t.min(held.time.end)),
+            count: Some(1),
+            ..ModesOptions::default()
+        };
+        let report = compute_modes(held, &options)?;
+        let f = report.frequencies_hz.first().copied().ok_or_else(|| {
+            Error::Input(format!(
+                "scene {} has no vibration mode to shape",
+                held.name
+            ))
+        })?;
+        Ok(1.0 / f)
+    };
+    let times: Vec<f64> = (0..=steps)
+        .map(|i| (start + i as f64 * SCHEDULE_STEP_S).min(end))
+        .collect();
+    let values = times
+        .iter()
+        .map(|&t| period_at(t))
+        .collect::<Result<Vec<_>>>()?;
+    let schedule = Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values });
+    Ok((schedule, period_at(arrival)?))
+}
+
+/// The figures of `candidate` on each of `plants` (in parallel).
+pub fn evaluate(
+    scene: &Scene,
+    candidate: &Candidate,
+    plants: &[Plant],
+    options: &PlanOptions,
+    end: f64,
+) -> Result<Vec<CycleMetrics>> {
+    let moving = moving_scene(scene, &candidate.profile, end)?;
+    let target = options.limits.distance;
+    let simulation = crate::run::SimulationOptions {
+        error_estimate: false,
+        ..options.simulation.clone()
+    };
+    plants
+        .par_iter()
+        .map(|plant| {
+            let s = plant_scene(&moving, plant)?;
+            let run = simulate_scene(&s, &simulation, &crate::Silent)?;
+            Ok(cycle_metrics(
+                &run.trajectory,
+                (target, candidate.arrival_s),
+                options.tolerance,
+                s.params.contact.half_band(),
+            ))
+        })
+        .collect()
+}
+
+/// The worst cycle time (s) of `metrics`; a plant that never settles counts as `end` (s)
+/// plus its residual in tolerances, so that the optimizer sees how far it is from settling.
+pub fn worst_cycle(metrics: &[CycleMetrics], (end, tolerance): (f64, f64)) -> f64 {
+    metrics
+        .iter()
+        .map(|m| m.cycle_time_s.unwrap_or(end + m.residual_m / tolerance))
+        .fold(0.0, f64::max)
+}
+
+/// What every candidate of a plan shares: the curve, the schedule, the plants and the span.
+struct Setting<'a> {
+    scene: &'a Scene,
+    options: &'a PlanOptions,
+    curve: SCurve,
+    schedule: Profile,
+    plants: Vec<Plant>,
+    end: f64,
+}
+
+impl Setting<'_> {
+    /// Runs `candidate` (index `i`) on every evaluated plant: its rows.
+    fn rows(&self, i: usize, candidate: &Candidate) -> Result<Vec<PlanRow>> {
+        let metrics = evaluate(self.scene, candidate, &self.plants, self.options, self.end)?;
+        Ok(self
+            .plants
+            .iter()
+            .zip(metrics)
+            .map(|(p, m)| PlanRow {
+                candidate: i,
+                plant: p.name.clone(),
+                metrics: m,
+            })
+            .collect())
+    }
+
+    /// How a plant that never settles counts in the worst cycle time.
+    fn penalty(&self) -> (f64, f64) {
+        (self.end, self.options.tolerance)
+    }
+
+    /// The worst cycle time of candidate `i` in `rows`, with the penalty.
+    fn worst(&self, rows: &[PlanRow], i: usize) -> f64 {
+        let metrics: Vec<CycleMetrics> = rows
+            .iter()
+            .filter(|r| r.candidate == i)
+            .map(|r| r.metrics.clone())
+            .collect();
+        worst_cycle(&metrics, self.penalty())
+    }
+
+    /// Nelder-Mead over the two stretches of `shaper`'s scheduled period (at the start and
+    /// at the end of the move).
+    fn optimized(&self, shaper: Shaper) -> Candidate {
+        let mut objective = |x: &[f64]| {
+            let c = candidates::shaped(
+                String::new(),
+                &self.curve,
+                shaper,
+                (&self.schedule, x[0], x[1]),
+            );
+            evaluate(self.scene, &c, &self.plants, self.options, self.end)
+                .map(|m| worst_cycle(&m, self.penalty()))
+                .unwrap_or(f64::INFINITY)
+        };
+        let found = nelder_mead(
+            &mut objective,
+            &[1.0, 1.0],
+            &[STRETCH_RANGE, STRETCH_RANGE],
+            OPTIMIZER_BUDGET,
+        );
+        candidates::shaped(
+            format!(
+                "optimized {shaper} scheduled x {:.3}/{:.3}",
+                found.x[0], found.x[1]
+            ),
+            &self.curve,
+            shaper,
+            (&self.schedule, found.x[0], found.x[1]),
+        )
+    }
+}
+
+/// The S-curve of `options` from the scene's start, its fixed period and schedule, and the
+/// span of every run.
+fn setting<'a>(scene: &'a Scene, options: &'a PlanOptions) -> Result<(Setting<'a>, f64)> {
+    let limits = &options.limits;
+    let curve = SCurve {
+        start: scene.time.start,
+        from: 0.0,
+        distance: limits.distance,
+        v_max: limits.v_max,
+        a_max: limits.a_max,
+        j_max: limits.j_max,
+    };
+    let arrival = curve.start + curve.phases().duration();
+    // the schedule reaches past the longest shaper at the longest stretch
+    let held = moving_scene(scene, &candidates::unshaped(&curve).profile, arrival + 30.0)?;
+    let (schedule, period) = first_period(&held, arrival, arrival + 8.0)?;
+    let longest = arrival + 1.5 * STRETCH_RANGE.1 * period.max(max_value(&schedule));
+    let setting = Setting {
+        scene,
+        options,
+        curve,
+        schedule,
+        plants: evaluated_plants(&options.robust),
+        end: longest + options.settle_s,
+    };
+    Ok((setting, period))
+}
+
+/// The unshaped S-curve, then each shaper with the fixed `period` and scheduled.
+fn candidate_list(s: &Setting, period: f64) -> Vec<Candidate> {
+    let mut list = vec![candidates::unshaped(&s.curve)];
+    for shaper in Shaper::ALL {
+        let fixed = (&Profile::Constant(period), 1.0, 1.0);
+        list.push(candidates::shaped(
+            shaper.to_string(),
+            &s.curve,
+            shaper,
+            fixed,
+        ));
+        let scheduled = (&s.schedule, 1.0, 1.0);
+        let name = format!("{shaper} scheduled");
+        list.push(candidates::shaped(name, &s.curve, shaper, scheduled));
+    }
+    list
+}
+
+/// The whole plan (see the module documentation).
+pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Result<MovePlan> {
+    options.check()?;
+    let (s, period) = setting(scene, options)?;
+    let mut list = candidate_list(&s, period);
+    let mut rows: Vec<PlanRow> = Vec::new();
+    let steps = (list.len() + 2) as f64;
+    for (i, c) in list.iter().enumerate() {
+        reporter.note(&format!(
+            "evaluating {} on {} plants",
+            c.name,
+            s.plants.len()
+        ));
+        rows.extend(s.rows(i, c)?);
+        reporter.progress((i + 1) as f64 / steps);
+    }
+    if options.optimize {
+        // from the best scheduled shaper (the odd places after the S-curve)
+        let best_scheduled = (0..Shaper::ALL.len())
+            .min_by(|&a, &b| {
+                s.worst(&rows, 2 * a + 2)
+                    .total_cmp(&s.worst(&rows, 2 * b + 2))
+            })
+            .expect("there are shapers");
+        reporter.note("optimizing the scheduled shaper's spacing");
+        let c = s.optimized(Shaper::ALL[best_scheduled]);
+        rows.extend(s.rows(list.len(), &c)?);
+        list.push(c);
+    }
+    reporter.progress((steps - 1.0) / steps);
+    let best = best_within_limit(&s, &rows, list.len())?;
+    let checks = check_plants(&options.robust, options.checks);
+    let check_rows = evaluate(scene, &list[best], &checks, options, s.end)?
+        .into_iter()
+        .zip(&checks)
+        .map(|(m, p)| PlanRow {
+            candidate: best,
+            plant: p.name.clone(),
+            metrics: m,
+        })
+        .collect();
+    reporter.progress(1.0);
+    Ok(MovePlan {
+        scene: scene.clone(),
+        rigid_limit_s: s.curve.phases().duration(),
+        first_period_s: period,
+        end_s: s.end,
+        candidates: list,
+        rows,
+        checks: check_rows,
+        best,
+    })
+}
+
+/// The candidate with the shortest worst cycle time among those whose drive reaction stays
+/// within the force limit on every plant.
+fn best_within_limit(s: &Setting, rows: &[PlanRow], count: usize) -> Result<usize> {
+    let within_limit = |i: usize| {
+        s.options.force_limit.is_none_or(|limit| {
+            rows.iter()
+                .filter(|r| r.candidate == i)
+                .all(|r| r.metrics.peak_drive_force_n <= limit)
+        })
+    };
+    (0..count)
+        .filter(|&i| within_limit(i))
+        .min_by(|&a, &b| s.worst(rows, a).total_cmp(&s.worst(rows, b)))
+        .ok_or_else(|| {
+            Error::option(
+                OptionName::ForceLimit,
+                "every candidate's drive reaction exceeds the force limit: lower the \
+                 acceleration or jerk limit",
+            )
+        })
+}
+
+/// The largest value of a schedule (its knots).
+fn max_value(p: &Profile) -> f64 {
+    match p {
+        Profile::Shaped(ShapedProfile::PiecewiseCubic { values, .. }) => {
+            values.iter().copied().fold(0.0, f64::max)
+        }
+        other => other.value(0.0),
+    }
+}
