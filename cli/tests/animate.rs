@@ -258,6 +258,17 @@ fn f(v: &Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("{v} is not a number"))
 }
 
+/// The page's layout: the vehicle's centre, the rail, pixels per metre and the scale.
+fn stage(layout: &Value) -> (f64, f64, f64, f64) {
+    let number = |key: &str| f(&layout[key]);
+    (
+        number("cx"),
+        number("groundY"),
+        number("ppm"),
+        number("scale"),
+    )
+}
+
 /// A screenshot of `page#at=T` as RGB pixels.
 fn screenshot(page: &Path, t: f64, dir: &Path, profile: &Path) -> Vec<u8> {
     let shot = dir.join(format!("shot-{t}.png"));
@@ -301,12 +312,7 @@ fn the_page_draws_the_runs_csv_values_in_a_real_browser() {
     let times = [0.0, 0.5, 2.02, 6.3, 9.14, 13.7, 16.0];
     let probe = probe(&page, &times, &profile);
     let layout = &probe["layout"];
-    let (cx, ground, ppm, scale) = (
-        f(&layout["cx"]),
-        f(&layout["groundY"]),
-        f(&layout["ppm"]),
-        f(&layout["scale"]),
-    );
+    let (cx, ground, ppm, scale) = stage(layout);
     assert_eq!(scale, 4.0);
     let half_band = 0.005;
     let mut switched = false;
@@ -406,12 +412,7 @@ fn the_modes_page_draws_each_eigenvector_in_a_real_browser() {
     let report: Value = serde_json::from_slice(&out.stdout).unwrap();
     let probe = probe(&page, &[1.0, 2.0, 3.0, 4.0, 5.0], &profile);
     let layout = &probe["layout"];
-    let (cx, ground, ppm, scale) = (
-        f(&layout["cx"]),
-        f(&layout["groundY"]),
-        f(&layout["ppm"]),
-        f(&layout["scale"]),
-    );
+    let (cx, ground, ppm, scale) = stage(layout);
     // three sections of 1.35 m, a_2 = a_3 = 1.0 m: feet at 0, 1 and 2 m
     let feet = [0.0, 1.0, 2.0];
     for (m, result) in probe["results"].as_array().unwrap().iter().enumerate() {

@@ -98,9 +98,10 @@ pub fn evaluate(
         .collect()
 }
 
-/// The worst cycle time (s) of `metrics`; a plant that never settles counts as `end` (s)
-/// plus its residual in tolerances, so that the optimizer sees how far it is from settling.
-pub fn worst_cycle(metrics: &[CycleMetrics], (end, tolerance): (f64, f64)) -> f64 {
+/// What the planner minimizes: the worst cycle time (s) of `metrics`, where a plant that
+/// never settles counts as `end` (s) plus its residual in tolerances, so that the optimizer
+/// sees how far it is from settling.
+pub fn objective(metrics: &[CycleMetrics], (end, tolerance): (f64, f64)) -> f64 {
     metrics
         .iter()
         .map(|m| m.cycle_time_s.unwrap_or(end + m.residual_m / tolerance))
@@ -145,7 +146,7 @@ impl Setting<'_> {
             .filter(|r| r.candidate == i)
             .map(|r| r.metrics.clone())
             .collect();
-        worst_cycle(&metrics, self.penalty())
+        objective(&metrics, self.penalty())
     }
 
     /// Nelder-Mead over the two stretches of `shaper`'s scheduled period (at the start and
@@ -159,7 +160,7 @@ impl Setting<'_> {
                 (&self.schedule, x[0], x[1]),
             );
             evaluate(self.scene, &c, &self.plants, self.options, self.end)
-                .map(|m| worst_cycle(&m, self.penalty()))
+                .map(|m| objective(&m, self.penalty()))
                 .unwrap_or(f64::INFINITY)
         };
         let found = nelder_mead(

@@ -2,6 +2,7 @@
 //! amplitudes (summing to 1) at multiples of the mode's period, and their residual
 //! vibration against the frequency (the closed-form sensitivity curve).
 
+use crate::control::shaper::{ShaperKind, impulses};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -38,8 +39,18 @@ impl Shaper {
     pub fn impulses(self) -> Vec<[f64; 2]> {
         let v = EI_TOLERANCE;
         match self {
-            Shaper::Zv => vec![[0.5, 0.0], [0.5, 0.5]],
-            Shaper::Zvd => vec![[0.25, 0.0], [0.5, 0.5], [0.25, 1.0]],
+            // the controller's shapers at zero damping, for a period of 1 s
+            Shaper::Zv | Shaper::Zvd => {
+                let kind = if self == Shaper::Zv {
+                    ShaperKind::Zv
+                } else {
+                    ShaperKind::Zvd
+                };
+                impulses(kind, 2.0 * PI, 0.0)
+                    .into_iter()
+                    .map(|(amplitude, delay)| [amplitude, delay])
+                    .collect()
+            }
             Shaper::Ei => vec![
                 [(1.0 + v) / 4.0, 0.0],
                 [(1.0 - v) / 2.0, 0.5],

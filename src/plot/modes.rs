@@ -77,17 +77,8 @@ impl ModeShapeFigure {
             )
         })?;
         let params = &scene.params;
-        // the foot of section k sits at a_k along section k-1
-        let mut feet = vec![0.0];
-        for (i, p) in params.positions.iter().enumerate() {
-            feet.push(feet[i] + p.value(report.time_s));
-        }
-        let height = params
-            .sections
-            .iter()
-            .zip(&feet)
-            .map(|(s, foot)| foot + s.length)
-            .fold(0.0, f64::max);
+        let feet = crate::animate::geometry::feet(params, report.time_s);
+        let height = crate::animate::geometry::height(params, report.time_s);
         let modes = shapes
             .iter()
             .take(MAX_PLOTTED_MODES)
