@@ -1,5 +1,5 @@
-//! `telescopic plan` end to end: the scene it writes reproduces its table's row when
-//! `simulate` runs it, by this file's own reading of the cycle time from the CSV; bad
+//! `telescopic plan` end to end: the scene it writes reproduces its table's row (cycle time
+//! and peak foot stress) when `simulate` runs it, by this file's own reading of the CSV; bad
 //! options are refused naming the flag.
 
 mod common;
@@ -14,6 +14,10 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
     let out = succeeds(&[
         "plan",
         "scenes/adams-linear.toml",
+        "--set",
+        "sections.height=0.04",
+        "--stations",
+        "1:0",
         "--distance",
         "2",
         "--v-max",
@@ -44,9 +48,12 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
         .unwrap_or_else(|| panic!("no nominal row for {name}:\n{table}"));
     let cells: Vec<&str> = row[44..].split_whitespace().collect();
     let reported: f64 = cells[3].parse().expect("the best settles");
+    let reported_stress: f64 = cells[8].parse().expect("the stress at the foot (MPa)");
     succeeds(&[
         "simulate",
         plan.to_str().unwrap(),
+        "--stations",
+        "1:0",
         "--no-error-estimate",
         "--out",
         csv.to_str().unwrap(),
@@ -66,6 +73,12 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
         .rposition(|r| (r[tip] - rest).abs() > 0.002 || (r[vehicle] - 2.0).abs() > 1e-3)
         .unwrap();
     let measured = rows[last_outside + 1][0];
+    let stress = run.column("stress_1_0");
+    let peak = rows.iter().map(|r| r[stress].abs()).fold(0.0, f64::max) / 1e6;
+    assert!(
+        (peak - reported_stress).abs() < 0.051,
+        "the plan says {reported_stress} MPa at the foot, simulate gives {peak} MPa"
+    );
     assert!(
         (measured - reported).abs() < 0.006,
         "the plan says {reported} s, simulate gives {measured} s"

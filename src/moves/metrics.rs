@@ -27,7 +27,8 @@ pub struct CycleMetrics {
     pub peak_drive_force_n: f64,
     /// Largest `|f_k_j|` (N).
     pub peak_contact_force_n: f64,
-    /// Largest `|stress_1_0|` (Pa), when the run has it.
+    /// Largest `|stress_K_X|` over the stations (Pa), when the run has stresses: the foot
+    /// of section 1 when the stations are `1:0`.
     pub peak_foot_stress_pa: Option<f64>,
     /// Contact openings and closings after arrival.
     pub switches_after_arrival: usize,
@@ -74,14 +75,14 @@ pub fn cycle_metrics(
             .fold(0.0, f64::max)
     };
     let all = |_: f64| true;
-    let forces: Vec<usize> = (0..traj.names.len())
-        .filter(|&i| traj.names[i].starts_with("f_"))
-        .map(|i| i + 1)
-        .collect();
-    let gaps: Vec<usize> = (0..traj.names.len())
-        .filter(|&i| traj.names[i].starts_with("xi_"))
-        .map(|i| i + 1)
-        .collect();
+    // the row indices of the outputs whose names start with `prefix`
+    let columns = |prefix: &str| -> Vec<usize> {
+        (0..traj.names.len())
+            .filter(|&i| traj.names[i].starts_with(prefix))
+            .map(|i| i + 1)
+            .collect()
+    };
+    let (forces, gaps) = (columns("f_"), columns("xi_"));
     let switches = traj
         .rows
         .windows(2)
@@ -99,7 +100,9 @@ pub fn cycle_metrics(
         peak_tip_move_m: max_abs(&[tip], &|t| t <= move_time),
         peak_drive_force_n: col("drive_force").map_or(0.0, |c| max_abs(&[c], &all)),
         peak_contact_force_n: max_abs(&forces, &all),
-        peak_foot_stress_pa: col("stress_1_0").map(|c| max_abs(&[c], &all)),
+        peak_foot_stress_pa: Some(columns("stress_"))
+            .filter(|c| !c.is_empty())
+            .map(|c| max_abs(&c, &all)),
         switches_after_arrival: switches,
         residual_m: traj
             .rows

@@ -7,6 +7,8 @@ use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::moves::{MoveLimits, PlanOptions, RobustRange, plan_move};
+use telescopic::run::SimulationOptions;
+use telescopic::run::stress::Station;
 
 /// Options of `telescopic plan`.
 #[derive(Debug, Args)]
@@ -48,6 +50,10 @@ pub struct PlanArgs {
     /// The drive's force limit (N): a candidate whose reaction exceeds it is not chosen.
     #[arg(long, value_name = "NEWTONS")]
     force_limit: Option<f64>,
+    /// Stations whose stress is reported (the peak over them, e.g. 1:0 for the foot of
+    /// section 1; the scene must give sections.section_modulus or sections.height).
+    #[arg(long, value_name = "K:X,...")]
+    stations: Option<String>,
     /// Write the best plan as a scene (its setpoint as drive.motion).
     #[arg(long, value_name = "PLAN.toml")]
     out: Option<PathBuf>,
@@ -68,7 +74,13 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
         optimize: !args.no_optimize,
         checks: args.checks,
         force_limit: args.force_limit,
-        simulation: args.run.options()?,
+        simulation: SimulationOptions {
+            stations: match &args.stations {
+                Some(text) => Station::parse_list(text)?,
+                None => Vec::new(),
+            },
+            ..args.run.options()?
+        },
         ..PlanOptions::new(MoveLimits {
             distance: args.distance,
             v_max: args.v_max,
