@@ -13,6 +13,8 @@ pub const DEFAULT_POINTS: usize = 41;
 pub struct ContactSite {
     /// The inner section `k` (1-based, `>= 2`); its guide is on section `k - 1`.
     pub overlap: usize,
+    /// Point `j` of the overlap (`0` at the foot of `k`).
+    pub point: usize,
     /// Position `s_j` along the overlap (0 at the foot of `k`, 1 at the top of `k - 1`).
     pub fraction: f64,
 }
@@ -29,7 +31,8 @@ pub struct Telescope {
     pub shapes: Vec<Vec<Vec<f32>>>,
     /// The contact points, overlap by overlap.
     pub contacts: Vec<ContactSite>,
-    /// Half the clearance `l_S/2` (m): the guide's band edges.
+    /// Half the clearance `l_S/2` (m): the guide's band edges; a contact is closed when
+    /// its gap is beyond them.
     pub half_band_m: f64,
 }
 
@@ -64,6 +67,7 @@ impl Telescope {
             .contacts()
             .map(|c| ContactSite {
                 overlap: c.overlap,
+                point: c.point,
                 fraction: c.fraction,
             })
             .collect();

@@ -236,7 +236,7 @@ fn draw_telescope(
             tel.relative_deflection(inner, p, z),
             f64::from(feet[inner]) + x_in,
         );
-        let closed = track.closed[f].as_bytes().get(c) == Some(&b'1');
+        let closed = f64::from(track.gaps[f][c]).abs() > tel.half_band_m;
         let color = if closed { CLOSED_COLOR } else { OPEN_COLOR };
         root.draw(&Circle::new((x, y), 4, color.filled()))
             .map_err(plot_error)?;

@@ -41,8 +41,6 @@ pub struct RunTrack {
     pub gaps: Vec<Vec<f32>>,
     /// Contact force per frame and contact (N).
     pub forces: Vec<Vec<f32>>,
-    /// Whether each contact is closed (`|xi| > l_S/2`) per frame: one `0`/`1` per contact.
-    pub closed: Vec<String>,
     /// `tip_rel` (m), the vehicle (m) and the drive force (N) against time.
     pub charts: [Series; 3],
 }
@@ -108,10 +106,9 @@ impl RunMovie {
         let scale = match options.scale {
             Some(s) => s,
             None => {
-                let largest = takes
+                let largest = tracks
                     .iter()
-                    .zip(&tracks)
-                    .map(|(_, tr)| {
+                    .map(|tr| {
                         tr.telescope
                             .largest_deflection(tr.z.iter().map(Vec::as_slice))
                     })
@@ -181,14 +178,14 @@ fn track(take: &Take, options: &AnimationOptions) -> Result<RunTrack> {
     let rows = frame_rows(&times, options.fps);
     let column = |name: &str| traj.index(name);
     let telescope = Telescope::of(take.model, options.points);
-    let contacts = telescope.contacts.len();
-    let half_band = telescope.half_band_m;
-    let gap_cols: Vec<usize> = (0..contacts)
-        .filter_map(|c| column(&contact_name("xi", &telescope, c)))
-        .collect();
-    let force_cols: Vec<usize> = (0..contacts)
-        .filter_map(|c| column(&contact_name("f", &telescope, c)))
-        .collect();
+    let columns_of = |prefix: &str| -> Vec<usize> {
+        telescope
+            .contacts
+            .iter()
+            .filter_map(|c| column(&format!("{prefix}_{}_{}", c.overlap, c.point)))
+            .collect()
+    };
+    let (gap_cols, force_cols) = (columns_of("xi"), columns_of("f"));
     let vehicle = column("vehicle").expect("every run has the vehicle");
     let params = &take.scene.params;
     let mut out = empty_track(take, telescope, rows.len());
@@ -208,12 +205,6 @@ fn track(take: &Take, options: &AnimationOptions) -> Result<RunTrack> {
             .push(gap_cols.iter().map(|&c| row[c] as f32).collect());
         out.forces
             .push(force_cols.iter().map(|&c| row[c] as f32).collect());
-        out.closed.push(
-            gap_cols
-                .iter()
-                .map(|&c| if row[c].abs() > half_band { '1' } else { '0' })
-                .collect(),
-        );
     }
     out.charts = charts(take);
     Ok(out)
@@ -235,21 +226,8 @@ fn empty_track(take: &Take, telescope: Telescope, frames: usize) -> RunTrack {
         vehicle: Vec::with_capacity(frames),
         gaps: Vec::with_capacity(frames),
         forces: Vec::with_capacity(frames),
-        closed: Vec::with_capacity(frames),
         charts: [empty(), empty(), empty()],
     }
-}
-
-/// The output name `xi_k_j` or `f_k_j` of contact `c`.
-fn contact_name(prefix: &str, telescope: &Telescope, c: usize) -> String {
-    let site = telescope.contacts[c];
-    let per_overlap = telescope
-        .contacts
-        .iter()
-        .filter(|s| s.overlap == site.overlap)
-        .count();
-    let j = (site.fraction * (per_overlap - 1) as f64).round() as usize;
-    format!("{prefix}_{}_{j}", site.overlap)
 }
 
 /// `tip_rel`, the vehicle and the drive force of a take against time, decimated.

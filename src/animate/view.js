@@ -81,7 +81,8 @@
     g.stroke();
   }
 
-  // Draws the telescope of `frame` {z, feet, gaps, forces, closed}; returns what it drew.
+  // Draws the telescope of `frame` {z, feet, gaps, forces}; returns what it drew. A contact
+  // is closed when its gap is beyond the band edge.
   function drawTelescope(g, L, tel, frame, scale, absolute) {
     const px = (w) => L.cx + L.ppm * scale * w;
     const deflections = tel.shapes.map((rows) => rows.map((r) => deflection(r, frame.z, absolute)));
@@ -106,7 +107,7 @@
         g.lineTo(gx + side * (band + 4), y + 7);
         g.stroke();
       });
-      const closed = frame.closed ? frame.closed[c] === "1" : false;
+      const closed = frame.gaps ? Math.abs(frame.gaps[c]) > tel.half_band_m : false;
       const x = frame.gaps ? px(guide + frame.gaps[c]) : px(along(tel.points_m[inner], deflections[inner], xOut - a));
       g.fillStyle = closed ? CLOSED_COLOR : OPEN_COLOR;
       g.beginPath();
@@ -190,7 +191,7 @@
     const tr = data.tracks[k], v = S.views[k], g = v.g;
     const i = nearest(tr.t, S.t);
     g.clearRect(0, 0, v.w, v.h);
-    const frame = { z: tr.z[i], feet: tr.feet[i], gaps: tr.gaps[i], forces: tr.forces[i], closed: tr.closed[i] };
+    const frame = { z: tr.z[i], feet: tr.feet[i], gaps: tr.gaps[i], forces: tr.forces[i] };
     const strip = overview(g, S.ranges[k], tr.vehicle[i]);
     const railZero = rail(g, S.layout, tr.vehicle[i]);
     const d = drawTelescope(g, S.layout, tr.telescope, frame, data.scale, false);

@@ -171,15 +171,10 @@ impl MovePlan {
     /// The best plan as a scene file (TOML): the scene with the setpoint as `drive.motion`
     /// and the span of the runs.
     pub fn scene_toml(&self) -> String {
-        let mut file = self.scene.file.clone();
-        file.drive.force = None;
-        file.drive.motion = Some(self.candidates[self.best].profile.clone());
-        file.time.end = self.end_s;
-        file.description = format!(
-            "{}: planned move ({})",
-            self.scene.name, self.candidates[self.best].name
-        );
-        toml::to_string(&file).expect("a scene file serializes")
+        let best = &self.candidates[self.best];
+        let mut file = planner::moving_file(&self.scene, &best.profile, self.end_s);
+        file.description = format!("{}: planned move ({})", self.scene.name, best.name);
+        planner::file_text(&file)
     }
 
     /// The table: every candidate on every plant, the rigid limit, the best and its checks.

@@ -12,7 +12,7 @@ use crate::report::Reporter;
 use crate::run::simulate_scene;
 use crate::{Error, OptionName, Result};
 use rayon::prelude::*;
-use telescopic_runtime::{Profile, SCurve, Scene, ShapedProfile};
+use telescopic_runtime::{Profile, SCurve, Scene, SceneFile, ShapedProfile};
 
 /// Spacing of the first mode's samples along the move (s).
 const SCHEDULE_STEP_S: f64 = 0.25;
@@ -24,22 +24,35 @@ const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
 /// Evaluations the optimizer may make (each runs every evaluated plant).
 const OPTIMIZER_BUDGET: usize = 24;
 
-/// The scene moving along `profile` (its prescribed motion) until `end` (s).
-pub fn moving_scene(scene: &Scene, profile: &Profile, end: f64) -> Result<Scene> {
+/// The file of `scene` moving along `profile` (its prescribed motion) until `end` (s): what
+/// a plan writes, and what its runs load with each plant's overrides.
+pub fn moving_file(scene: &Scene, profile: &Profile, end: f64) -> SceneFile {
     let mut file = scene.file.clone();
     file.drive.force = None;
     file.drive.motion = Some(profile.clone());
     file.time.end = end;
-    let text = toml::to_string(&file).expect("a scene file serializes");
-    Ok(Scene::from_toml_str(
-        &text,
-        std::path::Path::new(&scene.name),
-        &[],
-    )?)
+    file
 }
 
-/// The first mode's period (s) along the move, with the vehicle held: a piecewise-linear
-/// monotone cubic through its values every [`SCHEDULE_STEP_S`], and its value at `arrival` (s).
+/// A scene file as TOML.
+pub fn file_text(file: &SceneFile) -> String {
+    toml::to_string(file).expect("a scene file serializes")
+}
+
+/// The scene moving along `profile` (its prescribed motion) until `end` (s).
+///
+/// # Errors
+/// [`Error::Scene`] when the profile breaks a scene rule.
+pub fn moving_scene(scene: &Scene, profile: &Profile, end: f64) -> Result<Scene> {
+    plant_scene(
+        &file_text(&moving_file(scene, profile, end)),
+        &scene.name,
+        &[],
+    )
+}
+
+/// The first mode's period (s) along the move, with the vehicle held: a monotone cubic
+/// through its values every [`SCHEDULE_STEP_S`], and its value at `arrival` (s).
 pub fn first_period(held: &Scene, arrival: f64, end: f64) -> Result<(Profile, f64)> {
     let start = held.time.start;
     let steps = ((end - start) / SCHEDULE_STEP_S).ceil() as usize;
@@ -77,7 +90,8 @@ pub fn evaluate(
     options: &PlanOptions,
     end: f64,
 ) -> Result<Vec<CycleMetrics>> {
-    let moving = moving_scene(scene, &candidate.profile, end)?;
+    // serialized once; each plant loads it with its overrides
+    let moving = file_text(&moving_file(scene, &candidate.profile, end));
     let target = options.limits.distance;
     let simulation = crate::run::SimulationOptions {
         error_estimate: false,
@@ -86,7 +100,7 @@ pub fn evaluate(
     plants
         .par_iter()
         .map(|plant| {
-            let s = plant_scene(&moving, plant)?;
+            let s = plant_scene(&moving, &scene.name, &plant.overrides)?;
             let run = simulate_scene(&s, &simulation, &crate::Silent)?;
             Ok(cycle_metrics(
                 &run.trajectory,

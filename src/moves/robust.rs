@@ -138,18 +138,15 @@ fn plant(name: String, ranges: &[RobustRange], fractions: &[f64]) -> Plant {
     }
 }
 
-/// `scene` with a plant's overrides (checked as `--set` is).
+/// The scene of the file `text` (TOML) named `name` with a plant's `overrides` (checked as
+/// `--set` is).
 ///
 /// # Errors
 /// [`Error::Scene`] naming the key when an override is refused.
-pub fn plant_scene(scene: &Scene, plant: &Plant) -> Result<Scene> {
-    if plant.overrides.is_empty() {
-        return Ok(scene.clone());
-    }
-    let text = toml::to_string(&scene.file).expect("a scene file serializes");
+pub fn plant_scene(text: &str, name: &str, overrides: &[String]) -> Result<Scene> {
     Ok(Scene::from_toml_str(
-        &text,
-        std::path::Path::new(&scene.name),
-        &plant.overrides,
+        text,
+        std::path::Path::new(name),
+        overrides,
     )?)
 }

@@ -88,7 +88,6 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
             j_max: args.j_max,
         })
     };
-    options.check()?;
     let progress = Progress::new();
     let plan = plan_move(&scene, &options, &progress)?;
     if let Some(path) = &args.out {
