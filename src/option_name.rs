@@ -141,6 +141,12 @@ pub enum OptionName {
     Settle,
     /// `PlanOptions::robust`.
     Robust,
+    /// `PlanOptions::feedback`: the velocity feedback's design.
+    Feedback,
+    /// The candidate of a plan to write instead of the best (`MovePlan::candidate_named`).
+    Pick,
+    /// The setpoint filter emitted as C (`moves::emit::emit_filter_c`).
+    EmitC,
 }
 
 crate::named::named_enum!(OptionName, "an option", {
@@ -211,4 +217,7 @@ crate::named::named_enum!(OptionName, "an option", {
     MoveTolerance => "PlanOptions::tolerance",
     Settle => "PlanOptions::settle_s",
     Robust => "PlanOptions::robust",
+    Feedback => "PlanOptions::feedback",
+    Pick => "MovePlan::candidate_named",
+    EmitC => "moves::emit::emit_filter_c",
 });

@@ -72,6 +72,9 @@ pub fn flag(option: OptionName) -> &'static str {
         O::MoveTolerance => "--tolerance",
         O::Settle => "--settle",
         O::Robust => "--robust",
+        O::Feedback => "--feedback",
+        O::Pick => "--pick",
+        O::EmitC => "--emit-c",
     }
 }
 

@@ -6,34 +6,68 @@ mod common;
 
 use common::{Csv, fails_with, scratch, succeeds};
 
+/// The nominal row of candidate `name` in `table`: its cells after the name.
+fn nominal_row(table: &str, name: &str) -> Vec<String> {
+    let row = table
+        .lines()
+        .find(|l| l.starts_with(&format!("{name:<52} nominal")))
+        .unwrap_or_else(|| panic!("no nominal row for {name}:\n{table}"));
+    row[52..].split_whitespace().map(str::to_string).collect()
+}
+
+/// This file's own reading of a run's cycle time (s): from the start until `tip_rel` stays
+/// within `tolerance` of its mean over the last second and the vehicle within 1 mm of
+/// `target`.
+fn cycle_time(run: &Csv, target: f64, tolerance: f64) -> f64 {
+    let rows = &run.rows;
+    let (tip, vehicle) = (run.column("tip_rel"), run.column("vehicle"));
+    let end = rows.last().unwrap()[0];
+    let window: Vec<f64> = rows
+        .iter()
+        .filter(|r| r[0] >= end - 1.0)
+        .map(|r| r[tip])
+        .collect();
+    let rest = window.iter().sum::<f64>() / window.len() as f64;
+    let last_outside = rows
+        .iter()
+        .rposition(|r| (r[tip] - rest).abs() > tolerance || (r[vehicle] - target).abs() > 1e-3)
+        .unwrap();
+    rows[last_outside + 1][0]
+}
+
+/// The flags of a 2 m move of adams-linear (rigid limit 3.2 s) planned without the optimizer.
+const SHORT_MOVE: [&str; 14] = [
+    "plan",
+    "scenes/adams-linear.toml",
+    "--distance",
+    "2",
+    "--v-max",
+    "1",
+    "--a-max",
+    "1",
+    "--j-max",
+    "5",
+    "--tolerance",
+    "0.002",
+    "--no-optimize",
+    "--settle",
+];
+
 #[test]
 fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
     let dir = scratch("plan-reproduce");
     let plan = dir.join("plan.toml");
     let csv = dir.join("plan.csv");
-    let out = succeeds(&[
-        "plan",
-        "scenes/adams-linear.toml",
+    let flags = [
+        "4",
         "--set",
         "sections.height=0.04",
         "--stations",
         "1:0",
-        "--distance",
-        "2",
-        "--v-max",
-        "1",
-        "--a-max",
-        "1",
-        "--j-max",
-        "5",
-        "--tolerance",
-        "0.002",
-        "--no-optimize",
-        "--settle",
-        "4",
         "--out",
         plan.to_str().unwrap(),
-    ]);
+    ];
+    let out = succeeds(&[&SHORT_MOVE[..], &flags].concat());
     let table = String::from_utf8_lossy(&out.stdout);
     // the rigid limit: 2 m at 1 m/s, 1 m/s^2, 5 m/s^3 takes 2/1 + 1/1 + 1/5 = 3.2 s
     assert!(table.contains("3.20 s"), "{table}");
@@ -41,12 +75,8 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
         .lines()
         .find(|l| l.starts_with("best: "))
         .expect("the table names the best");
-    let name = best["best: ".len()..best.find(" (worst").unwrap()].to_string();
-    let row = table
-        .lines()
-        .find(|l| l.starts_with(&format!("{name:<44} nominal")))
-        .unwrap_or_else(|| panic!("no nominal row for {name}:\n{table}"));
-    let cells: Vec<&str> = row[44..].split_whitespace().collect();
+    let name = &best["best: ".len()..best.find(" (worst").unwrap()];
+    let cells = nominal_row(&table, name);
     let reported: f64 = cells[3].parse().expect("the best settles");
     let reported_stress: f64 = cells[8].parse().expect("the stress at the foot (MPa)");
     succeeds(&[
@@ -59,22 +89,9 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
         csv.to_str().unwrap(),
     ]);
     let run = Csv::read(&csv);
-    let rows = &run.rows;
-    let (tip, vehicle) = (run.column("tip_rel"), run.column("vehicle"));
-    let end = rows.last().unwrap()[0];
-    let window: Vec<f64> = rows
-        .iter()
-        .filter(|r| r[0] >= end - 1.0)
-        .map(|r| r[tip])
-        .collect();
-    let rest = window.iter().sum::<f64>() / window.len() as f64;
-    let last_outside = rows
-        .iter()
-        .rposition(|r| (r[tip] - rest).abs() > 0.002 || (r[vehicle] - 2.0).abs() > 1e-3)
-        .unwrap();
-    let measured = rows[last_outside + 1][0];
+    let measured = cycle_time(&run, 2.0, 0.002);
     let stress = run.column("stress_1_0");
-    let peak = rows.iter().map(|r| r[stress].abs()).fold(0.0, f64::max) / 1e6;
+    let peak = run.rows.iter().map(|r| r[stress].abs()).fold(0.0, f64::max) / 1e6;
     assert!(
         (peak - reported_stress).abs() < 0.051,
         "the plan says {reported_stress} MPa at the foot, simulate gives {peak} MPa"
@@ -90,8 +107,70 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
 }
 
 #[test]
+fn a_plan_with_feedback_writes_its_file_and_simulate_reproduces_its_row() {
+    let dir = scratch("plan-feedback");
+    let plan = dir.join("plan.toml");
+    let feedback = dir.join("plan.json");
+    let csv = dir.join("plan.csv");
+    let name = "s-curve + feedback";
+    let flags = ["6", "--feedback", "0.2", "--pick", name, "--out"];
+    let out = succeeds(&[&SHORT_MOVE[..], &flags, &[plan.to_str().unwrap()]].concat());
+    let table = String::from_utf8_lossy(&out.stdout);
+    let cells = nominal_row(&table, name);
+    let reported: f64 = cells[3].parse().expect("the plan with feedback settles");
+    let text = std::fs::read_to_string(&feedback).expect("the feedback file beside the plan");
+    assert!(text.contains("\"telescopic velocity feedback\""), "{text}");
+    let out = succeeds(&[
+        "simulate",
+        plan.to_str().unwrap(),
+        "--controller",
+        feedback.to_str().unwrap(),
+        "--no-error-estimate",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let summary = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        summary.contains("velocity feedback (zeta 0.20)"),
+        "{summary}"
+    );
+    let measured = cycle_time(&Csv::read(&csv), 2.0, 0.002);
+    assert!(
+        (measured - reported).abs() < 0.006,
+        "the plan says {reported} s, simulate --controller gives {measured} s"
+    );
+}
+
+#[test]
+fn emit_c_writes_the_chosen_shaper_and_refuses_a_move_without_one() {
+    let dir = scratch("plan-emit-c");
+    let flags = ["4", "--pick", "zvd", "--emit-c", dir.to_str().unwrap()];
+    succeeds(&[&SHORT_MOVE[..], &flags].concat());
+    let source = std::fs::read_to_string(dir.join("telescopic_setpoint.c")).unwrap();
+    assert!(source.contains("candidate `zvd`, 3 impulses"), "{source}");
+    assert!(dir.join("telescopic_setpoint.h").is_file());
+    let flags = ["4", "--pick", "s-curve", "--emit-c", dir.to_str().unwrap()];
+    fails_with(
+        &[&SHORT_MOVE[..], &flags].concat(),
+        &["--emit-c", "s-curve has no shaper to emit"],
+    );
+}
+
+#[test]
 fn bad_plan_options_are_refused_naming_the_flag() {
-    let refused: [(&[&str], &[&str]); 6] = [
+    let refused: [(&[&str], &[&str]); 9] = [
+        (
+            &["--distance", "2", "--emit-c", "/nonexistent/dir"],
+            &["--emit-c", "not an existing directory"],
+        ),
+        (
+            &["--distance", "2", "--feedback", "0"],
+            &["--feedback", "(0, 2]"],
+        ),
+        (
+            &["--distance", "2", "--feedback", "0.2", "--out", "plan.json"],
+            &["--out", "another extension"],
+        ),
         (&["--distance", "0"], &["--distance", "not 0"]),
         (&["--distance", "2", "--v-max", "-1"], &["--v-max", "> 0"]),
         (&["--distance", "2", "--tolerance", "0"], &["--tolerance"]),

@@ -13,7 +13,7 @@ use telescopic::animate::{
     AnimationOptions, ModeMovie, RunMovie, RunRequest, animate_modes, animate_run, save_modes,
     save_run,
 };
-use telescopic::control::Controller;
+use telescopic::control::ControllerFile;
 use telescopic::run::SimulationOptions;
 
 /// A finished movie: its page, and for a run what a GIF needs.
@@ -87,7 +87,7 @@ pub fn animate(
     };
     let simulation: SimulationOptions = options.into_options()?;
     let controller = match controller {
-        Some(text) => Some(Controller::from_json(&text).map_err(to_python)?),
+        Some(text) => Some(ControllerFile::from_json(&text).map_err(to_python)?),
         None => None,
     };
     let request = RunRequest {

@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::str::FromStr;
 use telescopic::analysis::modes::{ModeKind, ModesOptions, compute_modes};
-use telescopic::control::{Controller, ControllerKind, DesignOptions, design as run_design};
+use telescopic::control::{ControllerFile, ControllerKind, DesignOptions, design as run_design};
 use telescopic::linear::{Grid, LinearizeOptions, linearize as run_linearize};
 use telescopic::run::models::ModelChoice;
 use telescopic::run::stress::Station;
@@ -170,12 +170,12 @@ pub fn simulate<'py>(
         ..SimulationOptions::default()
     };
     let controller = match controller {
-        Some(text) => Some(Controller::from_json(&text).map_err(to_python)?),
+        Some(text) => Some(ControllerFile::from_json(&text).map_err(to_python)?),
         None => None,
     };
     let scene = &scene.scene;
     let sim = run(py, progress, |reporter| match &controller {
-        Some(c) => telescopic::control::simulate_controlled(scene, c, &options, reporter),
+        Some(c) => c.simulate(scene, &options, reporter),
         None => simulate_scene(scene, &options, reporter),
     })?;
     simulation_data(py, &sim)
@@ -393,12 +393,14 @@ pub fn design(
     Ok(controller.to_json())
 }
 
-/// Checks a controller's JSON; returns it (see `telescopic.Controller.from_json`).
+/// Checks a controller's JSON (a designed controller or a plan's velocity feedback);
+/// returns it (see `telescopic.Controller.from_json`).
 #[pyfunction]
 pub fn check_controller(text: &str) -> PyResult<String> {
-    Controller::from_json(text)
-        .map(|c| c.to_json())
-        .map_err(to_python)
+    match ControllerFile::from_json(text).map_err(to_python)? {
+        ControllerFile::Force(c) => Ok(c.to_json()),
+        ControllerFile::Velocity(v) => Ok(v.to_json()),
+    }
 }
 
 /// Runs a sweep file into `out`; returns `(columns, rows)` of the result (see

@@ -170,6 +170,9 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::MoveTolerance => "tolerance",
         O::Settle => "settle",
         O::Robust => "robust",
+        O::Feedback => "feedback",
+        O::Pick => "pick",
+        O::EmitC => "emit_c",
     }
 }
 

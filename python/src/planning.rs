@@ -7,6 +7,7 @@ use crate::errors::to_python;
 use crate::scene::PyScene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use telescopic::control::velocity::VelocityDesign;
 use telescopic::moves::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 
 /// The plan's table as one dict per row (candidate, plant and the figures).
@@ -39,8 +40,8 @@ fn rows<'py>(py: Python<'py>, plan: &MovePlan) -> PyResult<Vec<Bound<'py, PyDict
 /// scene TOML, summary)`.
 #[pyfunction]
 #[pyo3(signature = (scene, distance, v_max = 2.5, a_max = 0.7, j_max = 2.0, tolerance = 0.005,
-    robust = None, settle = 10.0, optimize = true, checks = 4, force_limit = None, options = None,
-    progress = None))]
+    robust = None, settle = 10.0, optimize = true, checks = 4, force_limit = None, feedback = None,
+    options = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn plan<'py>(
     py: Python<'py>,
@@ -55,6 +56,7 @@ pub fn plan<'py>(
     optimize: bool,
     checks: usize,
     force_limit: Option<f64>,
+    feedback: Option<f64>,
     options: Option<crate::calls::RunArguments>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(Vec<Bound<'py, PyDict>>, String, Bound<'py, PyDict>)> {
@@ -75,6 +77,10 @@ pub fn plan<'py>(
         optimize,
         checks,
         force_limit,
+        feedback: feedback.map(|zeta| VelocityDesign {
+            added_damping: zeta,
+            ..VelocityDesign::default()
+        }),
         simulation,
         ..PlanOptions::new(MoveLimits {
             distance,
@@ -96,5 +102,6 @@ pub fn plan<'py>(
         MovePlan::worst_cycle(&plan.rows, plan.best),
     )?;
     summary.set_item("table", plan.table())?;
+    summary.set_item("feedback", plan.feedback_json())?;
     Ok((rows(py, &plan)?, plan.scene_toml(), summary))
 }

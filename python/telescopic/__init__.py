@@ -240,7 +240,8 @@ class Modes:
 
 
 class Controller:
-    """A controller of ``design``: its JSON is the controller file of ``telescopic design``."""
+    """A controller of ``design`` (its JSON is the controller file of ``telescopic design``),
+    or the velocity feedback of a ``plan`` (``Plan.controller``)."""
 
     def __init__(self, text: str):
         self._json = _telescopic.check_controller(text)
@@ -264,6 +265,8 @@ class Controller:
         import json
 
         doc = json.loads(self._json)
+        if doc.get("format") == "telescopic velocity feedback":
+            return f"Controller(velocity feedback, zeta {doc['added_damping']})"
         return f"Controller({doc.get('kind', '?')!r}, force limit {doc.get('force_limit_n', '?')} N)"
 
 
@@ -493,7 +496,9 @@ def equations(scene: Scene, format: str = "latex") -> str:
 class Plan:
     """A planned move (``telescopic plan``): ``table`` a DataFrame with a row per candidate
     and plant, ``scene`` the best plan as a Scene (its setpoint as ``drive.motion``),
-    ``best`` its name, ``rigid_limit_s`` the time-optimal move of a rigid telescope."""
+    ``best`` its name, ``rigid_limit_s`` the time-optimal move of a rigid telescope,
+    ``controller`` the best plan's velocity feedback (a Controller) when it uses one, else
+    None: ``simulate(plan.scene, controller=plan.controller)`` runs the plan."""
 
     def __init__(self, rows: list[dict[str, Any]], scene_text: str, summary: dict[str, Any]):
         import pandas as pd
@@ -506,6 +511,8 @@ class Plan:
         self.first_mode_hz: float = summary["first_mode_hz"]
         self.worst_cycle_s: float | None = summary["worst_cycle_s"]
         self._text: str = summary["table"]
+        feedback = summary["feedback"]
+        self.controller: Controller | None = None if feedback is None else Controller(feedback)
 
     def __str__(self) -> str:
         return self._text
@@ -520,13 +527,14 @@ def plan(scene: Scene, distance: float, v_max: float = 2.5, a_max: float = 0.7,
          j_max: float = 2.0, tolerance: float = 0.005,
          robust: Mapping[str, tuple[float, float]] | None = None, settle: float = 10.0,
          optimize: bool = True, checks: int = 4, force_limit: float | None = None,
-         method: str = "auto", progress: Any = None) -> Plan:
+         feedback: float | None = None, method: str = "auto", progress: Any = None) -> Plan:
     """The shortest move over ``distance`` (m) that brings the load to rest within
     ``tolerance`` (m) (``telescopic plan``): the time-optimal S-curve within ``v_max``,
     ``a_max``, ``j_max``, shaped by ZV/ZVD/EI/2EI (fixed and scheduled on the first mode) and
     optimized, each on the nonlinear model and every plant of ``robust`` (``{"masses.load":
-    (10, 30)}``: its corners and centre). Returns a ``Plan``: the table as a DataFrame and
-    the best plan as a Scene."""
+    (10, 30)}``: its corners and centre). ``feedback`` (a damping ratio, e.g. 0.3) adds the
+    velocity feedback on top of the S-curve and of the best open-loop move. Returns a
+    ``Plan``: the table as a DataFrame and the best plan as a Scene."""
     text = None
     if robust is not None:
         text = ",".join(f"{k}={lo}:{hi}" for k, (lo, hi) in robust.items())
@@ -535,6 +543,6 @@ def plan(scene: Scene, distance: float, v_max: float = 2.5, a_max: float = 0.7,
     rows, scene_text, summary = _telescopic.plan(
         scene, distance, v_max=v_max, a_max=a_max, j_max=j_max, tolerance=tolerance,
         robust=text, settle=settle, optimize=optimize, checks=checks, force_limit=force_limit,
-        options=options, progress=_progress(progress))
+        feedback=feedback, options=options, progress=_progress(progress))
     return Plan(rows, scene_text, summary)
 

@@ -162,6 +162,7 @@ def plan(
     optimize: bool = True,
     checks: int = 4,
     force_limit: float | None = None,
+    feedback: float | None = None,
     options: dict[str, Any] | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> tuple[list[dict[str, Any]], str, dict[str, Any]]: ...

@@ -24,3 +24,29 @@ def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli):
                   "--a-max", "1", "--j-max", "5", "--tolerance", "0.002", "--settle", "4",
                   "--no-optimize").stdout
     assert printed == str(plan)
+
+
+def test_a_plan_with_feedback_runs_from_python_as_the_cli_reports(cli, tmp_path):
+    flags = ["--distance", "2", "--v-max", "1", "--a-max", "1", "--j-max", "5",
+             "--tolerance", "0.002", "--settle", "6", "--no-optimize", "--feedback", "0.2"]
+    out = tmp_path / "plan.toml"
+    printed = cli("plan", "scenes/adams-linear.toml", *flags, "--pick", "s-curve + feedback",
+                  "--out", str(out)).stdout
+    row = next(line for line in printed.splitlines()
+               if line.startswith(f"{'s-curve + feedback':<52} nominal"))
+    reported = float(row[52:].split()[3])
+    scene = telescopic.Scene.load(str(out))
+    controller = telescopic.Controller.load(str(out.with_suffix(".json")))
+    assert "velocity feedback" in repr(controller)
+    sim = telescopic.simulate(scene, controller=controller, error_estimate=False)
+    rest = sim["tip_rel"][sim.t >= sim.t[-1] - 1.0].mean()
+    outside = (np.abs(sim["tip_rel"] - rest) > 0.002) | (np.abs(sim["vehicle"] - 2.0) > 1e-3)
+    last = np.nonzero(outside)[0][-1]
+    assert abs(sim.t[last + 1] - reported) < 0.006
+    # the same plan from Python: the same table, feedback rows among its candidates
+    plan = telescopic.plan(telescopic.Scene.load("scenes/adams-linear.toml"), 2.0, v_max=1.0,
+                           a_max=1.0, j_max=5.0, tolerance=0.002, settle=6.0, optimize=False,
+                           feedback=0.2)
+    assert "s-curve + feedback" in set(plan.table["candidate"])
+    assert str(plan) == printed
+    assert (plan.controller is None) == ("feedback" not in plan.best)

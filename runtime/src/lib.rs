@@ -37,6 +37,7 @@ pub mod linear;
 mod mass_solve;
 pub mod model;
 pub mod params;
+pub mod position_schedule;
 pub mod profile;
 pub mod quadrature;
 pub mod scene;
@@ -71,6 +72,7 @@ pub use model::{Model, mechanical_energy, rest_state};
 /// and downstream crates use the same version.
 pub use nalgebra;
 pub use params::{Basis, Drive, ForceFlow, ModelParams, SectionParams};
+pub use position_schedule::PositionSchedule;
 pub use profile::{Profile, ShapedProfile, ShapedSetpoint};
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
 pub use setpoint::{Phases, ReachedLimits, SCurve};

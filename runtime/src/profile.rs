@@ -84,6 +84,8 @@ pub enum ShapedProfile {
     SCurve(SCurve),
     /// A setpoint filtered by an input shaper.
     Shaped(ShapedSetpoint),
+    /// A value scheduled on a telescopic position (a shaper's period).
+    PositionSchedule(crate::position_schedule::PositionSchedule),
 }
 
 /// A setpoint filtered by an input shaper: `sum_i A_i base(t - m_i P(t))`, impulses of
@@ -143,7 +145,8 @@ impl<'de> Deserialize<'de> for Profile {
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
                 f.write_str(
                     "a number, or a table with kind = \"constant\", \"piecewise-constant\", \
-                     \"piecewise-linear\", \"piecewise-cubic\", \"smoothstep\", \"s-curve\" or \"shaped\"",
+                     \"piecewise-linear\", \"piecewise-cubic\", \"smoothstep\", \"s-curve\", \"shaped\" \
+                     or \"position-schedule\"",
                 )
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<Profile, E> {
@@ -192,6 +195,9 @@ impl Profile {
             Profile::Shaped(ShapedProfile::Smoothstep { from, to, .. }) => from == to,
             Profile::Shaped(ShapedProfile::SCurve(c)) => c.distance == 0.0,
             Profile::Shaped(ShapedProfile::Shaped(s)) => s.base.is_constant(),
+            Profile::Shaped(ShapedProfile::PositionSchedule(s)) => {
+                s.values.windows(2).all(|w| w[0] == w[1]) && s.stretch[0] == s.stretch[1]
+            }
         }
     }
 
@@ -206,6 +212,7 @@ impl Profile {
                 | ShapedProfile::PiecewiseCubic { .. }
                 | ShapedProfile::SCurve(_),
             ) => true,
+            Profile::Shaped(ShapedProfile::PositionSchedule(s)) => s.position.has_continuous_rate(),
             Profile::Shaped(ShapedProfile::Shaped(s)) => {
                 s.base.has_continuous_rate() && s.period.has_continuous_rate()
                     || s.base.is_constant()
@@ -225,6 +232,7 @@ impl Profile {
             Profile::Shaped(ShapedProfile::Smoothstep { start, end, .. }) => vec![*start, *end],
             Profile::Shaped(ShapedProfile::SCurve(c)) => c.switches(),
             Profile::Shaped(ShapedProfile::Shaped(s)) => s.breakpoints(),
+            Profile::Shaped(ShapedProfile::PositionSchedule(s)) => s.breakpoints(),
         }
     }
 
@@ -296,6 +304,7 @@ impl Profile {
                 .chain(s.impulses.iter().flatten().map(|&v| ("impulses", v)))
                 .chain(s.period.numbers().into_iter().map(|(_, v)| ("period", v)))
                 .collect(),
+            Profile::Shaped(ShapedProfile::PositionSchedule(s)) => s.numbers(),
         }
     }
 
@@ -304,6 +313,7 @@ impl Profile {
         match self {
             Profile::Shaped(ShapedProfile::SCurve(c)) => c.state(t),
             Profile::Shaped(ShapedProfile::Shaped(s)) => s.state(t),
+            Profile::Shaped(ShapedProfile::PositionSchedule(s)) => s.state(t),
             Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values }) => {
                 monotone_cubic(times, values, t)
             }
@@ -355,7 +365,7 @@ impl Profile {
 
 /// `(value, rate, acceleration)` at `t` of the monotone cubic through `(times, values)`
 /// ([`ShapedProfile::PiecewiseCubic`]).
-fn monotone_cubic(times: &[f64], values: &[f64], t: f64) -> (f64, f64, f64) {
+pub(crate) fn monotone_cubic(times: &[f64], values: &[f64], t: f64) -> (f64, f64, f64) {
     let n = times.len();
     let i = times.partition_point(|&ti| ti <= t);
     if i == 0 {

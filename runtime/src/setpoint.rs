@@ -143,6 +143,33 @@ impl SCurve {
         (self.from + self.distance, 0.0, 0.0)
     }
 
+    /// The jerk (m/s^3) on `[t, t + dt)` for small `dt`: the phase `t` starts or lies in
+    /// (zero before and after the move).
+    pub fn jerk(&self, t: f64) -> f64 {
+        let p = self.phases();
+        let j = self.j_max * self.distance.signum();
+        let phases = [
+            (p.jerk, j),
+            (p.constant_acceleration, 0.0),
+            (p.jerk, -j),
+            (p.cruise, 0.0),
+            (p.jerk, -j),
+            (p.constant_acceleration, 0.0),
+            (p.jerk, j),
+        ];
+        let mut left = t - self.start;
+        if left < 0.0 {
+            return 0.0;
+        }
+        for (duration, jerk) in phases {
+            if left < duration {
+                return jerk;
+            }
+            left -= duration;
+        }
+        0.0
+    }
+
     /// Times (s) where the jerk switches.
     pub fn switches(&self) -> Vec<f64> {
         let p = self.phases();
@@ -181,8 +208,8 @@ mod tests {
         }
     }
 
-    /// Checks the closed form against its own finite differences: velocity and acceleration
-    /// are the derivatives of the position, the jerk is 0 or the limit, the limits hold, and
+    /// Checks the closed form against its own finite differences: velocity, acceleration and
+    /// jerk are the derivatives of the position and of each other, the jerk is 0 or the limit, the limits hold, and
     /// the move ends at rest at the target.
     fn check_derivatives_and_limits(c: &SCurve) {
         let p = c.phases();
@@ -200,6 +227,11 @@ mod tests {
                 (a - (v1 - v0) / (2.0 * h)).abs() < 1e-6,
                 "t {t}: a {a} against {}",
                 (v1 - v0) / (2.0 * h)
+            );
+            assert!(
+                (c.jerk(t) - (a1 - a0) / (2.0 * h)).abs() < 1e-6,
+                "t {t}: jerk {}",
+                c.jerk(t)
             );
             let jerk = ((a1 - a0) / (2.0 * h)).abs();
             assert!(

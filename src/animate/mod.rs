@@ -34,7 +34,7 @@ pub use options::AnimationOptions;
 pub use run_movie::{RunMovie, RunTrack, Take};
 
 use crate::analysis::modes::{ModesOptions, ModesReport, compute_modes};
-use crate::control::{Controller, compare_with_open_loop};
+use crate::control::{ControllerFile, compare_file_with_open_loop};
 use crate::plot::{Role, clearance_label};
 use crate::report::Reporter;
 use crate::run::{Simulation, SimulationOptions, simulate_scene};
@@ -51,7 +51,7 @@ pub struct RunRequest<'a> {
     /// run estimates the error).
     pub options: SimulationOptions,
     /// A controller driving the scene.
-    pub controller: Option<&'a Controller>,
+    pub controller: Option<&'a ControllerFile>,
     /// A second scene run with the same options, side by side.
     pub compare: Option<&'a Scene>,
 }
@@ -94,7 +94,7 @@ pub fn animate_run(
             ));
         }
         (Some(controller), None) => {
-            let comparison = compare_with_open_loop(scene, controller, &options, reporter)?;
+            let comparison = compare_file_with_open_loop(scene, controller, &options, reporter)?;
             runs.push((
                 "without control".into(),
                 scene,

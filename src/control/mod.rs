@@ -15,6 +15,7 @@
 //! ```
 
 pub mod controlled;
+pub mod controller_file;
 pub mod design;
 pub mod ekf;
 pub mod emit;
@@ -28,8 +29,10 @@ pub mod schema;
 pub mod shaper;
 pub mod small_dense;
 pub mod strain;
+pub mod velocity;
 
 pub use controlled::{ControlLaw, Controlled, Observed};
+pub use controller_file::{ControllerFile, compare_file_with_open_loop};
 pub use design::{DesignOptions, design};
 pub use schema::{
     CONTROLLER_FILE_VERSION, Controller, ControllerKind, Estimator, SampledLaw, SchedulePoint,
@@ -128,19 +131,25 @@ pub struct ControlComparison {
 impl ControlComparison {
     /// One paragraph: residual vibration, peak force and travel, with and without control.
     pub fn summary(&self, controller: &Controller) -> String {
+        self.summary_of(&controller.describe(), Some(controller.force_limit_n))
+    }
+
+    /// [`ControlComparison::summary`] for a controller described as `description`, with
+    /// the force limit it saturates at if any.
+    pub fn summary_of(&self, description: &str, force_limit: Option<f64>) -> String {
         let (with, without) = (&self.with, &self.without);
+        let limit = force_limit.map_or(String::new(), |l| format!(" (limit {l} N)"));
         format!(
             "controller {}: residual tip vibration (standard deviation of tip_rel from t = \
              {} s) {:.5} m with control, {:.5} m without ({:.1}x less); peak drive force \
-             {:.1} N with (limit {} N), {:.1} N without; final vehicle position {:.4} m with, \
+             {:.1} N with{limit}, {:.1} N without; final vehicle position {:.4} m with, \
              {:.4} m without ({:+.3} %)",
-            controller.describe(),
+            description,
             with.window_start,
             with.residual_std,
             without.residual_std,
             without.residual_std / with.residual_std,
             with.peak_force,
-            controller.force_limit_n,
             without.peak_force,
             with.final_vehicle,
             without.final_vehicle,

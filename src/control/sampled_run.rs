@@ -14,12 +14,14 @@ use rand::{Rng, SeedableRng};
 use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
 use telescopic_runtime::{Model, RunStats, Scene, TimeSpan, rest_state};
 
-/// A sampled run: the simulation and the force the controller commanded at every tick.
+/// A sampled run: the simulation and the command the controller gave at every tick.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SampledRun {
-    /// The controlled simulation (its `drive_force` column is the held force).
+    /// The controlled simulation (its `drive_force` column is the held force, or a
+    /// velocity-servo's reaction).
     pub simulation: Simulation,
-    /// `(t_k, u_{k+1})`: each tick's time and the force it commanded (N).
+    /// `(t_k, u_{k+1})`: each tick's time and its command: a force (N), or a velocity
+    /// correction (m/s) for a velocity servo.
     pub forces: Vec<(f64, f64)>,
 }
 
@@ -43,35 +45,76 @@ pub fn run_sampled(
     controller: &mut dyn SampledController,
     reporter: &dyn Reporter,
 ) -> Result<SampledRun> {
-    let scene: &Scene = run.scene;
     let sampled = file.sampled_part()?;
-    let span = scene.time;
-    let (period, every) = tick_grid(sampled.rate_hz, &span)?;
-    let coordinates = if run.coordinates {
-        run.model().dof()
-    } else {
-        0
+    tick_grid(sampled.rate_hz, &run.scene.time)?;
+    check_ticks(run.scene, file, run.model().dof())?;
+    let span = run.scene.time;
+    let model = Controlled::sampled(run.model(), file, span.start, span.end)?;
+    let setup = TickSetup {
+        rate_hz: sampled.rate_hz,
+        sensors: &sampled.sensors,
+        noise: &sampled.noise,
+        seed: sampled.seed,
+        scheduled: file.scheduled_section(),
     };
+    let (trajectory, forces) = tick_loop(
+        &run,
+        &model,
+        &|force| model.law().hold(force),
+        &setup,
+        controller,
+        reporter,
+    )?;
+    Ok(finish(run, setup.rate_hz, trajectory, forces))
+}
+
+/// The sampled run of `run` from the loop's trajectory and commands.
+pub(crate) fn finish(
+    run: PreparedRun<'_>,
+    rate_hz: f64,
+    trajectory: Trajectory,
+    forces: Vec<(f64, f64)>,
+) -> SampledRun {
+    let mut plan = run.plan.clone();
+    plan.reason = crate::run::MethodReason::SampledController(rate_hz);
+    let simulation = run.into_simulation(trajectory);
+    SampledRun {
+        simulation: Simulation { plan, ..simulation },
+        forces,
+    }
+}
+
+/// What a sampled loop reads from its controller file.
+pub(crate) struct TickSetup<'a> {
+    /// Controller rate (Hz).
+    pub rate_hz: f64,
+    /// The measured outputs.
+    pub sensors: &'a [String],
+    /// Their noise (standard deviations).
+    pub noise: &'a [f64],
+    /// Seed of the noise.
+    pub seed: u64,
+    /// The scheduled section (its position `a_k` is passed to the law), if any.
+    pub scheduled: Option<usize>,
+}
+
+/// The tick loop of a sampled run: at each tick the outputs and the noisy measurements of
+/// `model`, the command of `controller`, which `hold` sets for the next tick on (one sample
+/// of computation delay); the plant integrated from tick to tick. Returns the trajectory
+/// and each tick's command.
+pub(crate) fn tick_loop(
+    run: &PreparedRun<'_>,
+    model: &dyn Model,
+    hold: &dyn Fn(f64),
+    setup: &TickSetup<'_>,
+    controller: &mut dyn SampledController,
+    reporter: &dyn Reporter,
+) -> Result<(Trajectory, Vec<(f64, f64)>)> {
+    let scene: &Scene = run.scene;
+    let span = scene.time;
+    let (period, every) = tick_grid(setup.rate_hz, &span)?;
+    let coordinates = if run.coordinates { model.dof() } else { 0 };
     crate::run::memory::check_run(scene, (0, coordinates), run.memory_budget)?;
-    check_ticks(scene, file, run.model().dof(), period)?;
-    let base = run.model();
-    let model = Controlled::sampled(base, file, span.start, span.end)?;
-    let sensors = Sensors::new(&model);
-    let mut names = model.output_names();
-    let own = names.len();
-    names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
-    let measured = measured_columns(&names, &sampled.sensors)?;
-    names.extend((0..coordinates).map(|i| format!("z_{i}")));
-    let scheduled = file.scheduled_section();
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(sampled.seed);
-    let ticks = ((span.end - span.start) / period).round() as usize;
-    let (n, mut y) = (model.dof(), rest_state(&model, span.start));
-    let mut ydot = vec![0.0; 2 * n];
-    let mut out = vec![0.0; names.len() - coordinates];
-    let mut measurement = vec![0.0; measured.len()];
-    let mut rows = Vec::with_capacity(ticks / every + 1);
-    let mut forces = Vec::with_capacity(ticks);
-    let mut stats = RunStats::default();
     // a controlled scene is neither linear nor time-invariant: no exact stepping
     if run.plan.method == telescopic_runtime::Method::Exact {
         return Err(Error::option(
@@ -80,14 +123,29 @@ pub fn run_sampled(
              dopri5 or another integrator",
         ));
     }
-    let mut stepper = HeldInputStepper::new(&run.plan, &model, &span);
+    let sensors = Sensors::new(model);
+    let mut names = model.output_names();
+    let own = names.len();
+    names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
+    let measured = measured_columns(&names, setup.sensors)?;
+    names.extend((0..coordinates).map(|i| format!("z_{i}")));
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(setup.seed);
+    let ticks = ((span.end - span.start) / period).round() as usize;
+    let (n, mut y) = (model.dof(), rest_state(model, span.start));
+    let mut ydot = vec![0.0; 2 * n];
+    let mut out = vec![0.0; names.len() - coordinates];
+    let mut measurement = vec![0.0; measured.len()];
+    let mut rows = Vec::with_capacity(ticks / every + 1);
+    let mut forces = Vec::with_capacity(ticks);
+    let mut stats = RunStats::default();
+    let mut stepper = HeldInputStepper::new(&run.plan, model, &span);
     reporter.start(&format!(
         "simulating {} with a sampled controller",
         scene.name
     ));
     for k in 0..=ticks {
         let t = span.start + k as f64 * period;
-        // the outputs and the measurements at the tick, with the force held now
+        // the outputs and the measurements at the tick, with the command held now
         model.rhs(t, &y, None, &mut ydot);
         let (own_out, sensor_out) = out.split_at_mut(own);
         model.outputs(t, &y, &ydot, own_out);
@@ -102,18 +160,20 @@ pub fn run_sampled(
         if k == ticks {
             break;
         }
-        measure(&out, &measured, &sampled.noise, &mut rng, &mut measurement);
-        let a = scheduled.map_or(0.0, |s| model.params().positions[s - 2].value(t));
-        let force = controller.step(t, &measurement, a);
-        forces.push((t, force));
-        // one sample of computation delay: the force acts from the next tick on
-        let step_stats = stepper
-            .advance(&model, &mut y, t, period)
-            .map_err(|error| Error::Simulation {
-                scene: scene.name.clone(),
-                error,
-            })?;
-        model.law().hold(force);
+        measure(&out, &measured, setup.noise, &mut rng, &mut measurement);
+        let a = setup
+            .scheduled
+            .map_or(0.0, |s| model.params().positions[s - 2].value(t));
+        let command = controller.step(t, &measurement, a);
+        forces.push((t, command));
+        let step_stats =
+            stepper
+                .advance(model, &mut y, t, period)
+                .map_err(|error| Error::Simulation {
+                    scene: scene.name.clone(),
+                    error,
+                })?;
+        hold(command);
         stats.add(&step_stats);
         reporter.progress((k + 1) as f64 / ticks as f64);
         if reporter.stop_requested() {
@@ -127,13 +187,7 @@ pub fn run_sampled(
         }
     }
     reporter.finish();
-    let mut plan = run.plan.clone();
-    plan.reason = crate::run::MethodReason::SampledController(sampled.rate_hz);
-    let simulation = run.into_simulation(Trajectory { names, rows, stats });
-    Ok(SampledRun {
-        simulation: Simulation { plan, ..simulation },
-        forces,
-    })
+    Ok((Trajectory { names, rows, stats }, forces))
 }
 
 /// The measured outputs (`out` at the columns `measured`) with Gaussian noise of standard
@@ -161,15 +215,25 @@ pub const MAX_SAMPLED_OPERATIONS: f64 = 2e10;
 /// evaluates the model (`~ (2 n)^2` for `n` degrees of freedom, with an integrator's stages)
 /// and runs the controller (the extended filter's covariance `~ 10 m^3` for `m` states, the
 /// linear filter's `~ 4 m^2`).
-fn check_ticks(scene: &Scene, file: &Controller, dof: usize, period: f64) -> Result<()> {
+fn check_ticks(scene: &Scene, file: &Controller, dof: usize) -> Result<()> {
     let sampled = file.sampled_part()?;
-    let ticks = (scene.time.end - scene.time.start) / period;
     let m = file.states.len() as f64;
     let controller = match (sampled.estimator, &sampled.strain_rate) {
         (_, Some(_)) | (Estimator::None, None) => 50.0,
         (Estimator::Extended, None) => 10.0 * m * m * m,
         (Estimator::Linear, None) => 4.0 * m * m,
     };
+    check_tick_cost(scene, sampled.rate_hz, dof, controller)
+}
+
+/// [`check_ticks`] for a law of `controller` operations a tick at `rate_hz`.
+pub(crate) fn check_tick_cost(
+    scene: &Scene,
+    rate_hz: f64,
+    dof: usize,
+    controller: f64,
+) -> Result<()> {
+    let ticks = (scene.time.end - scene.time.start) * rate_hz;
     let model = 12.0 * (2.0 * dof as f64).powi(2);
     let operations = ticks * (model + controller);
     if operations <= MAX_SAMPLED_OPERATIONS {
@@ -178,11 +242,10 @@ fn check_ticks(scene: &Scene, file: &Controller, dof: usize, period: f64) -> Res
     Err(Error::Unaffordable {
         scene: scene.name.clone(),
         reason: format!(
-            "the sampled controller at {} Hz over {} s is {ticks:.3e} ticks of about {:.1e} \
-             operations each ({operations:.1e} in all), more than the limit of \
+            "the sampled controller at {rate_hz} Hz over {} s is {ticks:.3e} ticks of about \
+             {:.1e} operations each ({operations:.1e} in all), more than the limit of \
              {MAX_SAMPLED_OPERATIONS:.0e}; design the controller at a lower rate, or shorten \
              time.end",
-            sampled.rate_hz,
             scene.time.end - scene.time.start,
             model + controller
         ),
@@ -193,7 +256,7 @@ fn check_ticks(scene: &Scene, file: &Controller, dof: usize, period: f64) -> Res
 ///
 /// # Errors
 /// [`Error::Option`] naming `time.sample` when it is not a multiple of the period.
-fn tick_grid(rate_hz: f64, span: &TimeSpan) -> Result<(f64, usize)> {
+pub(crate) fn tick_grid(rate_hz: f64, span: &TimeSpan) -> Result<(f64, usize)> {
     let period = 1.0 / rate_hz;
     let ratio = span.sample / period;
     if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {

@@ -4,7 +4,7 @@
 
 use super::shapers::Shaper;
 use serde::Serialize;
-use telescopic_runtime::{Profile, SCurve, ShapedProfile, ShapedSetpoint};
+use telescopic_runtime::{PositionSchedule, Profile, SCurve, ShapedProfile, ShapedSetpoint};
 
 /// One candidate move.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -15,6 +15,20 @@ pub struct Candidate {
     pub profile: Profile,
     /// When the setpoint reaches the target (s).
     pub arrival_s: f64,
+    /// Whether the velocity feedback of the plan ([`super::MovePlan::feedback`]) corrects
+    /// the setpoint.
+    pub feedback: bool,
+}
+
+impl Candidate {
+    /// The same move with the plan's velocity feedback on top.
+    pub fn with_feedback(&self) -> Candidate {
+        Candidate {
+            name: format!("{} + feedback", self.name),
+            feedback: true,
+            ..self.clone()
+        }
+    }
 }
 
 /// The unshaped S-curve.
@@ -23,6 +37,7 @@ pub fn unshaped(curve: &SCurve) -> Candidate {
         name: "s-curve".into(),
         profile: Profile::Shaped(ShapedProfile::SCurve(curve.clone())),
         arrival_s: curve.start + curve.phases().duration(),
+        feedback: false,
     }
 }
 
@@ -47,27 +62,21 @@ pub fn shaped(
         name,
         profile,
         arrival_s,
+        feedback: false,
     }
 }
 
 /// `period` times a factor that goes from `early` at `start` to `late` at `end` (s) along a
 /// quintic smoothstep, so that the spacing's rate stays small (a number: times `early`).
-fn scale_profile(period: &Profile, (early, late): (f64, f64), (start, end): (f64, f64)) -> Profile {
-    let factor = |t: f64| {
-        let u = ((t - start) / (end - start)).clamp(0.0, 1.0);
-        early + (late - early) * u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
-    };
+fn scale_profile(period: &Profile, stretch: (f64, f64), (start, end): (f64, f64)) -> Profile {
     match period {
-        Profile::Constant(p) => Profile::Constant(p * early),
-        Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values }) => {
-            Profile::Shaped(ShapedProfile::PiecewiseCubic {
-                times: times.clone(),
-                values: times
-                    .iter()
-                    .zip(values)
-                    .map(|(&t, v)| v * factor(t))
-                    .collect(),
-            })
+        Profile::Constant(p) => Profile::Constant(p * stretch.0),
+        Profile::Shaped(ShapedProfile::PositionSchedule(s)) => {
+            Profile::Shaped(ShapedProfile::PositionSchedule(PositionSchedule {
+                stretch: [stretch.0, stretch.1],
+                over: [start, end],
+                ..s.clone()
+            }))
         }
         other => other.clone(),
     }

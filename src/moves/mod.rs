@@ -20,15 +20,17 @@
 //! ```
 
 pub mod candidates;
+pub mod emit;
 pub mod metrics;
 pub mod optimize;
 mod planner;
 pub mod robust;
 pub mod shapers;
 
-pub use planner::{moving_scene, plan as plan_move};
+pub use planner::{first_period, moving_scene, plan as plan_move};
 pub use robust::RobustRange;
 
+use crate::control::velocity::{VelocityDesign, VelocityFeedback};
 use crate::run::SimulationOptions;
 use crate::{Error, OptionName, Result};
 use metrics::CycleMetrics;
@@ -66,6 +68,9 @@ pub struct PlanOptions {
     pub checks: usize,
     /// The drive's force limit (N): a candidate whose reaction exceeds it is not chosen.
     pub force_limit: Option<f64>,
+    /// The velocity feedback to evaluate on top of the S-curve and of the best open-loop
+    /// candidate (default none).
+    pub feedback: Option<VelocityDesign>,
     /// How each run is simulated.
     pub simulation: SimulationOptions,
 }
@@ -81,6 +86,7 @@ impl PlanOptions {
             optimize: true,
             checks: 4,
             force_limit: None,
+            feedback: None,
             simulation: SimulationOptions::default(),
         }
     }
@@ -157,6 +163,9 @@ pub struct MovePlan {
     pub checks: Vec<PlanRow>,
     /// Index of the best candidate: the shortest worst cycle time within the force limit.
     pub best: usize,
+    /// The velocity feedback the candidates marked `feedback` run with, designed on the
+    /// nominal plant.
+    pub feedback: Option<VelocityFeedback>,
 }
 
 impl MovePlan {
@@ -171,10 +180,50 @@ impl MovePlan {
     /// The best plan as a scene file (TOML): the scene with the setpoint as `drive.motion`
     /// and the span of the runs.
     pub fn scene_toml(&self) -> String {
-        let best = &self.candidates[self.best];
-        let mut file = planner::moving_file(&self.scene, &best.profile, self.end_s);
-        file.description = format!("{}: planned move ({})", self.scene.name, best.name);
+        self.scene_toml_of(self.best)
+    }
+
+    /// Candidate `i`'s plan as a scene file (TOML).
+    pub fn scene_toml_of(&self, i: usize) -> String {
+        let chosen = &self.candidates[i];
+        let mut file = planner::moving_file(&self.scene, &chosen.profile, self.end_s);
+        file.description = format!("{}: planned move ({})", self.scene.name, chosen.name);
         planner::file_text(&file)
+    }
+
+    /// The best plan's feedback file (JSON), when the best plan uses feedback: what
+    /// `simulate PLAN.toml --controller PLAN.json` reads.
+    pub fn feedback_json(&self) -> Option<String> {
+        self.feedback_json_of(self.best)
+    }
+
+    /// Candidate `i`'s feedback file (JSON), when it uses feedback.
+    pub fn feedback_json_of(&self, i: usize) -> Option<String> {
+        self.candidates[i]
+            .feedback
+            .then_some(self.feedback.as_ref())
+            .flatten()
+            .map(VelocityFeedback::to_json)
+    }
+
+    /// The index of the candidate named `name`.
+    ///
+    /// # Errors
+    /// [`Error::Option`] listing the names.
+    pub fn candidate_named(&self, name: &str) -> Result<usize> {
+        self.candidates
+            .iter()
+            .position(|c| c.name == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = self.candidates.iter().map(|c| c.name.as_str()).collect();
+                Error::option(
+                    OptionName::Pick,
+                    format!(
+                        "no candidate is named {name:?}; the candidates: {}",
+                        names.join(", ")
+                    ),
+                )
+            })
     }
 
     /// The table: every candidate on every plant, the rigid limit, the best and its checks.
@@ -189,7 +238,7 @@ impl MovePlan {
         );
         let _ = writeln!(
             out,
-            "{:<44} {:<10} {:>7} {:>8} {:>7} {:>8} {:>8} {:>8} {:>9} {:>10} {:>8}",
+            "{:<52} {:<10} {:>7} {:>8} {:>7} {:>8} {:>8} {:>8} {:>9} {:>10} {:>8}",
             "candidate",
             "plant",
             "move s",
@@ -209,7 +258,7 @@ impl MovePlan {
             let m = &r.metrics;
             let _ = writeln!(
                 out,
-                "{:<44} {:<10} {:>7.2} {:>8} {:>7} {:>8.1} {:>8.1} {:>8.0} {:>9.0} {:>10} {:>8}",
+                "{:<52} {:<10} {:>7.2} {:>8} {:>7} {:>8.1} {:>8.1} {:>8.0} {:>9.0} {:>10} {:>8}",
                 self.candidates[r.candidate].name,
                 r.plant,
                 m.move_time_s,

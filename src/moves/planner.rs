@@ -8,11 +8,12 @@ use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
 use super::{MovePlan, PlanOptions, PlanRow};
 use crate::analysis::modes::{ModesOptions, compute_modes};
+use crate::control::velocity::{VelocityFeedback, design_velocity_feedback, simulate_velocity};
 use crate::report::Reporter;
 use crate::run::simulate_scene;
 use crate::{Error, OptionName, Result};
 use rayon::prelude::*;
-use telescopic_runtime::{Profile, SCurve, Scene, SceneFile, ShapedProfile};
+use telescopic_runtime::{PositionSchedule, Profile, SCurve, Scene, SceneFile, ShapedProfile};
 
 /// Spacing of the first mode's samples along the move (s).
 const SCHEDULE_STEP_S: f64 = 0.25;
@@ -51,8 +52,11 @@ pub fn moving_scene(scene: &Scene, profile: &Profile, end: f64) -> Result<Scene>
     )
 }
 
-/// The first mode's period (s) along the move, with the vehicle held: a monotone cubic
-/// through its values every [`SCHEDULE_STEP_S`], and its value at `arrival` (s).
+/// The first mode's period (s) along the move, with the vehicle held, scheduled on the
+/// moving telescopic position (a monotone cubic through its values at the positions reached
+/// every [`SCHEDULE_STEP_S`]; a number when no position moves), and its value at `arrival`
+/// (s). With one moving position the period is a function of it; with several, the first
+/// one's schedule is exact only along the scene's own motion.
 pub fn first_period(held: &Scene, arrival: f64, end: f64) -> Result<(Profile, f64)> {
     let start = held.time.start;
     let steps = ((end - start) / SCHEDULE_STEP_S).ceil() as usize;
@@ -71,21 +75,31 @@ pub fn first_period(held: &Scene, arrival: f64, end: f64) -> Result<(Profile, f6
         })?;
         Ok(1.0 / f)
     };
-    let times: Vec<f64> = (0..=steps)
+    let at_arrival = period_at(arrival)?;
+    let Some(position) = held.params.positions.iter().find(|p| !p.is_constant()) else {
+        return Ok((Profile::Constant(at_arrival), at_arrival));
+    };
+    let mut knots: Vec<(f64, f64)> = (0..=steps)
         .map(|i| (start + i as f64 * SCHEDULE_STEP_S).min(end))
-        .collect();
-    let values = times
-        .iter()
-        .map(|&t| period_at(t))
-        .collect::<Result<Vec<_>>>()?;
-    let schedule = Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values });
-    Ok((schedule, period_at(arrival)?))
+        .map(|t| Ok((position.value(t), period_at(t)?)))
+        .collect::<Result<_>>()?;
+    knots.sort_by(|a, b| a.0.total_cmp(&b.0));
+    knots.dedup_by(|b, a| b.0 - a.0 <= 1e-9 * a.0.abs().max(1.0));
+    let schedule = Profile::Shaped(ShapedProfile::PositionSchedule(PositionSchedule {
+        position: Box::new(position.clone()),
+        positions: knots.iter().map(|k| k.0).collect(),
+        values: knots.iter().map(|k| k.1).collect(),
+        stretch: [1.0, 1.0],
+        over: [start, start],
+    }));
+    Ok((schedule, at_arrival))
 }
 
-/// The figures of `candidate` on each of `plants` (in parallel).
+/// The figures of `candidate` on each of `plants` (in parallel), with `feedback` if the
+/// candidate uses it.
 pub fn evaluate(
     scene: &Scene,
-    candidate: &Candidate,
+    (candidate, feedback): (&Candidate, Option<&VelocityFeedback>),
     plants: &[Plant],
     options: &PlanOptions,
     end: f64,
@@ -101,9 +115,22 @@ pub fn evaluate(
         .par_iter()
         .map(|plant| {
             let s = plant_scene(&moving, &scene.name, &plant.overrides)?;
-            let run = simulate_scene(&s, &simulation, &crate::Silent)?;
+            let trajectory = match (candidate.feedback, feedback) {
+                (false, _) => simulate_scene(&s, &simulation, &crate::Silent)?.trajectory,
+                (true, Some(f)) => {
+                    simulate_velocity(&s, f, &simulation, &crate::Silent)?
+                        .simulation
+                        .trajectory
+                }
+                (true, None) => {
+                    return Err(Error::Analysis(format!(
+                        "candidate {} uses feedback, but the plan designed none",
+                        candidate.name
+                    )));
+                }
+            };
             Ok(cycle_metrics(
-                &run.trajectory,
+                &trajectory,
                 (target, candidate.arrival_s),
                 options.tolerance,
                 s.params.contact.half_band(),
@@ -130,12 +157,20 @@ struct Setting<'a> {
     schedule: Profile,
     plants: Vec<Plant>,
     end: f64,
+    /// The velocity feedback, designed on the nominal plant, if asked for.
+    feedback: Option<VelocityFeedback>,
 }
 
 impl Setting<'_> {
     /// Runs `candidate` (index `i`) on every evaluated plant: its rows.
     fn rows(&self, i: usize, candidate: &Candidate) -> Result<Vec<PlanRow>> {
-        let metrics = evaluate(self.scene, candidate, &self.plants, self.options, self.end)?;
+        let metrics = evaluate(
+            self.scene,
+            (candidate, self.feedback.as_ref()),
+            &self.plants,
+            self.options,
+            self.end,
+        )?;
         Ok(self
             .plants
             .iter()
@@ -173,7 +208,7 @@ impl Setting<'_> {
                 shaper,
                 (&self.schedule, x[0], x[1]),
             );
-            evaluate(self.scene, &c, &self.plants, self.options, self.end)
+            evaluate(self.scene, (&c, None), &self.plants, self.options, self.end)
                 .map(|m| objective(&m, self.penalty()))
                 .unwrap_or(f64::INFINITY)
         };
@@ -212,13 +247,22 @@ fn setting<'a>(scene: &'a Scene, options: &'a PlanOptions) -> Result<(Setting<'a
     let held = moving_scene(scene, &candidates::unshaped(&curve).profile, arrival + 30.0)?;
     let (schedule, period) = first_period(&held, arrival, arrival + 8.0)?;
     let longest = arrival + 1.5 * STRETCH_RANGE.1 * period.max(max_value(&schedule));
+    let end = longest + options.settle_s;
+    let feedback = match &options.feedback {
+        Some(design) => {
+            let moving = moving_scene(scene, &candidates::unshaped(&curve).profile, end)?;
+            Some(design_velocity_feedback(&moving, design)?)
+        }
+        None => None,
+    };
     let setting = Setting {
         scene,
         options,
         curve,
         schedule,
         plants: evaluated_plants(&options.robust),
-        end: longest + options.settle_s,
+        end,
+        feedback,
     };
     Ok((setting, period))
 }
@@ -270,10 +314,24 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         rows.extend(s.rows(list.len(), &c)?);
         list.push(c);
     }
+    if s.feedback.is_some() {
+        // on top of the S-curve and of the best open-loop move
+        let open = best_within_limit(&s, &rows, list.len())?;
+        let mut with: Vec<Candidate> = vec![list[0].with_feedback()];
+        if open != 0 {
+            with.push(list[open].with_feedback());
+        }
+        for c in with {
+            reporter.note(&format!("evaluating {}", c.name));
+            rows.extend(s.rows(list.len(), &c)?);
+            list.push(c);
+        }
+    }
     reporter.progress((steps - 1.0) / steps);
     let best = best_within_limit(&s, &rows, list.len())?;
     let checks = check_plants(&options.robust, options.checks);
-    let check_rows = evaluate(scene, &list[best], &checks, options, s.end)?
+    let with = (&list[best], s.feedback.as_ref());
+    let check_rows = evaluate(scene, with, &checks, options, s.end)?
         .into_iter()
         .zip(&checks)
         .map(|(m, p)| PlanRow {
@@ -292,6 +350,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         rows,
         checks: check_rows,
         best,
+        feedback: s.feedback,
     })
 }
 
@@ -317,11 +376,11 @@ fn best_within_limit(s: &Setting, rows: &[PlanRow], count: usize) -> Result<usiz
         })
 }
 
-/// The largest value of a schedule (its knots).
+/// The largest value of a schedule (its knots, at the larger stretch).
 fn max_value(p: &Profile) -> f64 {
     match p {
-        Profile::Shaped(ShapedProfile::PiecewiseCubic { values, .. }) => {
-            values.iter().copied().fold(0.0, f64::max)
+        Profile::Shaped(ShapedProfile::PositionSchedule(s)) => {
+            s.values.iter().copied().fold(0.0, f64::max) * s.stretch[0].max(s.stretch[1])
         }
         other => other.value(0.0),
     }

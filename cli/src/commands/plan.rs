@@ -6,7 +6,9 @@ use super::simulate::RunArgs;
 use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::PathBuf;
-use telescopic::moves::{MoveLimits, PlanOptions, RobustRange, plan_move};
+use telescopic::control::velocity::VelocityDesign;
+use telescopic::moves::emit::write_filter_c;
+use telescopic::moves::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 use telescopic::run::SimulationOptions;
 use telescopic::run::stress::Station;
 
@@ -54,7 +56,40 @@ pub struct PlanArgs {
     /// section 1; the scene must give sections.section_modulus or sections.height).
     #[arg(long, value_name = "K:X,...")]
     stations: Option<String>,
-    /// Write the best plan as a scene (its setpoint as drive.motion).
+    /// Evaluate velocity feedback on top of the S-curve and of the best open-loop move:
+    /// the servo's velocity setpoint corrected from the encoder and a strain gauge at the
+    /// foot of section 1, adding this damping ratio to the first mode (e.g. 0.3).
+    #[arg(long, value_name = "ZETA")]
+    feedback: Option<f64>,
+    /// Bound of the feedback's velocity correction (m/s).
+    #[arg(
+        long,
+        value_name = "M/S",
+        default_value_t = 0.25,
+        requires = "feedback"
+    )]
+    correction_v_max: f64,
+    /// Bound of the feedback correction's acceleration (m/s^2).
+    #[arg(
+        long,
+        value_name = "M/S^2",
+        default_value_t = 1.0,
+        requires = "feedback"
+    )]
+    correction_a_max: f64,
+    /// Write this candidate (a name from the table) instead of the best (with --out or
+    /// --emit-c).
+    #[arg(long, value_name = "CANDIDATE")]
+    pick: Option<String>,
+    /// Write the written candidate's shaper as a C99 setpoint filter (telescopic_setpoint.h
+    /// and .c) into this existing directory.
+    #[arg(long, value_name = "DIR")]
+    emit_c: Option<PathBuf>,
+    /// The emitted filter's tick rate (Hz).
+    #[arg(long, value_name = "HZ", default_value_t = 1000.0, requires = "emit_c")]
+    filter_rate: f64,
+    /// Write the best plan as a scene (its setpoint as drive.motion); a plan with feedback
+    /// also writes its feedback file beside it (PLAN.json).
     #[arg(long, value_name = "PLAN.toml")]
     out: Option<PathBuf>,
 }
@@ -63,6 +98,22 @@ pub struct PlanArgs {
 pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
     crate::stdout::check_stdout_open()?;
     check_output("--out", args.out.as_deref(), &[args.scene.scene.as_path()])?;
+    if let (Some(out), Some(_)) = (&args.out, args.feedback) {
+        let beside = out.with_extension("json");
+        if beside == *out {
+            anyhow::bail!(
+                "--out {}: a plan with --feedback writes its feedback file beside the scene as \
+                 .json; give the scene another extension (plan.toml)",
+                out.display()
+            );
+        }
+        check_output("--out", Some(&beside), &[args.scene.scene.as_path()])?;
+    }
+    if let Some(dir) = &args.emit_c
+        && !dir.is_dir()
+    {
+        anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
+    }
     let scene = args.scene.load()?;
     let options = PlanOptions {
         tolerance: args.tolerance,
@@ -74,6 +125,12 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
         optimize: !args.no_optimize,
         checks: args.checks,
         force_limit: args.force_limit,
+        feedback: args.feedback.map(|zeta| VelocityDesign {
+            added_damping: zeta,
+            velocity_limit: args.correction_v_max,
+            acceleration_limit: args.correction_a_max,
+            ..VelocityDesign::default()
+        }),
         simulation: SimulationOptions {
             stations: match &args.stations {
                 Some(text) => Station::parse_list(text)?,
@@ -90,15 +147,46 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
     };
     let progress = Progress::new();
     let plan = plan_move(&scene, &options, &progress)?;
+    write_outputs(args, &plan)?;
+    crate::stdout::write_to(None, |w| w.write_all(plan.table().as_bytes()))?;
+    Ok(())
+}
+
+/// Writes the chosen candidate (the best, or --pick) as C (--emit-c) and as a scene (--out)
+/// with its feedback file beside it; before the table, so that a refusal leaves no stdout.
+fn write_outputs(args: &PlanArgs, plan: &MovePlan) -> anyhow::Result<()> {
+    let chosen = match &args.pick {
+        Some(name) => plan.candidate_named(name)?,
+        None => plan.best,
+    };
+    if let Some(dir) = &args.emit_c {
+        let candidate = &plan.candidates[chosen];
+        write_filter_c(&plan.scene, candidate, args.filter_rate, dir)?;
+        eprintln!(
+            "wrote {} ({}'s setpoint filter at {} Hz)",
+            dir.display(),
+            candidate.name,
+            args.filter_rate
+        );
+    }
     if let Some(path) = &args.out {
-        let text = plan.scene_toml();
+        let text = plan.scene_toml_of(chosen);
         telescopic::io::output::write_atomically(path, |w| w.write_all(text.as_bytes()))?;
         eprintln!(
             "wrote {} ({})",
             path.display(),
-            plan.candidates[plan.best].name
+            plan.candidates[chosen].name
         );
+        if let Some(json) = plan.feedback_json_of(chosen) {
+            let beside = path.with_extension("json");
+            telescopic::io::output::write_atomically(&beside, |w| w.write_all(json.as_bytes()))?;
+            eprintln!(
+                "wrote {} (its velocity feedback: simulate {} --controller {})",
+                beside.display(),
+                path.display(),
+                beside.display()
+            );
+        }
     }
-    crate::stdout::write_to(None, |w| w.write_all(plan.table().as_bytes()))?;
     Ok(())
 }

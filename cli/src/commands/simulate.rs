@@ -7,7 +7,7 @@ use clap::Args;
 use std::path::PathBuf;
 use telescopic::Scene;
 use telescopic::analysis::metrics::drive_stop;
-use telescopic::control::{Controller, compare_with_open_loop};
+use telescopic::control::{ControllerFile, compare_file_with_open_loop};
 use telescopic::io::output::write_to;
 use telescopic::plot::{Curve, Marks, Role, clearance_label, plot};
 use telescopic::run::models::ModelChoice;
@@ -160,8 +160,8 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     let progress = Progress::new();
     let (run, comparison) = match &controller {
         Some(c) => {
-            let comparison = compare_with_open_loop(&scene, c, &options, &progress)?;
-            let summary = comparison.summary(c);
+            let comparison = compare_file_with_open_loop(&scene, c, &options, &progress)?;
+            let summary = c.summary(&comparison);
             (comparison.controlled, Some((summary, comparison.open_loop)))
         }
         None => (simulate_scene(&scene, &options, &progress)?, None),
@@ -197,9 +197,9 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
 pub fn load_controller(
     path: Option<&std::path::Path>,
     scene: &Scene,
-) -> anyhow::Result<Option<Controller>> {
+) -> anyhow::Result<Option<ControllerFile>> {
     let Some(path) = path else { return Ok(None) };
-    let c = Controller::load(path)?;
+    let c = ControllerFile::load(path)?;
     c.check_fits(scene)
         .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
     Ok(Some(c))
@@ -224,7 +224,7 @@ struct PlottedRuns<'a> {
     run: &'a telescopic::run::Simulation,
     open_loop: Option<&'a telescopic::run::Simulation>,
     other: Option<&'a Scene>,
-    controller: Option<&'a Controller>,
+    controller: Option<&'a ControllerFile>,
 }
 
 /// Draws the runs' figure to `plot_path`, running the compared scene with `options`.
@@ -276,7 +276,7 @@ fn plot_runs(
     }
     let marks = match controller {
         Some(c) => Marks {
-            force_limit: Some(c.force_limit_n),
+            force_limit: c.force_limit(),
             residual_window: Some((drive_stop(&scene), scene.time.end)),
         },
         None => Marks::default(),

@@ -131,7 +131,46 @@ impl Rules {
                 self.positive(&format!("{field}.j_max"), c.j_max);
             }
             Profile::Shaped(ShapedProfile::Shaped(s)) => self.shaped(field, s),
+            Profile::Shaped(ShapedProfile::PositionSchedule(s)) => {
+                self.position_schedule(field, s);
+            }
             _ => {}
+        }
+    }
+
+    /// A position schedule: its position profile, knots strictly increasing with one value
+    /// each, a positive stretch over an ordered span.
+    fn position_schedule(&mut self, field: &str, s: &crate::PositionSchedule) {
+        self.profile(&format!("{field}.position"), &s.position);
+        if s.positions.is_empty() || s.positions.len() != s.values.len() {
+            self.fail(
+                format!("{field}.values"),
+                format!(
+                    "must have one value per position, at least one ({} positions, {} values)",
+                    s.positions.len(),
+                    s.values.len()
+                ),
+            );
+        }
+        if let Some(i) = s.positions.windows(2).position(|w| w[1] <= w[0]) {
+            self.fail(
+                format!("{field}.positions"),
+                format!(
+                    "must be strictly increasing (positions[{}] = {} follows {})",
+                    i + 1,
+                    s.positions[i + 1],
+                    s.positions[i]
+                ),
+            );
+        }
+        if !s.stretch.iter().all(|&f| f > 0.0) {
+            self.fail(format!("{field}.stretch"), "both factors must be > 0");
+        }
+        if s.over[1] < s.over[0] {
+            self.fail(
+                format!("{field}.over"),
+                "must be [start, end] with end >= start",
+            );
         }
     }
 
@@ -146,7 +185,7 @@ impl Rules {
         }
         if s.impulses
             .iter()
-            .any(|&[a, m]| !(a > 0.0 && m >= 0.0 && m <= 16.0))
+            .any(|&[a, m]| !(a > 0.0 && (0.0..=16.0).contains(&m)))
         {
             self.fail(
                 &impulses,
@@ -161,7 +200,7 @@ impl Rules {
             );
         }
         let (lo, _) = s.period.range(-1e9, 1e9);
-        if !(lo > 0.0) {
+        if lo.is_nan() || lo <= 0.0 {
             self.fail(
                 format!("{field}.period"),
                 format!("must be > 0 s (its least is {lo})"),

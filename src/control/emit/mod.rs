@@ -10,7 +10,7 @@
 //! are C source files under `src/control/emit/c/`, included verbatim after the generated
 //! tables they read.
 
-mod common;
+pub(crate) mod common;
 mod ekf;
 mod lqr;
 mod strain;

@@ -1,0 +1,218 @@
+//! Velocity feedback through the servo's setpoint, on a single section held on its vehicle
+//! (one flexible mode, undamped, no clearance): the closed loop's damping ratio, read from
+//! the decay of the tip's vibration, is the one designed; without gains the loop is the open
+//! loop; the vehicle comes back to its target; bad files are refused naming the field.
+
+mod common;
+
+use telescopic::control::velocity::{
+    VelocityDesign, VelocityFeedback, design_velocity_feedback, simulate_velocity,
+};
+use telescopic::moves::candidates::unshaped;
+use telescopic::moves::moving_scene;
+use telescopic::run::{SimulationOptions, simulate_scene};
+use telescopic::{Scene, Silent};
+use telescopic_runtime::SCurve;
+
+/// A 0.5 m move of the held section (first mode near 2.7 Hz), simulated until `arrival + 6` s.
+fn moving() -> (Scene, f64) {
+    let scene = common::single_section(
+        "servo",
+        "motion = 0.0",
+        1.0,
+        0.001,
+        &["sections.modes=2".to_string()],
+    );
+    let curve = SCurve {
+        start: 0.0,
+        from: 0.0,
+        distance: 0.5,
+        v_max: 1.0,
+        a_max: 1.0,
+        j_max: 20.0,
+    };
+    let candidate = unshaped(&curve);
+    let end = candidate.arrival_s + 6.0;
+    (
+        moving_scene(&scene, &candidate.profile, end).unwrap(),
+        candidate.arrival_s,
+    )
+}
+
+fn options() -> SimulationOptions {
+    SimulationOptions {
+        error_estimate: false,
+        ..SimulationOptions::default()
+    }
+}
+
+/// The feedback designed for `scene` adding `zeta`, without measurement noise.
+fn noiseless(scene: &Scene, zeta: f64) -> VelocityFeedback {
+    let design = VelocityDesign {
+        added_damping: zeta,
+        ..VelocityDesign::default()
+    };
+    let mut file = design_velocity_feedback(scene, &design).unwrap();
+    file.noise = vec![0.0; 2];
+    file
+}
+
+/// `(t, tip_rel)` of a run after `from` (s).
+fn tip_after(traj: &telescopic::run::Trajectory, from: f64) -> Vec<(f64, f64)> {
+    let tip = traj.index("tip_rel").unwrap();
+    traj.rows
+        .iter()
+        .filter(|r| r[0] >= from)
+        .map(|r| (r[0], r[tip]))
+        .collect()
+}
+
+/// The damping ratio from the logarithmic decrement of the first `count` positive peaks.
+fn damping_ratio(series: &[(f64, f64)], count: usize) -> f64 {
+    let peaks: Vec<f64> = series
+        .windows(3)
+        .filter(|w| w[1].1 > w[0].1 && w[1].1 >= w[2].1 && w[1].1 > 0.0)
+        .map(|w| w[1].1)
+        .take(count)
+        .collect();
+    assert_eq!(peaks.len(), count, "too few peaks: {peaks:?}");
+    let delta = (peaks[0] / peaks[count - 1]).ln() / (count - 1) as f64;
+    delta / (4.0 * std::f64::consts::PI.powi(2) + delta * delta).sqrt()
+}
+
+#[test]
+fn the_closed_loop_damps_the_first_mode_by_the_designed_ratio() {
+    let (scene, arrival) = moving();
+    let open = simulate_scene(&scene, &options(), &Silent).unwrap();
+    // the structure has no damping of its own: the open loop's decrement is zero
+    let undamped = damping_ratio(&tip_after(&open.trajectory, arrival), 4);
+    assert!(undamped.abs() < 2e-3, "open loop {undamped}");
+    for zeta in [0.05, 0.1] {
+        let file = noiseless(&scene, zeta);
+        let run = simulate_velocity(&scene, &file, &options(), &Silent).unwrap();
+        let measured = damping_ratio(&tip_after(&run.simulation.trajectory, arrival), 4);
+        eprintln!("designed {zeta}, measured {measured}");
+        assert!(
+            (measured - zeta).abs() < 0.1 * zeta,
+            "designed {zeta}, measured {measured}"
+        );
+    }
+}
+
+#[test]
+fn the_vehicle_comes_back_to_its_target() {
+    let (scene, _) = moving();
+    let mut file = noiseless(&scene, 0.1);
+    file.noise = vec![1e-4, 1e-5];
+    let run = simulate_velocity(&scene, &file, &options(), &Silent).unwrap();
+    let traj = &run.simulation.trajectory;
+    let vehicle = traj.index("vehicle").unwrap();
+    let last = traj.rows.last().unwrap();
+    assert!(
+        (last[vehicle] - 0.5).abs() < 1e-3,
+        "vehicle {}",
+        last[vehicle]
+    );
+    // and the correction stayed within its bounds
+    let largest = run.forces.iter().map(|c| c.1.abs()).fold(0.0, f64::max);
+    assert!(largest > 0.0 && largest <= file.velocity_limit_m_per_s);
+    let steps = run.forces.windows(2).map(|w| (w[1].1 - w[0].1).abs());
+    let period = 1.0 / file.rate_hz;
+    assert!(steps.fold(0.0, f64::max) <= file.acceleration_limit_m_per_s2 * period * (1.0 + 1e-12));
+}
+
+#[test]
+fn without_gains_the_loop_is_the_open_loop() {
+    let (scene, _) = moving();
+    let mut file = noiseless(&scene, 0.1);
+    for p in &mut file.points {
+        p.gain_m2_per_s = 0.0;
+    }
+    let run = simulate_velocity(&scene, &file, &options(), &Silent).unwrap();
+    let open = simulate_scene(&scene, &options(), &Silent).unwrap();
+    let (a, b) = (
+        tip_after(&run.simulation.trajectory, 0.0),
+        tip_after(&open.trajectory, 0.0),
+    );
+    // the same sample times; the open loop adds a last row at the span's end, off the
+    // controller's grid
+    assert!(a.len().min(b.len()) > 1000);
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| {
+            assert!((x.0 - y.0).abs() < 1e-9);
+            (x.1 - y.1).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "largest difference {worst} m");
+}
+
+#[test]
+fn bad_files_and_scenes_are_refused_naming_the_rule() {
+    let (scene, _) = moving();
+    let file = noiseless(&scene, 0.1);
+    let back = VelocityFeedback::from_json(&file.to_json()).unwrap();
+    assert_eq!(back, file);
+    let mut bad = file.clone();
+    bad.rate_hz = 0.0;
+    let e = bad.check_fits(&scene).unwrap_err().to_string();
+    assert!(e.contains("rate_hz"), "{e}");
+    let mut bad = file.clone();
+    bad.points[0].gain_m2_per_s = f64::NAN;
+    let e = bad.check_fits(&scene).unwrap_err().to_string();
+    assert!(e.contains("points[0].gain_m2_per_s"), "{e}");
+    let text = file.to_json().replace("\"version\": 1", "\"version\": 7");
+    let e = VelocityFeedback::from_json(&text).unwrap_err().to_string();
+    assert!(e.contains("version 7"), "{e}");
+    let forced = common::single_section("forced", "force = 1.0", 1.0, 0.001, &[]);
+    let e = file.check_fits(&forced).unwrap_err().to_string();
+    assert!(e.contains("prescribed motion"), "{e}");
+    let e = design_velocity_feedback(&forced, &VelocityDesign::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("drive.motion"), "{e}");
+}
+
+#[test]
+fn the_quasi_static_curvature_of_a_slow_move_is_the_designed_one() {
+    // a move slow against the first mode (2.7 Hz): the section bends as the static solve of
+    // the linear model says, c times the setpoint's acceleration, plus the small undamped
+    // vibration the jerk switches leave; the least-squares c of the nonlinear run is c
+    let scene = common::single_section(
+        "slow",
+        "motion = 0.0",
+        1.0,
+        0.001,
+        &["sections.modes=3".to_string()],
+    );
+    let curve = SCurve {
+        start: 0.0,
+        from: 0.0,
+        distance: 0.5,
+        v_max: 0.2,
+        a_max: 0.1,
+        j_max: 0.05,
+    };
+    let candidate = unshaped(&curve);
+    let moving = moving_scene(&scene, &candidate.profile, candidate.arrival_s).unwrap();
+    let mut file = noiseless(&moving, 0.1);
+    for p in &mut file.points {
+        p.gain_m2_per_s = 0.0;
+    }
+    let c = file.points[0].curvature_per_acceleration;
+    let run = simulate_velocity(&moving, &file, &options(), &Silent).unwrap();
+    let traj = &run.simulation.trajectory;
+    let kappa = traj.index("kappa_1_0").unwrap();
+    let (mut along, mut norm) = (0.0, 0.0);
+    for r in &traj.rows {
+        let a = candidate.profile.acceleration(r[0]);
+        along += r[kappa] * a;
+        norm += a * a;
+    }
+    let fitted = along / norm;
+    assert!(
+        (fitted - c).abs() < 0.01 * c.abs(),
+        "designed {c:e}, fitted {fitted:e} 1/m per m/s^2"
+    );
+}
