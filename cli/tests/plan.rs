@@ -139,6 +139,18 @@ fn a_plan_with_feedback_writes_its_file_and_simulate_reproduces_its_row() {
         (measured - reported).abs() < 0.006,
         "the plan says {reported} s, simulate --controller gives {measured} s"
     );
+    // the animation reads the same file: the run with the feedback beside the one without
+    let page = dir.join("plan.html");
+    let out = succeeds(&[
+        "animate",
+        plan.to_str().unwrap(),
+        "--controller",
+        feedback.to_str().unwrap(),
+        "--out",
+        page.to_str().unwrap(),
+    ]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(said.contains("wrote") && page.is_file(), "{said}");
 }
 
 #[test]

@@ -54,7 +54,7 @@ pub fn moving_scene(scene: &Scene, profile: &Profile, end: f64) -> Result<Scene>
 
 /// The first mode's period (s) along the move, with the vehicle held, scheduled on the
 /// moving telescopic position (a monotone cubic through its values at the positions reached
-/// every [`SCHEDULE_STEP_S`]; a number when no position moves), and its value at `arrival`
+/// every 0.25 s; a number when no position moves), and its value at `arrival`
 /// (s). With one moving position the period is a function of it; with several, the first
 /// one's schedule is exact only along the scene's own motion.
 pub fn first_period(held: &Scene, arrival: f64, end: f64) -> Result<(Profile, f64)> {
