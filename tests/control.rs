@@ -3,6 +3,8 @@
 //! the open loop, never exceeds the 300 N force limit, and ends within 1 % of the open loop's
 //! travel; the controller file carries a design anyone can check; bad input is refused.
 
+mod common;
+
 use telescopic::analysis::metrics::{drive_stop, metrics};
 use telescopic::control::riccati::care;
 use telescopic::control::{
@@ -501,7 +503,7 @@ fn the_emitted_c_controllers_reject_non_finite_ticks_under_sanitizers() {
         std::fs::create_dir_all(&dir).unwrap();
         write_c(&controller, plant.time.start, plant.time.end, &dir).unwrap();
         let program = dir.join("hostile_ticks");
-        compile_c(
+        common::compile_c(
             &[
                 "-O1",
                 "-g",
@@ -535,32 +537,6 @@ fn the_emitted_c_controllers_reject_non_finite_ticks_under_sanitizers() {
     }
 }
 
-/// Compiles C99 `sources` (headers from `include`) with every warning an error and `flags`
-/// into `out`, linking the maths library.
-fn compile_c(
-    flags: &[&str],
-    sources: &[&std::path::Path],
-    include: &std::path::Path,
-    out: &std::path::Path,
-) {
-    let compiled = std::process::Command::new("cc")
-        .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
-        .args(flags)
-        .arg("-I")
-        .arg(include)
-        .args(sources)
-        .arg("-o")
-        .arg(out)
-        .arg("-lm")
-        .output()
-        .expect("cc runs");
-    assert!(
-        compiled.status.success(),
-        "{}",
-        String::from_utf8_lossy(&compiled.stderr)
-    );
-}
-
 /// Designs, emits, compiles and loads the C controller, runs it and the library's in the loop
 /// on `plant`; returns the largest difference of their forces (N).
 fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
@@ -582,7 +558,7 @@ fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
     std::fs::create_dir_all(&dir).unwrap();
     write_c(&controller, plant.time.start, plant.time.end, &dir).unwrap();
     let library = dir.join("libtc.so");
-    compile_c(
+    common::compile_c(
         &["-O2", "-shared", "-fPIC"],
         &[&dir.join(C_FILES[1])],
         &dir,

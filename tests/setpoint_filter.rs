@@ -5,6 +5,8 @@
 //! finite or not one tick on are rejected.
 
 use telescopic::Scene;
+mod common;
+
 use telescopic::moves::candidates::{Candidate, shaped, unshaped};
 use telescopic::moves::emit::{FILTER_FILES, write_filter_c};
 use telescopic::moves::shapers::Shaper;
@@ -33,27 +35,11 @@ impl CFilter {
             .and_then(|n| n.parse().ok())
             .expect("TS_HISTORY");
         let library = dir.join("libts.so");
-        let compiled = std::process::Command::new("cc")
-            .args([
-                "-std=c99",
-                "-Wall",
-                "-Wextra",
-                "-Werror",
-                "-pedantic",
-                "-O2",
-            ])
-            .args(["-shared", "-fPIC", "-I"])
-            .arg(&dir)
-            .arg(dir.join(FILTER_FILES[1]))
-            .arg("-o")
-            .arg(&library)
-            .arg("-lm")
-            .output()
-            .expect("cc runs");
-        assert!(
-            compiled.status.success(),
-            "{}",
-            String::from_utf8_lossy(&compiled.stderr)
+        common::compile_c(
+            &["-O2", "-shared", "-fPIC"],
+            &[&dir.join(FILTER_FILES[1])],
+            &dir,
+            &library,
         );
         type Init = unsafe extern "C" fn(*mut f64);
         type Step = unsafe extern "C" fn(*mut f64, f64, *const f64, f64) -> f64;

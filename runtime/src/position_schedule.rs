@@ -5,7 +5,7 @@
 //! first mode as the telescope extends, and a machine computes it from the measured
 //! position (the emitted setpoint filter does).
 
-use crate::profile::{Profile, monotone_cubic};
+use crate::profile::{Profile, monotone_cubic, smoothstep};
 use serde::{Deserialize, Serialize};
 
 /// `{ kind = "position-schedule", position = .., positions = [..], values = [..],
@@ -25,25 +25,13 @@ pub struct PositionSchedule {
     pub over: [f64; 2],
 }
 
-/// `(f, f', f'')` of the factor going from `early` to `late` over `[start, end]` (s).
+/// `(f, f', f'')` of the factor going from `early` to `late` over `[start, end]` (s): `early`
+/// throughout for an empty span.
 pub fn stretch_factor([early, late]: [f64; 2], [start, end]: [f64; 2], t: f64) -> (f64, f64, f64) {
-    let span = end - start;
-    if t <= start || span <= 0.0 {
+    if end <= start {
         return (early, 0.0, 0.0);
     }
-    if t >= end {
-        return (late, 0.0, 0.0);
-    }
-    let u = (t - start) / span;
-    let jump = late - early;
-    let s = u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
-    let ds = 30.0 * u * u * (1.0 - u) * (1.0 - u);
-    let dds = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u);
-    (
-        early + jump * s,
-        jump * ds / span,
-        jump * dds / (span * span),
-    )
+    smoothstep((early, late), (start, end), t)
 }
 
 impl PositionSchedule {

@@ -340,26 +340,34 @@ impl Profile {
                 end,
                 from,
                 to,
-            }) => {
-                let span = end - start;
-                if t <= *start {
-                    (*from, 0.0, 0.0)
-                } else if t >= *end {
-                    (*to, 0.0, 0.0)
-                } else {
-                    let u = (t - start) / span;
-                    let jump = to - from;
-                    let s = u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
-                    let ds = 30.0 * u * u * (1.0 - u) * (1.0 - u);
-                    let dds = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u);
-                    (
-                        from + jump * s,
-                        jump * ds / span,
-                        jump * dds / (span * span),
-                    )
-                }
-            }
+            }) => smoothstep((*from, *to), (*start, *end), t),
         }
+    }
+}
+
+/// `(value, rate, acceleration)` at `t` of the quintic smoothstep from `from` at `start` to
+/// `to` at `end` (s): `from + (to - from)(10u^3 - 15u^4 + 6u^5)`, constant outside.
+pub(crate) fn smoothstep(
+    (from, to): (f64, f64),
+    (start, end): (f64, f64),
+    t: f64,
+) -> (f64, f64, f64) {
+    let span = end - start;
+    if t <= start {
+        (from, 0.0, 0.0)
+    } else if t >= end {
+        (to, 0.0, 0.0)
+    } else {
+        let u = (t - start) / span;
+        let jump = to - from;
+        let s = u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
+        let ds = 30.0 * u * u * (1.0 - u) * (1.0 - u);
+        let dds = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u);
+        (
+            from + jump * s,
+            jump * ds / span,
+            jump * dds / (span * span),
+        )
     }
 }
 

@@ -110,12 +110,11 @@ impl SCurve {
         }
     }
 
-    /// `(position, velocity, acceleration)` at `t` (s).
-    pub fn state(&self, t: f64) -> (f64, f64, f64) {
+    /// The seven phases as `(duration, jerk)` for a forward move (s, m/s^3).
+    fn jerk_phases(&self) -> [(f64, f64); 7] {
         let p = self.phases();
-        let sign = self.distance.signum();
         let j = self.j_max;
-        let phases = [
+        [
             (p.jerk, j),
             (p.constant_acceleration, 0.0),
             (p.jerk, -j),
@@ -123,7 +122,13 @@ impl SCurve {
             (p.jerk, -j),
             (p.constant_acceleration, 0.0),
             (p.jerk, j),
-        ];
+        ]
+    }
+
+    /// `(position, velocity, acceleration)` at `t` (s).
+    pub fn state(&self, t: f64) -> (f64, f64, f64) {
+        let sign = self.distance.signum();
+        let phases = self.jerk_phases();
         let (mut x, mut v, mut a) = (0.0, 0.0, 0.0);
         let mut left = t - self.start;
         if left <= 0.0 {
@@ -146,24 +151,13 @@ impl SCurve {
     /// The jerk (m/s^3) on `[t, t + dt)` for small `dt`: the phase `t` starts or lies in
     /// (zero before and after the move).
     pub fn jerk(&self, t: f64) -> f64 {
-        let p = self.phases();
-        let j = self.j_max * self.distance.signum();
-        let phases = [
-            (p.jerk, j),
-            (p.constant_acceleration, 0.0),
-            (p.jerk, -j),
-            (p.cruise, 0.0),
-            (p.jerk, -j),
-            (p.constant_acceleration, 0.0),
-            (p.jerk, j),
-        ];
         let mut left = t - self.start;
         if left < 0.0 {
             return 0.0;
         }
-        for (duration, jerk) in phases {
+        for (duration, jerk) in self.jerk_phases() {
             if left < duration {
-                return jerk;
+                return jerk * self.distance.signum();
             }
             left -= duration;
         }
@@ -172,18 +166,9 @@ impl SCurve {
 
     /// Times (s) where the jerk switches.
     pub fn switches(&self) -> Vec<f64> {
-        let p = self.phases();
         let mut t = self.start;
         let mut out = vec![t];
-        for d in [
-            p.jerk,
-            p.constant_acceleration,
-            p.jerk,
-            p.cruise,
-            p.jerk,
-            p.constant_acceleration,
-            p.jerk,
-        ] {
+        for (d, _) in self.jerk_phases() {
             if d > 0.0 {
                 t += d;
                 out.push(t);

@@ -3,14 +3,12 @@
 //! corrects a prescribed motion ([`VelocityFeedback`]). The `format` field tells them apart.
 
 use super::velocity::{VELOCITY_FEEDBACK_FORMAT, VelocityFeedback, simulate_velocity};
-use super::{ControlComparison, Controller, compare_with_open_loop, comparison_options};
-use crate::analysis::metrics::{drive_stop, metrics};
+use super::{ControlComparison, Controller, compare_with_open_loop};
 use crate::report::Reporter;
-use crate::run::{Simulation, SimulationOptions, simulate_scene};
-use crate::{Error, OptionName, Result};
+use crate::run::{Simulation, SimulationOptions};
+use crate::{Error, Result};
 use std::path::Path;
 use telescopic_runtime::Scene;
-use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
 
 /// A controller file of either kind.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,14 +42,7 @@ impl ControllerFile {
     /// # Errors
     /// [`Error::Option`] naming the file and what is wrong.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| {
-            Error::option(
-                OptionName::Controller,
-                format!("{}: cannot be read: {e}", path.display()),
-            )
-        })?;
-        ControllerFile::from_json(&text)
-            .map_err(|e| Error::option(OptionName::Controller, format!("{}: {e}", path.display())))
+        super::file::load_json(path, ControllerFile::from_json)
     }
 
     /// Checks that the file fits `scene`.
@@ -121,12 +112,5 @@ pub fn compare_file_with_open_loop(
     };
     crate::run::memory::check_runs(&[scene, scene], options.memory_budget)?;
     let controlled = simulate_velocity(scene, feedback, options, reporter)?.simulation;
-    let open_loop = simulate_scene(scene, &comparison_options(options)?, reporter)?;
-    let window = drive_stop(scene);
-    Ok(ControlComparison {
-        with: metrics(scene, &controlled.trajectory, window),
-        without: metrics(scene, &open_loop.trajectory, window),
-        controlled,
-        open_loop,
-    })
+    super::beside_open_loop(scene, controlled, options, reporter)
 }

@@ -20,20 +20,29 @@ fn field(name: &str, rule: impl std::fmt::Display) -> Error {
     Error::input(format!("controller `{name}`"), rule)
 }
 
+/// Reads the controller file at `path` (size-capped like a scene) and parses it with `parse`;
+/// every error names the file.
+///
+/// # Errors
+/// [`Error::Option`] naming the file and what is wrong.
+pub(crate) fn load_json<T>(path: &Path, parse: impl Fn(&str) -> Result<T>) -> Result<T> {
+    let text = read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| {
+        Error::option(
+            OptionName::Controller,
+            format!("{}: cannot be read: {e}", path.display()),
+        )
+    })?;
+    parse(&text)
+        .map_err(|e| Error::option(OptionName::Controller, format!("{}: {e}", path.display())))
+}
+
 impl Controller {
     /// Reads and checks a controller file (size-capped like a scene).
     ///
     /// # Errors
     /// [`Error::Option`] naming the file and what is wrong, or [`Error::Input`] for a field.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = read_text(path, MAX_TEXT_INPUT_BYTES).map_err(|e| {
-            Error::option(
-                OptionName::Controller,
-                format!("{}: cannot be read: {e}", path.display()),
-            )
-        })?;
-        Controller::from_json(&text)
-            .map_err(|e| Error::option(OptionName::Controller, format!("{}: {e}", path.display())))
+        load_json(path, Controller::from_json)
     }
 
     /// Checks that the controller fits `scene`: the same configuration and states in the

@@ -188,6 +188,20 @@ pub fn compare_with_open_loop(
 ) -> Result<ControlComparison> {
     crate::run::memory::check_runs(&[scene, scene], options.memory_budget)?;
     let controlled = simulate_controlled(scene, controller, options, reporter)?;
+    beside_open_loop(scene, controlled, options, reporter)
+}
+
+/// The `controlled` run of `scene` beside its open loop (run here on the same method and
+/// settings), both measured over the window after the drive stops.
+///
+/// # Errors
+/// The errors of the open-loop simulation.
+pub(crate) fn beside_open_loop(
+    scene: &Scene,
+    controlled: Simulation,
+    options: &SimulationOptions,
+    reporter: &dyn Reporter,
+) -> Result<ControlComparison> {
     let open_loop = simulate_scene(scene, &comparison_options(options)?, reporter)?;
     let window = drive_stop(scene);
     Ok(ControlComparison {

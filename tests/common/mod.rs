@@ -1,4 +1,5 @@
-//! What several test files share: a single section of the test rig's data on its vehicle;
+//! What several test files share: a single section of the test rig's data on its vehicle, the C
+//! compiler call of the emitted code's tests;
 //! reference runs and the predictability horizon ([`references`]).
 // each test binary uses its own part of this module
 #![allow(dead_code)]
@@ -25,4 +26,30 @@ pub fn single_section(
          [time]\nend = {end}\nsample = {sample}\n"
     );
     Scene::from_toml_str(&text, Path::new(&format!("{name}.toml")), overrides).unwrap()
+}
+
+/// Compiles C99 `sources` (headers from `include`) with every warning an error and `flags`
+/// into `out`, linking the maths library.
+pub fn compile_c(
+    flags: &[&str],
+    sources: &[&std::path::Path],
+    include: &std::path::Path,
+    out: &std::path::Path,
+) {
+    let compiled = std::process::Command::new("cc")
+        .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .args(flags)
+        .arg("-I")
+        .arg(include)
+        .args(sources)
+        .arg("-o")
+        .arg(out)
+        .arg("-lm")
+        .output()
+        .expect("cc runs");
+    assert!(
+        compiled.status.success(),
+        "{}",
+        String::from_utf8_lossy(&compiled.stderr)
+    );
 }
