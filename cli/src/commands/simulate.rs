@@ -242,7 +242,7 @@ fn plot_runs(
             format!("{} with {}", scene.name, c.describe()),
             Role::Controlled,
         ),
-        None => (clearance_label(&scene), Role::Scene),
+        None => (clearance_label(scene), Role::Scene),
     };
     let mut curves = vec![Curve {
         label,
@@ -277,7 +277,7 @@ fn plot_runs(
     let marks = match controller {
         Some(c) => Marks {
             force_limit: c.force_limit(),
-            residual_window: Some((drive_stop(&scene), scene.time.end)),
+            residual_window: Some((drive_stop(scene), scene.time.end)),
         },
         None => Marks::default(),
     };
