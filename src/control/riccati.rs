@@ -259,7 +259,8 @@ fn newton_kleinman(
         let wq = qt + k.transpose() * r * &k;
         let Ok(next) = lyapunov(&f, &wq) else { break };
         let next_res = residual(at, gt, qt, &next);
-        if !(next_res < res) {
+        // stop unless the residual fell (a NaN residual stops too)
+        if next_res.partial_cmp(&res) != Some(std::cmp::Ordering::Less) {
             break;
         }
         x = next;

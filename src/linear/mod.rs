@@ -311,6 +311,9 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
     })
 }
 
+/// A grid's name and its values.
+type NamedGrid = (String, Vec<f64>);
+
 /// The linear models over the grid `g` of one position (the others at `positions`, every
 /// rate zero), within `memory_budget` (bytes): the grid's name and values, and the models.
 fn grid_points(
@@ -319,7 +322,7 @@ fn grid_points(
     positions: &[f64],
     rates: &[f64],
     memory_budget: u64,
-) -> Result<((String, Vec<f64>), Vec<LinearModel>)> {
+) -> Result<(NamedGrid, Vec<LinearModel>)> {
     // the other positions must be valid too, whatever the grid's values
     lpv.check_point(positions, rates)
         .map_err(|e| Error::option(OptionName::Positions, e.to_string()))?;

@@ -580,9 +580,11 @@ fn dashed(
     DashedLineSeries::new(vec![(t0, y), (t1, y)], 8u32, 5u32, color.stroke_width(1))
 }
 
-/// The panel's columns of every curve that has them, scaled and decimated:
-/// `(curve, column, points)`.
-fn panel_series(panel: &Panel, curves: &[Curve]) -> Vec<(usize, usize, Vec<(f64, f64)>)> {
+/// One drawn series of a panel: `(curve, column, points)`.
+type Series = (usize, usize, Vec<(f64, f64)>);
+
+/// The panel's columns of every curve that has them, scaled and decimated.
+fn panel_series(panel: &Panel, curves: &[Curve]) -> Vec<Series> {
     let mut out = Vec::new();
     for (i, c) in curves.iter().enumerate() {
         for (j, column) in panel.columns.iter().enumerate() {
@@ -602,7 +604,7 @@ fn panel_series(panel: &Panel, curves: &[Curve]) -> Vec<(usize, usize, Vec<(f64,
 }
 
 /// The smallest and largest time and value of the series, `(t0, t1, y0, y1)`.
-fn bounds(series: &[(usize, usize, Vec<(f64, f64)>)]) -> (f64, f64, f64, f64) {
+fn bounds(series: &[Series]) -> (f64, f64, f64, f64) {
     let (mut t0, mut t1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for (_, _, s) in series {
         for &(t, y) in s {
@@ -619,7 +621,7 @@ fn bounds(series: &[(usize, usize, Vec<(f64, f64)>)]) -> (f64, f64, f64, f64) {
 /// edges (`band_edge`, the panel's unit), the force limit (N) and the residual window where
 /// they are drawn.
 fn panel_legend(
-    (panel, series): (&Panel, &[(usize, usize, Vec<(f64, f64)>)]),
+    (panel, series): (&Panel, &[Series]),
     curves: &[Curve],
     band_edge: Option<f64>,
     limit: Option<f64>,
