@@ -201,12 +201,17 @@ impl Setting<'_> {
     /// Nelder-Mead over the two stretches of `shaper`'s scheduled period (at the start and
     /// at the end of the move).
     fn optimized(&self, shaper: Shaper) -> Candidate {
+        // a fixed period (no position moves) has one stretch
+        let scheduled = self.is_scheduled();
+        let dims = if scheduled { 2 } else { 1 };
+        let stretches = |x: &[f64]| (x[0], x[dims - 1]);
         let mut objective = |x: &[f64]| {
+            let (early, late) = stretches(x);
             let c = candidates::shaped(
                 String::new(),
                 &self.curve,
                 shaper,
-                (&self.schedule, x[0], x[1]),
+                (&self.schedule, early, late),
             );
             evaluate(self.scene, (&c, None), &self.plants, self.options, self.end)
                 .map(|m| objective(&m, self.penalty()))
@@ -214,19 +219,22 @@ impl Setting<'_> {
         };
         let found = nelder_mead(
             &mut objective,
-            &[1.0, 1.0],
-            &[STRETCH_RANGE, STRETCH_RANGE],
+            &vec![1.0; dims],
+            &vec![STRETCH_RANGE; dims],
             OPTIMIZER_BUDGET,
         );
-        candidates::shaped(
-            format!(
-                "optimized {shaper} scheduled x {:.3}/{:.3}",
-                found.x[0], found.x[1]
-            ),
-            &self.curve,
-            shaper,
-            (&self.schedule, found.x[0], found.x[1]),
-        )
+        let (early, late) = stretches(&found.x);
+        let name = if scheduled {
+            format!("optimized {shaper} scheduled x {early:.3}/{late:.3}")
+        } else {
+            format!("optimized {shaper} x {early:.3}")
+        };
+        candidates::shaped(name, &self.curve, shaper, (&self.schedule, early, late))
+    }
+
+    /// Whether the period follows a moving position (else it is fixed).
+    fn is_scheduled(&self) -> bool {
+        !matches!(self.schedule, Profile::Constant(_))
     }
 }
 
@@ -267,9 +275,12 @@ fn setting<'a>(scene: &'a Scene, options: &'a PlanOptions) -> Result<(Setting<'a
     Ok((setting, period))
 }
 
-/// The unshaped S-curve, then each shaper with the fixed `period` and scheduled.
-fn candidate_list(s: &Setting, period: f64) -> Vec<Candidate> {
+/// The unshaped S-curve, then each shaper with the fixed `period` and, when a position
+/// moves, scheduled; with, for each shaper, the index of the candidate the optimizer may
+/// start from (the scheduled one, else the fixed one).
+fn candidate_list(s: &Setting, period: f64) -> (Vec<Candidate>, Vec<(Shaper, usize)>) {
     let mut list = vec![candidates::unshaped(&s.curve)];
+    let mut starts = Vec::with_capacity(Shaper::ALL.len());
     for shaper in Shaper::ALL {
         let fixed = (&Profile::Constant(period), 1.0, 1.0);
         list.push(candidates::shaped(
@@ -278,18 +289,21 @@ fn candidate_list(s: &Setting, period: f64) -> Vec<Candidate> {
             shaper,
             fixed,
         ));
-        let scheduled = (&s.schedule, 1.0, 1.0);
-        let name = format!("{shaper} scheduled");
-        list.push(candidates::shaped(name, &s.curve, shaper, scheduled));
+        if s.is_scheduled() {
+            let scheduled = (&s.schedule, 1.0, 1.0);
+            let name = format!("{shaper} scheduled");
+            list.push(candidates::shaped(name, &s.curve, shaper, scheduled));
+        }
+        starts.push((shaper, list.len() - 1));
     }
-    list
+    (list, starts)
 }
 
 /// The whole plan (see the module documentation).
 pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Result<MovePlan> {
     options.check()?;
     let (s, period) = setting(scene, options)?;
-    let mut list = candidate_list(&s, period);
+    let (mut list, starts) = candidate_list(&s, period);
     let mut rows: Vec<PlanRow> = Vec::new();
     let steps = (list.len() + 2) as f64;
     for (i, c) in list.iter().enumerate() {
@@ -302,15 +316,14 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         reporter.progress((i + 1) as f64 / steps);
     }
     if options.optimize {
-        // from the best scheduled shaper (the odd places after the S-curve)
-        let best_scheduled = (0..Shaper::ALL.len())
-            .min_by(|&a, &b| {
-                s.worst(&rows, 2 * a + 2)
-                    .total_cmp(&s.worst(&rows, 2 * b + 2))
-            })
+        // from the best scheduled shaper (the best fixed one when no position moves)
+        let (shaper, _) = starts
+            .iter()
+            .copied()
+            .min_by(|a, b| s.worst(&rows, a.1).total_cmp(&s.worst(&rows, b.1)))
             .expect("there are shapers");
-        reporter.note("optimizing the scheduled shaper's spacing");
-        let c = s.optimized(Shaper::ALL[best_scheduled]);
+        reporter.note("optimizing the shaper's spacing");
+        let c = s.optimized(shaper);
         rows.extend(s.rows(list.len(), &c)?);
         list.push(c);
     }
