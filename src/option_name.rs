@@ -143,6 +143,8 @@ pub enum OptionName {
     Robust,
     /// `PlanOptions::feedback`: the velocity feedback's design.
     Feedback,
+    /// `VelocityDesign::velocity_limit` and `acceleration_limit`: the correction's bounds.
+    CorrectionLimits,
     /// The candidate of a plan to write instead of the best (`MovePlan::candidate_named`).
     Pick,
     /// The setpoint filter emitted as C (`moves::emit::emit_filter_c`).
@@ -218,6 +220,7 @@ crate::named::named_enum!(OptionName, "an option", {
     Settle => "PlanOptions::settle_s",
     Robust => "PlanOptions::robust",
     Feedback => "PlanOptions::feedback",
+    CorrectionLimits => "VelocityDesign::velocity_limit/acceleration_limit",
     Pick => "MovePlan::candidate_named",
     EmitC => "moves::emit::emit_filter_c",
 });

@@ -73,6 +73,7 @@ pub fn flag(option: OptionName) -> &'static str {
         O::Settle => "--settle",
         O::Robust => "--robust",
         O::Feedback => "--feedback",
+        O::CorrectionLimits => "--correction-v-max/--correction-a-max",
         O::Pick => "--pick",
         O::EmitC => "--emit-c",
     }

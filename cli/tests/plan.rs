@@ -170,7 +170,18 @@ fn emit_c_writes_the_chosen_shaper_and_refuses_a_move_without_one() {
 
 #[test]
 fn bad_plan_options_are_refused_naming_the_flag() {
-    let refused: [(&[&str], &[&str]); 9] = [
+    let refused: [(&[&str], &[&str]); 10] = [
+        (
+            &[
+                "--distance",
+                "2",
+                "--feedback",
+                "0.2",
+                "--correction-v-max",
+                "-1",
+            ],
+            &["--correction-v-max", "velocity bound must be > 0"],
+        ),
         (
             &["--distance", "2", "--emit-c", "/nonexistent/dir"],
             &["--emit-c", "not an existing directory"],

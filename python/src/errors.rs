@@ -171,6 +171,7 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::Settle => "settle",
         O::Robust => "robust",
         O::Feedback => "feedback",
+        O::CorrectionLimits => "feedback",
         O::Pick => "pick",
         O::EmitC => "emit_c",
     }

@@ -282,8 +282,9 @@ fn check_design(design: &VelocityDesign) -> Result<()> {
         ("acceleration", design.acceleration_limit),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            return bad(format!(
-                "the correction's {what} bound must be > 0 (got {v})"
+            return Err(Error::option(
+                OptionName::CorrectionLimits,
+                format!("the correction's {what} bound must be > 0 (got {v})"),
             ));
         }
     }
