@@ -8,6 +8,10 @@ use crate::scene::PyScene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use telescopic::control::velocity::VelocityDesign;
+use telescopic::moves::{
+    DEFAULT_A_MAX, DEFAULT_CHECKS, DEFAULT_J_MAX, DEFAULT_SETTLE_S, DEFAULT_TOLERANCE_M,
+    DEFAULT_V_MAX,
+};
 use telescopic::moves::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 
 /// The plan's table as one dict per row (candidate, plant and the figures).
@@ -39,8 +43,10 @@ fn rows<'py>(py: Python<'py>, plan: &MovePlan) -> PyResult<Vec<Bound<'py, PyDict
 /// The shortest move that brings the load to rest (see `telescopic.plan`): `(rows, plan
 /// scene TOML, summary)`.
 #[pyfunction]
-#[pyo3(signature = (scene, distance, v_max = 2.5, a_max = 0.7, j_max = 2.0, tolerance = 0.005,
-    robust = None, settle = 10.0, optimize = true, checks = 4, force_limit = None, feedback = None,
+#[pyo3(signature = (scene, distance, v_max = DEFAULT_V_MAX, a_max = DEFAULT_A_MAX,
+    j_max = DEFAULT_J_MAX, tolerance = DEFAULT_TOLERANCE_M, robust = None,
+    settle = DEFAULT_SETTLE_S, optimize = true, checks = DEFAULT_CHECKS, force_limit = None,
+    feedback = None,
     options = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn plan<'py>(

@@ -168,6 +168,11 @@ impl<'de> Deserialize<'de> for Profile {
 }
 
 impl Profile {
+    /// `(value, rate, acceleration)` at time `t` (s), in one evaluation.
+    pub fn state(&self, t: f64) -> (f64, f64, f64) {
+        self.eval(t)
+    }
+
     /// Value at time `t` (s).
     pub fn value(&self, t: f64) -> f64 {
         self.eval(t).0

@@ -181,13 +181,19 @@ impl DriveResponse {
         ydot: &mut [f64],
     ) {
         model.rhs(t, y, states, ydot);
-        let n = self.0.len();
         let own = match &model.params().drive {
             Drive::Force(f) => f.value(t),
             Drive::Motion(s) => s.acceleration(t),
         };
+        self.add_input(input - own, ydot);
+    }
+
+    /// Adds to the accelerations in `ydot` (`[zd, zdd]`) what a change `change` of the drive
+    /// input (N, or m/s^2 for a prescribed motion) makes of them.
+    pub(crate) fn add_input(&self, change: f64, ydot: &mut [f64]) {
+        let n = self.0.len();
         for (a, r) in ydot[n..].iter_mut().zip(&self.0) {
-            *a += r * (input - own);
+            *a += r * change;
         }
     }
 }

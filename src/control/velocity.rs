@@ -498,12 +498,13 @@ impl SampledController for VelocityController {
             f.points[i].curvature_per_acceleration,
             f.points[j].curvature_per_acceleration,
         );
+        let (s, _, s_acceleration) = self.setpoint.state(t);
         // the departure from the quasi-static bending of the setpoint's acceleration
-        let departure = kappa - c * self.setpoint.acceleration(t);
+        let departure = kappa - c * s_acceleration;
         let (previous, washed) = self.curvature;
         let washed = previous.map_or(0.0, |p| self.washout * (washed + departure - p));
         self.curvature = (Some(departure), washed);
-        let wanted = gain * washed - f.position_gain_per_s * (u - self.setpoint.value(t));
+        let wanted = gain * washed - f.position_gain_per_s * (u - s);
         let step = f.acceleration_limit_m_per_s2 * self.period;
         let v = wanted
             .clamp(-f.velocity_limit_m_per_s, f.velocity_limit_m_per_s)
@@ -564,10 +565,7 @@ impl Model for ServoCorrected<'_> {
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
         self.base.rhs(t, y, states, ydot);
         let a = f64::from_bits(self.acceleration.load(Ordering::Relaxed));
-        let n = self.response.entries().len();
-        for (d, r) in ydot[n..].iter_mut().zip(self.response.entries()) {
-            *d += r * a;
-        }
+        self.response.add_input(a, ydot);
     }
     fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
         // the correction's acceleration is held over a tick: no state dependence

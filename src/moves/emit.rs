@@ -18,6 +18,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 use telescopic_runtime::{PositionSchedule, Profile, Scene, ShapedProfile, ShapedSetpoint};
 
+/// The emitted filter's default tick rate (Hz).
+pub const DEFAULT_FILTER_RATE_HZ: f64 = 1000.0;
+
 /// The file names written by [`write_filter_c`].
 pub const FILTER_FILES: [&str; 2] = ["telescopic_setpoint.h", "telescopic_setpoint.c"];
 

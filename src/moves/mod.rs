@@ -37,6 +37,13 @@ use metrics::CycleMetrics;
 use std::fmt::Write as _;
 use telescopic_runtime::Scene;
 
+/// The default velocity limit (m/s): the case study's drive.
+pub const DEFAULT_V_MAX: f64 = 2.5;
+/// The default acceleration limit (m/s^2).
+pub const DEFAULT_A_MAX: f64 = 0.7;
+/// The default jerk limit (m/s^3).
+pub const DEFAULT_J_MAX: f64 = 2.0;
+
 /// The move and the drive's limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MoveLimits {
@@ -49,6 +56,13 @@ pub struct MoveLimits {
     /// Jerk limit (m/s^3).
     pub j_max: f64,
 }
+
+/// The default tolerance on `tip_rel` (m).
+pub const DEFAULT_TOLERANCE_M: f64 = 0.005;
+/// The default time simulated after the longest candidate arrives (s).
+pub const DEFAULT_SETTLE_S: f64 = 10.0;
+/// The default number of check plants.
+pub const DEFAULT_CHECKS: usize = 4;
 
 /// Options of [`plan_move`].
 #[derive(Debug, Clone, PartialEq)]
@@ -80,11 +94,11 @@ impl PlanOptions {
     pub fn new(limits: MoveLimits) -> Self {
         PlanOptions {
             limits,
-            tolerance: 0.005,
+            tolerance: DEFAULT_TOLERANCE_M,
             robust: Vec::new(),
-            settle_s: 10.0,
+            settle_s: DEFAULT_SETTLE_S,
             optimize: true,
-            checks: 4,
+            checks: DEFAULT_CHECKS,
             force_limit: None,
             feedback: None,
             simulation: SimulationOptions::default(),

@@ -7,7 +7,8 @@ use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::control::velocity::VelocityDesign;
-use telescopic::moves::emit::write_filter_c;
+use telescopic::moves;
+use telescopic::moves::emit::{DEFAULT_FILTER_RATE_HZ, write_filter_c};
 use telescopic::moves::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 use telescopic::run::SimulationOptions;
 use telescopic::run::stress::Station;
@@ -23,31 +24,31 @@ pub struct PlanArgs {
     #[arg(long, value_name = "METRES")]
     distance: f64,
     /// The drive's velocity limit (m/s).
-    #[arg(long, value_name = "M/S", default_value_t = 2.5)]
+    #[arg(long, value_name = "M/S", default_value_t = moves::DEFAULT_V_MAX)]
     v_max: f64,
     /// The drive's acceleration limit (m/s^2).
-    #[arg(long, value_name = "M/S^2", default_value_t = 0.7)]
+    #[arg(long, value_name = "M/S^2", default_value_t = moves::DEFAULT_A_MAX)]
     a_max: f64,
     /// The drive's jerk limit (m/s^3).
-    #[arg(long, value_name = "M/S^3", default_value_t = 2.0)]
+    #[arg(long, value_name = "M/S^3", default_value_t = moves::DEFAULT_J_MAX)]
     j_max: f64,
     /// How still the load must be: tip_rel within this of its final rest (m); the vehicle
     /// must be within 1 mm of its target.
-    #[arg(long, value_name = "METRES", default_value_t = 0.005)]
+    #[arg(long, value_name = "METRES", default_value_t = moves::DEFAULT_TOLERANCE_M)]
     tolerance: f64,
     /// The robust set: scene values and their ranges, e.g.
     /// masses.load=10:30,contact.clearance=0.005:0.02; its corners and centre are evaluated.
     #[arg(long, value_name = "KEY=LOW:HIGH,...")]
     robust: Option<String>,
     /// Time simulated after the longest candidate arrives (s).
-    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    #[arg(long, value_name = "SECONDS", default_value_t = moves::DEFAULT_SETTLE_S)]
     settle: f64,
     /// Skip the optimizer (the spacing of the best scheduled shaper).
     #[arg(long)]
     no_optimize: bool,
     /// Plants inside the robust set, not evaluated by the planner, that the best plan is
     /// checked on.
-    #[arg(long, value_name = "N", default_value_t = 4)]
+    #[arg(long, value_name = "N", default_value_t = moves::DEFAULT_CHECKS)]
     checks: usize,
     /// The drive's force limit (N): a candidate whose reaction exceeds it is not chosen.
     #[arg(long, value_name = "NEWTONS")]
@@ -65,7 +66,7 @@ pub struct PlanArgs {
     #[arg(
         long,
         value_name = "M/S",
-        default_value_t = 0.25,
+        default_value_t = VelocityDesign::default().velocity_limit,
         requires = "feedback"
     )]
     correction_v_max: f64,
@@ -73,7 +74,7 @@ pub struct PlanArgs {
     #[arg(
         long,
         value_name = "M/S^2",
-        default_value_t = 1.0,
+        default_value_t = VelocityDesign::default().acceleration_limit,
         requires = "feedback"
     )]
     correction_a_max: f64,
@@ -86,7 +87,7 @@ pub struct PlanArgs {
     #[arg(long, value_name = "DIR")]
     emit_c: Option<PathBuf>,
     /// The emitted filter's tick rate (Hz).
-    #[arg(long, value_name = "HZ", default_value_t = 1000.0, requires = "emit_c")]
+    #[arg(long, value_name = "HZ", default_value_t = DEFAULT_FILTER_RATE_HZ, requires = "emit_c")]
     filter_rate: f64,
     /// Write the best plan as a scene (its setpoint as drive.motion); a plan with feedback
     /// also writes its feedback file beside it (PLAN.json).
