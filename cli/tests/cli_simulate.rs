@@ -44,11 +44,19 @@ fn csv_has_the_model_md_columns_and_one_row_per_sample() {
     let text = std::fs::read_to_string(&csv).unwrap();
     // the error budget leads as `#` lines, as the summary says it
     let budget: Vec<&str> = text.lines().take_while(|l| l.starts_with('#')).collect();
+    // with clearance the statistics beyond the window lead, then tip_rel inside it, then
+    // every other output's truncation
     assert!(
-        budget[0].starts_with("# error of tip_rel") && budget[0].contains("truncation"),
+        budget[0].starts_with("# error of the statistics beyond t = ")
+            && budget[1].starts_with("# error of tip_rel")
+            && budget[1].contains("truncation")
+            && budget[2].contains("gaps")
+            && budget[2].contains("contact forces"),
         "{budget:?}"
     );
-    assert!(err.contains(&budget[0][2..]), "{err}");
+    for line in &budget {
+        assert!(err.contains(&line[2..]), "{err}");
+    }
     let mut lines = text.lines().skip(budget.len());
     assert_eq!(
         lines.next().unwrap(),
@@ -504,6 +512,24 @@ fn exact_reports_its_long_steps_and_no_long_steps_turns_them_off() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The `accuracy search` lines of `stderr` as (which size, the verdict's first words).
+fn search_verdicts(stderr: &str) -> Vec<(String, String)> {
+    stderr
+        .lines()
+        .filter_map(|l| l.strip_prefix("accuracy search, "))
+        .map(|l| {
+            let (size, rest) = l.split_once(" (").expect("a size, then its figures");
+            let verdict = rest.rsplit_once("; ").expect("a verdict").1;
+            let verdict = verdict.split(" m x ").next().unwrap().trim_end_matches(')');
+            let verdict = match verdict.split_once(" estimate") {
+                Some((head, _)) => format!("{head} estimate"),
+                None => verdict.to_string(),
+            };
+            (size.to_string(), verdict)
+        })
+        .collect()
+}
+
 #[test]
 fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
     let csv = scratch("accuracy-size").join("run.csv");
@@ -521,6 +547,39 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
         err.contains("accuracy 1e-3 m in all")
             && err.contains("basis modes+static, 2 modes per section"),
         "{err}"
+    );
+    // a line per size checked, best-first by counted work: the paper's 4 and 6 modes are
+    // rejected by their estimate, 2 modes with the static shapes pass, and the paper's 9
+    // (costlier than a passing size) get no companion run
+    let search = search_verdicts(&err);
+    assert_eq!(
+        search,
+        [
+            ("size 1 of at most 11: modes 4", "rejected: tip_rel estimate"),
+            ("size 2 of at most 11: modes+static 2", "passes"),
+            ("size 3 of at most 11: modes 6", "rejected: tip_rel estimate"),
+            (
+                "size 4 of at most 11: modes 9",
+                "rejected: costs more than a passing size, not checked"
+            ),
+        ]
+        .map(|(a, b)| (a.to_string(), b.to_string())),
+        "{err}"
+    );
+    assert!(err.contains("the search: 5 runs, "), "{err}");
+    // the pick ranks by counted work, not time: a second run checks the same sizes in the
+    // same order with the same verdicts
+    let again = telescopic(&[
+        "simulate",
+        "scenes/adams-linear.toml",
+        "--accuracy",
+        "1e-3",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        search_verdicts(&String::from_utf8_lossy(&again.stderr)),
+        search
     );
     assert!(
         std::fs::read_to_string(&csv)

@@ -28,11 +28,17 @@ def test_simulate_equals_the_cli_csv(cli, tmp_path):
     assert error["window_end"] == "first-switch" and 0 < error["window_end_s"] < 2.0
     assert error["refined_modes"] == [6, 6] and sim.summary["modes"] == [4, 4]
     assert 0 < error["integration_m"] < error["truncation_m"] < 1e-2
-    header = csv.read_text().splitlines()[0]
+    # with clearance the statistics lead the header; then tip_rel, then the other outputs
+    lines = csv.read_text().splitlines()
+    assert lines[0].startswith("# error of the statistics beyond"), lines[0]
+    header = next(line for line in lines if line.startswith("# error of tip_rel"))
     written = float(re.search(r"truncation ([0-9.e+-]+) m", header).group(1))
     assert abs(written - error["truncation_m"]) <= 0.05 * error["truncation_m"], header
     assert set(error["statistics"]) >= {"rms-tip-rel", "peak-tip-rel", "contact-switches"}
     assert all(isinstance(v, tuple) and len(v) == 2 for v in error["statistics"].values())
+    # every other output's truncation, by column, in its own unit
+    assert {"top1_rel", "xi_2_0", "f_2_0", "kappa_1_0"} <= set(error["outputs"])
+    assert all(v >= 0 for v in error["outputs"].values())
     # one summary behind both faces: the command's JSON has the same keys and the same run
     theirs_summary = json.loads(out.stdout)
     assert set(theirs_summary) == set(sim.summary)

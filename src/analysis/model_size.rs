@@ -16,47 +16,10 @@ use crate::run::PreparedRun;
 use crate::run::error_budget::{Window, WindowEnd, window};
 use crate::run::{MethodChoice, SimulationOptions, Trajectory};
 use crate::{Error, Result};
-use std::fmt;
 use std::io::Write;
-use std::str::FromStr;
-use telescopic_runtime::{Basis, MAX_MODES, Method, Scene};
+use telescopic_runtime::{Method, Scene};
 
-/// One model size: the basis and the modes per section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ModelSize {
-    /// The basis.
-    pub basis: Basis,
-    /// Modes per section (every section the same).
-    pub modes: usize,
-}
-
-impl FromStr for ModelSize {
-    type Err = String;
-
-    /// `N` (the paper's modes) or `static:N` (with the static correction shapes).
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        let (basis, n) = match s.trim().split_once(':') {
-            Some(("static", n)) => (Basis::ModesAndStatic, n),
-            None => (Basis::Modes, s.trim()),
-            Some(_) => return Err(format!("`{s}` is not N or static:N")),
-        };
-        match n.parse::<usize>() {
-            Ok(modes) if (1..=MAX_MODES).contains(&modes) => Ok(ModelSize { basis, modes }),
-            _ => Err(format!(
-                "`{s}`: the modes per section must be 1 to {MAX_MODES} (N or static:N)"
-            )),
-        }
-    }
-}
-
-impl fmt::Display for ModelSize {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.basis {
-            Basis::Modes => write!(f, "{}", self.modes),
-            Basis::ModesAndStatic => write!(f, "static:{}", self.modes),
-        }
-    }
-}
+pub use crate::run::sized::ModelSize;
 
 /// Options of [`model_size_study`].
 #[derive(Debug, Clone, PartialEq)]
@@ -99,14 +62,19 @@ pub struct SizePoint {
     pub method: String,
     /// `rtol=...`, or `exact`.
     pub setting: String,
-    /// Median wall time (s).
+    /// Median wall time (s): reported, never ranked on (it changes with the machine's load).
     pub wall: f64,
+    /// Accepted steps of the run.
+    pub steps: u64,
+    /// The run's counted work ([`telescopic_runtime::RunStats::operations`]): the cost that
+    /// the front and the cheapest choices rank by.
+    pub operations: f64,
     /// Largest `|tip_rel|` difference from the beams inside the window (m).
     pub tip_error: f64,
     /// With clearance, the larger relative difference of the RMS and peak of `tip_rel`
     /// beyond the window; 0 without.
     pub statistics_error: f64,
-    /// Not beaten in both wall time and `tip_error` by another point (with statistics within
+    /// Not beaten in both counted work and `tip_error` by another point (with statistics within
     /// 5 % where there are any).
     pub pareto: bool,
 }
@@ -162,7 +130,7 @@ pub fn model_size_study(
     ));
     let mut points = Vec::new();
     for &size in &options.sizes {
-        let sized = sized(scene, size);
+        let sized = size.apply(scene);
         for &method in &options.methods {
             for (setting, simulation) in settings(&sized, method, options)? {
                 let point = measure(
@@ -188,16 +156,6 @@ pub fn model_size_study(
         reference: beams.reference.to_string(),
         points,
     })
-}
-
-/// `scene` with `size`.
-fn sized(scene: &Scene, size: ModelSize) -> Scene {
-    let mut s = scene.clone();
-    s.params.basis = size.basis;
-    for section in &mut s.params.sections {
-        section.modes = size.modes;
-    }
-    s
 }
 
 /// The runs of `method`: one per tolerance for an adaptive method, one for `exact`.
@@ -263,6 +221,8 @@ fn measure(
         method: run.plan.method.name().to_string(),
         setting: setting.to_string(),
         wall: walls[walls.len() / 2],
+        steps: trajectory.stats.steps,
+        operations: trajectory.stats.operations(),
         tip_error,
         statistics_error,
         pareto: false,
@@ -296,13 +256,13 @@ fn errors(run: &Trajectory, beams: &Trajectory, window: Window) -> (f64, f64) {
     (tip, relative(r1, r2).max(relative(p1, p2)))
 }
 
-/// Marks the points no other point beats in both wall time and tip error (among those with
-/// statistics within [`STATISTICS_LIMIT`]).
+/// Marks the points no other point beats in both counted work and tip error (among those
+/// with statistics within [`STATISTICS_LIMIT`]).
 fn mark_front(points: &mut [SizePoint]) {
     let counts = |p: &SizePoint| p.statistics_error <= STATISTICS_LIMIT;
     let snapshot: Vec<(f64, f64, bool)> = points
         .iter()
-        .map(|p| (p.wall, p.tip_error, counts(p)))
+        .map(|p| (p.operations, p.tip_error, counts(p)))
         .collect();
     for (i, p) in points.iter_mut().enumerate() {
         let (w, e, ok) = snapshot[i];
@@ -315,10 +275,13 @@ fn mark_front(points: &mut [SizePoint]) {
 
 fn describe(p: &SizePoint) -> String {
     format!(
-        "{:>9} {:>11} {:<14} wall {:.4} s, tip error {:.2e} m, statistics {:.1} %",
+        "{:>9} {:>11} {:<14} {} steps, {:.2e} operations, wall {:.4} s, tip error {:.2e} m, \
+         statistics {:.1} %",
         p.size.to_string(),
         p.method,
         p.setting,
+        p.steps,
+        p.operations,
         p.wall,
         p.tip_error,
         100.0 * p.statistics_error
@@ -326,13 +289,13 @@ fn describe(p: &SizePoint) -> String {
 }
 
 impl ModelSizeStudy {
-    /// The cheapest point whose tip error is within `error` (m) and statistics within
-    /// [`STATISTICS_LIMIT`].
+    /// The point of least counted work whose tip error is within `error` (m) and statistics
+    /// within [`STATISTICS_LIMIT`].
     pub fn cheapest_within(&self, error: f64) -> Option<&SizePoint> {
         self.points
             .iter()
             .filter(|p| p.tip_error <= error && p.statistics_error <= STATISTICS_LIMIT)
-            .min_by(|a, b| a.wall.total_cmp(&b.wall))
+            .min_by(|a, b| a.operations.total_cmp(&b.operations))
     }
 
     /// Lines for the summary: the cheapest point for 1 cm, 1 mm and 0.1 mm.
@@ -341,8 +304,15 @@ impl ModelSizeStudy {
             .iter()
             .map(|&e| match self.cheapest_within(e) {
                 Some(p) => format!(
-                    "cheapest within {e:e} m: modes {} {} {} ({:.4} s, {:.2e} m)",
-                    p.size, p.method, p.setting, p.wall, p.tip_error
+                    "cheapest within {e:e} m: modes {} {} {} ({:.2e} operations, {} steps, \
+                     {:.4} s, {:.2e} m)",
+                    p.size,
+                    p.method,
+                    p.setting,
+                    p.operations,
+                    p.steps,
+                    p.wall,
+                    p.tip_error
                 ),
                 None => format!("cheapest within {e:e} m: none of the runs"),
             })
@@ -357,12 +327,13 @@ impl ModelSizeStudy {
     pub fn write_table(&self, w: &mut dyn Write) -> std::io::Result<()> {
         writeln!(
             w,
-            "basis,modes,method,setting,wall_s,tip_error_window_m,statistics_error_rel,pareto"
+            "basis,modes,method,setting,wall_s,tip_error_window_m,statistics_error_rel,pareto,\
+             steps,operations"
         )?;
         for p in &self.points {
             writeln!(
                 w,
-                "{},{},{},{},{:e},{:e},{:e},{}",
+                "{},{},{},{},{:e},{:e},{:e},{},{},{:e}",
                 p.size.basis.word(),
                 p.size.modes,
                 p.method,
@@ -370,7 +341,9 @@ impl ModelSizeStudy {
                 p.wall,
                 p.tip_error,
                 p.statistics_error,
-                p.pareto
+                p.pareto,
+                p.steps,
+                p.operations
             )?;
         }
         Ok(())

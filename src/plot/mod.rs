@@ -60,6 +60,15 @@ pub struct Marks {
     pub residual_window: Option<(f64, f64)>,
 }
 
+/// `label` with the run's stated error ([`crate::run::error_budget::ErrorBudget::legend`]),
+/// when it was estimated: every figure of a run says how far its curves are from the beams.
+pub fn with_stated_error(label: String, run: &crate::run::Simulation) -> String {
+    match run.error.as_ref().and_then(|e| e.legend()) {
+        Some(error) => format!("{label} ({error})"),
+        None => label,
+    }
+}
+
 /// The label of a run by its clearance, e.g. `case-study, l_S = 10 mm`.
 pub fn clearance_label(scene: &telescopic_runtime::Scene) -> String {
     let mm = 2000.0 * scene.params.contact.half_band();

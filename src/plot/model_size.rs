@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use telescopic_runtime::Basis;
 
 impl ModelSizeStudy {
-    /// The chart: error against wall time, one curve per size, the front marked.
+    /// The chart: error against counted work, one curve per size, the front marked.
     pub fn chart(&self) -> impl Figure + '_ {
         SizeChart { study: self }
     }
@@ -49,18 +49,18 @@ impl Figure for SizeChart<'_> {
                     .points
                     .iter()
                     .filter(|p| p.size == *size)
-                    .map(|p| (p.wall, p.tip_error.max(1e-16)))
+                    .map(|p| (p.operations, p.tip_error.max(1e-16)))
                     .collect(),
                 marks: Vec::new(),
             })
             .collect();
         let mut front: Vec<&SizePoint> = s.points.iter().filter(|p| p.pareto).collect();
-        front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+        front.sort_by(|a, b| a.operations.total_cmp(&b.operations));
         series.push(LogSeries {
             label: "Pareto front".into(),
             points: front
                 .iter()
-                .map(|p| (p.wall, p.tip_error.max(1e-16)))
+                .map(|p| (p.operations, p.tip_error.max(1e-16)))
                 .collect(),
             marks: front.iter().map(|p| p.size.to_string()).collect(),
         });
@@ -68,7 +68,7 @@ impl Figure for SizeChart<'_> {
             &root,
             (
                 "tip_rel error against the beams",
-                "wall time [s]",
+                "counted work [operations]",
                 "max |error| [m]",
             ),
             &series,

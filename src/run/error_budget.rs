@@ -125,6 +125,10 @@ pub struct Truncation {
     pub tip_m: f64,
     /// Per station.
     pub moments: Vec<MomentError>,
+    /// Every other output the run prints (`top1_rel`, gaps, contact forces, drive force,
+    /// sensors), by column: the estimate of its truncation error inside the window, in the
+    /// column's own unit.
+    pub outputs: Vec<(String, f64)>,
     /// Beyond the window (clearance scenes only).
     pub statistics: Vec<StatisticError>,
 }
@@ -169,8 +173,54 @@ impl ErrorBudget {
             .reduce(f64::max)
     }
 
-    /// Lines for the run summary (also the CSV's `#` header).
+    /// Lines for the run summary (also the CSV's `#` header). With clearance the statistics
+    /// beyond the window lead: beyond the first impact they are what a run is good for.
     pub fn describe(&self, modes: &[usize]) -> Vec<String> {
+        let mut lines = vec![self.describe_tip(modes)];
+        if let Some(t) = &self.truncation {
+            if !t.moments.is_empty() {
+                let parts: Vec<String> = t
+                    .moments
+                    .iter()
+                    .map(|m| format!("{} {:.1} %", m.column, 100.0 * m.relative))
+                    .collect();
+                lines.push(format!(
+                    "moment truncation error in the window, of each station's peak: {}",
+                    parts.join(", ")
+                ));
+            }
+            if !t.outputs.is_empty() {
+                lines.push(describe_outputs(&t.outputs));
+            }
+            if !t.statistics.is_empty() {
+                lines.insert(0, self.describe_statistics(t));
+            }
+        }
+        lines
+    }
+
+    /// The stated error as a figure's legend says it: `tip_rel` in the window, and with
+    /// clearance the worst bounded statistic beyond it; `None` when not estimated.
+    pub fn legend(&self) -> Option<String> {
+        let total = self.total_m().or(self.truncation.as_ref().map(|t| t.tip_m))?;
+        let tip = match self.window.reason {
+            WindowEnd::SpanEnd => format!("stated error of tip_rel {total:.1e} m"),
+            WindowEnd::FirstSwitch => format!(
+                "stated error of tip_rel {total:.1e} m to {} s",
+                self.window.end
+            ),
+        };
+        let statistics = self
+            .worst_statistic(&[Statistic::TipRms, Statistic::TipPeak])
+            .map(|s| s + self.integration_statistics.unwrap_or(0.0));
+        Some(match statistics {
+            Some(s) => format!("{tip}, its RMS and peak beyond {:.1} %", 100.0 * s),
+            None => tip,
+        })
+    }
+
+    /// The line of the pointwise error of `tip_rel` in the window.
+    fn describe_tip(&self, modes: &[usize]) -> String {
         let window = match self.window.reason {
             WindowEnd::SpanEnd => format!("on [start, {}] s", self.window.end),
             WindowEnd::FirstSwitch => format!(
@@ -179,7 +229,10 @@ impl ErrorBudget {
             ),
         };
         let integration = match self.integration_m {
-            Some(e) => format!("integration {e:.1e} m (the measured run behind the method)"),
+            Some(e) => format!(
+                "integration {e:.1e} m (a stored figure: the measured reference run the \
+                 method was picked from, not this run)"
+            ),
             None => "integration not estimated (a method was given: `telescopic \
                      work-precision` measures it)"
                 .to_string(),
@@ -194,43 +247,60 @@ impl ErrorBudget {
             (None, Some(why)) => format!("truncation not estimated ({why})"),
             (None, None) => "truncation not estimated".to_string(),
         };
-        let mut lines = vec![format!(
-            "error of tip_rel {window}: {integration}; {truncation}"
-        )];
-        if let Some(t) = &self.truncation {
-            if !t.moments.is_empty() {
-                let parts: Vec<String> = t
-                    .moments
-                    .iter()
-                    .map(|m| format!("{} {:.1} %", m.column, 100.0 * m.relative))
-                    .collect();
-                lines.push(format!(
-                    "moment truncation error in the window, of each station's peak: {}",
-                    parts.join(", ")
-                ));
-            }
-            if !t.statistics.is_empty() {
-                let parts: Vec<String> = t
-                    .statistics
-                    .iter()
-                    .map(|s| format!("{} {:.1} %", s.statistic, 100.0 * s.relative))
-                    .collect();
-                let integration = match self.integration_statistics {
-                    Some(e) => format!(
-                        "integration {:.1} % (per-second peak and RMS of tip_rel, the \
-                         measured run's, or correct runs' spread); ",
-                        100.0 * e
-                    ),
-                    None => String::new(),
-                };
-                lines.push(format!(
-                    "statistics beyond the window, relative error: {integration}truncation {}",
-                    parts.join(", ")
-                ));
-            }
-        }
-        lines
+        format!("error of tip_rel {window}: {integration}; {truncation}")
     }
+
+    /// The line of the statistics' relative errors beyond the window.
+    fn describe_statistics(&self, t: &Truncation) -> String {
+        let parts: Vec<String> = t
+            .statistics
+            .iter()
+            .map(|s| format!("{} {:.1} %", s.statistic, 100.0 * s.relative))
+            .collect();
+        let integration = match self.integration_statistics {
+            Some(e) => format!(
+                "integration {:.1} % (per-second peak and RMS of tip_rel: a stored figure of \
+                 the reference run, or correct runs' spread); ",
+                100.0 * e
+            ),
+            None => String::new(),
+        };
+        format!(
+            "error of the statistics beyond t = {} s, relative: {integration}truncation {}",
+            self.window.end,
+            parts.join(", ")
+        )
+    }
+}
+
+/// The line of the other outputs' truncation estimates: the largest of each kind of column
+/// (the relative positions, the gaps, the contact forces), the rest by name.
+fn describe_outputs(outputs: &[(String, f64)]) -> String {
+    let kinds = [
+        ("xi_", "gaps", "m"),
+        ("f_", "contact forces", "N"),
+        ("stress_", "stresses", "Pa"),
+    ];
+    let mut parts = Vec::new();
+    for (prefix, label, unit) in kinds {
+        let worst = outputs
+            .iter()
+            .filter(|(c, _)| c.starts_with(prefix))
+            .map(|(_, e)| *e)
+            .reduce(f64::max);
+        if let Some(e) = worst {
+            parts.push(format!("{label} {e:.1e} {unit}"));
+        }
+    }
+    for (column, e) in outputs {
+        if !kinds.iter().any(|(p, _, _)| column.starts_with(p)) {
+            parts.push(format!("{column} {e:.1e}"));
+        }
+    }
+    format!(
+        "truncation error of the other outputs in the window (largest, SI units): {}",
+        parts.join(", ")
+    )
 }
 
 fn join(modes: &[usize]) -> String {
@@ -306,10 +376,32 @@ pub fn truncation(
     } else {
         Vec::new()
     };
+    // strictly before the window's end: the sample at a first switch has a contact force
+    // in one run and not in the other, a jump that says when, not how far off
+    let before_switch = |column: usize| {
+        run.rows
+            .iter()
+            .zip(&companion.rows)
+            .take_while(|(a, _)| a[0] < window.end || window.reason == WindowEnd::SpanEnd)
+            .map(|(a, b)| (a[column] - b[column]).abs())
+            .fold(0.0, f64::max)
+    };
+    let outputs = (0..run.names.len())
+        .filter(|&i| i + 1 != tip)
+        .filter(|&i| !["moment_", "z_"].iter().any(|p| run.names[i].starts_with(p)))
+        .filter(|&i| companion.names.get(i) == Some(&run.names[i]))
+        .map(|i| {
+            (
+                run.names[i].clone(),
+                TRUNCATION_FACTOR * before_switch(i + 1),
+            )
+        })
+        .collect();
     Truncation {
         refined_modes,
         tip_m: TRUNCATION_FACTOR * largest_difference(tip),
         moments,
+        outputs,
         statistics,
     }
 }

@@ -2,8 +2,8 @@
 //! method ([`mod@plan`]), the model chosen for the scene's configuration ([`models`]), the
 //! checks before a run starts ([`budget`], [`memory`]), the prepared run that integrates it
 //! ([`prepared`]), the outputs at stations ([`stress`]), the samples ([`trajectory`]), the
-//! error budget ([`error_budget`]), the search for a model size and method that meets a
-//! total accuracy ([`total_accuracy`]), the finished run ([`simulation`]) and its summary as
+//! error budget ([`error_budget`]), a model size ([`sized`]), the search for a model size and method that
+//! meets a total accuracy ([`total_accuracy`]), the finished run ([`simulation`]) and its summary as
 //! data ([`summary`]).
 //!
 //! ```
@@ -28,6 +28,7 @@ pub mod plan;
 pub mod prepared;
 pub mod simulate;
 pub mod simulation;
+pub mod sized;
 pub mod stress;
 pub mod summary;
 pub mod total_accuracy;
@@ -39,5 +40,6 @@ pub use plan::{MethodReason, Plan, plan};
 pub use prepared::PreparedRun;
 pub use simulate::{estimate_error, simulate_scene};
 pub use simulation::{Simulation, write_csv};
+pub use sized::ModelSize;
 pub use summary::{ErrorSummary, RunSummary};
 pub use trajectory::Trajectory;

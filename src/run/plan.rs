@@ -31,8 +31,12 @@ pub enum MethodReason {
         basis: Basis,
         /// Modes per section picked.
         modes: usize,
-        /// The sizes tried, described.
+        /// The sizes tried, described with their verdicts.
         tried: Vec<String>,
+        /// Runs the search made (sizes and their companions).
+        search_runs: usize,
+        /// The whole search's wall time (s), every run included.
+        search_s: f64,
         /// The integration's own reason.
         integration: Box<MethodReason>,
     },
@@ -55,12 +59,14 @@ impl std::fmt::Display for MethodReason {
                 basis,
                 modes,
                 tried,
+                search_runs,
+                search_s,
                 integration,
             } => write!(
                 f,
                 "accuracy {accuracy_m:e} m in all (estimated {estimated_m:.1e} m): basis {}, \
-                 {modes} modes per section, the cheapest size within it of those tried ({}); \
-                 {integration}",
+                 {modes} modes per section, the cheapest size within it of those tried ({}; \
+                 the search: {search_runs} runs, {search_s:.2} s); {integration}",
                 basis.word(),
                 tried.join(", "),
             ),

@@ -74,6 +74,8 @@ pub struct ErrorSummary {
     pub refined_modes: Option<Vec<usize>>,
     /// Truncation error of each station's moment, relative to its peak, by column.
     pub moments: BTreeMap<String, f64>,
+    /// Truncation error of every other output in the window, by column (its SI unit).
+    pub outputs: BTreeMap<String, f64>,
     /// Each statistic beyond the window: its value and its relative truncation error.
     pub statistics: BTreeMap<String, (f64, f64)>,
     /// Why the truncation part is missing.
@@ -137,6 +139,9 @@ impl ErrorSummary {
                         .map(|m| (m.column.clone(), m.relative))
                         .collect()
                 })
+                .unwrap_or_default(),
+            outputs: truncation
+                .map(|t| t.outputs.iter().cloned().collect())
                 .unwrap_or_default(),
             statistics: truncation
                 .map(|t| {

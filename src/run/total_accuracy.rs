@@ -3,24 +3,35 @@
 //!
 //! The accuracy is split: a tenth ([`INTEGRATION_SHARE`]) goes to the integration, whose
 //! method and tolerance come from the table of measured runs
-//! ([`telescopic_runtime::accuracy`]); the rest to the truncation of the model's size. For
-//! each basis (the paper's modes, and the modes with static correction shapes) the modes per
-//! section grow along [`refined_modes`] from a small start, each size checked by its
-//! companion run ([`crate::run::error_budget`]), until the estimate of the whole error in
-//! `tip_rel` is within the accuracy over [`ESTIMATE_MARGIN`], every station's moment within
+//! ([`telescopic_runtime::accuracy`]); the rest to the truncation of the model's size. Each
+//! basis (the paper's modes, and the modes with static correction shapes) has a ladder of
+//! sizes, the modes per section growing along [`refined_modes`] from a small start; a size is
+//! checked by its companion run, the next size of its ladder ([`crate::run::error_budget`]):
+//! it passes when the estimate of the whole error in `tip_rel` is within the accuracy over
+//! [`ESTIMATE_MARGIN`], every station's moment within
 //! [`SimulationOptions::moment_tolerance`] of its peak, and (with clearance) the statistics
-//! beyond the pointwise window within [`SimulationOptions::statistics_tolerance`]. Of the two
-//! bases' first sizes that pass, the one whose run costs fewer operations (counted from its
-//! steps, right-hand sides and matrix factorizations and exponentials, so that the pick does
-//! not depend on the machine's load) is kept; its companion run is the check the summary
-//! reports. A size whose run already costs four times the best one's ends its basis's search.
+//! beyond the pointwise window within [`SimulationOptions::statistics_tolerance`].
+//!
+//! The search is best-first by cost: it runs each ladder's first size, then always checks
+//! the cheapest size not yet checked, counted in operations
+//! ([`telescopic_runtime::RunStats::operations`]: steps, right-hand sides, factorizations and
+//! matrix exponentials, so the pick does not depend on the machine's load). A ladder ends at
+//! its first passing size, or at a size that costs more than a passing one (the costs grow
+//! along a ladder, so nothing above it could win). The passing size of least cost is kept;
+//! its companion run is the check the summary reports. No companion is run for a size that
+//! cannot win.
+//!
+//! The search tells its reporter which size of how many it runs, and notes each size's
+//! verdict with the check that rejected it; the summary names every size tried, why it was
+//! rejected, and the whole search's runs and wall time.
 
 use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::error_budget::{self, ErrorBudget, Statistic, refined_modes};
-use crate::run::{MethodReason, Simulation, SimulationOptions, plan};
+use crate::run::{MethodReason, ModelSize, Simulation, SimulationOptions, plan};
 use crate::{Error, Result};
+use std::time::Instant;
 use telescopic_runtime::{Basis, Scene};
 
 /// The whole errors that can be asked for (m): below, the truncation of the largest models
@@ -35,26 +46,8 @@ pub const INTEGRATION_SHARE: f64 = 0.1;
 /// error against the beams (docs/numerics.md).
 pub const ESTIMATE_MARGIN: f64 = 2.0;
 
-/// Where each basis's search starts (modes per section).
+/// Where each basis's ladder starts (modes per section).
 const STARTS: [(Basis, usize); 2] = [(Basis::Modes, 4), (Basis::ModesAndStatic, 2)];
-
-/// A size's run is not worth it once it costs this many times the best passing run's.
-const COST_CUTOFF: f64 = 4.0;
-
-/// The cost of a run (floating-point operations, roughly) from what it did, for a state of
-/// `n` entries: a step or a right-hand side costs a matrix-vector product, a Jacobian, a
-/// factorization or a matrix exponential a matrix-matrix one. A count, not a wall time: the
-/// pick does not depend on how busy the machine is, so the same scene picks the same size.
-fn operation_count(stats: &telescopic_runtime::RunStats, n: usize) -> f64 {
-    let (n2, n3) = ((n * n) as f64, (n * n * n) as f64);
-    (stats.steps + stats.rhs_evals) as f64 * n2
-        + (stats.jacobian_evals + stats.factorizations + stats.exponentials) as f64 * n3
-}
-
-/// The state size of `scene`'s model: every coordinate, the vehicle's included, and its rate.
-fn state_size(scene: &Scene) -> usize {
-    2 * (scene.params.coordinates().iter().sum::<usize>() + 1)
-}
 
 /// The statistics that [`SimulationOptions::statistics_tolerance`] bounds. Contact
 /// switches, peak contact forces and peak moments beyond the window are reported but not
@@ -62,17 +55,88 @@ fn state_size(scene: &Scene) -> usize {
 /// 5 % whatever the model's size (docs/numerics.md).
 pub const BOUNDED_STATISTICS: [Statistic; 2] = [Statistic::TipRms, Statistic::TipPeak];
 
+/// Why a size's budget fails the accuracy asked for: the first check that fails, with the
+/// numbers it compared.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Rejection {
+    /// The estimate of the whole error in `tip_rel` times [`ESTIMATE_MARGIN`] exceeds the
+    /// accuracy (m, m).
+    Tip {
+        /// The estimate (m).
+        estimated_m: f64,
+        /// The accuracy asked for (m).
+        accuracy_m: f64,
+    },
+    /// A station's moment truncation exceeds the moment tolerance (fractions of its peak).
+    Moment {
+        /// The worst station's estimate (1).
+        relative: f64,
+        /// [`SimulationOptions::moment_tolerance`] (1).
+        tolerance: f64,
+    },
+    /// A bounded statistic beyond the window exceeds the statistics tolerance (fractions).
+    Statistics {
+        /// The worst of [`BOUNDED_STATISTICS`] (1).
+        relative: f64,
+        /// [`SimulationOptions::statistics_tolerance`] (1).
+        tolerance: f64,
+    },
+    /// The size's run or its companion's is refused by the work budget.
+    Unaffordable,
+    /// The size's run costs more than a passing size's: it cannot be the cheapest.
+    CostlierThanPassing,
+    /// The size has the most modes there are: no companion can check it.
+    NoCompanion,
+}
+
+impl std::fmt::Display for Rejection {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Rejection::Tip {
+                estimated_m,
+                accuracy_m,
+            } => write!(
+                f,
+                "tip_rel estimate {estimated_m:.1e} m x {ESTIMATE_MARGIN} above {accuracy_m:e} m"
+            ),
+            Rejection::Moment {
+                relative,
+                tolerance,
+            } => write!(
+                f,
+                "a moment's truncation {:.1} % above {:.1} %",
+                100.0 * relative,
+                100.0 * tolerance
+            ),
+            Rejection::Statistics {
+                relative,
+                tolerance,
+            } => write!(
+                f,
+                "statistics of tip_rel beyond the window {:.1} % above {:.1} %",
+                100.0 * relative,
+                100.0 * tolerance
+            ),
+            Rejection::Unaffordable => write!(f, "unaffordable (the work budget refuses it)"),
+            Rejection::CostlierThanPassing => {
+                write!(f, "costs more than a passing size, not checked")
+            }
+            Rejection::NoCompanion => write!(f, "the most modes there are: no companion"),
+        }
+    }
+}
+
 /// One size tried.
 #[derive(Debug, Clone, PartialEq)]
 struct Attempt {
-    basis: Basis,
-    modes: usize,
+    size: ModelSize,
     wall: f64,
-    /// [`operation_count`] of its run.
+    /// [`telescopic_runtime::RunStats::operations`] of its run; 0 when it did not run.
     cost: f64,
     /// The estimate of the whole error in `tip_rel` (m).
     total: Option<f64>,
-    passed: bool,
+    /// `None` when it passed.
+    rejection: Option<Rejection>,
 }
 
 impl Attempt {
@@ -80,14 +144,96 @@ impl Attempt {
         let estimate = self
             .total
             .map_or("not estimated".into(), |e| format!("{e:.1e} m"));
+        let verdict = match &self.rejection {
+            None => "passes".to_string(),
+            Some(r) => format!("rejected: {r}"),
+        };
         format!(
-            "{} {} ({estimate}, {:.1e} operations, {:.3} s{})",
-            self.basis.word(),
-            self.modes,
+            "{} {} ({estimate}, {:.1e} operations, {:.3} s; {verdict})",
+            self.size.basis.word(),
+            self.size.modes,
             self.cost,
             self.wall,
-            if self.passed { "" } else { ", not within" }
         )
+    }
+}
+
+/// The sizes a basis's search may try from `start`, in order: `start` refined by
+/// [`refined_modes`] until the rule stops growing (the last has no companion).
+fn ladder(basis: Basis, start: usize) -> Vec<ModelSize> {
+    let mut sizes = vec![ModelSize {
+        basis,
+        modes: start,
+    }];
+    loop {
+        let last = sizes[sizes.len() - 1].modes;
+        let next = refined_modes(last);
+        if next == last {
+            return sizes;
+        }
+        sizes.push(ModelSize { basis, modes: next });
+    }
+}
+
+/// What the search reports: its reporter, and the sizes counted over every basis so that
+/// each run is named as size `k` of `n`.
+struct SearchProgress<'a> {
+    reporter: &'a dyn Reporter,
+    /// Sizes with a companion over every basis's ladder.
+    total: usize,
+    /// Sizes checked so far.
+    done: std::cell::Cell<usize>,
+    /// Runs made so far (sizes and companions).
+    runs: std::cell::Cell<usize>,
+}
+
+impl SearchProgress<'_> {
+    /// A reporter for the run of `size` (the size being checked, or its companion).
+    fn run_reporter(&self, size: ModelSize, role: &str) -> SearchStep<'_> {
+        self.runs.set(self.runs.get() + 1);
+        SearchStep {
+            inner: self.reporter,
+            label: format!(
+                "accuracy search, size {} of at most {}: {role} {size}",
+                self.done.get() + 1,
+                self.total
+            ),
+        }
+    }
+
+    /// Notes the verdict on `attempt`.
+    fn verdict(&self, attempt: &Attempt) {
+        self.done.set(self.done.get() + 1);
+        self.reporter.note(&format!(
+            "accuracy search, size {} of at most {}: {}",
+            self.done.get(),
+            self.total,
+            attempt.describe()
+        ));
+    }
+}
+
+/// A run's reporter inside the search: its start names the size.
+struct SearchStep<'a> {
+    inner: &'a dyn Reporter,
+    label: String,
+}
+
+impl Reporter for SearchStep<'_> {
+    fn start(&self, _what: &str) {
+        self.inner.start(&self.label);
+    }
+    fn progress(&self, fraction: f64) {
+        self.inner.progress(fraction);
+    }
+    fn finish(&self) {
+        self.inner.finish();
+    }
+    fn note(&self, line: &str) {
+        self.inner.note(line);
+    }
+    fn stop_requested(&self) -> bool {
+        self.inner.stop_requested()
     }
 }
 
@@ -102,6 +248,7 @@ pub fn simulate_for_accuracy(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<Simulation> {
+    let started = Instant::now();
     let accuracy = options.accuracy.expect("called with an accuracy");
     check_options(accuracy, options)?;
     let integration = SimulationOptions {
@@ -112,25 +259,19 @@ pub fn simulate_for_accuracy(
     };
     // refuses bad tolerances and the like before any run
     plan(scene, &integration)?;
+    let progress = SearchProgress {
+        reporter,
+        total: STARTS
+            .iter()
+            .map(|&(basis, start)| ladder(basis, start).len() - 1)
+            .sum(),
+        done: std::cell::Cell::new(0),
+        runs: std::cell::Cell::new(0),
+    };
     let mut attempts = Vec::new();
-    let mut best: Option<(Simulation, f64)> = None;
-    for (basis, start) in STARTS {
-        let cutoff = best.as_ref().map(|(_, cost)| COST_CUTOFF * cost);
-        if let Some(found) = search(
-            scene,
-            &integration,
-            options,
-            (basis, start),
-            cutoff,
-            &mut attempts,
-            reporter,
-        )? && best.as_ref().is_none_or(|(_, cost)| found.1 < *cost)
-        {
-            best = Some(found);
-        }
-    }
+    let best = search(scene, (&integration, options), &mut attempts, &progress)?;
     let tried: Vec<String> = attempts.iter().map(Attempt::describe).collect();
-    let Some((mut simulation, _)) = best else {
+    let Some(mut simulation) = best else {
         return Err(Error::option(
             OptionName::Accuracy,
             format!(
@@ -152,6 +293,8 @@ pub fn simulate_for_accuracy(
         basis: simulation.basis,
         modes: simulation.modes[0],
         tried,
+        search_runs: progress.runs.get(),
+        search_s: started.elapsed().as_secs_f64(),
         integration: Box::new(simulation.plan.reason.clone()),
     };
     Ok(simulation)
@@ -187,17 +330,7 @@ fn check_options(accuracy: f64, options: &SimulationOptions) -> Result<()> {
     Ok(())
 }
 
-/// `scene` with `basis` and `modes` on every section.
-fn sized(scene: &Scene, basis: Basis, modes: usize) -> Scene {
-    let mut s = scene.clone();
-    s.params.basis = basis;
-    for section in &mut s.params.sections {
-        section.modes = modes;
-    }
-    s
-}
-
-/// One run without an error estimate; `None` when the budget refuses it.
+/// One run of `size` without an error estimate; `None` when the budget refuses it.
 fn run(
     scene: &Scene,
     options: &SimulationOptions,
@@ -211,74 +344,158 @@ fn run(
     }
 }
 
-/// The first size of `basis` from `start` whose budget passes, with its run's
-/// [`operation_count`];
-/// `None` when none does within the cost cutoff or the mode limit.
-fn search(
-    scene: &Scene,
-    integration: &SimulationOptions,
-    options: &SimulationOptions,
-    (basis, start): (Basis, usize),
-    cutoff: Option<f64>,
-    attempts: &mut Vec<Attempt>,
-    reporter: &dyn Reporter,
-) -> Result<Option<(Simulation, f64)>> {
-    let mut modes = start;
-    let Some(mut current) = run(&sized(scene, basis, modes), integration, reporter)? else {
-        return Ok(None);
-    };
-    loop {
-        let stats = &current.trajectory.stats;
-        let wall = stats.wall.as_secs_f64();
-        let cost = operation_count(stats, state_size(&sized(scene, basis, modes)));
-        let refined = refined_modes(modes);
-        if refined == modes || cutoff.is_some_and(|c| cost > c) {
-            return Ok(None);
+/// One basis's ladder in the search: the size reached and its run.
+struct Rung {
+    ladder: Vec<ModelSize>,
+    /// Index in `ladder` of the size whose run is `run`.
+    at: usize,
+    run: Simulation,
+}
+
+impl Rung {
+    fn cost(&self) -> f64 {
+        self.run.trajectory.stats.operations()
+    }
+
+    fn attempt(&self, total: Option<f64>, rejection: Option<Rejection>) -> Attempt {
+        Attempt {
+            size: self.ladder[self.at],
+            wall: self.run.trajectory.stats.wall.as_secs_f64(),
+            cost: self.cost(),
+            total,
+            rejection,
         }
-        let Some(companion) = run(&sized(scene, basis, refined), integration, reporter)? else {
-            return Ok(None);
-        };
-        let window = error_budget::window(&scene.params, &current.trajectory);
-        let budget = ErrorBudget {
-            window,
-            integration_m: current.plan.integration_error_m,
-            integration_statistics: current.plan.integration_statistics_rel,
-            truncation: Some(error_budget::truncation(
-                &current.trajectory,
-                &companion.trajectory,
-                vec![refined; scene.params.sections.len()],
-                window,
-            )),
-            missing: None,
-        };
-        let passed = passes(&budget, options);
-        attempts.push(Attempt {
-            basis,
-            modes,
-            wall,
-            cost,
-            total: budget.total_m(),
-            passed,
-        });
-        if passed {
-            current.error = Some(budget);
-            return Ok(Some((current, cost)));
-        }
-        modes = refined;
-        current = companion;
     }
 }
 
-/// Whether `budget` meets the accuracy and tolerances of `options`.
-fn passes(budget: &ErrorBudget, options: &SimulationOptions) -> bool {
-    let accuracy = options.accuracy.expect("called with an accuracy");
-    budget
-        .total_m()
-        .is_some_and(|e| e * ESTIMATE_MARGIN <= accuracy)
-        && budget
-            .worst_moment()
-            .is_none_or(|m| m <= options.moment_tolerance)
-        && budget
-            .worst_statistic(&BOUNDED_STATISTICS)
-            .is_none_or(|s| s <= options.statistics_tolerance)
+/// The best-first search of the module documentation: the passing run of least cost, with
+/// its budget; `None` when no size passes. Every size checked or dropped is pushed to
+/// `attempts` with its verdict.
+fn search(
+    scene: &Scene,
+    (integration, options): (&SimulationOptions, &SimulationOptions),
+    attempts: &mut Vec<Attempt>,
+    progress: &SearchProgress,
+) -> Result<Option<Simulation>> {
+    let mut rungs = Vec::new();
+    for (basis, start) in STARTS {
+        let ladder = ladder(basis, start);
+        let step = progress.run_reporter(ladder[0], "running");
+        match run(&ladder[0].apply(scene), integration, &step)? {
+            Some(run) => rungs.push(Rung { ladder, at: 0, run }),
+            None => record(attempts, progress, unaffordable(ladder[0])),
+        }
+    }
+    let mut best: Option<(Simulation, f64)> = None;
+    while let Some(i) = cheapest(&rungs) {
+        let rung = rungs.swap_remove(i);
+        if best.as_ref().is_some_and(|(_, cost)| rung.cost() > *cost) {
+            let attempt = rung.attempt(None, Some(Rejection::CostlierThanPassing));
+            record(attempts, progress, attempt);
+            continue;
+        }
+        let Some(&refined) = rung.ladder.get(rung.at + 1) else {
+            let attempt = rung.attempt(None, Some(Rejection::NoCompanion));
+            record(attempts, progress, attempt);
+            continue;
+        };
+        let step = progress.run_reporter(refined, "its companion");
+        let Some(companion) = run(&refined.apply(scene), integration, &step)? else {
+            let attempt = rung.attempt(None, Some(Rejection::Unaffordable));
+            record(attempts, progress, attempt);
+            continue;
+        };
+        let budget = companion_budget(scene, &rung.run, &companion, refined);
+        let rejection = rejection(&budget, options);
+        let attempt = rung.attempt(budget.total_m(), rejection.clone());
+        record(attempts, progress, attempt);
+        if rejection.is_none() {
+            let cost = rung.cost();
+            let mut passing = rung.run;
+            passing.error = Some(budget);
+            if best.as_ref().is_none_or(|(_, c)| cost < *c) {
+                best = Some((passing, cost));
+            }
+        } else {
+            rungs.push(Rung {
+                ladder: rung.ladder,
+                at: rung.at + 1,
+                run: companion,
+            });
+        }
+    }
+    Ok(best.map(|(simulation, _)| simulation))
+}
+
+/// Index of the rung of least cost (ties to the first).
+fn cheapest(rungs: &[Rung]) -> Option<usize> {
+    (0..rungs.len()).min_by(|&a, &b| rungs[a].cost().total_cmp(&rungs[b].cost()))
+}
+
+/// The verdict on a size whose own run the work budget refuses.
+fn unaffordable(size: ModelSize) -> Attempt {
+    Attempt {
+        size,
+        wall: 0.0,
+        cost: 0.0,
+        total: None,
+        rejection: Some(Rejection::Unaffordable),
+    }
+}
+
+/// Notes `attempt` and keeps it.
+fn record(attempts: &mut Vec<Attempt>, progress: &SearchProgress, attempt: Attempt) {
+    progress.verdict(&attempt);
+    attempts.push(attempt);
+}
+
+/// The error budget of `run` from its `companion` of size `refined`.
+fn companion_budget(
+    scene: &Scene,
+    run: &Simulation,
+    companion: &Simulation,
+    refined: ModelSize,
+) -> ErrorBudget {
+    let window = error_budget::window(&scene.params, &run.trajectory);
+    ErrorBudget {
+        window,
+        integration_m: run.plan.integration_error_m,
+        integration_statistics: run.plan.integration_statistics_rel,
+        truncation: Some(error_budget::truncation(
+            &run.trajectory,
+            &companion.trajectory,
+            vec![refined.modes; scene.params.sections.len()],
+            window,
+        )),
+        missing: None,
+    }
+}
+
+/// Why `budget` fails the accuracy and tolerances of `options`; `None` when it meets them.
+fn rejection(budget: &ErrorBudget, options: &SimulationOptions) -> Option<Rejection> {
+    let accuracy_m = options.accuracy.expect("called with an accuracy");
+    let estimated_m = budget.total_m().unwrap_or(f64::INFINITY);
+    if estimated_m * ESTIMATE_MARGIN > accuracy_m {
+        return Some(Rejection::Tip {
+            estimated_m,
+            accuracy_m,
+        });
+    }
+    if let Some(relative) = budget.worst_moment()
+        && relative > options.moment_tolerance
+    {
+        return Some(Rejection::Moment {
+            relative,
+            tolerance: options.moment_tolerance,
+        });
+    }
+    match budget.worst_statistic(&BOUNDED_STATISTICS) {
+        Some(relative) if relative > options.statistics_tolerance => {
+            Some(Rejection::Statistics {
+                relative,
+                tolerance: options.statistics_tolerance,
+            })
+        }
+        _ => None,
+    }
 }

@@ -9,7 +9,7 @@ use telescopic::Scene;
 use telescopic::analysis::metrics::drive_stop;
 use telescopic::control::{ControllerFile, compare_file_with_open_loop};
 use telescopic::io::output::write_to;
-use telescopic::plot::{Curve, Marks, Role, clearance_label, plot};
+use telescopic::plot::{Curve, Marks, Role, clearance_label, plot, with_stated_error};
 use telescopic::run::models::ModelChoice;
 use telescopic::run::stress::Station;
 use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
@@ -245,7 +245,7 @@ fn plot_runs(
         None => (clearance_label(scene), Role::Scene),
     };
     let mut curves = vec![Curve {
-        label,
+        label: with_stated_error(label, run),
         traj: &run.trajectory,
         half_band,
         role,
@@ -268,7 +268,7 @@ fn plot_runs(
     };
     if let (Some(other), Some(run)) = (runs.other, &compared) {
         curves.push(Curve {
-            label: clearance_label(other),
+            label: with_stated_error(clearance_label(other), run),
             traj: &run.trajectory,
             half_band: other.params.contact.half_band(),
             role: Role::Compared,

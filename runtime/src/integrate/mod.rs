@@ -353,9 +353,22 @@ pub struct RunStats {
     pub step_cap: Option<f64>,
     /// Wall-clock time of the integration.
     pub wall: Duration,
+    /// Entries of the integrated state (twice the model's coordinates).
+    pub state_len: usize,
 }
 
 impl RunStats {
+    /// The run's work in floating-point operations, roughly, for its state of
+    /// [`RunStats::state_len`] entries: a step or a right-hand side costs a matrix-vector product, a Jacobian, a
+    /// factorization or a matrix exponential a matrix-matrix one. A count, not a wall time:
+    /// a choice ranked by it does not depend on how busy the machine is.
+    pub fn operations(&self) -> f64 {
+        let n2 = (self.state_len * self.state_len) as f64;
+        let n3 = n2 * self.state_len as f64;
+        (self.steps + self.rhs_evals) as f64 * n2
+            + (self.jacobian_evals + self.factorizations + self.exponentials) as f64 * n3
+    }
+
     /// Adds the counts of `other` (a later part of the same run); wall times add too.
     pub fn add(&mut self, other: &RunStats) {
         self.steps += other.steps;
@@ -368,6 +381,7 @@ impl RunStats {
         self.long_steps += other.long_steps;
         self.step_cap = self.step_cap.or(other.step_cap);
         self.wall += other.wall;
+        self.state_len = self.state_len.max(other.state_len);
     }
 }
 
@@ -713,6 +727,7 @@ pub fn simulate(
         None => Driver::new(model, y0, span, method, settings)?.run(observe, progress)?,
     };
     stats.wall = started.elapsed();
+    stats.state_len = y0.len();
     Ok(stats)
 }
 
