@@ -204,17 +204,16 @@ impl ErrorBudget {
     pub fn legend(&self) -> Option<String> {
         let total = self.total_m().or(self.truncation.as_ref().map(|t| t.tip_m))?;
         let tip = match self.window.reason {
-            WindowEnd::SpanEnd => format!("stated error of tip_rel {total:.1e} m"),
-            WindowEnd::FirstSwitch => format!(
-                "stated error of tip_rel {total:.1e} m to {} s",
-                self.window.end
-            ),
+            WindowEnd::SpanEnd => format!("error: tip_rel {total:.1e} m"),
+            WindowEnd::FirstSwitch => {
+                format!("error: tip_rel {total:.1e} m to {} s", self.window.end)
+            }
         };
         let statistics = self
             .worst_statistic(&[Statistic::TipRms, Statistic::TipPeak])
             .map(|s| s + self.integration_statistics.unwrap_or(0.0));
         Some(match statistics {
-            Some(s) => format!("{tip}, its RMS and peak beyond {:.1} %", 100.0 * s),
+            Some(s) => format!("{tip}, RMS/peak {:.0} %", 100.0 * s),
             None => tip,
         })
     }
