@@ -533,14 +533,17 @@ fn search_verdicts(stderr: &str) -> Vec<(String, String)> {
 #[test]
 fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
     let csv = scratch("accuracy-size").join("run.csv");
-    let out = telescopic(&[
-        "simulate",
-        "scenes/adams-linear.toml",
-        "--accuracy",
-        "1e-3",
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
+    let at_a_millimetre = || {
+        telescopic(&[
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--accuracy",
+            "1e-3",
+            "--out",
+            csv.to_str().unwrap(),
+        ])
+    };
+    let out = at_a_millimetre();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(
@@ -569,14 +572,7 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
     assert!(err.contains("the search: 5 runs, "), "{err}");
     // the pick ranks by counted work, not time: a second run checks the same sizes in the
     // same order with the same verdicts
-    let again = telescopic(&[
-        "simulate",
-        "scenes/adams-linear.toml",
-        "--accuracy",
-        "1e-3",
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
+    let again = at_a_millimetre();
     assert_eq!(
         search_verdicts(&String::from_utf8_lossy(&again.stderr)),
         search
