@@ -7,7 +7,7 @@
 use telescopic::analysis::beam_reference::{BeamResponse, beam_response, element_response};
 use telescopic::run::error_budget::{ErrorBudget, Statistic, WindowEnd};
 use telescopic::run::stress::Station;
-use telescopic::run::{Simulation, SimulationOptions, Trajectory, simulate_scene};
+use telescopic::run::{ModelSize, Simulation, SimulationOptions, Trajectory, simulate_scene};
 use telescopic::{Scene, Silent};
 use telescopic_runtime::{AssembledModel, Basis, ElementModel, modal_analysis};
 
@@ -24,12 +24,7 @@ fn scene(name: &str) -> Scene {
 }
 
 fn sized(scene: &Scene, basis: Basis, modes: usize) -> Scene {
-    let mut s = scene.clone();
-    s.params.basis = basis;
-    for section in &mut s.params.sections {
-        section.modes = modes;
-    }
-    s
+    ModelSize { basis, modes }.apply(scene)
 }
 
 fn column(t: &Trajectory, name: &str) -> Vec<f64> {

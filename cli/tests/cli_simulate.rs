@@ -558,9 +558,15 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
     assert_eq!(
         search,
         [
-            ("size 1 of at most 11: modes 4", "rejected: tip_rel estimate"),
+            (
+                "size 1 of at most 11: modes 4",
+                "rejected: tip_rel estimate"
+            ),
             ("size 2 of at most 11: modes+static 2", "passes"),
-            ("size 3 of at most 11: modes 6", "rejected: tip_rel estimate"),
+            (
+                "size 3 of at most 11: modes 6",
+                "rejected: tip_rel estimate"
+            ),
             (
                 "size 4 of at most 11: modes 9",
                 "rejected: costs more than a passing size, not checked"

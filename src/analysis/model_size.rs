@@ -306,13 +306,7 @@ impl ModelSizeStudy {
                 Some(p) => format!(
                     "cheapest within {e:e} m: modes {} {} {} ({:.2e} operations, {} steps, \
                      {:.4} s, {:.2e} m)",
-                    p.size,
-                    p.method,
-                    p.setting,
-                    p.operations,
-                    p.steps,
-                    p.wall,
-                    p.tip_error
+                    p.size, p.method, p.setting, p.operations, p.steps, p.wall, p.tip_error
                 ),
                 None => format!("cheapest within {e:e} m: none of the runs"),
             })

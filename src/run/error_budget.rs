@@ -202,7 +202,9 @@ impl ErrorBudget {
     /// The stated error as a figure's legend says it: `tip_rel` in the window, and with
     /// clearance the worst bounded statistic beyond it; `None` when not estimated.
     pub fn legend(&self) -> Option<String> {
-        let total = self.total_m().or(self.truncation.as_ref().map(|t| t.tip_m))?;
+        let total = self
+            .total_m()
+            .or(self.truncation.as_ref().map(|t| t.tip_m))?;
         let tip = match self.window.reason {
             WindowEnd::SpanEnd => format!("error: tip_rel {total:.1e} m"),
             WindowEnd::FirstSwitch => {
@@ -348,9 +350,15 @@ pub fn truncation(
     refined_modes: Vec<usize>,
     window: Window,
 ) -> Truncation {
-    let inside = |t: f64| t <= window.end;
     let tip = run.index("tip_rel").expect("every model has tip_rel");
-    let largest_difference = |column: usize| {
+    // the largest difference of a column up to the window's end; for the outputs other than
+    // the tip and the moments strictly before it: the sample at a first switch has a contact
+    // force in one run and not in the other, a jump that says when, not how far off
+    let largest_before = |column: usize, strictly: bool| {
+        let inside = |t: f64| match window.reason {
+            WindowEnd::FirstSwitch if strictly => t < window.end,
+            _ => t <= window.end,
+        };
         run.rows
             .iter()
             .zip(&companion.rows)
@@ -358,6 +366,7 @@ pub fn truncation(
             .map(|(a, b)| (a[column] - b[column]).abs())
             .fold(0.0, f64::max)
     };
+    let largest_difference = |column: usize| largest_before(column, false);
     let moments = (0..run.names.len())
         .filter(|&i| run.names[i].starts_with("moment_"))
         .map(|i| {
@@ -375,24 +384,18 @@ pub fn truncation(
     } else {
         Vec::new()
     };
-    // strictly before the window's end: the sample at a first switch has a contact force
-    // in one run and not in the other, a jump that says when, not how far off
-    let before_switch = |column: usize| {
-        run.rows
-            .iter()
-            .zip(&companion.rows)
-            .take_while(|(a, _)| a[0] < window.end || window.reason == WindowEnd::SpanEnd)
-            .map(|(a, b)| (a[column] - b[column]).abs())
-            .fold(0.0, f64::max)
-    };
     let outputs = (0..run.names.len())
         .filter(|&i| i + 1 != tip)
-        .filter(|&i| !["moment_", "z_"].iter().any(|p| run.names[i].starts_with(p)))
+        .filter(|&i| {
+            !["moment_", "z_"]
+                .iter()
+                .any(|p| run.names[i].starts_with(p))
+        })
         .filter(|&i| companion.names.get(i) == Some(&run.names[i]))
         .map(|i| {
             (
                 run.names[i].clone(),
-                TRUNCATION_FACTOR * before_switch(i + 1),
+                TRUNCATION_FACTOR * largest_before(i + 1, true),
             )
         })
         .collect();

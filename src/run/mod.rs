@@ -2,9 +2,9 @@
 //! method ([`mod@plan`]), the model chosen for the scene's configuration ([`models`]), the
 //! checks before a run starts ([`budget`], [`memory`]), the prepared run that integrates it
 //! ([`prepared`]), the outputs at stations ([`stress`]), the samples ([`trajectory`]), the
-//! error budget ([`error_budget`]), a model size ([`sized`]), the search for a model size and method that
-//! meets a total accuracy ([`total_accuracy`]), the finished run ([`simulation`]) and its summary as
-//! data ([`summary`]).
+//! error budget ([`error_budget`]), a model size ([`sized`]), the search for a model size
+//! and method that meets a total accuracy ([`total_accuracy`]), the finished run
+//! ([`simulation`]) and its summary as data ([`summary`]).
 //!
 //! ```
 //! use telescopic::run::{SimulationOptions, simulate_scene};

@@ -490,12 +490,10 @@ fn rejection(budget: &ErrorBudget, options: &SimulationOptions) -> Option<Reject
         });
     }
     match budget.worst_statistic(&BOUNDED_STATISTICS) {
-        Some(relative) if relative > options.statistics_tolerance => {
-            Some(Rejection::Statistics {
-                relative,
-                tolerance: options.statistics_tolerance,
-            })
-        }
+        Some(relative) if relative > options.statistics_tolerance => Some(Rejection::Statistics {
+            relative,
+            tolerance: options.statistics_tolerance,
+        }),
         _ => None,
     }
 }

@@ -359,9 +359,10 @@ pub struct RunStats {
 
 impl RunStats {
     /// The run's work in floating-point operations, roughly, for its state of
-    /// [`RunStats::state_len`] entries: a step or a right-hand side costs a matrix-vector product, a Jacobian, a
-    /// factorization or a matrix exponential a matrix-matrix one. A count, not a wall time:
-    /// a choice ranked by it does not depend on how busy the machine is.
+    /// [`RunStats::state_len`] entries: a step or a right-hand side costs a matrix-vector
+    /// product, a Jacobian, a factorization or a matrix exponential a matrix-matrix one. A
+    /// count, not a wall time: a choice ranked by it does not depend on how busy the machine
+    /// is.
     pub fn operations(&self) -> f64 {
         let n2 = (self.state_len * self.state_len) as f64;
         let n3 = n2 * self.state_len as f64;
