@@ -21,11 +21,19 @@
 //! `m x m` Cholesky factorization (`m` closed contacts): no Newton, no `n x n` factorization,
 //! no allocation per step.
 //!
+//! With the static correction shapes the beams' own stiffest modes join the implicit part
+//! ([`super::stiff_modes`]): `f_I` also holds `-[0 ; W S z]`, the stiff modes' share of
+//! `M^-1 K z`, and the stage system becomes `(I + U V') V = r` with `U = [alpha P, h^2
+//! gamma^2 W]`, `V' = [G' ; S]`, of rank `m + r` (`r` stiff modes), solved by the Woodbury
+//! identity; since `S W` is diagonal, the stiff block is eliminated first and an `m x m`
+//! Schur complement remains. The paper's basis has no stiff modes: its split is as above.
+//!
 //! Hand-written: no Rust crate offers an additive Runge-Kutta method whose implicit part is a
 //! low-rank update (diffsol's and SUNDIALS' ARKStep solve the implicit stages with a full
 //! Newton and their own time loop, while the event driver here must redo steps of any length
 //! from the same start).
 
+use super::stiff_modes::StiffModes;
 use super::{Settings, StepFailure, Stepper, System, error_norm};
 use crate::contact::ContactState;
 use crate::params::Drive;
@@ -117,6 +125,8 @@ struct ContactPart {
     stiffness: f64,
     damping: f64,
     half_band: f64,
+    /// The beams' stiff modes, treated implicitly too (static correction shapes only).
+    stiff: Option<StiffModes>,
 }
 
 /// The IMEX stepper with its stage storage.
@@ -137,9 +147,13 @@ pub struct Imex {
     p: DMatrix<f64>,
     /// The closed contacts: index and offset (`+l_S/2` upper, `-l_S/2` lower).
     closed: Vec<(usize, f64)>,
-    /// The `m x m` Woodbury system, its right-hand side and solution.
+    /// The `(m + r) x (m + r)` Woodbury system, its right-hand side and solution.
     small: Vec<f64>,
     small_rhs: Vec<f64>,
+    /// `S z` or `S v` of the stiff modes (`r` entries).
+    modal: Vec<f64>,
+    /// `G' W` and `S P` of the stage's Woodbury system (`m x r` and `r x m`, row-major).
+    coupling: Vec<f64>,
     /// Estimate the error of the coordinates only (as without clearance).
     coordinates_only: bool,
 }
@@ -163,6 +177,8 @@ impl Imex {
             closed: Vec::new(),
             small: Vec::new(),
             small_rhs: Vec::new(),
+            modal: Vec::new(),
+            coupling: Vec::new(),
             coordinates_only: false,
         }
     }
@@ -204,13 +220,18 @@ impl Imex {
         self.gdot = DMatrix::zeros(n, nc);
         self.p = DMatrix::zeros(n, nc);
         self.closed = Vec::with_capacity(nc);
+        let stiff = StiffModes::of(model);
+        let r = stiff.as_ref().map_or(0, StiffModes::len);
         self.small = vec![0.0; nc * nc];
         self.small_rhs = vec![0.0; nc];
+        self.modal = vec![0.0; r];
+        self.coupling = vec![0.0; 2 * nc * r];
         self.part = Some(ContactPart {
             compliance,
             stiffness: law.stiffness,
             damping: law.damping,
             half_band: law.half_band(),
+            stiff,
         });
     }
 
@@ -241,7 +262,7 @@ impl Imex {
     }
 
     /// `out = f_I(y)` at the contact vectors last prepared.
-    fn implicit_part(&self, y: &[f64], out: &mut [f64]) {
+    fn implicit_part(&mut self, y: &[f64], out: &mut [f64]) {
         let part = self.part.as_ref().expect("prepared");
         let n = self.dof;
         let (z, v) = y.split_at(n);
@@ -254,6 +275,14 @@ impl Imex {
                 *o -= p * force;
             }
         }
+        if let Some(stiff) = &part.stiff {
+            modal_coordinates(stiff, z, &mut self.modal);
+            for (j, &a) in self.modal.iter().enumerate() {
+                for (o, w) in out[n..].iter_mut().zip(column(stiff.w.as_slice(), n, j)) {
+                    *o -= w * a;
+                }
+            }
+        }
     }
 
     /// Solves the stage `Y = B + hg f_I(Y)` for `Y` (into `self.stage`) from `self.base`.
@@ -264,7 +293,7 @@ impl Imex {
         let (g, p) = (self.g.as_slice(), self.p.as_slice());
         let (bz, bv) = self.base.split_at(n);
         let (z, v) = self.stage.split_at_mut(n);
-        // r = B_v - hg P q, q_c = k (g_c . B_z - offset)
+        // r = B_v - hg P q - hg W S B_z, q_c = k (g_c . B_z - offset)
         v.copy_from_slice(bv);
         for &(c, offset) in &self.closed {
             let q = k * (dot(column(g, n, c), bz) - offset);
@@ -272,10 +301,21 @@ impl Imex {
                 *vr -= hg * p * q;
             }
         }
+        let stiff = part.stiff.as_ref();
+        if let Some(stiff) = stiff {
+            modal_coordinates(stiff, bz, &mut self.modal);
+            for (j, &a) in self.modal.iter().enumerate() {
+                for (vr, w) in v.iter_mut().zip(column(stiff.w.as_slice(), n, j)) {
+                    *vr -= hg * w * a;
+                }
+            }
+        }
         let m = self.closed.len();
-        if m > 0 {
+        let r = stiff.map_or(0, StiffModes::len);
+        let alpha = hg * (k * hg + d);
+        let beta = hg * hg;
+        if m > 0 && r == 0 {
             // (I_m + alpha G' P) x = G' r, then V = r - alpha P x
-            let alpha = hg * (k * hg + d);
             for (a, &(ca, _)) in self.closed.iter().enumerate() {
                 let ga = column(g, n, ca);
                 self.small_rhs[a] = dot(ga, v);
@@ -291,10 +331,135 @@ impl Imex {
                     *vr -= p * x;
                 }
             }
+        } else if let Some(stiff) = stiff {
+            let work = StiffWork {
+                small: &mut self.small,
+                small_rhs: &mut self.small_rhs,
+                modal: &mut self.modal,
+                coupling: &mut self.coupling,
+            };
+            solve_with_stiff_modes(v, (g, p, &self.closed), stiff, (alpha, beta), work);
         }
         for ((zr, b), vr) in z.iter_mut().zip(bz).zip(v.iter()) {
             *zr = b + hg * vr;
         }
+    }
+}
+
+/// `out = S x`, the stiff modes' `Lambda_h Phi_h' M x`.
+#[inline]
+fn modal_coordinates(stiff: &StiffModes, x: &[f64], out: &mut [f64]) {
+    let n = x.len();
+    for (j, o) in out.iter_mut().enumerate() {
+        *o = dot(column(stiff.st.as_slice(), n, j), x);
+    }
+}
+
+/// Scratch space of [`solve_with_stiff_modes`], allocated once per run.
+struct StiffWork<'a> {
+    /// The `m x m` Schur complement.
+    small: &'a mut [f64],
+    /// Its right-hand side and solution.
+    small_rhs: &'a mut [f64],
+    /// `S v`, then the stiff unknowns.
+    modal: &'a mut [f64],
+    /// `B = beta G' W` (`m x r`), then `C = alpha S P` (`r x m`), row-major.
+    coupling: &'a mut [f64],
+}
+
+/// Solves `(I + U V') x = v` in place, `U = [alpha P, beta W]`, `V' = [G' ; S]` over the
+/// closed contacts `closed` and the stiff modes: with `A = I + alpha G' P`, `B = beta G' W`,
+/// `C = alpha S P` and the diagonal `D = I + beta Lambda_h` (`S W = Lambda_h`), the stiff
+/// unknowns are `x_s = D^-1 (S v - C x_c)` and the contacts' solve
+/// `(A - B D^-1 C) x_c = G' v - B D^-1 S v`; then `v -= alpha P x_c + beta W x_s`.
+fn solve_with_stiff_modes(
+    v: &mut [f64],
+    (g, p, closed): (&[f64], &[f64], &[(usize, f64)]),
+    stiff: &StiffModes,
+    (alpha, beta): (f64, f64),
+    work: StiffWork,
+) {
+    let n = v.len();
+    let (m, r) = (closed.len(), stiff.len());
+    let (w, st) = (stiff.w.as_slice(), stiff.st.as_slice());
+    let d = |j: usize| 1.0 + beta * stiff.lambda[j];
+    let (b_blk, c_blk) = work.coupling.split_at_mut(m * r);
+    for (j, s) in work.modal.iter_mut().enumerate() {
+        *s = dot(column(st, n, j), v);
+    }
+    for (a, &(ca, _)) in closed.iter().enumerate() {
+        let ga = column(g, n, ca);
+        for j in 0..r {
+            b_blk[a * r + j] = beta * dot(ga, column(w, n, j));
+            c_blk[j * m + a] = alpha * dot(column(st, n, j), column(p, n, ca));
+        }
+    }
+    for (a, &(ca, _)) in closed.iter().enumerate() {
+        let ga = column(g, n, ca);
+        let coupled: f64 = (0..r)
+            .map(|j| b_blk[a * r + j] * work.modal[j] / d(j))
+            .sum();
+        work.small_rhs[a] = dot(ga, v) - coupled;
+        for (b, &(cb, _)) in closed.iter().enumerate() {
+            let schur: f64 = (0..r)
+                .map(|j| b_blk[a * r + j] * c_blk[j * m + b] / d(j))
+                .sum();
+            work.small[a * m + b] =
+                f64::from(u8::from(a == b)) + alpha * dot(ga, column(p, n, cb)) - schur;
+        }
+    }
+    if m > 0 {
+        lu_solve(&mut work.small[..m * m], &mut work.small_rhs[..m], m);
+    }
+    for j in 0..r {
+        let coupled: f64 = (0..m).map(|b| c_blk[j * m + b] * work.small_rhs[b]).sum();
+        work.modal[j] = (work.modal[j] - coupled) / d(j);
+    }
+    for (b, &(cb, _)) in closed.iter().enumerate() {
+        let x = alpha * work.small_rhs[b];
+        for (vr, pb) in v.iter_mut().zip(column(p, n, cb)) {
+            *vr -= pb * x;
+        }
+    }
+    for (j, &xs) in work.modal.iter().enumerate() {
+        let x = beta * xs;
+        for (vr, wj) in v.iter_mut().zip(column(w, n, j)) {
+            *vr -= wj * x;
+        }
+    }
+}
+
+/// Solves `S x = b` in place for a nonsingular `m x m` `S` (row-major) by Gaussian
+/// elimination with partial pivoting, overwriting `S` and `b` with `x`. Hand-written for the
+/// reason of [`cholesky_solve`]; the stiff modes' rows make the system unsymmetric.
+fn lu_solve(s: &mut [f64], b: &mut [f64], m: usize) {
+    for j in 0..m {
+        let pivot = (j..m)
+            .max_by(|&a, &c| s[a * m + j].abs().total_cmp(&s[c * m + j].abs()))
+            .expect("a column below the diagonal");
+        if pivot != j {
+            for k in 0..m {
+                s.swap(j * m + k, pivot * m + k);
+            }
+            b.swap(j, pivot);
+        }
+        let diag = s[j * m + j];
+        for i in j + 1..m {
+            let factor = s[i * m + j] / diag;
+            if factor != 0.0 {
+                for k in j..m {
+                    s[i * m + k] -= factor * s[j * m + k];
+                }
+                b[i] -= factor * b[j];
+            }
+        }
+    }
+    for i in (0..m).rev() {
+        let mut v = b[i];
+        for k in i + 1..m {
+            v -= s[i * m + k] * b[k];
+        }
+        b[i] = v / s[i * m + i];
     }
 }
 
@@ -394,7 +559,9 @@ impl Stepper for Imex {
             self.contacts_at(sys, ts);
             self.solve_stage(hg);
             let mut implicit = std::mem::take(&mut self.implicit[s]);
-            self.implicit_part(&self.stage, &mut implicit);
+            let stage = std::mem::take(&mut self.stage);
+            self.implicit_part(&stage, &mut implicit);
+            self.stage = stage;
             self.implicit[s] = implicit;
             let mut explicit = std::mem::take(&mut self.explicit[s]);
             sys.rhs(ts, &self.stage, &mut explicit);
@@ -487,6 +654,21 @@ mod tests {
         }
         // the embedded solution is of order 3 only
         assert!((dot(&BHAT, &c3) - 0.25).abs() > 1e-6);
+    }
+
+    #[test]
+    fn the_small_lu_solve_inverts_an_unsymmetric_system_that_needs_pivoting() {
+        // S = [[0, 2, 1], [3, 1, 0], [1, -1, 4]], x = [1, -2, 0.5]
+        let s0 = [0.0, 2.0, 1.0, 3.0, 1.0, 0.0, 1.0, -1.0, 4.0];
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|j| s0[i * 3 + j] * x[j]).sum())
+            .collect();
+        let mut s = s0;
+        lu_solve(&mut s, &mut b, 3);
+        for (got, want) in b.iter().zip(x) {
+            assert_relative_eq!(*got, want, epsilon = 1e-14);
+        }
     }
 
     #[test]

@@ -27,6 +27,7 @@ pub mod imex;
 pub mod newton;
 pub mod settled;
 pub mod stability;
+pub mod stiff_modes;
 #[cfg(test)]
 mod tableau;
 pub mod verlet;
