@@ -261,8 +261,9 @@ fn the_clearance_scenes_truncation_estimates_hold_against_the_beams() {
 }
 
 /// Runs `scene` at `accuracy` and checks it against `beams`: `tip_rel` inside the window
-/// within the accuracy, and with clearance the RMS and peak beyond it within 5 %.
-fn check_accuracy(name: &str, accuracy: f64, beams: &BeamResponse) {
+/// within the accuracy, and with clearance the RMS and peak beyond it within 5 %; returns the
+/// run.
+fn check_accuracy(name: &str, accuracy: f64, beams: &BeamResponse) -> Simulation {
     let scene = scene(name);
     let options = SimulationOptions {
         accuracy: Some(accuracy),
@@ -290,6 +291,7 @@ fn check_accuracy(name: &str, accuracy: f64, beams: &BeamResponse) {
             );
         }
     }
+    sim
 }
 
 #[test]
@@ -311,7 +313,13 @@ fn accuracy_is_met_against_the_beams_on_the_fixed_position_scenes() {
 fn accuracy_is_met_against_the_most_refined_ritz_model_on_the_moving_scenes() {
     for name in ["case-study-no-clearance", "case-study"] {
         let beams = beam_response(&scene(name), &[], &Silent).unwrap();
-        check_accuracy(name, 1e-3, &beams);
+        let sim = check_accuracy(name, 1e-3, &beams);
+        // without clearance every printed output is within its stated truncation error
+        // either way (with clearance a contact the reference closes just before the window's
+        // end reads its force there: docs/numerics.md)
+        if name == "case-study-no-clearance" {
+            check_other_outputs(name, &sim, &beams);
+        }
     }
 }
 

@@ -164,8 +164,9 @@ fn render(
             "\nAdaptive methods with an explicit part, largest stable step with closed contacts: {}.\n\
              dop853's step is capped at {STEP_CAP_SAFETY} of it while a contact is closed, so its step\n\
              control does not hover at the boundary; dopri5's PI control stays off it on its own.\n\
-             imex treats the contacts implicitly: its limit is set by the beams' own modes, which\n\
-             its split leaves slightly unstable beyond it (docs/numerics.md). dop853-imex takes\n\
+             imex treats the contacts implicitly (and the static correction shapes' stiff modes):\n\
+             its limit is set by the beams' other modes, which its split leaves slightly\n\
+             unstable beyond it (docs/numerics.md). dop853-imex takes\n\
              dop853's capped step while a closed contact rings after a switch and imex's once\n\
              dop853's error at that step has stayed below a tenth of the tolerance.",
             steps.join(", ")
