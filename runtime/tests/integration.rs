@@ -237,7 +237,7 @@ fn the_imex_method_converges_at_order_four_stepping_over_the_contact_modes() {
     let n = model.dof();
     let error = |steps: usize| {
         let h = end / steps as f64;
-        let mut stepper = Imex::new(n, &Settings::default());
+        let mut stepper = Imex::new(n, &Settings::default(), h);
         let mut y = vec![0.0; 2 * n];
         let (mut f, mut y1) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
         let mut sys = System {

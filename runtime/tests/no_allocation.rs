@@ -203,12 +203,12 @@ fn steps_allocate_as_documented(model: &dyn Model, y: &[f64]) {
         ("bdf", Box::new(Bdf::new(n, 5, &settings)), 1),
         ("verlet", Box::new(StormerVerlet::new(n)), 0),
         // the contact part's low-rank solve works in storage made on the first step
-        ("imex", Box::new(Imex::new(n, &settings)), 0),
+        ("imex", Box::new(Imex::new(n, &settings, 1e-3)), 0),
         // dop853 for its first quiet steps, then imex (a step cap of 2e-5 s: the 1e-5 s
         // steps count as near it)
         (
             "dop853-imex",
-            Box::new(SettledSteps::new(n, &settings, 2e-5)),
+            Box::new(SettledSteps::new(n, &settings, 2e-5, 1e-3)),
             0,
         ),
         (

@@ -37,13 +37,46 @@ const CAPPED_GROWTH: f64 = 1.1;
 /// once after almost every closing (its error some 1e4 tolerances), then cut to about this.
 const FIRST_STEP_AFTER_CLOSING: f64 = 0.3;
 
+/// Where an [`Driver::advance_to`] call ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stop {
+    /// At the time asked for.
+    Reached,
+    /// Just after a contact switch at this time (s), before the time asked for (only when
+    /// asked to stop there).
+    Switch(f64),
+    /// The progress callback asked to stop at this time (s).
+    Stopped(f64),
+}
+
+/// The step loop's memory between two [`Driver::advance_to`] calls.
+#[derive(Debug, Clone, Copy)]
+struct LoopMemory {
+    /// Whether the first sample is out and the first step chosen.
+    started: bool,
+    newton_failures: u32,
+    /// After a rejection the next step may not grow (Hairer's dopri5 rule: at the stability
+    /// boundary growing again at once is rejected again).
+    just_rejected: bool,
+    /// The last accepted step's error for the PI controller (Hairer's start value 1e-4).
+    err_old: f64,
+    next_break: usize,
+    last_report: f64,
+}
+
 pub(super) struct Driver<'m> {
+    memory: LoopMemory,
+    /// Stop just after a contact switch ([`Stop::Switch`]).
+    stop_on_switch: bool,
+    /// Where the current [`Driver::advance_to`] call ends (s), at most the span's end.
+    target: f64,
     sys: System<'m>,
     method: Method,
     stepper: Box<dyn Stepper>,
     settings: Settings,
     span: TimeSpan,
-    /// Times where the drive or a position profile is not smooth, inside the span, sorted.
+    /// Times after the start where the drive or a position profile is not smooth, sorted
+    /// (those beyond the current end wait for a later [`Driver::advance_to`]).
     breakpoints: Vec<f64>,
     /// Whether a profile is not smooth exactly at the span's end.
     end_is_break: bool,
@@ -106,18 +139,13 @@ impl<'m> Driver<'m> {
             .iter()
             .flat_map(|p| p.breakpoints())
             .chain(params.drive_profile().breakpoints())
-            .filter(|&b| b > span.start && b < span.end)
+            .filter(|&b| b > span.start)
             .collect();
         breakpoints.sort_by(f64::total_cmp);
         breakpoints.dedup();
         // a profile that changes exactly at the end (a run handing over to exact stepping
         // where the positions come to rest): the last step sees its left limit too
-        let end_is_break = params
-            .positions
-            .iter()
-            .flat_map(|p| p.breakpoints())
-            .chain(params.drive_profile().breakpoints())
-            .any(|b| b == span.end);
+        let end_is_break = breakpoints.contains(&span.end);
         let position_ranges = (1..params.sections.len())
             .map(|k| {
                 let (below, above) = (params.sections[k - 1].length, params.sections[k].length);
@@ -143,7 +171,17 @@ impl<'m> Driver<'m> {
         let step_cap = cap.filter(|_| settings.step_cap);
         sys.stats.step_cap = step_cap;
         Ok(Driver {
-            stepper: make_stepper(method, n, settings, cap),
+            memory: LoopMemory {
+                started: false,
+                newton_failures: 0,
+                just_rejected: false,
+                err_old: 1e-4,
+                next_break: 0,
+                last_report: span.start,
+            },
+            stop_on_switch: false,
+            target: span.end,
+            stepper: make_stepper(method, n, settings, cap, span.sample),
             sys,
             method,
             settings: *settings,
@@ -204,104 +242,171 @@ impl<'m> Driver<'m> {
         } else {
             (0.01 / d1.max(d2)).powf(1.0 / order)
         };
-        (100.0 * h0).min(h1).min(self.span.end - self.span.start)
+        (100.0 * h0).min(h1).min(self.target - self.span.start)
     }
 
+    /// Integrates over the whole span given to [`Driver::new`].
     pub(super) fn run(
         &mut self,
         mut observe: Observer,
-        mut progress: Option<Progress>,
+        progress: Option<Progress>,
     ) -> Result<RunStats, SimError> {
-        let end = self.span.end;
-        self.h = match (self.settings.dt, self.adaptive()) {
-            (Some(dt), _) => dt,
-            (None, true) => self.initial_step(),
-            (None, false) => unreachable!("checked in new"),
-        };
-        self.check_first_step()?;
-        observe(self.t, &self.y, &self.f0);
-        self.next_sample = 1;
-        let mut newton_failures = 0u32;
-        // after a rejection the next step may not grow (Hairer's dopri5 rule: at the
-        // stability boundary growing again at once is rejected again)
-        let mut just_rejected = false;
-        // the last accepted step's error for the PI controller (Hairer's start value)
-        let mut err_old = 1e-4;
-        let mut next_break = 0usize;
-        let mut last_report = self.t;
-        while self.t < end {
-            self.check_step_count()?;
-            let (t_break, t_stop) = self.next_stops(&mut next_break);
-            // only dop853 (and dop853-imex's dop853 part) has a cap; skip the branch scan for
-            // every other method
-            let capped = self.step_cap < f64::INFINITY
-                && !self.stepper.over_contact_modes()
-                && self.sys.tracker.any_closed();
-            if capped {
-                self.h = self.h.min(self.step_cap);
-            }
-            let remaining = t_stop - self.t;
-            // never leave a sliver before a stop
-            let h = if self.h >= remaining * (1.0 - 1e-9) {
-                remaining
-            } else {
-                self.h
-            };
-            let to_stop = h == remaining;
-            let toward_break = to_stop && t_stop == t_break && (t_break < end || self.end_is_break);
-            // the profiles' left limits apply up to a discontinuity
-            self.sys.time_cap = if toward_break {
-                t_break.next_down()
-            } else {
-                f64::INFINITY
-            };
-            let h_min = 16.0 * f64::EPSILON * self.t.abs().max(1.0);
-            let outcome =
-                self.stepper
-                    .step(&mut self.sys, self.t, &self.y, &self.f0, h, &mut self.y1);
-            let err = match outcome {
-                Ok(e) => {
-                    newton_failures = 0;
-                    e
-                }
-                Err(StepFailure::NewtonDiverged) => {
-                    newton_failures += 1;
-                    self.sys.stats.rejected += 1;
-                    // a fixed step does not shrink: the first failure is final
-                    if !self.adaptive() || newton_failures >= MAX_NEWTON_FAILURES || h / 4.0 < h_min
-                    {
-                        return Err(self.newton_failure(h, newton_failures));
-                    }
-                    self.h = h / 4.0;
-                    just_rejected = true;
-                    continue;
-                }
-            };
-            let finite = self.y1.iter().all(|v| v.is_finite());
-            if self.adaptive() && (!finite || err > 1.0) {
-                self.reject(h, err, finite, h_min)?;
-                just_rejected = true;
-                continue;
-            }
-            self.check_size(h, finite)?;
-            let step = self.accept(h, remaining, t_stop, toward_break, &mut observe)?;
-            if self.adaptive() {
-                err_old = self.next_step_size(&step, err, err_old, just_rejected, capped, to_stop);
-                just_rejected = false;
-            }
-            if let Some(p) = progress.as_mut()
-                && self.t - last_report >= 0.01 * (end - self.span.start)
-            {
-                if !p(self.t) {
-                    return Err(SimError::Stopped {
-                        t: self.t,
-                        method: self.method.name(),
-                    });
-                }
-                last_report = self.t;
+        match self.advance_to(self.span.end, &mut observe, progress)? {
+            Stop::Stopped(t) => Err(SimError::Stopped {
+                t,
+                method: self.method.name(),
+            }),
+            Stop::Reached | Stop::Switch(_) => Ok(self.sys.stats.clone()),
+        }
+    }
+
+    /// Whether [`Driver::advance_to`] returns just after each contact switch.
+    pub(super) fn set_stop_on_switch(&mut self, stop: bool) {
+        self.stop_on_switch = stop;
+    }
+
+    /// The time reached (s), the state there and the counts so far.
+    pub(super) fn now(&self) -> (f64, &[f64], &RunStats) {
+        (self.t, &self.y, &self.sys.stats)
+    }
+
+    /// The model's input changed at the current time (a held force set anew): the
+    /// derivative there is evaluated again and the method restarts, as at a drive
+    /// discontinuity; the step size is kept.
+    pub(super) fn input_changed(&mut self) {
+        self.stepper.restart();
+        let (t, y) = (self.t, &self.y);
+        self.sys.rhs(t, y, &mut self.f0);
+        self.memory.err_old = 1e-4;
+    }
+
+    /// Aims the next steps at `end` (s), moving the end of the span there when it lies
+    /// beyond it (the sample grid goes on from the span's start).
+    fn aim_at(&mut self, end: f64) {
+        if end > self.span.end {
+            let old = self.samples;
+            self.span.end = end;
+            self.samples = SampleGrid::new(&self.span);
+            // the old end off the grid was a sample of its own: the grid point after it is not
+            if self.next_sample == old.total && !old.ends_on_sample() {
+                self.next_sample -= 1;
             }
         }
-        Ok(self.sys.stats.clone())
+        self.target = end;
+        self.end_is_break = self.breakpoints.contains(&end);
+    }
+
+    /// Integrates from the time reached to `end` (s), calling `observe` at every sample
+    /// time on the way (the first call also at the start): the step size, the method's
+    /// factorizations and the contact states carry over from the last call.
+    pub(super) fn advance_to(
+        &mut self,
+        end: f64,
+        observe: &mut Observer,
+        mut progress: Option<Progress>,
+    ) -> Result<Stop, SimError> {
+        self.aim_at(end);
+        if !self.memory.started {
+            self.h = match (self.settings.dt, self.adaptive()) {
+                (Some(dt), _) => dt,
+                (None, true) => self.initial_step(),
+                (None, false) => unreachable!("checked in new"),
+            };
+            self.check_first_step()?;
+            observe(self.t, &self.y, &self.f0);
+            self.next_sample = 1;
+            self.memory.started = true;
+        }
+        while self.t < end {
+            let step = self.one_step(&mut *observe)?;
+            if let Some(p) = progress.as_mut()
+                && self.t - self.memory.last_report >= 0.01 * (self.span.end - self.span.start)
+            {
+                if !p(self.t) {
+                    return Ok(Stop::Stopped(self.t));
+                }
+                self.memory.last_report = self.t;
+            }
+            if step.is_some_and(|s| s.switched) && self.stop_on_switch && self.t < end {
+                return Ok(Stop::Switch(self.t));
+            }
+        }
+        Ok(Stop::Reached)
+    }
+
+    /// One trial step toward the span's end: the accepted step, or `None` when it was
+    /// rejected (the next trial's size is set).
+    #[inline]
+    fn one_step(&mut self, observe: &mut Observer) -> Result<Option<AcceptedStep>, SimError> {
+        self.check_step_count()?;
+        let mut next_break = self.memory.next_break;
+        let (t_break, t_stop) = self.next_stops(&mut next_break);
+        self.memory.next_break = next_break;
+        let end = self.target;
+        // only dop853 (and dop853-imex's dop853 part) has a cap; skip the branch scan for
+        // every other method
+        let capped = self.step_cap < f64::INFINITY
+            && !self.stepper.over_contact_modes()
+            && self.sys.tracker.any_closed();
+        if capped {
+            self.h = self.h.min(self.step_cap);
+        }
+        let remaining = t_stop - self.t;
+        // never leave a sliver before a stop
+        let h = if self.h >= remaining * (1.0 - 1e-9) {
+            remaining
+        } else {
+            self.h
+        };
+        let to_stop = h == remaining;
+        let toward_break = to_stop && t_stop == t_break && (t_break < end || self.end_is_break);
+        // the profiles' left limits apply up to a discontinuity
+        self.sys.time_cap = if toward_break {
+            t_break.next_down()
+        } else {
+            f64::INFINITY
+        };
+        let h_min = 16.0 * f64::EPSILON * self.t.abs().max(1.0);
+        let outcome = self
+            .stepper
+            .step(&mut self.sys, self.t, &self.y, &self.f0, h, &mut self.y1);
+        let err = match outcome {
+            Ok(e) => {
+                self.memory.newton_failures = 0;
+                e
+            }
+            Err(StepFailure::NewtonDiverged) => {
+                self.memory.newton_failures += 1;
+                self.sys.stats.rejected += 1;
+                let failures = self.memory.newton_failures;
+                // a fixed step does not shrink: the first failure is final
+                if !self.adaptive() || failures >= MAX_NEWTON_FAILURES || h / 4.0 < h_min {
+                    return Err(self.newton_failure(h, failures));
+                }
+                self.h = h / 4.0;
+                self.memory.just_rejected = true;
+                return Ok(None);
+            }
+        };
+        let finite = self.y1.iter().all(|v| v.is_finite());
+        if self.adaptive() && (!finite || err > 1.0) {
+            self.reject(h, err, finite, h_min)?;
+            self.memory.just_rejected = true;
+            return Ok(None);
+        }
+        self.check_size(h, finite)?;
+        let step = self.accept(h, remaining, t_stop, toward_break, observe)?;
+        if self.adaptive() {
+            let LoopMemory {
+                err_old,
+                just_rejected,
+                ..
+            } = self.memory;
+            self.memory.err_old =
+                self.next_step_size(&step, err, err_old, just_rejected, capped, to_stop);
+            self.memory.just_rejected = false;
+        }
+        Ok(Some(step))
     }
 
     /// Accepts the trial step of `h` (s) in `y1`: locates a contact switch inside it (which
@@ -410,13 +515,18 @@ impl<'m> Driver<'m> {
     /// their grid and interpolate).
     #[inline]
     fn next_stops(&self, next_break: &mut usize) -> (f64, f64) {
-        let end = self.span.end;
+        let end = self.target;
         while *next_break < self.breakpoints.len() && self.breakpoints[*next_break] <= self.t {
             *next_break += 1;
         }
-        let t_break = self.breakpoints.get(*next_break).copied().unwrap_or(end);
+        let t_break = self
+            .breakpoints
+            .get(*next_break)
+            .copied()
+            .filter(|&b| b < end)
+            .unwrap_or(end);
         let t_sample = if self.adaptive() && self.next_sample < self.samples.total {
-            self.samples.time(self.next_sample)
+            self.samples.time(self.next_sample).min(end)
         } else {
             end
         };
@@ -653,7 +763,7 @@ impl<'m> Driver<'m> {
                     .and_then(|m| m.frequencies_hz.last().copied())
                     .map(|f| 2.0 * std::f64::consts::PI * f);
                 let limit = omega_max.and_then(|w| {
-                    stable_step(self.sys.model, self.method, self.t, w)
+                    stable_step(self.sys.model, self.method, self.t, w, self.span.sample)
                         .ok()
                         .map(|l| (w, l))
                 });

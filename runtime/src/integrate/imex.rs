@@ -21,12 +21,12 @@
 //! `m x m` Cholesky factorization (`m` closed contacts): no Newton, no `n x n` factorization,
 //! no allocation per step.
 //!
-//! With the static correction shapes the beams' own stiffest modes join the implicit part
-//! ([`super::stiff_modes`]): `f_I` also holds `-[0 ; W S z]`, the stiff modes' share of
+//! The beams' own modes that turn more than 0.6 rad per output sample join the implicit part
+//! ([`super::stiff_modes`]: the static correction shapes' and a large basis's high modes): `f_I` also holds `-[0 ; W S z]`, the stiff modes' share of
 //! `M^-1 K z`, and the stage system becomes `(I + U V') V = r` with `U = [alpha P, h^2
 //! gamma^2 W]`, `V' = [G' ; S]`, of rank `m + r` (`r` stiff modes), solved by the Woodbury
 //! identity; since `S W` is diagonal, the stiff block is eliminated first and an `m x m`
-//! Schur complement remains. The paper's basis has no stiff modes: its split is as above.
+//! Schur complement remains. Without such modes the split is as above.
 //!
 //! Hand-written: no Rust crate offers an additive Runge-Kutta method whose implicit part is a
 //! low-rank update (diffsol's and SUNDIALS' ARKStep solve the implicit stages with a full
@@ -125,12 +125,14 @@ struct ContactPart {
     stiffness: f64,
     damping: f64,
     half_band: f64,
-    /// The beams' stiff modes, treated implicitly too (static correction shapes only).
+    /// The beams' stiff modes, treated implicitly too.
     stiff: Option<StiffModes>,
 }
 
 /// The IMEX stepper with its stage storage.
 pub struct Imex {
+    /// The run's longest step (s).
+    longest_step: f64,
     rtol: f64,
     atol: f64,
     dof: usize,
@@ -159,9 +161,11 @@ pub struct Imex {
 }
 
 impl Imex {
-    /// For `dof` coordinates with the run's tolerances.
-    pub fn new(dof: usize, settings: &Settings) -> Self {
+    /// For `dof` coordinates with the run's tolerances and its longest step (s; the output
+    /// sample interval), which sets the stiff modes ([`StiffModes::of`]).
+    pub fn new(dof: usize, settings: &Settings, longest_step: f64) -> Self {
         Imex {
+            longest_step,
             rtol: settings.rtol,
             atol: settings.atol,
             dof,
@@ -220,7 +224,7 @@ impl Imex {
         self.gdot = DMatrix::zeros(n, nc);
         self.p = DMatrix::zeros(n, nc);
         self.closed = Vec::with_capacity(nc);
-        let stiff = StiffModes::of(model);
+        let stiff = StiffModes::of(model, self.longest_step);
         let r = stiff.as_ref().map_or(0, StiffModes::len);
         self.small = vec![0.0; nc * nc];
         self.small_rhs = vec![0.0; nc];

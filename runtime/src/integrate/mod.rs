@@ -24,6 +24,7 @@ pub mod extension;
 mod fast_modes;
 pub mod generalized_alpha;
 pub mod imex;
+mod integrator;
 pub mod newton;
 pub mod settled;
 pub mod stability;
@@ -37,7 +38,9 @@ use crate::scene::TimeSpan;
 use std::fmt;
 use std::time::{Duration, Instant};
 
+pub use driver::Stop;
 pub use events::ContactTracker;
+pub use integrator::Integrator;
 
 /// An integration method, selectable by name (`--method`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -625,12 +628,14 @@ pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> 
 }
 
 /// The stepper of `method`; `step_cap` is dop853's step cap with closed contacts (s), when
-/// the model has contacts (read by `dop853-imex`).
+/// the model has contacts (read by `dop853-imex`); `longest_step` the output sample interval
+/// (s), which sets imex's stiff modes.
 fn make_stepper(
     method: Method,
     dof: usize,
     settings: &Settings,
     step_cap: Option<f64>,
+    longest_step: f64,
 ) -> Box<dyn Stepper> {
     match method {
         Method::Dopri5 => Box::new(explicit::ExplicitRk::new(
@@ -644,11 +649,12 @@ fn make_stepper(
             settings,
         )),
         Method::Esdirk => Box::new(esdirk::Esdirk::new(dof, settings)),
-        Method::Imex => Box::new(imex::Imex::new(dof, settings)),
+        Method::Imex => Box::new(imex::Imex::new(dof, settings, longest_step)),
         Method::Dop853Imex => Box::new(settled::SettledSteps::new(
             dof,
             settings,
             step_cap.unwrap_or(f64::INFINITY),
+            longest_step,
         )),
         Method::Bdf { max_order, .. } => Box::new(bdf::Bdf::new(dof, max_order, settings)),
         Method::Rk4 => Box::new(explicit::ExplicitRk::new(&explicit::RK4, 2 * dof, settings)),
@@ -683,6 +689,12 @@ impl SampleGrid {
             sample: span.sample,
             total: whole + 1 + u64::from(!ends_on_sample),
         }
+    }
+
+    /// Whether the span's end is a grid time (else it is a sample of its own).
+    pub(crate) fn ends_on_sample(&self) -> bool {
+        let whole = self.total - 1;
+        (self.start + whole as f64 * self.sample - self.end).abs() <= 1e-9 * self.sample
     }
 
     /// Time of output sample `k` (s).

@@ -53,11 +53,11 @@ pub const QUIET_STEPS: u32 = 4;
 
 impl SettledSteps {
     /// For `dof` coordinates with the run's tolerances; `cap` is dop853's step cap with closed
-    /// contacts (s).
-    pub fn new(dof: usize, settings: &Settings, cap: f64) -> Self {
+    /// contacts (s); `longest_step` the run's output sample interval (s).
+    pub fn new(dof: usize, settings: &Settings, cap: f64, longest_step: f64) -> Self {
         SettledSteps {
             explicit: ExplicitRk::new(&DOP853, 2 * dof, settings),
-            implicit: Imex::new(dof, settings).with_coordinates_error(),
+            implicit: Imex::new(dof, settings, longest_step).with_coordinates_error(),
             cap,
             last: None,
             quiet: 0,

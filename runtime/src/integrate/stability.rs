@@ -48,14 +48,22 @@ fn closed(model: &dyn Model, t: f64) -> ContactTracker {
     tracker
 }
 
-/// The matrix `G(h)` of one step of `method` from time `t` with closed contacts.
-pub fn step_matrix(model: &dyn Model, method: Method, t: f64, h: f64) -> DMatrix<f64> {
+/// The matrix `G(h)` of one step of `method` from time `t` with closed contacts, in a run
+/// whose longest step is `longest_step` (s; the output sample interval, which sets imex's
+/// stiff modes).
+pub fn step_matrix(
+    model: &dyn Model,
+    method: Method,
+    t: f64,
+    h: f64,
+    longest_step: f64,
+) -> DMatrix<f64> {
     let n = 2 * model.dof();
     let settings = Settings {
         dt: Some(h),
         ..Settings::default()
     };
-    let mut stepper = make_stepper(method, model.dof(), &settings, None);
+    let mut stepper = make_stepper(method, model.dof(), &settings, None, longest_step);
     let mut sys = System {
         model,
         tracker: closed(model, t),
@@ -111,7 +119,8 @@ fn growth_rate(model: &dyn Model, t: f64) -> Result<f64, EigenError> {
 }
 
 /// Largest stable step of `method` at time `t` (s), by bisection on the spectral radius of
-/// its step matrix, to a relative precision of 1e-6. `omega_max` (rad/s) brackets the search.
+/// its step matrix, to a relative precision of 1e-6. `omega_max` (rad/s) brackets the search;
+/// `longest_step` is the run's output sample interval (s).
 ///
 /// # Errors
 /// [`EigenError`] when an eigenvalue computation fails (non-finite entries, no convergence).
@@ -120,8 +129,9 @@ pub fn stable_step(
     method: Method,
     t: f64,
     omega_max: f64,
+    longest_step: f64,
 ) -> Result<f64, EigenError> {
-    stable_step_within(model, method, t, omega_max, 1e-6)
+    stable_step_within(model, method, t, (omega_max, longest_step), 1e-6)
 }
 
 /// Most doublings of the trial step above `4 / omega_max` (an unconditionally stable method
@@ -134,12 +144,12 @@ fn stable_step_within(
     model: &dyn Model,
     method: Method,
     t: f64,
-    omega_max: f64,
+    (omega_max, longest_step): (f64, f64),
     rel: f64,
 ) -> Result<f64, EigenError> {
     let sigma = growth_rate(model, t)?;
     let stable = |h: f64| -> Result<bool, EigenError> {
-        Ok(spectral_radius(step_matrix(model, method, t, h))? <= (sigma * h).exp() + 1e-7)
+        Ok(spectral_radius(step_matrix(model, method, t, h, longest_step))? <= (sigma * h).exp() + 1e-7)
     };
     let mut lo = 0.0;
     let mut hi = 4.0 / omega_max;
@@ -181,8 +191,10 @@ pub fn stability_report(model: &dyn Model, t: f64) -> Result<StabilityReport, St
         time: t,
         omega_max,
         growth_rate: growth_rate(model, t).map_err(|e| e.to_string())?,
-        rk4_step: stable_step(model, Method::Rk4, t, omega_max).map_err(|e| e.to_string())?,
-        verlet_step: stable_step(model, Method::Verlet, t, omega_max).map_err(|e| e.to_string())?,
+        // rk4 and verlet have no stiff split: the sample interval is not read
+        rk4_step: stable_step(model, Method::Rk4, t, omega_max, f64::INFINITY).map_err(|e| e.to_string())?,
+        verlet_step: stable_step(model, Method::Verlet, t, omega_max, f64::INFINITY)
+            .map_err(|e| e.to_string())?,
     })
 }
 
@@ -234,7 +246,7 @@ pub fn closed_contact_stable_step(
         }
     }
     let (t, omega_max) = stiffest?;
-    stable_step_within(model, method, t, omega_max, 1e-3).ok()
+    stable_step_within(model, method, t, (omega_max, span.sample), 1e-3).ok()
 }
 
 /// The largest `h rho` an explicit method or exact stepping takes, about: the extent of its

@@ -1,25 +1,31 @@
 //! The stiff modes of a model's beams that [`super::imex`] treats implicitly beside the
 //! contacts.
 //!
-//! The static correction shapes ([`crate::params::Basis::ModesAndStatic`]) hold a section's
-//! static deflection under point forces, which the paper's modes miss; their own
-//! frequencies are far above the modes' (6.8 kHz on case-study-no-clearance with 2 modes
-//! per section, against about 0.2 kHz for the paper's 4), and in an explicit part they set
-//! the step: 119,000 steps where the paper's basis takes 16,000. Each correction shape adds
-//! one coordinate and, in the spectrum of the sections' `(K, M)`, one stiff mode; the top
-//! `r` modes, `r` the number of correction coordinates, go to the implicit part, whose
-//! L-stable stages give them their quasi-static response. With few modes per section some
-//! of them are low (adams-linear with 2 modes per section: the lowest of its 8 is at 23 Hz);
-//! treating a slow mode implicitly costs no accuracy, since the step control bounds the
-//! error of every coordinate. The paper's basis has none, and its runs are unchanged.
+//! A mode of the sections' `(K, M)` that turns more than [`STIFF_TURN`] radians over the
+//! run's longest step (its output sample interval: adaptive steps end on samples) goes to
+//! the implicit part, whose L-stable stages give it its quasi-static response; the step
+//! control bounds every coordinate's error whichever part holds it. In an explicit part such
+//! modes set the step although the drive and the sliding contacts hardly excite them:
+//! measured on case-study-no-clearance (1 ms samples), the paper's basis with 14 modes per
+//! section took 331,000 steps explicitly and its contact forces were 2.6 kN off a tight
+//! reference; with its modes above 0.6 rad per sample implicit it takes the sample grid's
+//! 16,000 steps and the forces are within 0.8 N. The static correction shapes' own modes
+//! (6.8 kHz with 2 modes per section there) fall under the same rule. Thresholds from 0.3 to
+//! 0.7 rad gave the same step count there; 1.0 rad left modes at 0.87 rad explicit and took
+//! 26,000 steps with forces 30 N off (docs/numerics.md). The paper's 4 modes per section
+//! on the shipped moving scenes stay below it (0.52 rad), so their runs are the explicit
+//! split of the paper.
 //!
 //! `M` and `K` are constant (block diagonal in the sections), so the modes are computed once
 //! per run: with `Phi_h` (`n x r`, mass-normalized) and their `Lambda_h = omega^2`, the stiff
 //! part of `M^-1 K z` is `W (S z)`, `W = Phi_h`, `S = Lambda_h Phi_h' M`, and `S W = Lambda_h`.
 
 use crate::model::Model;
-use crate::params::{Basis, Drive};
+use crate::params::Drive;
 use nalgebra::DMatrix;
+
+/// A mode that turns more than this (rad) over the run's longest step is treated implicitly.
+pub const STIFF_TURN: f64 = 0.6;
 
 /// The stiff modes of a model's sections, in the form the implicit stages use.
 #[derive(Debug, Clone)]
@@ -34,24 +40,18 @@ pub struct StiffModes {
 }
 
 impl StiffModes {
-    /// The stiff modes of `model`: `None` for the paper's basis, or when its matrices do
-    /// not give a symmetric positive definite mass matrix (the integration then treats every
-    /// mode explicitly, as for the paper's basis).
-    pub fn of(model: &dyn Model) -> Option<Self> {
-        let params = model.params();
-        if params.basis != Basis::ModesAndStatic {
-            return None;
-        }
-        let corrections: usize = params.coordinates().iter().sum::<usize>()
-            - params.sections.iter().map(|s| s.modes).sum::<usize>();
+    /// The modes of `model` that turn more than [`STIFF_TURN`] radians in `longest_step`
+    /// (s): `None` when there are none, or when its matrices do not give a symmetric
+    /// positive definite mass matrix (the integration then treats every mode explicitly).
+    pub fn of(model: &dyn Model, longest_step: f64) -> Option<Self> {
         let n = model.dof();
         // a prescribed vehicle's coordinate is not free: the modes of the others
-        let first = usize::from(matches!(params.drive, Drive::Motion(_)));
+        let first = usize::from(matches!(model.params().drive, Drive::Motion(_)));
         let free = n - first;
-        let r = corrections.min(free.saturating_sub(1));
-        if r == 0 {
+        if free < 2 || !(longest_step > 0.0) {
             return None;
         }
+        let stiff_above = (STIFF_TURN / longest_step).powi(2);
         let m = model
             .mass_matrix()
             .view((first, first), (free, free))
@@ -71,6 +71,15 @@ impl StiffModes {
         let eigen = a.symmetric_eigen();
         let mut order: Vec<usize> = (0..free).collect();
         order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
+        // the lowest mode stays explicit: the implicit part never holds the whole structure
+        let r = order
+            .iter()
+            .filter(|&&i| eigen.eigenvalues[i] > stiff_above)
+            .count()
+            .min(free - 1);
+        if r == 0 {
+            return None;
+        }
         let top = &order[free - r..];
         let q = DMatrix::from_fn(free, r, |i, j| eigen.eigenvectors[(i, top[j])]);
         let phi = l.transpose().solve_upper_triangular(&q)?;
@@ -101,20 +110,29 @@ mod tests {
     use crate::assembled::AssembledModel;
     use crate::scene::Scene;
 
-    /// The modes solve `K Phi = M Phi Lambda` with `Phi' M Phi = I`, so `S W = Lambda`; and
-    /// the paper's basis has none.
+    /// The modes solve `K Phi = M Phi Lambda` with `Phi' M Phi = I`, so `S W = Lambda`; they
+    /// are the eigenvalues of `M^-1 K` (computed apart, unsymmetric) above the turn; a short
+    /// enough step has none.
     #[test]
     fn the_stiff_modes_are_mass_normalized_eigenvectors_of_the_sections() {
         let mut scene = Scene::load("../scenes/adams-linear.toml".as_ref(), &[]).unwrap();
-        assert!(StiffModes::of(&AssembledModel::new(&scene.params).unwrap()).is_none());
-        scene.params.basis = Basis::ModesAndStatic;
+        let paper = AssembledModel::new(&scene.params).unwrap();
+        assert!(StiffModes::of(&paper, 1e-7).is_none());
+        scene.params.basis = crate::params::Basis::ModesAndStatic;
         for s in &mut scene.params.sections {
             s.modes = 2;
         }
         let model = AssembledModel::new(&scene.params).unwrap();
-        let stiff = StiffModes::of(&model).unwrap();
-        let corrections = scene.params.coordinates().iter().sum::<usize>() - 4;
-        assert_eq!(stiff.len(), corrections);
+        let step = 1e-3;
+        let stiff = StiffModes::of(&model, step).unwrap();
+        let mk = model.mass_matrix().clone().try_inverse().unwrap() * model.stiffness_matrix();
+        let above = mk
+            .complex_eigenvalues()
+            .iter()
+            .filter(|l| l.re.max(0.0).sqrt() * step > STIFF_TURN)
+            .count();
+        assert_eq!(stiff.len(), above);
+        assert!(above > 0 && above < model.dof());
         let (m, k) = (model.mass_matrix(), model.stiffness_matrix());
         let sw = stiff.st.transpose() * &stiff.w;
         for i in 0..stiff.len() {
