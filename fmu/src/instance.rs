@@ -10,7 +10,7 @@ use telescopic::fmu::{Causality, FmuVariables, SCENE_RESOURCE, scene_guid};
 use telescopic::run::models::{ModelChoice, ModelRegistry};
 use telescopic::run::{HeldInputStepper, SimulationOptions, plan};
 use telescopic::runtime::sensors::Sensors;
-use telescopic::runtime::{Drive, Model, Profile, Scene, rest_state};
+use telescopic::runtime::{Drive, Model, Profile, Scene, TimeSpan, rest_state};
 
 /// What an instance is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,13 +46,24 @@ impl Phase {
     }
 }
 
+/// The run a co-simulation instance advances over its communication steps (none for model
+/// exchange, where the importer integrates).
+type CoSimulationRun<'a> = Option<HeldInputStepper<'a>>;
+
+self_cell::self_cell!(
+    /// The model with its held input and the run that borrows it.
+    struct Stepping {
+        owner: HeldDrive,
+        #[not_covariant]
+        dependent: CoSimulationRun,
+    }
+);
+
 /// The model and the integration of a running instance.
 struct Running {
-    model: HeldDrive,
+    stepping: Stepping,
     sensors: Sensors,
-    /// Advances the model with its input held over a communication step.
-    stepper: HeldInputStepper,
-    /// `[z, zd]`.
+    /// `[z, zd]` (for co-simulation, the run's state after each step).
     y: Vec<f64>,
     ydot: Vec<f64>,
     outputs: Vec<f64>,
@@ -208,7 +219,6 @@ impl Instance {
         let mut planned = self.scene.clone();
         planned.params.drive = planned_drive;
         let plan = plan(&planned, &SimulationOptions::default()).map_err(failure)?;
-        let stepper = HeldInputStepper::new(&plan, &model, &self.scene.time);
         // the step limit of a whole run applies to each communication step
         let affordable =
             telescopic::run::budget::estimate_steps(&planned, &model, plan.method, &plan.settings)
@@ -220,13 +230,26 @@ impl Instance {
         let nc = model.layout().contact_count();
         let outputs = self.vars.outputs;
         let own_outputs = model.output_names().len();
+        let sensors = Sensors::new(&model);
+        let y = rest_state(&model, self.time);
+        let span = TimeSpan {
+            start: self.time,
+            end: self.time.max(self.scene.time.end),
+            ..self.scene.time
+        };
+        let co_simulation = self.kind == Kind::CoSimulation;
+        let stepping = Stepping::try_new(model, |model| {
+            co_simulation
+                .then(|| HeldInputStepper::new(&plan, model, &span, &y))
+                .transpose()
+        })
+        .map_err(|e| format!("the co-simulation run cannot start: {e}"))?;
         self.running = Some(Running {
             own_outputs,
-            sensors: Sensors::new(&model),
-            y: rest_state(&model, self.time),
+            sensors,
+            y,
             half_band: self.scene.params.contact.half_band(),
-            model,
-            stepper,
+            stepping,
             ydot: vec![0.0; 2 * n],
             outputs: vec![0.0; outputs],
             xi: vec![0.0; nc],
@@ -284,7 +307,7 @@ impl Instance {
                     }
                     self.force = v;
                     if let Some(r) = &mut self.running {
-                        r.model.set_input(v);
+                        r.set_input(v);
                     }
                 }
                 Causality::Parameter => {
@@ -398,8 +421,7 @@ impl Instance {
                 h / stable
             ));
         }
-        r.stepper
-            .advance(&r.model, &mut r.y, t, h)
+        r.advance_to(t + h)
             .map_err(|e| format!("the step from t = {t} s to {} s failed: {e}", t + h))?;
         self.time = t + h;
         Ok(())
@@ -450,7 +472,7 @@ impl Instance {
         let t = self.time;
         let r = self.running("fmi2GetDerivatives")?;
         sized("fmi2GetDerivatives", dx.len(), r.ydot.len())?;
-        r.model.rhs(t, &r.y, None, &mut r.ydot);
+        r.stepping.borrow_owner().rhs(t, &r.y, None, &mut r.ydot);
         dx.copy_from_slice(&r.ydot);
         Ok(())
     }
@@ -470,7 +492,9 @@ impl Instance {
         }
         let t = self.time;
         let r = self.running("fmi2GetEventIndicators")?;
-        r.model.contact_gaps(t, &r.y, &mut r.xi, &mut r.xi_dot);
+        r.stepping
+            .borrow_owner()
+            .contact_gaps(t, &r.y, &mut r.xi, &mut r.xi_dot);
         for (pair, &xi) in z.chunks_exact_mut(2).zip(&r.xi) {
             pair[0] = xi - r.half_band;
             pair[1] = xi + r.half_band;
@@ -514,12 +538,36 @@ impl Instance {
 }
 
 impl Running {
+    /// Holds input `value` (N, or m/s^2 for a prescribed motion) from now on.
+    fn set_input(&mut self, value: f64) {
+        self.stepping.with_dependent_mut(|model, run| {
+            if model.input() != value {
+                model.set_input(value);
+                if let Some(run) = run {
+                    run.input_changed();
+                }
+            }
+        });
+    }
+
+    /// Advances the co-simulation run to `t_end` (s) with the input held.
+    fn advance_to(&mut self, t_end: f64) -> Result<(), telescopic::runtime::SimError> {
+        let y = &mut self.y;
+        self.stepping.with_dependent_mut(|_, run| {
+            let run = run.as_mut().expect("a co-simulation instance has its run");
+            run.advance_to(t_end)?;
+            y.copy_from_slice(run.state());
+            Ok(())
+        })
+    }
+
     /// Outputs and derivatives at time `t` and the current state.
     fn evaluate(&mut self, t: f64) {
-        let n = self.model.dof();
-        self.model.rhs(t, &self.y, None, &mut self.ydot);
+        let model = self.stepping.borrow_owner();
+        let n = model.dof();
+        model.rhs(t, &self.y, None, &mut self.ydot);
         let (model_out, sensor_out) = self.outputs.split_at_mut(self.own_outputs);
-        self.model.outputs(t, &self.y, &self.ydot, model_out);
+        model.outputs(t, &self.y, &self.ydot, model_out);
         self.sensors.values(n, &self.y, &self.ydot, sensor_out);
     }
 }

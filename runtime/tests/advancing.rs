@@ -194,7 +194,11 @@ fn a_held_input_set_between_pieces_acts_from_then_on() {
         .unwrap();
     assert_eq!(samples.len(), plain.len());
     let n = base.dof();
-    let momentum = |y: &[f64]| (0..n).map(|j| base.mass_matrix()[(0, j)] * y[n + j]).sum::<f64>();
+    let momentum = |y: &[f64]| {
+        (0..n)
+            .map(|j| base.mass_matrix()[(0, j)] * y[n + j])
+            .sum::<f64>()
+    };
     let extra = momentum(&samples.last().unwrap().1) - momentum(&plain.last().unwrap().1);
     let impulse = force * 0.2;
     assert!(

@@ -7,6 +7,7 @@ use super::schedule::{Reference, schedule_weights};
 use super::schema::Controller;
 use crate::OptionName;
 use crate::io::rows::from_rows;
+use crate::run::held::HeldValue;
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
 use telescopic_runtime::{ContactState, ContactTable, Drive, Layout, Model, ModelParams, Profile};
@@ -23,9 +24,9 @@ pub struct ControlLaw {
     parameter: Option<usize>,
     positions: Vec<Profile>,
     limit: f64,
-    /// A sampled controller's force, held between its ticks (bits of an `f64`), replacing the
-    /// continuous law.
-    held: Option<std::sync::atomic::AtomicU64>,
+    /// A sampled controller's force (N), held between its ticks, replacing the continuous
+    /// law.
+    held: Option<HeldValue>,
 }
 
 impl ControlLaw {
@@ -37,7 +38,7 @@ impl ControlLaw {
         end: f64,
     ) -> Self {
         ControlLaw {
-            held: Some(std::sync::atomic::AtomicU64::new(0f64.to_bits())),
+            held: Some(HeldValue::new(0.0)),
             ..ControlLaw::new(controller, params, start, end)
         }
     }
@@ -45,7 +46,7 @@ impl ControlLaw {
     /// Sets the held force (N) of a sampled law.
     pub(crate) fn hold(&self, force: f64) {
         if let Some(h) = &self.held {
-            h.store(force.to_bits(), std::sync::atomic::Ordering::Relaxed);
+            h.set(force);
         }
     }
 
@@ -83,10 +84,7 @@ impl ControlLaw {
     /// The total drive force (N) at `t`, state `y`, and whether it saturated.
     pub fn force(&self, t: f64, y: &[f64]) -> (f64, bool) {
         if let Some(h) = &self.held {
-            return (
-                f64::from_bits(h.load(std::sync::atomic::Ordering::Relaxed)),
-                false,
-            );
+            return (h.get(), false);
         }
         let mut f = self.feedforward.value(t);
         if !self.gains.is_empty() {

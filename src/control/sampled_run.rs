@@ -12,7 +12,7 @@ use crate::run::{HeldInputStepper, Simulation, Trajectory};
 use crate::{Error, Result};
 use rand::{Rng, SeedableRng};
 use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
-use telescopic_runtime::{Model, RunStats, Scene, TimeSpan, rest_state};
+use telescopic_runtime::{Model, Scene, TimeSpan, rest_state};
 
 /// A sampled run: the simulation and the command the controller gave at every tick.
 #[derive(Debug, Clone, PartialEq)]
@@ -131,25 +131,37 @@ pub(crate) fn tick_loop(
     names.extend((0..coordinates).map(|i| format!("z_{i}")));
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(setup.seed);
     let ticks = ((span.end - span.start) / period).round() as usize;
-    let (n, mut y) = (model.dof(), rest_state(model, span.start));
+    let n = model.dof();
     let mut ydot = vec![0.0; 2 * n];
     let mut out = vec![0.0; names.len() - coordinates];
     let mut measurement = vec![0.0; measured.len()];
     let mut rows = Vec::with_capacity(ticks / every + 1);
     let mut forces = Vec::with_capacity(ticks);
-    let mut stats = RunStats::default();
-    let mut stepper = HeldInputStepper::new(&run.plan, model, &span);
+    let started = std::time::Instant::now();
+    // steps end on the ticks
+    let ticked = TimeSpan {
+        sample: period,
+        ..span
+    };
+    let simulation_error = |error| Error::Simulation {
+        scene: scene.name.clone(),
+        error,
+    };
+    let mut stepper =
+        HeldInputStepper::new(&run.plan, model, &ticked, &rest_state(model, span.start))
+            .map_err(simulation_error)?;
     reporter.start(&format!(
         "simulating {} with a sampled controller",
         scene.name
     ));
     for k in 0..=ticks {
         let t = span.start + k as f64 * period;
+        let y = stepper.state();
         // the outputs and the measurements at the tick, with the command held now
-        model.rhs(t, &y, None, &mut ydot);
+        model.rhs(t, y, None, &mut ydot);
         let (own_out, sensor_out) = out.split_at_mut(own);
-        model.outputs(t, &y, &ydot, own_out);
-        sensors.values(n, &y, &ydot, sensor_out);
+        model.outputs(t, y, &ydot, own_out);
+        sensors.values(n, y, &ydot, sensor_out);
         if k % every == 0 {
             let mut row = Vec::with_capacity(out.len() + 1);
             row.push(t);
@@ -166,15 +178,11 @@ pub(crate) fn tick_loop(
             .map_or(0.0, |s| model.params().positions[s - 2].value(t));
         let command = controller.step(t, &measurement, a);
         forces.push((t, command));
-        let step_stats =
-            stepper
-                .advance(model, &mut y, t, period)
-                .map_err(|error| Error::Simulation {
-                    scene: scene.name.clone(),
-                    error,
-                })?;
+        stepper
+            .advance_to(span.start + (k + 1) as f64 * period)
+            .map_err(simulation_error)?;
         hold(command);
-        stats.add(&step_stats);
+        stepper.input_changed();
         reporter.progress((k + 1) as f64 / ticks as f64);
         if reporter.stop_requested() {
             return Err(Error::Simulation {
@@ -187,6 +195,8 @@ pub(crate) fn tick_loop(
         }
     }
     reporter.finish();
+    let mut stats = stepper.stats();
+    stats.wall = started.elapsed();
     Ok((Trajectory { names, rows, stats }, forces))
 }
 

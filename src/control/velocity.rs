@@ -34,11 +34,11 @@ use super::sampled::{SampledController, default_noise};
 use super::sampled_run::{SampledRun, TickSetup, check_tick_cost, finish, tick_grid, tick_loop};
 use super::strain::{STRAIN_RATE_SENSORS, VEHICLE_LOOP_FRACTION, tip_per_curvature};
 use crate::report::Reporter;
+use crate::run::held::HeldValue;
 use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::run::{PreparedRun, SimulationOptions};
 use crate::{Error, OptionName, Result};
 use serde::{Deserialize, Serialize};
-use std::sync::atomic::{AtomicU64, Ordering};
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{
     ContactMode, ContactState, Drive, Lpv, Model, ModelParams, Profile, Scene, configuration_key,
@@ -521,10 +521,10 @@ pub struct ServoCorrected<'m> {
     /// Where the vehicle's acceleration goes (the vehicle follows it, the rest feels its
     /// inertia).
     response: super::controlled::DriveResponse,
-    /// The correction's acceleration over the current tick (bits of an `f64`, m/s^2).
-    acceleration: AtomicU64,
-    /// The correction reached at the end of the current tick (bits, m/s).
-    velocity: AtomicU64,
+    /// The correction's acceleration over the current tick (m/s^2).
+    acceleration: HeldValue,
+    /// The correction reached at the end of the current tick (m/s).
+    velocity: HeldValue,
     period: f64,
 }
 
@@ -537,19 +537,17 @@ impl<'m> ServoCorrected<'m> {
         Ok(ServoCorrected {
             base,
             response: super::controlled::DriveResponse::of(base)?,
-            acceleration: AtomicU64::new(0f64.to_bits()),
-            velocity: AtomicU64::new(0f64.to_bits()),
+            acceleration: HeldValue::new(0.0),
+            velocity: HeldValue::new(0.0),
             period: 1.0 / rate_hz,
         })
     }
 
     /// Sets the correction (m/s) the servo reaches by the end of the next tick.
     pub fn hold(&self, velocity: f64) {
-        let last = f64::from_bits(self.velocity.load(Ordering::Relaxed));
-        let acceleration = (velocity - last) / self.period;
-        self.acceleration
-            .store(acceleration.to_bits(), Ordering::Relaxed);
-        self.velocity.store(velocity.to_bits(), Ordering::Relaxed);
+        let acceleration = (velocity - self.velocity.get()) / self.period;
+        self.acceleration.set(acceleration);
+        self.velocity.set(velocity);
     }
 
     fn wrapped(&self) -> &dyn Model {
@@ -564,7 +562,7 @@ impl Model for ServoCorrected<'_> {
     }
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
         self.base.rhs(t, y, states, ydot);
-        let a = f64::from_bits(self.acceleration.load(Ordering::Relaxed));
+        let a = self.acceleration.get();
         self.response.add_input(a, ydot);
     }
     fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {

@@ -3,20 +3,22 @@
 
 use crate::Result;
 use crate::control::controlled::DriveResponse;
+use crate::run::held::HeldValue;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactState, Drive, Model, ModelParams, Profile};
 
 /// `base` with its drive input replaced by a held value: a force `F` (N) for a force-driven
 /// model (`zd' += M^-1 b (F - F_base(t))`), the vehicle's acceleration `a` (m/s^2) for a
 /// prescribed motion (`u'' = a`, the other coordinates feel `-M_p0 a`). Its parameters say
-/// `drive = F` (a constant) for a force, so exact stepping sees a time-invariant scene
-/// between two settings of the input; for a motion they keep the base's profile, and `auto`
-/// never picks exact stepping for a prescribed motion.
+/// `drive = F` (a constant, the input at construction) for a force, so exact stepping sees a
+/// time-invariant scene between two settings of the input (it takes the force from the
+/// right-hand side); for a motion they keep the base's profile, and `auto` never picks exact
+/// stepping for a prescribed motion.
 pub struct HeldDrive {
     base: Box<dyn Model>,
     params: ModelParams,
     drive: DriveResponse,
-    input: f64,
+    input: HeldValue,
 }
 
 impl HeldDrive {
@@ -27,27 +29,28 @@ impl HeldDrive {
     pub fn new(base: Box<dyn Model>, input: f64) -> Result<Self> {
         let params = base.params().clone();
         let drive = DriveResponse::of(base.as_ref())?;
-        let mut held = HeldDrive {
+        let mut params = params;
+        if let Drive::Force(_) = params.drive {
+            // a constant: what the force is between two settings (its value is in `input`)
+            params.drive = Drive::Force(Profile::Constant(input));
+        }
+        Ok(HeldDrive {
             base,
             params,
             drive,
-            input,
-        };
-        held.set_input(input);
-        Ok(held)
+            input: HeldValue::new(input),
+        })
     }
 
-    /// Holds `input` from now on.
-    pub fn set_input(&mut self, input: f64) {
-        self.input = input;
-        if let Drive::Force(_) = self.params.drive {
-            self.params.drive = Drive::Force(Profile::Constant(input));
-        }
+    /// Holds `input` from now on (a run that advances the model restarts at its next step:
+    /// [`crate::run::HeldInputStepper::input_changed`]).
+    pub fn set_input(&self, input: f64) {
+        self.input.set(input);
     }
 
     /// The held input (N or m/s^2).
     pub fn input(&self) -> f64 {
-        self.input
+        self.input.get()
     }
 
     /// The model whose input is held.
@@ -63,7 +66,7 @@ impl Model for HeldDrive {
     }
     fn rhs(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, ydot: &mut [f64]) {
         self.drive
-            .rhs_with(self.base.as_ref(), t, y, states, self.input, ydot);
+            .rhs_with(self.base.as_ref(), t, y, states, self.input.get(), ydot);
     }
     fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
         self.base.jacobian(t, y, states, jac);

@@ -52,7 +52,7 @@ pub enum Stop {
 /// The step loop's memory between two [`Driver::advance_to`] calls.
 #[derive(Debug, Clone, Copy)]
 struct LoopMemory {
-    /// Whether the first sample is out and the first step chosen.
+    /// Whether the first sample is out.
     started: bool,
     newton_failures: u32,
     /// After a rejection the next step may not grow (Hairer's dopri5 rule: at the stability
@@ -165,9 +165,7 @@ impl<'m> Driver<'m> {
         sys.rhs(span.start, y0, &mut f0);
         // the cap of a capped method; dop853-imex reads it even when the driver does not cap
         // (`Settings::step_cap` off)
-        let cap = settings
-            .known_step_cap
-            .or_else(|| closed_contact_step_cap(model, method, span));
+        let cap = closed_contact_step_cap(model, method, span);
         let step_cap = cap.filter(|_| settings.step_cap);
         sys.stats.step_cap = step_cap;
         Ok(Driver {
@@ -307,15 +305,18 @@ impl<'m> Driver<'m> {
     ) -> Result<Stop, SimError> {
         self.aim_at(end);
         if !self.memory.started {
+            observe(self.t, &self.y, &self.f0);
+            self.next_sample = 1;
+            self.memory.started = true;
+        }
+        // the first step, once there is somewhere to go
+        if self.h == 0.0 && self.t < end {
             self.h = match (self.settings.dt, self.adaptive()) {
                 (Some(dt), _) => dt,
                 (None, true) => self.initial_step(),
                 (None, false) => unreachable!("checked in new"),
             };
             self.check_first_step()?;
-            observe(self.t, &self.y, &self.f0);
-            self.next_sample = 1;
-            self.memory.started = true;
         }
         while self.t < end {
             let step = self.one_step(&mut *observe)?;

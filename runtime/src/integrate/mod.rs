@@ -308,10 +308,6 @@ pub struct Settings {
     /// Cap dop853's step below its stable step while a contact is closed
     /// ([`stability::closed_contact_step_cap`]; other methods are never capped).
     pub step_cap: bool,
-    /// That cap (s), when the caller has it already: a scene integrated piece by piece (a
-    /// sampled controller's ticks) computes it once instead of once per piece (`None`: the
-    /// run computes it).
-    pub known_step_cap: Option<f64>,
     /// Let method `exact` step over a closed contact's fast modes where their bound
     /// certifies it (`false`: its short steps throughout, for comparison).
     pub long_steps: bool,
@@ -326,7 +322,6 @@ impl Default for Settings {
             max_steps: 50_000_000,
             exact_from: None,
             step_cap: true,
-            known_step_cap: None,
             long_steps: true,
         }
     }

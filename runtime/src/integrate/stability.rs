@@ -149,7 +149,10 @@ fn stable_step_within(
 ) -> Result<f64, EigenError> {
     let sigma = growth_rate(model, t)?;
     let stable = |h: f64| -> Result<bool, EigenError> {
-        Ok(spectral_radius(step_matrix(model, method, t, h, longest_step))? <= (sigma * h).exp() + 1e-7)
+        Ok(
+            spectral_radius(step_matrix(model, method, t, h, longest_step))?
+                <= (sigma * h).exp() + 1e-7,
+        )
     };
     let mut lo = 0.0;
     let mut hi = 4.0 / omega_max;
@@ -192,7 +195,8 @@ pub fn stability_report(model: &dyn Model, t: f64) -> Result<StabilityReport, St
         omega_max,
         growth_rate: growth_rate(model, t).map_err(|e| e.to_string())?,
         // rk4 and verlet have no stiff split: the sample interval is not read
-        rk4_step: stable_step(model, Method::Rk4, t, omega_max, f64::INFINITY).map_err(|e| e.to_string())?,
+        rk4_step: stable_step(model, Method::Rk4, t, omega_max, f64::INFINITY)
+            .map_err(|e| e.to_string())?,
         verlet_step: stable_step(model, Method::Verlet, t, omega_max, f64::INFINITY)
             .map_err(|e| e.to_string())?,
     })

@@ -48,7 +48,7 @@ impl StiffModes {
         // a prescribed vehicle's coordinate is not free: the modes of the others
         let first = usize::from(matches!(model.params().drive, Drive::Motion(_)));
         let free = n - first;
-        if free < 2 || !(longest_step > 0.0) {
+        if free < 2 || longest_step.is_nan() || longest_step <= 0.0 {
             return None;
         }
         let stiff_above = (STIFF_TURN / longest_step).powi(2);
