@@ -451,3 +451,42 @@ fn the_step_cap_takes_dop853_off_the_stability_boundary() {
         assert!(e < 1e-6, "{method} {what}: tip_rel error {e:e} m");
     }
 }
+
+/// One rule of "closed" and one sampled switch counter: none at zero clearance (the linear
+/// law has no free band, whatever the sign of the gaps), and with clearance no more than the
+/// integrator's own count of switches (it sees those between samples too) and not none.
+#[test]
+fn the_sampled_switch_count_is_zero_without_clearance_and_bounded_by_the_runs() {
+    use telescopic::run::{SimulationOptions, simulate_scene};
+    let options = SimulationOptions {
+        error_estimate: false,
+        ..SimulationOptions::default()
+    };
+    let linear = scene("case-study-no-clearance", &[]);
+    let run = simulate_scene(&linear, &options, &telescopic::Silent).unwrap();
+    let gaps = run.trajectory.gap_columns();
+    let sign_changes = run
+        .trajectory
+        .rows
+        .windows(2)
+        .filter(|w| gaps.iter().any(|&g| (w[0][g] > 0.0) != (w[1][g] > 0.0)))
+        .count();
+    assert!(
+        sign_changes > 0,
+        "the gaps change sign: the old counter counted those"
+    );
+    assert_eq!(
+        run.trajectory.sampled_switches(&linear.params.contact, 0.0),
+        0
+    );
+    let rattling = scene("adams-clearance", &[]);
+    let run = simulate_scene(&rattling, &options, &telescopic::Silent).unwrap();
+    let sampled = run
+        .trajectory
+        .sampled_switches(&rattling.params.contact, 0.0) as u64;
+    assert!(
+        sampled > 0 && sampled <= run.trajectory.stats.switches,
+        "{sampled} sampled, {} in the run",
+        run.trajectory.stats.switches
+    );
+}

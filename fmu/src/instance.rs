@@ -82,8 +82,8 @@ pub struct Instance {
     /// The instance name the importer gave (for the logger).
     pub name: String,
     kind: Kind,
-    scene_text: String,
-    scene_path: PathBuf,
+    /// The scene as the FMU's resources hold it (parameters set on a copy).
+    base: Scene,
     /// The scene with the parameters set so far.
     scene: Scene,
     vars: FmuVariables,
@@ -153,8 +153,7 @@ impl Instance {
         Ok(Instance {
             name: name.to_string(),
             kind,
-            scene_text,
-            scene_path,
+            base: scene.clone(),
             time: scene.time.start,
             scene,
             vars,
@@ -336,11 +335,10 @@ impl Instance {
         let mut overrides = self.overrides.clone();
         overrides.retain(|(k, _)| k != key);
         overrides.push((key.to_string(), value));
-        let texts: Vec<String> = overrides
-            .iter()
-            .map(|(k, v)| format!("{k}={v:e}"))
-            .collect();
-        let scene = Scene::from_toml_str(&self.scene_text, &self.scene_path, &texts)
+        let values: Vec<(&str, f64)> = overrides.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let scene = self
+            .base
+            .with_values(&values)
             .map_err(|e| format!("parameter {key} = {value}: {e}"))?;
         self.scene = scene;
         self.overrides = overrides;
@@ -526,8 +524,7 @@ impl Instance {
 
     /// `fmi2Reset`: back to just instantiated, parameters at their start values.
     pub fn reset(&mut self) -> Result<(), Failure> {
-        self.scene = Scene::from_toml_str(&self.scene_text, &self.scene_path, &[])
-            .map_err(|e| e.to_string())?;
+        self.scene = self.base.clone();
         self.overrides.clear();
         self.running = None;
         self.phase = Phase::Instantiated;

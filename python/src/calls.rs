@@ -244,17 +244,13 @@ pub fn modes<'py>(
     Ok(out)
 }
 
-/// `{"a2": 0.8}` as `[(2, 0.8)]`.
+/// `{"a2": 0.8}` as `[(2, 0.8)]`, each name and value judged by the library's rules.
 fn positions(map: Option<Vec<(String, f64)>>) -> PyResult<Vec<(usize, f64)>> {
-    let text: Vec<String> = map
-        .unwrap_or_default()
-        .into_iter()
-        .map(|(k, v)| format!("{k}={v}"))
-        .collect();
-    if text.is_empty() {
-        return Ok(Vec::new());
-    }
-    telescopic::linear::parse_positions(&text.join(",")).map_err(|e| argument("positions", e))
+    map.unwrap_or_default()
+        .iter()
+        .map(|(name, value)| telescopic::linear::position_value(name, *value))
+        .collect::<Result<_, _>>()
+        .map_err(|e| argument("positions", e))
 }
 
 /// Linear models (see `telescopic.linearize`).

@@ -34,6 +34,12 @@ pub struct ContactLaw {
     pub clearance: f64,
 }
 
+/// Whether a contact of gap `xi` (m) with half clearance `half_band` (m) is closed
+/// ([`ContactLaw::is_closed`]; for callers that keep only the band).
+pub fn gap_closed(xi: f64, half_band: f64) -> bool {
+    half_band == 0.0 || xi.abs() > half_band
+}
+
 impl ContactLaw {
     /// Half the clearance, `l_S/2` (m): where the law switches.
     pub fn half_band(&self) -> f64 {
@@ -43,6 +49,13 @@ impl ContactLaw {
     /// True when `l_S = 0`: the law is linear everywhere and needs no switching.
     pub fn is_linear(&self) -> bool {
         self.clearance == 0.0
+    }
+
+    /// Whether a contact of gap `xi` (m) presses against a guide: outside the free band, and
+    /// always with `l_S = 0` (the linear law holds everywhere, there is no free band). The
+    /// one rule of "closed" for outputs, counts and figures.
+    pub fn is_closed(&self, xi: f64) -> bool {
+        gap_closed(xi, self.half_band())
     }
 
     /// The state of gap `xi` (m). With `l_S = 0` there is no free band: `xi = 0` counts as

@@ -98,30 +98,10 @@ pub fn metrics(scene: &Scene, trajectory: &Trajectory, window_start: f64) -> Run
     }
 }
 
-/// Contact state changes in the window: a contact is closed where its gap leaves the free
-/// band `|xi| <= l_S / 2`; counted between consecutive output samples (a switch and its
-/// return within one sample are not seen).
+/// Contact state changes in the window, counted between consecutive output samples
+/// ([`Trajectory::sampled_switches`]).
 fn window_switches(scene: &Scene, trajectory: &Trajectory, window_start: f64) -> usize {
-    let half = 0.5 * scene.params.contact.clearance;
-    if half == 0.0 {
-        return 0;
-    }
-    let first = trajectory.rows.partition_point(|r| r[0] < window_start);
-    let gaps: Vec<usize> = trajectory
-        .names
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| n.starts_with("xi_"))
-        .map(|(i, _)| i + 1)
-        .collect();
-    trajectory.rows[first..]
-        .windows(2)
-        .map(|w| {
-            gaps.iter()
-                .filter(|&&g| (w[0][g].abs() > half) != (w[1][g].abs() > half))
-                .count()
-        })
-        .sum()
+    trajectory.sampled_switches(&scene.params.contact, window_start)
 }
 
 #[cfg(test)]

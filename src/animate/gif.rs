@@ -236,7 +236,8 @@ fn draw_telescope(
             tel.relative_deflection(inner, p, z),
             f64::from(feet[inner]) + x_in,
         );
-        let closed = f64::from(track.gaps[f][c]).abs() > tel.half_band_m;
+        let closed =
+            telescopic_runtime::contact::gap_closed(f64::from(track.gaps[f][c]), tel.half_band_m);
         let color = if closed { CLOSED_COLOR } else { OPEN_COLOR };
         root.draw(&Circle::new((x, y), 4, color.filled()))
             .map_err(plot_error)?;

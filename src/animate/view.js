@@ -107,7 +107,8 @@
         g.lineTo(gx + side * (band + 4), y + 7);
         g.stroke();
       });
-      const closed = frame.gaps ? Math.abs(frame.gaps[c]) > tel.half_band_m : false;
+      // closed outside the free band, and always without clearance (the Rust rule, gap_closed)
+      const closed = frame.gaps ? tel.half_band_m === 0 || Math.abs(frame.gaps[c]) > tel.half_band_m : false;
       const x = frame.gaps ? px(guide + frame.gaps[c]) : px(along(tel.points_m[inner], deflections[inner], xOut - a));
       g.fillStyle = closed ? CLOSED_COLOR : OPEN_COLOR;
       g.beginPath();

@@ -13,7 +13,7 @@
 use crate::Result;
 use telescopic_runtime::linear::{output_signal, state_names};
 use telescopic_runtime::sensors::SENSOR_OUTPUTS;
-use telescopic_runtime::{Drive, Layout, Scene, StructuralDamping};
+use telescopic_runtime::{Drive, Layout, Scene};
 
 /// What a variable is to the importing tool.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -202,22 +202,13 @@ impl FmuVariables {
 }
 
 /// The scene's value of parameter `key`; `None` when the scene has no such value (no
-/// contacts in a single section, Rayleigh damping instead of modal).
+/// contacts in a single section, damping ratios by mode or Rayleigh damping).
 fn parameter_value(scene: &Scene, key: &str) -> Option<f64> {
-    let p = &scene.params;
-    let contacts = p.sections.len() > 1;
-    match key {
-        "masses.vehicle" => Some(p.vehicle_mass),
-        "masses.load" => Some(p.load_mass),
-        "gravity.g" => Some(p.gravity),
-        "contact.stiffness" if contacts => Some(p.contact.stiffness),
-        "contact.damping" if contacts => Some(p.contact.damping),
-        "contact.clearance" if contacts => Some(p.contact.clearance),
-        "sections.damping_ratio" => match &p.damping {
-            StructuralDamping::None => Some(0.0),
-            StructuralDamping::Modal { ratios, .. } if ratios.len() == 1 => Some(ratios[0]),
-            _ => None,
-        },
-        _ => None,
+    if key == "sections.damping_ratio"
+        && (scene.file.sections.rayleigh_alpha.is_some()
+            || scene.file.sections.rayleigh_beta.is_some())
+    {
+        return None;
     }
+    scene.value(key).ok()
 }

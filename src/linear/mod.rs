@@ -113,12 +113,21 @@ pub fn parse_positions(s: &str) -> std::result::Result<Vec<(usize, f64)>, String
             let v = value
                 .trim()
                 .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| format!("`{value}` is not a finite number of metres"))?;
-            Ok((position_name(name)?, v))
+                .map_err(|_| format!("`{value}` is not a finite number of metres"))?;
+            position_value(name, v)
         })
         .collect()
+}
+
+/// One position `a<k>` (`a2`, ...) at `value` (m) as `(k, value)`.
+///
+/// # Errors
+/// A message naming the position or the value when either breaks its rule.
+pub fn position_value(name: &str, value: f64) -> std::result::Result<(usize, f64), String> {
+    if !value.is_finite() {
+        return Err(format!("`{value}` is not a finite number of metres"));
+    }
+    Ok((position_name(name)?, value))
 }
 
 /// Options of [`linearize`].

@@ -3,6 +3,7 @@
 
 use crate::run::Trajectory;
 use serde::Serialize;
+use telescopic_runtime::ContactLaw;
 
 /// How long the rest is judged over at the end of a run (s): the load's final rest is its
 /// mean `tip_rel` there.
@@ -37,12 +38,12 @@ pub struct CycleMetrics {
 }
 
 /// The figures of `traj`, a run of a move to `target` (m) that arrives at `move_time` (s),
-/// with `tolerance` (m) on `tip_rel` and contacts closing beyond `half_band` (m).
+/// with `tolerance` (m) on `tip_rel` and the contact `law` of its scene.
 pub fn cycle_metrics(
     traj: &Trajectory,
     (target, move_time): (f64, f64),
     tolerance: f64,
-    half_band: f64,
+    law: &ContactLaw,
 ) -> CycleMetrics {
     let col = |name: &str| traj.index(name);
     let (tip, vehicle) = (
@@ -82,17 +83,8 @@ pub fn cycle_metrics(
             .map(|i| i + 1)
             .collect()
     };
-    let (forces, gaps) = (columns("f_"), columns("xi_"));
-    let switches = traj
-        .rows
-        .windows(2)
-        .filter(|w| w[0][0] >= move_time)
-        .map(|w| {
-            gaps.iter()
-                .filter(|&&c| (w[0][c].abs() > half_band) != (w[1][c].abs() > half_band))
-                .count()
-        })
-        .sum();
+    let forces = columns("f_");
+    let switches = traj.sampled_switches(law, move_time);
     CycleMetrics {
         move_time_s: move_time,
         settling_time_s: cycle.map(|c| (c - move_time).max(0.0)),

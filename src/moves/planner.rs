@@ -26,7 +26,7 @@ const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
 const OPTIMIZER_BUDGET: usize = 24;
 
 /// The file of `scene` moving along `profile` (its prescribed motion) until `end` (s): what
-/// a plan writes, and what its runs load with each plant's overrides.
+/// a plan writes, and the scene its runs patch with each plant's values.
 pub fn moving_file(scene: &Scene, profile: &Profile, end: f64) -> SceneFile {
     let mut file = scene.file.clone();
     file.drive.force = None;
@@ -45,11 +45,10 @@ pub fn file_text(file: &SceneFile) -> String {
 /// # Errors
 /// [`Error::Scene`] when the profile breaks a scene rule.
 pub fn moving_scene(scene: &Scene, profile: &Profile, end: f64) -> Result<Scene> {
-    plant_scene(
-        &file_text(&moving_file(scene, profile, end)),
+    Ok(Scene::from_file(
+        moving_file(scene, profile, end),
         &scene.name,
-        &[],
-    )
+    )?)
 }
 
 /// The first mode's period (s) along the move, with the vehicle held, scheduled on the
@@ -104,8 +103,8 @@ pub fn evaluate(
     options: &PlanOptions,
     end: f64,
 ) -> Result<Vec<CycleMetrics>> {
-    // serialized once; each plant loads it with its overrides
-    let moving = file_text(&moving_file(scene, &candidate.profile, end));
+    // built once; each plant patches it with its values
+    let moving = moving_scene(scene, &candidate.profile, end)?;
     let target = options.limits.distance;
     let simulation = crate::run::SimulationOptions {
         error_estimate: false,
@@ -114,7 +113,7 @@ pub fn evaluate(
     plants
         .par_iter()
         .map(|plant| {
-            let s = plant_scene(&moving, &scene.name, &plant.overrides)?;
+            let s = plant_scene(&moving, plant)?;
             let trajectory = match (candidate.feedback, feedback) {
                 (false, _) => simulate_scene(&s, &simulation, &crate::Silent)?.trajectory,
                 (true, Some(f)) => {
@@ -133,7 +132,7 @@ pub fn evaluate(
                 &trajectory,
                 (target, candidate.arrival_s),
                 options.tolerance,
-                s.params.contact.half_band(),
+                &s.params.contact,
             ))
         })
         .collect()

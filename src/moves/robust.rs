@@ -8,7 +8,8 @@ use telescopic_runtime::Scene;
 /// One uncertain scene value and its range.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobustRange {
-    /// The scene key, as `--set` takes it (`masses.load`).
+    /// The scene key, a continuous scene value (`masses.load`;
+    /// [`telescopic_runtime::scene::KEYS`]).
     pub key: String,
     /// Smallest value.
     pub low: f64,
@@ -46,6 +47,7 @@ impl RobustRange {
             if low >= high {
                 return Err(bad(entry, "LOW must be below HIGH"));
             }
+            telescopic_runtime::scene::SceneKey::parse(key).map_err(|rule| bad(entry, &rule))?;
             if out.iter().any(|r| r.key == key.trim()) {
                 return Err(bad(entry, "the key is given twice"));
             }
@@ -69,13 +71,13 @@ impl RobustRange {
     }
 }
 
-/// A plant: a name and its overrides (`KEY=VALUE`).
+/// A plant: a name and the scene values that make it from the scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plant {
     /// `nominal`, `corner 1` .., `centre`, `check 1` ..
     pub name: String,
-    /// The overrides that make it from the scene.
-    pub overrides: Vec<String>,
+    /// `(key, value)` of each uncertain scene value.
+    pub values: Vec<(String, f64)>,
 }
 
 /// The plants the planner evaluates: the nominal scene, then the corners and the centre of
@@ -83,7 +85,7 @@ pub struct Plant {
 pub fn evaluated_plants(ranges: &[RobustRange]) -> Vec<Plant> {
     let mut plants = vec![Plant {
         name: "nominal".into(),
-        overrides: Vec::new(),
+        values: Vec::new(),
     }];
     if ranges.is_empty() {
         return plants;
@@ -130,23 +132,19 @@ fn halton(mut n: u32, base: u32) -> f64 {
 fn plant(name: String, ranges: &[RobustRange], fractions: &[f64]) -> Plant {
     Plant {
         name,
-        overrides: ranges
+        values: ranges
             .iter()
             .zip(fractions)
-            .map(|(r, &u)| format!("{}={}", r.key, r.low + u * (r.high - r.low)))
+            .map(|(r, &u)| (r.key.clone(), r.low + u * (r.high - r.low)))
             .collect(),
     }
 }
 
-/// The scene of the file `text` (TOML) named `name` with a plant's `overrides` (checked as
-/// `--set` is).
+/// `scene` as `plant`: its values set by key ([`Scene::with_values`]).
 ///
 /// # Errors
-/// [`Error::Scene`] naming the key when an override is refused.
-pub fn plant_scene(text: &str, name: &str, overrides: &[String]) -> Result<Scene> {
-    Ok(Scene::from_toml_str(
-        text,
-        std::path::Path::new(name),
-        overrides,
-    )?)
+/// [`Error::Scene`] naming the key when a value is refused.
+pub fn plant_scene(scene: &Scene, plant: &Plant) -> Result<Scene> {
+    let values: Vec<(&str, f64)> = plant.values.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    Ok(scene.with_values(&values)?)
 }

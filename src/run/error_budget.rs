@@ -317,18 +317,16 @@ fn join(modes: &[usize]) -> String {
 /// gaps) differs from the start's.
 pub fn window(params: &ModelParams, run: &Trajectory) -> Window {
     let end = run.rows.last().map_or(0.0, |r| r[0]);
-    let half = params.contact.half_band();
-    let gaps: Vec<usize> = (0..run.names.len())
-        .filter(|&i| run.names[i].starts_with("xi_"))
-        .map(|i| i + 1)
-        .collect();
-    if params.contact.is_linear() || gaps.is_empty() {
+    let law = &params.contact;
+    let gaps = run.gap_columns();
+    if law.is_linear() || gaps.is_empty() {
         return Window {
             end,
             reason: WindowEnd::SpanEnd,
         };
     }
-    let closed = |row: &[f64]| -> Vec<bool> { gaps.iter().map(|&g| row[g].abs() > half).collect() };
+    let closed =
+        |row: &[f64]| -> Vec<bool> { gaps.iter().map(|&g| law.is_closed(row[g])).collect() };
     let first = closed(&run.rows[0]);
     match run.rows.iter().find(|r| closed(r) != first) {
         Some(r) => Window {

@@ -1,7 +1,7 @@
 //! The samples of one run: output names, rows `[t, outputs...]` and the run's statistics.
 
 use std::io::Write;
-use telescopic_runtime::RunStats;
+use telescopic_runtime::{ContactLaw, RunStats};
 
 /// The samples of one run: output names and rows `[t, outputs...]`.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,6 +27,31 @@ impl Trajectory {
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let i = self.index(name)?;
         Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+
+    /// The row indices of the gaps `xi_*`.
+    pub fn gap_columns(&self) -> Vec<usize> {
+        (0..self.names.len())
+            .filter(|&i| self.names[i].starts_with("xi_"))
+            .map(|i| i + 1)
+            .collect()
+    }
+
+    /// Contact switches between consecutive samples from time `from` (s) on: a gap that is
+    /// closed by `law` ([`ContactLaw::is_closed`]) in one sample and open in the next, or the
+    /// reverse (none with `l_S = 0`). Counts on the samples, so it can be below the run's
+    /// own count ([`RunStats::switches`]) where a contact closes and opens between two.
+    pub fn sampled_switches(&self, law: &ContactLaw, from: f64) -> usize {
+        let gaps = self.gap_columns();
+        let first = self.rows.partition_point(|r| r[0] < from);
+        self.rows[first..]
+            .windows(2)
+            .map(|w| {
+                gaps.iter()
+                    .filter(|&&g| law.is_closed(w[0][g]) != law.is_closed(w[1][g]))
+                    .count()
+            })
+            .sum()
     }
 
     /// Writes the CSV: a header `t,<names>` and one row per sample.

@@ -119,26 +119,15 @@ pub fn chart(
     })
 }
 
-/// The unit of a column, where it is known: the metrics and the usual scene keys.
+/// The unit of a column, where it is known: the metrics and every continuous scene key
+/// ([`telescopic_runtime::scene::KEYS`]).
 pub fn unit_of(column: &str) -> Option<&'static str> {
     let unit = match column {
         "tip_rel_max" | "tip_rel_rms" | "residual_std" => "m",
         "contact_force_max" => "N",
         "f1_hz" => "Hz",
         "wall_s" => "s",
-        "contact.clearance" => "m",
-        "contact.stiffness" => "N/m",
-        "contact.damping" => "N s/m",
-        "masses.vehicle" | "masses.load" => "kg",
-        "drive.force" => "N",
-        "gravity.g" => "m/s^2",
-        c if c.starts_with("telescope.positions") => "m",
-        c if c.starts_with("sections.length") => "m",
-        c if c.starts_with("sections.density") => "kg/m^3",
-        c if c.starts_with("sections.youngs_modulus") => "N/m^2",
-        c if c.starts_with("sections.inertia") => "m^4",
-        c if c.starts_with("sections.area") => "m^2",
-        _ => return None,
+        key => return telescopic_runtime::scene::keys::unit_of(key),
     };
     Some(unit)
 }

@@ -1,12 +1,14 @@
 //! Scenes: TOML files that describe a telescope, its drive and a time span; loading,
 //! `--set` overrides and validation with errors that name the field and the rule.
 
+pub mod keys;
 pub mod limits;
 mod overrides;
 pub mod plausibility;
 pub mod schema;
 mod validate;
 
+pub use keys::{KEYS, KeyField, SceneKey};
 pub use overrides::apply_override;
 pub use schema::SceneFile;
 pub use validate::profile_errors;
@@ -206,6 +208,69 @@ impl Scene {
                 }
             })?;
         validate::build(file, &origin)
+    }
+}
+
+impl Scene {
+    /// The scene of a scene file as a value (no text): validated as [`Scene::load`] does;
+    /// `origin` names it in messages.
+    ///
+    /// # Errors
+    /// [`SceneError::Invalid`] naming every broken rule.
+    pub fn from_file(file: SceneFile, origin: &str) -> Result<Self, SceneError> {
+        validate::build(file, origin)
+    }
+
+    /// This scene with continuous values replaced by key ([`keys::KEYS`]:
+    /// `contact.clearance`, `sections.length.1`, ...) and validated again: no text is
+    /// written or parsed.
+    ///
+    /// ```
+    /// use telescopic_runtime::Scene;
+    /// let scene = Scene::load("../scenes/adams-linear.toml".as_ref(), &[]).unwrap();
+    /// let heavier = scene.with_values(&[("masses.load", 30.0)]).unwrap();
+    /// assert_eq!(heavier.params.load_mass, 30.0);
+    /// let err = scene.with_values(&[("contact.clearance", -1.0)]).unwrap_err();
+    /// assert!(err.to_string().contains("contact.clearance"));
+    /// ```
+    ///
+    /// # Errors
+    /// [`SceneError::Override`] naming the key for a key that is not a continuous scene
+    /// value of this scene; [`SceneError::Invalid`] for values that break the scene's rules.
+    pub fn with_values(&self, values: &[(&str, f64)]) -> Result<Self, SceneError> {
+        let mut file = self.file.clone();
+        for &(key, value) in values {
+            let refused = |rule: String| SceneError::Override {
+                argument: format!("{key} = {value}"),
+                rule,
+            };
+            if !value.is_finite() {
+                return Err(refused("the value must be a finite number".into()));
+            }
+            SceneKey::parse(key)
+                .and_then(|k| k.set(&mut file, value))
+                .map_err(refused)?;
+        }
+        let origin = format!(
+            "{} (with {})",
+            self.name,
+            values
+                .iter()
+                .map(|(k, v)| format!("{k} = {v}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        validate::build(file, &origin)
+    }
+
+    /// The continuous value of `key` ([`keys::KEYS`]) in this scene.
+    ///
+    /// # Errors
+    /// A message naming the key when it is not a continuous value of this scene.
+    pub fn value(&self, key: &str) -> Result<f64, String> {
+        SceneKey::parse(key)?
+            .get(&self.file)
+            .map_err(|e| format!("`{key}`: {e}"))
     }
 }
 
