@@ -37,7 +37,7 @@ const CAPPED_GROWTH: f64 = 1.1;
 /// once after almost every closing (its error some 1e4 tolerances), then cut to about this.
 const FIRST_STEP_AFTER_CLOSING: f64 = 0.3;
 
-/// Where an [`Driver::advance_to`] call ended.
+/// Where an [`Integrator::advance_to`](super::Integrator::advance_to) call ended.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Stop {
     /// At the time asked for.

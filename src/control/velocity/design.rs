@@ -1,0 +1,197 @@
+//! The design of a velocity feedback on the scene's scheduled linear model.
+
+use super::file::{
+    VELOCITY_FEEDBACK_FORMAT, VELOCITY_FEEDBACK_VERSION, VelocityFeedback, VelocityPoint,
+};
+use crate::control::sampled::default_noise;
+use crate::control::strain::{STRAIN_RATE_SENSORS, VEHICLE_LOOP_FRACTION, tip_per_curvature};
+use crate::run::models::{ModelChoice, ModelRegistry};
+use crate::{Error, OptionName, Result};
+use telescopic_runtime::{ContactMode, Drive, Lpv, Model, ModelParams, Scene, configuration_key};
+
+/// The washout's time constant in periods of the lowest first mode.
+pub const WASHOUT_PERIODS: f64 = 1.0;
+
+/// Settings of [`design_velocity_feedback`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct VelocityDesign {
+    /// Damping ratio added to the first mode (default 0.3).
+    pub added_damping: f64,
+    /// Bound of the velocity correction (m/s, default 0.25).
+    pub velocity_limit: f64,
+    /// Bound of the correction's acceleration (m/s^2, default 1).
+    pub acceleration_limit: f64,
+    /// Controller rate (Hz, default 1000).
+    pub rate_hz: f64,
+    /// Design points over the moving position's range (default 9).
+    pub grid_points: usize,
+    /// Seed of the simulated measurement noise (default 1).
+    pub seed: u64,
+}
+
+impl Default for VelocityDesign {
+    fn default() -> Self {
+        VelocityDesign {
+            added_damping: 0.3,
+            velocity_limit: 0.25,
+            acceleration_limit: 1.0,
+            rate_hz: crate::control::sampled::DEFAULT_RATE_HZ,
+            grid_points: 9,
+            seed: 1,
+        }
+    }
+}
+
+/// The moving position of `params` over `[start, end]` (its index among `a_2..`, and its
+/// range), if one moves; more than one is refused.
+fn moving_position(
+    params: &ModelParams,
+    start: f64,
+    end: f64,
+) -> Result<Option<(usize, f64, f64)>> {
+    let moving: Vec<usize> = (0..params.positions.len())
+        .filter(|&i| !params.positions[i].is_constant())
+        .collect();
+    match moving[..] {
+        [] => Ok(None),
+        [i] => {
+            let (lo, hi) = params.positions[i].range(start, end);
+            Ok(Some((i, lo, hi)))
+        }
+        _ => Err(Error::option(
+            OptionName::Feedback,
+            "gain scheduling over more than one moving telescopic position is not supported",
+        )),
+    }
+}
+
+/// Designs the velocity feedback for `scene` (which must have a prescribed motion).
+///
+/// # Errors
+/// [`Error::Option`] for settings out of range or a scene the design does not cover;
+/// [`Error::Model`] when the first mode does not bend section 1 at its foot.
+pub fn design_velocity_feedback(
+    scene: &Scene,
+    design: &VelocityDesign,
+) -> Result<VelocityFeedback> {
+    let params = &scene.params;
+    if !matches!(params.drive, Drive::Motion(_)) {
+        return Err(Error::option(
+            OptionName::Feedback,
+            "velocity feedback acts through a servo's setpoint: the scene needs a prescribed \
+             motion (drive.motion)",
+        ));
+    }
+    check_design(design)?;
+    let chosen = ModelRegistry::default().build(params, ModelChoice::Auto)?;
+    let model = chosen.model.as_ref();
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
+    let here: Vec<f64> = params
+        .positions
+        .iter()
+        .map(|p| p.value(scene.time.start))
+        .collect();
+    let moving = moving_position(params, scene.time.start, scene.time.end)?;
+    let grid: Vec<Vec<f64>> = match moving {
+        None => vec![here],
+        Some((i, lo, hi)) => (0..design.grid_points)
+            .map(|j| {
+                let mut p = here.clone();
+                p[i] = lo + (hi - lo) * j as f64 / (design.grid_points - 1) as f64;
+                p
+            })
+            .collect(),
+    };
+    let tau = std::f64::consts::TAU;
+    let points = grid
+        .into_iter()
+        .map(|positions| {
+            let (ratio, f1) = tip_per_curvature(model, &lpv, &positions)?;
+            Ok(VelocityPoint {
+                first_mode_hz: f1,
+                tip_per_curvature_m2: ratio,
+                gain_m2_per_s: 2.0 * design.added_damping * tau * f1 * ratio,
+                curvature_per_acceleration: static_curvature(model, &lpv, &positions)?,
+                positions,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let lowest = points
+        .iter()
+        .map(|p| p.first_mode_hz)
+        .fold(f64::INFINITY, f64::min);
+    let sensors: Vec<String> = STRAIN_RATE_SENSORS.iter().map(|s| s.to_string()).collect();
+    Ok(VelocityFeedback {
+        format: VELOCITY_FEEDBACK_FORMAT.into(),
+        version: VELOCITY_FEEDBACK_VERSION,
+        generator: format!("telescopic {}", env!("CARGO_PKG_VERSION")),
+        scene: scene.name.clone(),
+        configuration: configuration_key(params),
+        rate_hz: design.rate_hz,
+        noise: sensors.iter().map(|s| default_noise(s)).collect(),
+        sensors,
+        seed: design.seed,
+        added_damping: design.added_damping,
+        position_gain_per_s: VEHICLE_LOOP_FRACTION * tau * lowest,
+        washout_time_constant_s: WASHOUT_PERIODS / lowest,
+        velocity_limit_m_per_s: design.velocity_limit,
+        acceleration_limit_m_per_s2: design.acceleration_limit,
+        schedule_parameter: moving.map(|(i, _, _)| format!("a_{}", i + 2)),
+        points,
+    })
+}
+
+/// `kappa_1_0` (1/m) of the held structure at rest under a unit vehicle acceleration at
+/// `positions`: the relative coordinates `p` solve `A_pp p + b_p = 0` of the closed-contact
+/// linear model (`M_pp p'' + K_pp p = -M_p0 u''` at rest).
+///
+/// # Errors
+/// [`Error::Model`] when the linear model cannot be formed or its stiffness is singular.
+fn static_curvature(model: &dyn Model, lpv: &Lpv, positions: &[f64]) -> Result<f64> {
+    let n = model.dof();
+    let full = lpv
+        .at(positions, &vec![0.0; positions.len()])
+        .map_err(|e| Error::Model(e.to_string()))?;
+    let r = n - 1;
+    let a_pp = full.a.view((n + 1, 1), (r, r)).into_owned();
+    let b_p = full.b.view((n + 1, 0), (r, 1)).into_owned();
+    let p = a_pp
+        .lu()
+        .solve(&(-b_p))
+        .ok_or_else(|| Error::Model("the held structure has no static deflection".into()))?;
+    let row = lpv
+        .outputs()
+        .iter()
+        .position(|o| o.name == "kappa_1_0")
+        .ok_or_else(|| Error::Model("the linear model has no output `kappa_1_0`".into()))?;
+    Ok((0..r).map(|j| full.c[(row, j + 1)] * p[j]).sum())
+}
+
+/// The design's settings against their rules.
+fn check_design(design: &VelocityDesign) -> Result<()> {
+    let bad = |rule: String| Err(Error::option(OptionName::Feedback, rule));
+    if !(design.added_damping > 0.0 && design.added_damping <= 2.0) {
+        return bad(format!(
+            "the added damping must be a ratio in (0, 2] (got {})",
+            design.added_damping
+        ));
+    }
+    for (what, v) in [
+        ("velocity", design.velocity_limit),
+        ("acceleration", design.acceleration_limit),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::option(
+                OptionName::CorrectionLimits,
+                format!("the correction's {what} bound must be > 0 (got {v})"),
+            ));
+        }
+    }
+    if design.grid_points < 2 {
+        return bad(format!(
+            "at least 2 design points (got {})",
+            design.grid_points
+        ));
+    }
+    crate::control::sampled::check_rate(design.rate_hz)
+}

@@ -1,0 +1,225 @@
+//! The velocity-feedback file: its layout, its checks and what it tells a run.
+
+use crate::control::strain::STRAIN_RATE_SENSORS;
+use crate::{Error, OptionName, Result};
+use serde::{Deserialize, Serialize};
+use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
+
+/// The `format` of a velocity-feedback file.
+pub const VELOCITY_FEEDBACK_FORMAT: &str = "telescopic velocity feedback";
+
+/// The layout version this build writes and reads.
+pub const VELOCITY_FEEDBACK_VERSION: u32 = 1;
+
+/// A designed velocity-servo feedback: what `plan` writes beside a plan that uses feedback,
+/// and `simulate --controller` reads.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VelocityFeedback {
+    /// `telescopic velocity feedback`.
+    pub format: String,
+    /// Layout version of the file.
+    pub version: u32,
+    /// The tool that wrote it.
+    pub generator: String,
+    /// The scene designed for.
+    pub scene: String,
+    /// Its configuration key (a scene of another configuration is refused).
+    pub configuration: String,
+    /// Controller rate (Hz).
+    pub rate_hz: f64,
+    /// The measured outputs: `vehicle` and `kappa_1_0`.
+    pub sensors: Vec<String>,
+    /// Their measurement noise (standard deviation, m and 1/m).
+    pub noise: Vec<f64>,
+    /// Seed of the simulated measurement noise.
+    pub seed: u64,
+    /// Damping ratio added to the first mode (the design's knob).
+    pub added_damping: f64,
+    /// The vehicle loop's gain `k_p` (1/s).
+    pub position_gain_per_s: f64,
+    /// Time constant of the curvature's washout `tau_w` (s).
+    pub washout_time_constant_s: f64,
+    /// Bound of the velocity correction (m/s).
+    pub velocity_limit_m_per_s: f64,
+    /// Bound of the correction's acceleration (m/s^2).
+    pub acceleration_limit_m_per_s2: f64,
+    /// The scheduled position (`a_k`), if the positions move.
+    pub schedule_parameter: Option<String>,
+    /// The design points, ordered by the scheduled position.
+    pub points: Vec<VelocityPoint>,
+}
+
+/// The law at one design point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VelocityPoint {
+    /// Telescopic positions `a_2..a_n` (m).
+    pub positions: Vec<f64>,
+    /// The first elastic mode's frequency with the vehicle held (Hz).
+    pub first_mode_hz: f64,
+    /// `tip_rel` per `kappa_1_0` in that mode (m^2).
+    pub tip_per_curvature_m2: f64,
+    /// The gain `g` on the curvature (m/s per 1/m).
+    pub gain_m2_per_s: f64,
+    /// `c`: `kappa_1_0` at rest under a unit vehicle acceleration, vehicle held (1/m per
+    /// m/s^2).
+    pub curvature_per_acceleration: f64,
+}
+
+pub(super) fn field(name: &str, rule: impl std::fmt::Display) -> Error {
+    Error::input(format!("velocity feedback `{name}`"), rule)
+}
+
+impl VelocityFeedback {
+    /// The file (JSON).
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("plain data") + "\n"
+    }
+
+    /// Reads a velocity-feedback file: its format and version first.
+    ///
+    /// # Errors
+    /// [`Error::Analysis`] naming what is malformed.
+    pub fn from_json(text: &str) -> Result<Self> {
+        let malformed = |e: serde_json::Error| Error::Analysis(format!("velocity feedback: {e}"));
+        let head: serde_json::Value = serde_json::from_str(text).map_err(malformed)?;
+        if head.get("format").and_then(|f| f.as_str()) != Some(VELOCITY_FEEDBACK_FORMAT) {
+            return Err(Error::Analysis(format!(
+                "velocity feedback: `format` is not \"{VELOCITY_FEEDBACK_FORMAT}\""
+            )));
+        }
+        let version = head.get("version").and_then(|v| v.as_u64());
+        if version != Some(u64::from(VELOCITY_FEEDBACK_VERSION)) {
+            return Err(Error::Analysis(format!(
+                "velocity feedback: layout version {}, but this build reads version \
+                 {VELOCITY_FEEDBACK_VERSION}; plan again with this build",
+                version.map_or("none".to_string(), |v| v.to_string())
+            )));
+        }
+        serde_json::from_value(head).map_err(malformed)
+    }
+
+    /// In a few words, e.g. `velocity feedback (zeta 0.30) from vehicle, kappa_1_0 at 1000 Hz`.
+    pub fn describe(&self) -> String {
+        format!(
+            "velocity feedback (zeta {:.2}) from {} at {} Hz",
+            self.added_damping,
+            self.sensors.join(", "),
+            self.rate_hz
+        )
+    }
+
+    /// Checks that the file fits `scene`: the configuration, a prescribed motion, the sensors
+    /// the law reads, finite bounded settings and one position per telescopic position at
+    /// every point.
+    ///
+    /// # Errors
+    /// [`Error::Input`] naming the field and the rule; [`Error::Option`] for a scene without
+    /// a prescribed motion.
+    pub fn check_fits(&self, scene: &Scene) -> Result<()> {
+        let params = &scene.params;
+        if !matches!(params.drive, Drive::Motion(_)) {
+            return Err(Error::option(
+                OptionName::Controller,
+                "velocity feedback corrects a prescribed motion; the scene's drive is a force",
+            ));
+        }
+        let key = configuration_key(params);
+        if key != self.configuration {
+            return Err(field(
+                "configuration",
+                format!(
+                    "designed for configuration {} (scene {}), the scene is {key}",
+                    self.configuration, self.scene
+                ),
+            ));
+        }
+        if self.sensors != STRAIN_RATE_SENSORS || self.noise.len() != self.sensors.len() {
+            return Err(field(
+                "sensors",
+                "must be [\"vehicle\", \"kappa_1_0\"] with one noise each",
+            ));
+        }
+        if let Some(v) = self.noise.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+            return Err(field("noise", format!("must be finite and >= 0 (got {v})")));
+        }
+        crate::control::sampled::check_rate(self.rate_hz).map_err(|_| {
+            field(
+                "rate_hz",
+                format!("must be 1 to 1e6 Hz (got {})", self.rate_hz),
+            )
+        })?;
+        for (name, v, high) in [
+            ("added_damping", self.added_damping, 2.0),
+            ("position_gain_per_s", self.position_gain_per_s, 1e3),
+            ("washout_time_constant_s", self.washout_time_constant_s, 1e6),
+            ("velocity_limit_m_per_s", self.velocity_limit_m_per_s, 1e3),
+            (
+                "acceleration_limit_m_per_s2",
+                self.acceleration_limit_m_per_s2,
+                1e4,
+            ),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v <= high) {
+                return Err(field(
+                    name,
+                    format!("must be > 0 and at most {high} (got {v})"),
+                ));
+            }
+        }
+        self.check_points(params)
+    }
+
+    /// The design points: one or more, positions of the scene's count, finite gains.
+    fn check_points(&self, params: &ModelParams) -> Result<()> {
+        if self.points.is_empty() {
+            return Err(field("points", "must hold at least one design point"));
+        }
+        for (j, p) in self.points.iter().enumerate() {
+            if p.positions.len() != params.positions.len()
+                || p.positions.iter().any(|a| !a.is_finite())
+            {
+                return Err(field(
+                    &format!("points[{j}].positions"),
+                    format!("must be {} finite positions", params.positions.len()),
+                ));
+            }
+            if !(p.gain_m2_per_s.is_finite() && p.gain_m2_per_s.abs() <= 1e6) {
+                return Err(field(
+                    &format!("points[{j}].gain_m2_per_s"),
+                    format!(
+                        "must be finite, at most 1e6 in size (got {})",
+                        p.gain_m2_per_s
+                    ),
+                ));
+            }
+        }
+        let scheduled = self.scheduled_index();
+        if self.points.len() > 1 && scheduled.is_none_or(|i| i >= params.positions.len()) {
+            return Err(field(
+                "schedule_parameter",
+                "must name a telescopic position of the scene (a_2, ...) when there are several \
+                 points",
+            ));
+        }
+        if let Some(i) = scheduled
+            && self
+                .points
+                .windows(2)
+                .any(|w| w[1].positions[i] < w[0].positions[i])
+        {
+            return Err(field("points", "must ascend along the scheduled position"));
+        }
+        Ok(())
+    }
+
+    /// Index (among `a_2..`) of the scheduled position.
+    pub(super) fn scheduled_index(&self) -> Option<usize> {
+        self.schedule_parameter
+            .as_deref()
+            .and_then(|s| s.strip_prefix("a_"))
+            .and_then(|k| k.parse::<usize>().ok())
+            .and_then(|k| k.checked_sub(2))
+    }
+}
