@@ -336,7 +336,7 @@ pub fn linearize<'py>(
 
 /// Designs a controller; returns its JSON (see `telescopic.design`).
 #[pyfunction]
-#[pyo3(signature = (scene, controller = "lqr+shaper", force_limit = 300.0, sensors = None,
+#[pyo3(signature = (scene, controller = None, force_limit = None, sensors = None,
     rate_hz = None, law = None, shaper_timing = None, tip_scale = None, vehicle_scale = None,
     estimator = None, process_noise_floor = None, added_damping = None, model = "auto",
     progress = None))]
@@ -344,8 +344,8 @@ pub fn linearize<'py>(
 pub fn design(
     py: Python<'_>,
     scene: &PyScene,
-    controller: &str,
-    force_limit: f64,
+    controller: Option<&str>,
+    force_limit: Option<f64>,
     sensors: Option<Vec<String>>,
     rate_hz: Option<f64>,
     law: Option<&str>,
@@ -360,8 +360,11 @@ pub fn design(
 ) -> PyResult<String> {
     let defaults = DesignOptions::default();
     let options = DesignOptions {
-        kind: parsed::<ControllerKind>("controller", controller)?,
-        force_limit,
+        kind: match controller {
+            Some(text) => parsed::<ControllerKind>("controller", text)?,
+            None => defaults.kind,
+        },
+        force_limit: force_limit.unwrap_or(defaults.force_limit),
         sensors: sensors.unwrap_or(defaults.sensors.clone()),
         rate_hz: rate_hz.unwrap_or(defaults.rate_hz),
         law: match law {

@@ -57,7 +57,7 @@ pub fn plan<'py>(
     a_max: f64,
     j_max: f64,
     tolerance: f64,
-    robust: Option<String>,
+    robust: Option<Vec<(String, f64, f64)>>,
     settle: f64,
     optimize: bool,
     checks: usize,
@@ -76,7 +76,7 @@ pub fn plan<'py>(
     let options = PlanOptions {
         tolerance,
         robust: match &robust {
-            Some(text) => RobustRange::parse_list(text).map_err(to_python)?,
+            Some(entries) => RobustRange::list(entries).map_err(to_python)?,
             None => Vec::new(),
         },
         settle_s: settle,

@@ -391,8 +391,8 @@ def linearize(
 
 def design(
     scene: Scene,
-    controller: str = "lqr+shaper",
-    force_limit: float = 300.0,
+    controller: str | None = None,
+    force_limit: float | None = None,
     sensors: Sequence[str] | None = None,
     rate_hz: float | None = None,
     law: str | None = None,
@@ -523,26 +523,30 @@ class Plan:
                 f"{self.rigid_limit_s:.2f} s)")
 
 
-def plan(scene: Scene, distance: float, v_max: float = 2.5, a_max: float = 0.7,
-         j_max: float = 2.0, tolerance: float = 0.005,
-         robust: Mapping[str, tuple[float, float]] | None = None, settle: float = 10.0,
-         optimize: bool = True, checks: int = 4, force_limit: float | None = None,
+def plan(scene: Scene, distance: float, v_max: float | None = None,
+         a_max: float | None = None, j_max: float | None = None,
+         tolerance: float | None = None,
+         robust: Mapping[str, tuple[float, float]] | None = None, settle: float | None = None,
+         optimize: bool = True, checks: int | None = None, force_limit: float | None = None,
          feedback: float | None = None, method: str = "auto", progress: Any = None) -> Plan:
     """The shortest move over ``distance`` (m) that brings the load to rest within
     ``tolerance`` (m) (``telescopic plan``): the time-optimal S-curve within ``v_max``,
     ``a_max``, ``j_max``, shaped by ZV/ZVD/EI/2EI (fixed and scheduled on the first mode) and
     optimized, each on the nonlinear model and every plant of ``robust`` (``{"masses.load":
     (10, 30)}``: its corners and centre). ``feedback`` (a damping ratio, e.g. 0.3) adds the
-    velocity feedback on top of the S-curve and of the best open-loop move. Returns a
-    ``Plan``: the table as a DataFrame and the best plan as a Scene."""
-    text = None
+    velocity feedback on top of the S-curve and of the best open-loop move. A limit left at
+    ``None`` takes the library's default (``telescopic plan``'s). Returns a ``Plan``: the
+    table as a DataFrame and the best plan as a Scene."""
+    ranges = None
     if robust is not None:
-        text = ",".join(f"{k}={lo}:{hi}" for k, (lo, hi) in robust.items())
+        ranges = [(k, *bounds) for k, bounds in robust.items()]
     options = dict(method=method, rtol=None, atol=None, dt=None, accuracy=None, model="auto",
                    modes_as_given=False)
+    defaulted = dict(v_max=v_max, a_max=a_max, j_max=j_max, tolerance=tolerance, settle=settle,
+                     checks=checks)
     rows, scene_text, summary = _telescopic.plan(
-        scene, distance, v_max=v_max, a_max=a_max, j_max=j_max, tolerance=tolerance,
-        robust=text, settle=settle, optimize=optimize, checks=checks, force_limit=force_limit,
-        feedback=feedback, options=options, progress=_progress(progress))
+        scene, distance, robust=ranges, optimize=optimize, force_limit=force_limit,
+        feedback=feedback, options=options, progress=_progress(progress),
+        **{k: v for k, v in defaulted.items() if v is not None})
     return Plan(rows, scene_text, summary)
 

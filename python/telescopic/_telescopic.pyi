@@ -122,8 +122,8 @@ def linearize(
 
 def design(
     scene: Scene,
-    controller: str = "lqr+shaper",
-    force_limit: float = 300.0,
+    controller: str | None = None,
+    force_limit: float | None = None,
     sensors: list[str] | None = None,
     rate_hz: float | None = None,
     law: str | None = None,
@@ -157,7 +157,7 @@ def plan(
     a_max: float = 0.7,
     j_max: float = 2.0,
     tolerance: float = 0.005,
-    robust: str | None = None,
+    robust: list[tuple[str, float, float]] | None = None,
     settle: float = 10.0,
     optimize: bool = True,
     checks: int = 4,

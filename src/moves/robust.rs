@@ -17,6 +17,11 @@ pub struct RobustRange {
     pub high: f64,
 }
 
+/// The error of a `--robust` entry breaking `rule`.
+fn bad(entry: &str, rule: &str) -> Error {
+    Error::option(OptionName::Robust, format!("{entry}: {rule}"))
+}
+
 /// Most ranges: the corners double with each.
 pub const MAX_RANGES: usize = 6;
 
@@ -26,9 +31,7 @@ impl RobustRange {
     /// # Errors
     /// [`Error::Option`] naming the entry and the rule.
     pub fn parse_list(text: &str) -> Result<Vec<RobustRange>> {
-        let bad =
-            |entry: &str, rule: &str| Error::option(OptionName::Robust, format!("{entry}: {rule}"));
-        let mut out: Vec<RobustRange> = Vec::new();
+        let mut entries = Vec::new();
         for entry in text.split(',').map(str::trim).filter(|e| !e.is_empty()) {
             let (key, range) = entry
                 .split_once('=')
@@ -39,20 +42,36 @@ impl RobustRange {
             let number = |s: &str| {
                 s.trim()
                     .parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| bad(entry, "LOW and HIGH must be finite numbers"))
+                    .map_err(|_| bad(entry, "LOW and HIGH must be finite numbers"))
             };
-            let (low, high) = (number(low)?, number(high)?);
-            if low >= high {
-                return Err(bad(entry, "LOW must be below HIGH"));
+            entries.push((key.trim().to_string(), number(low)?, number(high)?));
+        }
+        Self::list(&entries)
+    }
+
+    /// The ranges `(key, low, high)`, each checked: a continuous scene key
+    /// ([`telescopic_runtime::scene::KEYS`]) given once, finite bounds with `low < high`, at
+    /// most [`MAX_RANGES`].
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the entry and the rule.
+    pub fn list(entries: &[(String, f64, f64)]) -> Result<Vec<RobustRange>> {
+        let mut out: Vec<RobustRange> = Vec::new();
+        for (key, low, high) in entries {
+            let (key, low, high) = (key.trim(), *low, *high);
+            let entry = format!("{key}={low}:{high}");
+            if !(low.is_finite() && high.is_finite()) {
+                return Err(bad(&entry, "LOW and HIGH must be finite numbers"));
             }
-            telescopic_runtime::scene::SceneKey::parse(key).map_err(|rule| bad(entry, &rule))?;
-            if out.iter().any(|r| r.key == key.trim()) {
-                return Err(bad(entry, "the key is given twice"));
+            if low >= high {
+                return Err(bad(&entry, "LOW must be below HIGH"));
+            }
+            telescopic_runtime::scene::SceneKey::parse(key).map_err(|rule| bad(&entry, &rule))?;
+            if out.iter().any(|r| r.key == key) {
+                return Err(bad(&entry, "the key is given twice"));
             }
             out.push(RobustRange {
-                key: key.trim().to_string(),
+                key: key.to_string(),
                 low,
                 high,
             });
@@ -147,4 +166,39 @@ fn plant(name: String, ranges: &[RobustRange], fractions: &[f64]) -> Plant {
 pub fn plant_scene(scene: &Scene, plant: &Plant) -> Result<Scene> {
     let values: Vec<(&str, f64)> = plant.values.iter().map(|(k, v)| (k.as_str(), *v)).collect();
     Ok(scene.with_values(&values)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Typed entries (Python's) and the option's text give the same ranges, and the same
+    /// rules refuse them, naming the entry.
+    #[test]
+    fn typed_ranges_are_the_texts_and_refused_by_the_same_rules() {
+        let text =
+            RobustRange::parse_list("masses.load=10:30, contact.clearance=0.005:0.02").unwrap();
+        let typed = RobustRange::list(&[
+            ("masses.load".into(), 10.0, 30.0),
+            ("contact.clearance".into(), 0.005, 0.02),
+        ])
+        .unwrap();
+        assert_eq!(text, typed);
+        let refused =
+            |entries: &[(String, f64, f64)]| RobustRange::list(entries).unwrap_err().to_string();
+        assert!(refused(&[("masses.lod".into(), 1.0, 2.0)]).contains("masses.lod"));
+        assert!(refused(&[("masses.load".into(), f64::NAN, 2.0)]).contains("finite"));
+        assert!(refused(&[("masses.load".into(), 3.0, 2.0)]).contains("below"));
+        let twice = [
+            ("masses.load".to_string(), 1.0, 2.0),
+            ("masses.load".into(), 1.0, 3.0),
+        ];
+        assert!(refused(&twice).contains("twice"));
+        assert!(
+            RobustRange::parse_list("masses.load=1:nan")
+                .unwrap_err()
+                .to_string()
+                .contains("finite")
+        );
+    }
 }
