@@ -53,13 +53,7 @@ impl<'m> Integrator<'m> {
         method: Method,
         settings: &Settings,
     ) -> Result<Self, SimError> {
-        if y0.len() != 2 * model.dof() {
-            return Err(SimError::Settings(format!(
-                "initial state has {} entries, the model needs 2 dof = {}",
-                y0.len(),
-                2 * model.dof()
-            )));
-        }
+        super::check_state_len(model, y0)?;
         let TimeSpan { start, end, sample } = *span;
         if !(sample > 0.0 && sample.is_finite() && start.is_finite() && end.is_finite())
             || end <= start

@@ -705,6 +705,18 @@ pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);
 /// returns whether to go on (false stops the run with [`SimError::Stopped`]).
 pub type Progress<'a> = &'a mut dyn FnMut(f64) -> bool;
 
+/// Refuses an initial state `y0` that is not `[z, zdot]` of `model`.
+fn check_state_len(model: &dyn Model, y0: &[f64]) -> Result<(), SimError> {
+    if y0.len() == 2 * model.dof() {
+        return Ok(());
+    }
+    Err(SimError::Settings(format!(
+        "initial state has {} entries, the model needs 2 dof = {}",
+        y0.len(),
+        2 * model.dof()
+    )))
+}
+
 /// Integrates `model` from `y0` at `span.start` to `span.end`, calling `observe(t, y, ydot)`
 /// at every sample time `start + k sample` (and at `end`).
 ///
@@ -721,13 +733,7 @@ pub fn simulate(
     progress: Option<Progress>,
 ) -> Result<RunStats, SimError> {
     let started = Instant::now();
-    if y0.len() != 2 * model.dof() {
-        return Err(SimError::Settings(format!(
-            "initial state has {} entries, the model needs 2 dof = {}",
-            y0.len(),
-            2 * model.dof()
-        )));
-    }
+    check_state_len(model, y0)?;
     let mut stats = match settings.exact_from {
         _ if method == Method::Exact => exact::run(model, y0, span, settings, observe, progress)?,
         Some(t_exact) => method_then_exact(

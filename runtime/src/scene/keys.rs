@@ -164,6 +164,24 @@ macro_rules! section_field {
     };
 }
 
+/// An optional number of `[sections]`, zero when absent.
+macro_rules! optional_section_field {
+    ($path:literal, $field:ident, $unit:literal, $description:literal) => {
+        KeyField {
+            path: $path,
+            unit: $unit,
+            description: $description,
+            parameter: true,
+            per_section: false,
+            get: |f, _| Ok(f.sections.$field.unwrap_or(0.0)),
+            set: |f, _, v| {
+                f.sections.$field = Some(v);
+                Ok(())
+            },
+        }
+    };
+}
+
 /// A single number of the file, always present.
 macro_rules! number_field {
     ($path:literal, $unit:literal, $description:literal, $parameter:literal, |$f:ident| $place:expr) => {
@@ -233,30 +251,18 @@ pub static KEYS: &[KeyField] = &[
             Ok(())
         },
     },
-    KeyField {
-        path: "sections.rayleigh_alpha",
-        unit: "1/s",
-        description: "Rayleigh damping's mass coefficient alpha",
-        parameter: true,
-        per_section: false,
-        get: |f, _| Ok(f.sections.rayleigh_alpha.unwrap_or(0.0)),
-        set: |f, _, v| {
-            f.sections.rayleigh_alpha = Some(v);
-            Ok(())
-        },
-    },
-    KeyField {
-        path: "sections.rayleigh_beta",
-        unit: "s",
-        description: "Rayleigh damping's stiffness coefficient beta",
-        parameter: true,
-        per_section: false,
-        get: |f, _| Ok(f.sections.rayleigh_beta.unwrap_or(0.0)),
-        set: |f, _, v| {
-            f.sections.rayleigh_beta = Some(v);
-            Ok(())
-        },
-    },
+    optional_section_field!(
+        "sections.rayleigh_alpha",
+        rayleigh_alpha,
+        "1/s",
+        "Rayleigh damping's mass coefficient alpha"
+    ),
+    optional_section_field!(
+        "sections.rayleigh_beta",
+        rayleigh_beta,
+        "s",
+        "Rayleigh damping's stiffness coefficient beta"
+    ),
     number_field!("masses.vehicle", "kg", "vehicle mass m_T", true, |f| f
         .masses
         .vehicle),
