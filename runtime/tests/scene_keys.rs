@@ -95,3 +95,13 @@ fn one_section_of_a_shared_value_becomes_a_list() {
     let lengths: Vec<f64> = edited.params.sections.iter().map(|s| s.length).collect();
     assert_eq!(lengths, vec![scene.params.sections[0].length, 1.2]);
 }
+
+#[test]
+fn a_modal_damping_ratio_is_no_value_of_a_rayleigh_damped_scene() {
+    let plain = load("case-study", &[]);
+    assert_eq!(plain.value("sections.damping_ratio").unwrap(), 0.0);
+    let rayleigh = load("case-study", &["sections.rayleigh_beta=1e-4".to_string()]);
+    let error = rayleigh.value("sections.damping_ratio").unwrap_err();
+    assert!(error.to_string().contains("Rayleigh"), "{error}");
+    assert_eq!(rayleigh.value("sections.rayleigh_beta").unwrap(), 1e-4);
+}

@@ -12,6 +12,7 @@
 
 use crate::Result;
 use telescopic_runtime::linear::{output_signal, state_names};
+use telescopic_runtime::scene::SceneKey;
 use telescopic_runtime::sensors::SENSOR_OUTPUTS;
 use telescopic_runtime::{Drive, Layout, Scene};
 
@@ -47,29 +48,18 @@ pub struct Variable {
     pub derivative_of: Option<usize>,
 }
 
-/// The parameters an FMU exposes: `(scene key, unit, description)`. They do not change the
-/// model's configuration, except `contact.clearance` between zero and nonzero (the FMU then
-/// runs on the assembled model).
-const PARAMETERS: [(&str, &str, &str); 7] = [
-    ("masses.vehicle", "kg", "vehicle mass m_T"),
-    (
-        "masses.load",
-        "kg",
-        "load mass m_L at the top of the last section",
-    ),
-    ("gravity.g", "m/s2", "gravitational acceleration"),
-    ("contact.stiffness", "N/m", "contact stiffness c"),
-    ("contact.damping", "N.s/m", "contact damping d"),
-    (
-        "contact.clearance",
-        "m",
-        "total clearance l_S of every overlap",
-    ),
-    (
-        "sections.damping_ratio",
-        "1",
-        "modal structural damping ratio of every mode",
-    ),
+/// The scene keys an FMU exposes as parameters (their units and descriptions are the
+/// scene's [`telescopic_runtime::scene::KEYS`]). They do not change the model's
+/// configuration, except `contact.clearance` between zero and nonzero (the FMU then runs on
+/// the assembled model).
+const PARAMETERS: [&str; 7] = [
+    "masses.vehicle",
+    "masses.load",
+    "gravity.g",
+    "contact.stiffness",
+    "contact.damping",
+    "contact.clearance",
+    "sections.damping_ratio",
 ];
 
 /// The variables of `scene`'s FMU.
@@ -129,8 +119,7 @@ impl FmuVariables {
             variables.push(Variable {
                 reference: variables.len() as u32,
                 causality: Causality::Output,
-                // FMI's unit names have no caret
-                unit: signal.unit.replace('^', ""),
+                unit: fmi_unit(&signal.unit),
                 description: signal.description,
                 start: None,
                 derivative_of: None,
@@ -139,16 +128,21 @@ impl FmuVariables {
         }
         let outputs = names.len();
         let first_parameter = variables.len() as u32;
-        for (key, unit, description) in PARAMETERS {
-            let Some(value) = parameter_value(scene, key) else {
+        for key in PARAMETERS {
+            // a value the scene does not have (no contacts in a single section, damping
+            // ratios by mode or Rayleigh damping) is no parameter
+            let Ok(value) = scene.value(key) else {
                 continue;
             };
+            let field = SceneKey::parse(key)
+                .expect("an FMU parameter is a scene key")
+                .field;
             variables.push(Variable {
                 name: key.into(),
                 reference: variables.len() as u32,
                 causality: Causality::Parameter,
-                unit: unit.into(),
-                description: description.into(),
+                unit: fmi_unit(field.unit),
+                description: field.description.into(),
                 start: Some(value),
                 derivative_of: None,
             });
@@ -201,14 +195,43 @@ impl FmuVariables {
     }
 }
 
-/// The scene's value of parameter `key`; `None` when the scene has no such value (no
-/// contacts in a single section, damping ratios by mode or Rayleigh damping).
-fn parameter_value(scene: &Scene, key: &str) -> Option<f64> {
-    if key == "sections.damping_ratio"
-        && (scene.file.sections.rayleigh_alpha.is_some()
-            || scene.file.sections.rayleigh_beta.is_some())
-    {
-        return None;
+/// A unit as FMI names it: no caret, a dot for a product (`m/s^2` -> `m/s2`, `N s/m` ->
+/// `N.s/m`).
+fn fmi_unit(unit: &str) -> String {
+    unit.replace('^', "").replace(' ', ".")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn variables(overrides: &[&str]) -> FmuVariables {
+        let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        let scene = Scene::load("scenes/case-study.toml".as_ref(), &overrides).unwrap();
+        FmuVariables::of(&scene).unwrap()
     }
-    scene.value(key).ok()
+
+    fn parameter<'v>(vars: &'v FmuVariables, key: &str) -> Option<&'v Variable> {
+        vars.variables
+            .iter()
+            .find(|v| v.causality == Causality::Parameter && v.name == key)
+    }
+
+    #[test]
+    fn parameters_carry_the_scene_keys_units_in_fmi_spelling() {
+        let vars = variables(&[]);
+        assert_eq!(parameter(&vars, "gravity.g").unwrap().unit, "m/s2");
+        assert_eq!(parameter(&vars, "contact.damping").unwrap().unit, "N.s/m");
+        assert_eq!(
+            parameter(&vars, "sections.damping_ratio").unwrap().start,
+            Some(0.0)
+        );
+    }
+
+    #[test]
+    fn a_rayleigh_damped_scene_has_no_modal_damping_ratio_parameter() {
+        let vars = variables(&["sections.rayleigh_alpha=0.1"]);
+        assert!(parameter(&vars, "sections.damping_ratio").is_none());
+        assert!(parameter(&vars, "contact.stiffness").is_some());
+    }
 }

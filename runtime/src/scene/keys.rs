@@ -242,6 +242,9 @@ pub static KEYS: &[KeyField] = &[
         parameter: true,
         per_section: false,
         get: |f, _| match &f.sections.damping_ratio {
+            _ if f.sections.rayleigh_alpha.is_some() || f.sections.rayleigh_beta.is_some() => {
+                Err("the scene's damping is Rayleigh's (sections.rayleigh_alpha, _beta)".into())
+            }
             None => Ok(0.0),
             Some(PerSection::Shared(v)) => Ok(*v),
             Some(PerSection::Each(_)) => Err("the ratios differ by mode".into()),
