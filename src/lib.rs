@@ -54,9 +54,9 @@ mod error;
 pub mod fmu;
 pub mod io;
 pub mod linear;
-pub mod moves;
 mod named;
 mod option_name;
+pub mod plan;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod report;

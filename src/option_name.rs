@@ -147,7 +147,7 @@ pub enum OptionName {
     CorrectionLimits,
     /// The candidate of a plan to write instead of the best (`MovePlan::candidate_named`).
     Pick,
-    /// The setpoint filter emitted as C (`moves::emit::emit_filter_c`).
+    /// The setpoint filter emitted as C (`plan::emit::emit_filter_c`).
     EmitC,
 }
 
@@ -222,5 +222,5 @@ crate::named::named_enum!(OptionName, "an option", {
     Feedback => "PlanOptions::feedback",
     CorrectionLimits => "VelocityDesign::velocity_limit/acceleration_limit",
     Pick => "MovePlan::candidate_named",
-    EmitC => "moves::emit::emit_filter_c",
+    EmitC => "plan::emit::emit_filter_c",
 });

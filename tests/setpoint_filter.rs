@@ -7,10 +7,10 @@
 use telescopic::Scene;
 mod common;
 
-use telescopic::moves::candidates::{Candidate, shaped, unshaped};
-use telescopic::moves::emit::{FILTER_FILES, write_filter_c};
-use telescopic::moves::shapers::Shaper;
-use telescopic::moves::{first_period, moving_scene};
+use telescopic::plan::candidates::{Candidate, shaped, unshaped};
+use telescopic::plan::emit::{FILTER_FILES, write_filter_c};
+use telescopic::plan::shapers::Shaper;
+use telescopic::plan::{first_period, moving_scene};
 use telescopic_runtime::{Profile, SCurve};
 
 /// The C filter behind its two entry points, loaded from a shared library.

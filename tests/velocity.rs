@@ -8,8 +8,8 @@ mod common;
 use telescopic::control::velocity::{
     VelocityDesign, VelocityFeedback, design_velocity_feedback, simulate_velocity,
 };
-use telescopic::moves::candidates::unshaped;
-use telescopic::moves::moving_scene;
+use telescopic::plan::candidates::unshaped;
+use telescopic::plan::moving_scene;
 use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::{Scene, Silent};
 use telescopic_runtime::SCurve;

@@ -8,11 +8,11 @@ use crate::scene::PyScene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use telescopic::control::velocity::VelocityDesign;
-use telescopic::moves::{
+use telescopic::plan::{
     DEFAULT_A_MAX, DEFAULT_CHECKS, DEFAULT_J_MAX, DEFAULT_SETTLE_S, DEFAULT_TOLERANCE_M,
     DEFAULT_V_MAX,
 };
-use telescopic::moves::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
+use telescopic::plan::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 
 /// The plan's table as one dict per row (candidate, plant and the figures).
 fn rows<'py>(py: Python<'py>, plan: &MovePlan) -> PyResult<Vec<Bound<'py, PyDict>>> {

@@ -37,13 +37,11 @@ pub mod linear;
 mod mass_solve;
 pub mod model;
 pub mod params;
-pub mod position_schedule;
 pub mod profile;
 pub mod quadrature;
 pub mod scene;
 pub(crate) mod section_basis;
 pub mod sensors;
-pub mod setpoint;
 pub mod shape;
 #[cfg(feature = "reference")]
 pub mod shape_reference;
@@ -72,9 +70,9 @@ pub use model::{Model, mechanical_energy, rest_state};
 /// and downstream crates use the same version.
 pub use nalgebra;
 pub use params::{Basis, Drive, ForceFlow, ModelParams, SectionParams};
-pub use position_schedule::PositionSchedule;
-pub use profile::{Profile, ShapedProfile, ShapedSetpoint};
+pub use profile::{
+    Phases, PositionSchedule, Profile, ReachedLimits, SCurve, ShapedProfile, ShapedSetpoint,
+};
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
-pub use setpoint::{Phases, ReachedLimits, SCurve};
 pub use shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction, mode_root};
 pub use specialize::{Specialization, auto_method, auto_plan, specializations};

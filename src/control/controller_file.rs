@@ -2,8 +2,11 @@
 //! controller that drives the force ([`Controller`]), or a plan's velocity feedback that
 //! corrects a prescribed motion ([`VelocityFeedback`]). The `format` field tells them apart.
 
+use super::comparison::{
+    ControlComparison, beside_open_loop, compare_with_open_loop, simulate_controlled,
+};
+use super::schema::Controller;
 use super::velocity::{VELOCITY_FEEDBACK_FORMAT, VelocityFeedback, simulate_velocity};
-use super::{ControlComparison, Controller, compare_with_open_loop};
 use crate::report::Reporter;
 use crate::run::{Simulation, SimulationOptions};
 use crate::{Error, Result};
@@ -75,7 +78,7 @@ impl ControllerFile {
     /// Simulates `scene` with this controller on the full nonlinear model.
     ///
     /// # Errors
-    /// As [`super::simulate_controlled`] and [`simulate_velocity`].
+    /// As [`simulate_controlled`] and [`simulate_velocity`].
     pub fn simulate(
         &self,
         scene: &Scene,
@@ -83,7 +86,7 @@ impl ControllerFile {
         reporter: &dyn Reporter,
     ) -> Result<Simulation> {
         match self {
-            ControllerFile::Force(c) => super::simulate_controlled(scene, c, options, reporter),
+            ControllerFile::Force(c) => simulate_controlled(scene, c, options, reporter),
             ControllerFile::Velocity(v) => {
                 Ok(simulate_velocity(scene, v, options, reporter)?.simulation)
             }
@@ -112,5 +115,5 @@ pub fn compare_file_with_open_loop(
     };
     crate::run::memory::check_runs(&[scene, scene], options.memory_budget)?;
     let controlled = simulate_velocity(scene, feedback, options, reporter)?.simulation;
-    super::beside_open_loop(scene, controlled, options, reporter)
+    beside_open_loop(scene, controlled, options, reporter)
 }

@@ -4,12 +4,15 @@
 //! Hand-written: the XML is a few fixed elements around the variable list; no XML crate is
 //! needed to write it.
 
-use super::MODEL_IDENTIFIER;
 use super::variables::{Causality, FmuVariables, Variable};
 use crate::Result;
 use sha2::{Digest, Sha256};
 use std::fmt::Write as _;
 use telescopic_runtime::Scene;
+
+/// The model identifier: the shared library's name in the FMU (`binaries/linux64/<id>.so`)
+/// and the prefix nothing else uses.
+pub const MODEL_IDENTIFIER: &str = "telescopic_fmu";
 
 /// Which interfaces the FMU offers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -19,7 +19,7 @@ pub mod description;
 pub mod held;
 pub mod variables;
 
-pub use description::{FmuKind, guid, model_description, scene_guid};
+pub use description::{FmuKind, MODEL_IDENTIFIER, guid, model_description, scene_guid};
 pub use variables::{Causality, FmuVariables, Variable};
 
 use crate::OptionName;
@@ -27,10 +27,6 @@ use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;
 use telescopic_runtime::Scene;
-
-/// The model identifier: the shared library's name in the FMU (`binaries/linux64/<id>.so`)
-/// and the prefix nothing else uses.
-pub const MODEL_IDENTIFIER: &str = "telescopic_fmu";
 
 /// Where the scene goes inside the FMU.
 pub const SCENE_RESOURCE: &str = "scene.toml";

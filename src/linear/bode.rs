@@ -20,7 +20,8 @@
 //! ```
 
 use crate::OptionName;
-use crate::linear::{LinearExport, LinearizeOptions, linearize};
+use crate::linear::export::LinearExport;
+use crate::linear::{LinearizeOptions, linearize};
 use crate::{Error, Result};
 use std::io::Write;
 use telescopic_runtime::eigenvalues;

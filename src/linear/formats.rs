@@ -1,8 +1,8 @@
 //! The export formats of a [`LinearExport`]: JSON (with a reader, for round trips and for
 //! tools), a MATLAB/Octave script, NumPy's `.npz`, a python-control script and LaTeX.
 
+use super::export::{DiscreteModels, LinearExport};
 use super::npy::{self, Array};
-use super::{DiscreteModels, LinearExport};
 use crate::OptionName;
 use crate::io::rows::{from_rows, to_rows};
 use crate::{Error, Result};

@@ -9,7 +9,7 @@
 //! tick as a drive step would. Method `exact` integrates whole spans only; with it each tick
 //! is a run of its own.
 
-use super::plan::Plan;
+use super::method::Plan;
 use std::sync::atomic::{AtomicU64, Ordering};
 use telescopic_runtime::integrate::Integrator;
 use telescopic_runtime::{Method, Model, RunStats, Settings, SimError, TimeSpan, simulate};

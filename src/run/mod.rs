@@ -1,5 +1,5 @@
 //! One simulation, from the scene to every sample: the options ([`options`]), the resolved
-//! method ([`mod@plan`]), the model chosen for the scene's configuration ([`models`]), the
+//! method ([`method`]), the model chosen for the scene's configuration ([`models`]), the
 //! checks before a run starts ([`budget`], [`memory`]), the prepared run that integrates it
 //! ([`prepared`]), the outputs at stations ([`stress`]), the samples ([`trajectory`]), the
 //! error budget ([`error_budget`]), a model size ([`sized`]), the search for a model size
@@ -22,9 +22,9 @@ pub mod budget;
 pub mod error_budget;
 pub mod held;
 pub mod memory;
+pub mod method;
 pub mod models;
 pub mod options;
-pub mod plan;
 pub mod prepared;
 pub mod simulate;
 pub mod simulation;
@@ -35,8 +35,8 @@ pub mod total_accuracy;
 pub mod trajectory;
 
 pub use held::HeldInputStepper;
+pub use method::{MethodReason, Plan, plan};
 pub use options::{MethodChoice, SimulationOptions};
-pub use plan::{MethodReason, Plan, plan};
 pub use prepared::PreparedRun;
 pub use simulate::{estimate_error, simulate_scene};
 pub use simulation::{Simulation, write_csv};

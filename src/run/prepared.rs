@@ -16,9 +16,12 @@
 //! ```
 
 use crate::report::Reporter;
+use crate::run::method::{MethodReason, Plan, plan};
 use crate::run::models::ChosenModel;
+use crate::run::options::SimulationOptions;
+use crate::run::simulation::Simulation;
 use crate::run::stress::StationRows;
-use crate::run::{Plan, Simulation, SimulationOptions, Trajectory, plan};
+use crate::run::trajectory::Trajectory;
 use crate::{Error, Result};
 use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
 use telescopic_runtime::{
@@ -83,7 +86,7 @@ impl<'s> PreparedRun<'s> {
             chosen,
             plan: Plan {
                 method,
-                reason: super::MethodReason::Given,
+                reason: MethodReason::Given,
                 settings,
                 integration_error_m: None,
                 integration_statistics_rel: None,

@@ -2,7 +2,7 @@
 //! the error budget, and the run summary and CSV.
 
 use super::error_budget::ErrorBudget;
-use super::plan::Plan;
+use super::method::Plan;
 use super::trajectory::Trajectory;
 use crate::Result;
 use std::io::Write;

@@ -7,9 +7,9 @@ use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::control::velocity::VelocityDesign;
-use telescopic::moves;
-use telescopic::moves::emit::{DEFAULT_FILTER_RATE_HZ, write_filter_c};
-use telescopic::moves::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
+use telescopic::plan;
+use telescopic::plan::emit::{DEFAULT_FILTER_RATE_HZ, write_filter_c};
+use telescopic::plan::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 use telescopic::run::SimulationOptions;
 use telescopic::run::stress::Station;
 
@@ -24,31 +24,31 @@ pub struct PlanArgs {
     #[arg(long, value_name = "METRES")]
     distance: f64,
     /// The drive's velocity limit (m/s).
-    #[arg(long, value_name = "M/S", default_value_t = moves::DEFAULT_V_MAX)]
+    #[arg(long, value_name = "M/S", default_value_t = plan::DEFAULT_V_MAX)]
     v_max: f64,
     /// The drive's acceleration limit (m/s^2).
-    #[arg(long, value_name = "M/S^2", default_value_t = moves::DEFAULT_A_MAX)]
+    #[arg(long, value_name = "M/S^2", default_value_t = plan::DEFAULT_A_MAX)]
     a_max: f64,
     /// The drive's jerk limit (m/s^3).
-    #[arg(long, value_name = "M/S^3", default_value_t = moves::DEFAULT_J_MAX)]
+    #[arg(long, value_name = "M/S^3", default_value_t = plan::DEFAULT_J_MAX)]
     j_max: f64,
     /// How still the load must be: tip_rel within this of its final rest (m); the vehicle
     /// must be within 1 mm of its target.
-    #[arg(long, value_name = "METRES", default_value_t = moves::DEFAULT_TOLERANCE_M)]
+    #[arg(long, value_name = "METRES", default_value_t = plan::DEFAULT_TOLERANCE_M)]
     tolerance: f64,
     /// The robust set: scene values and their ranges, e.g.
     /// masses.load=10:30,contact.clearance=0.005:0.02; its corners and centre are evaluated.
     #[arg(long, value_name = "KEY=LOW:HIGH,...")]
     robust: Option<String>,
     /// Time simulated after the longest candidate arrives (s).
-    #[arg(long, value_name = "SECONDS", default_value_t = moves::DEFAULT_SETTLE_S)]
+    #[arg(long, value_name = "SECONDS", default_value_t = plan::DEFAULT_SETTLE_S)]
     settle: f64,
     /// Skip the optimizer (the spacing of the best scheduled shaper).
     #[arg(long)]
     no_optimize: bool,
     /// Plants inside the robust set, not evaluated by the planner, that the best plan is
     /// checked on.
-    #[arg(long, value_name = "N", default_value_t = moves::DEFAULT_CHECKS)]
+    #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_CHECKS)]
     checks: usize,
     /// The drive's force limit (N): a candidate whose reaction exceeds it is not chosen.
     #[arg(long, value_name = "NEWTONS")]

@@ -1,6 +1,6 @@
 //! Every continuous value of a scene by its dotted key: its unit, what it is, whether it is
 //! a physical parameter (what a sweep, a robust range or a fit varies), and how to read and
-//! set it on the scene file. [`super::Scene::with_values`] patches a scene through this
+//! set it on the scene file. [`crate::Scene::with_values`] patches a scene through this
 //! table and validates it again, without writing or parsing text.
 //!
 //! A per-section key names every section (`sections.length`: one value shared by all) or one

@@ -1,6 +1,6 @@
 //! `--set KEY=VALUE`: replace or add one value of the scene's TOML tree before validation.
 
-use super::SceneError;
+use super::error::SceneError;
 
 /// Applies one `KEY=VALUE` override to a parsed scene. `KEY` is a dotted path; a numeric
 /// segment indexes a list (`sections.length.1`). `VALUE` is parsed as TOML (a number, a

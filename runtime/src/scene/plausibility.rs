@@ -8,7 +8,7 @@
 //! is still checked where it is computed: the modal analysis refuses a spectrum that lost
 //! its digits, and a run whose predicted step count is absurd is refused before it starts.
 
-use super::FieldError;
+use super::error::FieldError;
 use crate::params::ModelParams;
 
 /// Largest ratio of two masses of the model (sections, vehicle, load).

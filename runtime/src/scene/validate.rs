@@ -1,10 +1,11 @@
 //! The rules a scene must satisfy, and its conversion into [`ModelParams`].
 
+use super::error::{FieldError, SceneError};
 use super::limits::{
     MAX_CONTACT_POINTS, MAX_OUTPUT_VALUES, MAX_SECTIONS, output_columns, sample_count,
 };
 use super::schema::{ContactSpec, DriveSpec, PerSection, SceneFile, SectionsSpec, TimeSpec};
-use super::{FieldError, Scene, SceneError, TimeSpan};
+use super::validated::{Scene, TimeSpan};
 use crate::contact::ContactLaw;
 use crate::params::StructuralDamping;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};

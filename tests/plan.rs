@@ -6,9 +6,9 @@
 //! at `r = 1` it is zero for ZV and ZVD and the 5 % tolerance for EI.
 
 use telescopic::analysis::modes::{ModesOptions, compute_modes};
-use telescopic::moves::candidates::{shaped, unshaped};
-use telescopic::moves::moving_scene;
-use telescopic::moves::shapers::Shaper;
+use telescopic::plan::candidates::{shaped, unshaped};
+use telescopic::plan::moving_scene;
+use telescopic::plan::shapers::Shaper;
 use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::{Scene, Silent};
 use telescopic_runtime::{Profile, SCurve};

@@ -1,29 +1,10 @@
-//! Time profiles for telescopic positions `a_k(t)`, the drive force `F(t)` and a prescribed
-//! vehicle motion `s(t)`.
-//!
-//! In a scene file a profile is a number (constant) or a table with a `kind`:
-//!
-//! ```toml
-//! force = 100.0
-//! force = { kind = "piecewise-constant", times = [0, 4, 8, 12], values = [100, 0, -100, 0] }
-//! force = { kind = "piecewise-linear", times = [0, 1], values = [0, 100] }
-//! position = { kind = "smoothstep", start = 0, end = 12, from = 0.35, to = 1.15 }
-//! motion = { kind = "s-curve", start = 0, distance = 23, v_max = 2.5, a_max = 0.7, j_max = 2 }
-//! motion = { kind = "shaped", base = { kind = "s-curve", ... }, impulses = [[0.5, 0], [0.5, 0.5]], period = 1.75 }
-//! ```
-//!
-//! Piecewise profiles hold their first value before the first time and their last value
-//! after the last one; piecewise-constant takes `values[i]` on `[times[i], times[i+1])`.
-//! The smoothstep is the quintic `from + (to - from)(10u^3 - 15u^4 + 6u^5)`,
-//! `u = (t - start)/(end - start)`, constant outside `[start, end]`. The S-curve is the
-//! time-optimal jerk-limited move ([`crate::setpoint::SCurve`]); a shaped setpoint is
-//! `sum_i A_i base(t - m_i P(t))`, impulses of amplitude `A_i` at multiples `m_i` of a period
-//! `P(t)` that may follow the telescopic positions ([`ShapedSetpoint`]).
+//! The profile types: a scalar function of time (`Profile`), its table forms
+//! (`ShapedProfile`), a shaped setpoint and a value scheduled on a telescopic position
+//! (one family: a schedule holds the position profile it follows).
 
-use crate::setpoint::SCurve;
-use serde::de::{self, Deserializer, MapAccess, Visitor};
+use super::curves::{monotone_cubic, smoothstep, stretch_factor};
+use super::setpoint::SCurve;
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// A scalar function of time.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -85,7 +66,7 @@ pub enum ShapedProfile {
     /// A setpoint filtered by an input shaper.
     Shaped(ShapedSetpoint),
     /// A value scheduled on a telescopic position (a shaper's period).
-    PositionSchedule(crate::position_schedule::PositionSchedule),
+    PositionSchedule(PositionSchedule),
 }
 
 /// A setpoint filtered by an input shaper: `sum_i A_i base(t - m_i P(t))`, impulses of
@@ -134,36 +115,6 @@ impl ShapedSetpoint {
         out.sort_by(f64::total_cmp);
         out.dedup();
         out
-    }
-}
-
-impl<'de> Deserialize<'de> for Profile {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct ProfileVisitor;
-        impl<'de> Visitor<'de> for ProfileVisitor {
-            type Value = Profile;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(
-                    "a number, or a table with kind = \"constant\", \"piecewise-constant\", \
-                     \"piecewise-linear\", \"piecewise-cubic\", \"smoothstep\", \"s-curve\", \"shaped\" \
-                     or \"position-schedule\"",
-                )
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Profile, E> {
-                Ok(Profile::Constant(v))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Profile, E> {
-                Ok(Profile::Constant(v as f64))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Profile, E> {
-                Ok(Profile::Constant(v as f64))
-            }
-            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Profile, A::Error> {
-                ShapedProfile::deserialize(de::value::MapAccessDeserializer::new(map))
-                    .map(Profile::Shaped)
-            }
-        }
-        deserializer.deserialize_any(ProfileVisitor)
     }
 }
 
@@ -350,78 +301,78 @@ impl Profile {
     }
 }
 
-/// `(value, rate, acceleration)` at `t` of the quintic smoothstep from `from` at `start` to
-/// `to` at `end` (s): `from + (to - from)(10u^3 - 15u^4 + 6u^5)`, constant outside.
-pub(crate) fn smoothstep(
-    (from, to): (f64, f64),
-    (start, end): (f64, f64),
-    t: f64,
-) -> (f64, f64, f64) {
-    let span = end - start;
-    if t <= start {
-        (from, 0.0, 0.0)
-    } else if t >= end {
-        (to, 0.0, 0.0)
-    } else {
-        let u = (t - start) / span;
-        let jump = to - from;
-        let s = u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
-        let ds = 30.0 * u * u * (1.0 - u) * (1.0 - u);
-        let dds = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u);
-        (
-            from + jump * s,
-            jump * ds / span,
-            jump * dds / (span * span),
-        )
-    }
+/// A value scheduled on a telescopic position: the monotone cubic of
+/// [`crate::ShapedProfile::PiecewiseCubic`] over positions instead of times, evaluated at the
+/// position `a_k(t)`, times a factor that changes from `stretch[0]` to `stretch[1]` over the
+/// span `over` along a quintic smoothstep. A shaper's period scheduled this way follows the
+/// first mode as the telescope extends, and a machine computes it from the measured
+/// position (the emitted setpoint filter does).
+///
+/// `{ kind = "position-schedule", position = .., positions = [..], values = [..],
+/// stretch = [early, late], over = [start, end] }`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PositionSchedule {
+    /// The telescopic position `a_k(t)` (m) the schedule follows: a copy of the scene's.
+    pub position: Box<Profile>,
+    /// Knot positions (m), strictly increasing.
+    pub positions: Vec<f64>,
+    /// The value at each knot.
+    pub values: Vec<f64>,
+    /// The factor before `over` and after it.
+    pub stretch: [f64; 2],
+    /// The span (s) over which the factor changes.
+    pub over: [f64; 2],
 }
 
-/// `(value, rate, acceleration)` at `t` of the monotone cubic through `(times, values)`
-/// ([`ShapedProfile::PiecewiseCubic`]).
-pub(crate) fn monotone_cubic(times: &[f64], values: &[f64], t: f64) -> (f64, f64, f64) {
-    let n = times.len();
-    let i = times.partition_point(|&ti| ti <= t);
-    if i == 0 {
-        return (values[0], 0.0, 0.0);
+impl PositionSchedule {
+    /// The value at the position `a` (m) and time `t` (s): what a machine computes from its
+    /// measured position.
+    pub fn at_position(&self, a: f64, t: f64) -> f64 {
+        monotone_cubic(&self.positions, &self.values, a).0
+            * stretch_factor(self.stretch, self.over, t).0
     }
-    if i == n {
-        return (values[n - 1], 0.0, 0.0);
+
+    /// `(value, rate, acceleration)` at `t` (s), by the chain and product rules.
+    pub(crate) fn state(&self, t: f64) -> (f64, f64, f64) {
+        let (a, da, dda) = self.position_state(t);
+        let (c, dc, ddc) = monotone_cubic(&self.positions, &self.values, a);
+        let (f, df, ddf) = stretch_factor(self.stretch, self.over, t);
+        (
+            c * f,
+            dc * da * f + c * df,
+            (ddc * da * da + dc * dda) * f + 2.0 * dc * da * df + c * ddf,
+        )
     }
-    let secant = |k: usize| (values[k + 1] - values[k]) / (times[k + 1] - times[k]);
-    // Fritsch-Butland slope at knot k: zero at the ends and at an extremum
-    let slope = |k: usize| {
-        if k == 0 || k == n - 1 {
-            return 0.0;
-        }
-        let (a, b) = (secant(k - 1), secant(k));
-        if a * b <= 0.0 {
-            0.0
-        } else {
-            2.0 * a * b / (a + b)
-        }
-    };
-    let (t0, h) = (times[i - 1], times[i] - times[i - 1]);
-    let (y0, y1, m0, m1) = (values[i - 1], values[i], slope(i - 1), slope(i));
-    let u = (t - t0) / h;
-    // Hermite basis and its derivatives in u
-    let (h00, h10, h01, h11) = (
-        (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u),
-        u * (1.0 - u) * (1.0 - u),
-        u * u * (3.0 - 2.0 * u),
-        u * u * (u - 1.0),
-    );
-    let (d00, d10, d01, d11) = (
-        6.0 * u * u - 6.0 * u,
-        3.0 * u * u - 4.0 * u + 1.0,
-        6.0 * u - 6.0 * u * u,
-        3.0 * u * u - 2.0 * u,
-    );
-    let (s00, s10, s01, s11) = (12.0 * u - 6.0, 6.0 * u - 4.0, 6.0 - 12.0 * u, 6.0 * u - 2.0);
-    (
-        h00 * y0 + h10 * h * m0 + h01 * y1 + h11 * h * m1,
-        (d00 * y0 + d10 * h * m0 + d01 * y1 + d11 * h * m1) / h,
-        (s00 * y0 + s10 * h * m0 + s01 * y1 + s11 * h * m1) / (h * h),
-    )
+
+    fn position_state(&self, t: f64) -> (f64, f64, f64) {
+        (
+            self.position.value(t),
+            self.position.rate(t),
+            self.position.acceleration(t),
+        )
+    }
+
+    /// Where the value's derivatives may jump: the position's breakpoints and the span's
+    /// ends (a knot crossed between them only bends the cubic's second derivative).
+    pub(crate) fn breakpoints(&self) -> Vec<f64> {
+        let mut out = self.position.breakpoints();
+        out.extend(self.over);
+        out
+    }
+
+    /// Every number it holds, with the field names.
+    pub(crate) fn numbers(&self) -> Vec<(&'static str, f64)> {
+        self.position
+            .numbers()
+            .into_iter()
+            .map(|(_, v)| ("position", v))
+            .chain(self.positions.iter().map(|&v| ("positions", v)))
+            .chain(self.values.iter().map(|&v| ("values", v)))
+            .chain(self.stretch.iter().map(|&v| ("stretch", v)))
+            .chain(self.over.iter().map(|&v| ("over", v)))
+            .collect()
+    }
 }
 
 #[cfg(test)]
@@ -505,5 +456,49 @@ mod tests {
         assert_eq!(g.value(2.0), 5.0);
         assert_eq!(g.rate(2.0), 5.0);
         assert_eq!(g.value(4.0), 10.0);
+    }
+}
+
+#[cfg(test)]
+mod schedule_tests {
+    use super::*;
+
+    fn schedule() -> Profile {
+        Profile::Shaped(ShapedProfile::PositionSchedule(PositionSchedule {
+            position: Box::new(Profile::Shaped(ShapedProfile::Smoothstep {
+                start: 0.0,
+                end: 12.0,
+                from: 0.35,
+                to: 1.15,
+            })),
+            positions: vec![0.35, 0.6, 0.9, 1.15],
+            values: vec![1.0, 1.3, 1.7, 2.0],
+            stretch: [1.1, 0.9],
+            over: [0.0, 13.0],
+        }))
+    }
+
+    #[test]
+    fn derivatives_agree_with_finite_differences() {
+        let p = schedule();
+        let h = 1e-5;
+        for t in [0.5, 3.0, 6.1, 11.0, 12.5] {
+            let rate = (p.value(t + h) - p.value(t - h)) / (2.0 * h);
+            assert!((rate - p.rate(t)).abs() < 1e-7, "{t}: {rate} {}", p.rate(t));
+            let acc = (p.rate(t + h) - p.rate(t - h)) / (2.0 * h);
+            assert!((acc - p.acceleration(t)).abs() < 1e-5, "{t}");
+        }
+    }
+
+    #[test]
+    fn it_is_the_cubic_of_the_position_times_the_factor() {
+        let Profile::Shaped(ShapedProfile::PositionSchedule(s)) = schedule() else {
+            unreachable!()
+        };
+        // at the start the position is the first knot, the factor the early stretch
+        assert_eq!(schedule().value(0.0), 1.1);
+        // after both spans: the last knot's value times the late stretch
+        assert!((schedule().value(20.0) - 1.8).abs() < 1e-15);
+        assert_eq!(s.at_position(0.6, 0.0), 1.3 * 1.1);
     }
 }

@@ -3,17 +3,19 @@
 
 use super::candidates::{self, Candidate};
 use super::metrics::{CycleMetrics, cycle_metrics};
+use super::moving::moving_scene;
 use super::optimize::nelder_mead;
+use super::options::PlanOptions;
+use super::outcome::{MovePlan, PlanRow};
 use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
-use super::{MovePlan, PlanOptions, PlanRow};
 use crate::analysis::modes::{ModesOptions, compute_modes};
 use crate::control::velocity::{VelocityFeedback, design_velocity_feedback, simulate_velocity};
 use crate::report::Reporter;
 use crate::run::simulate_scene;
 use crate::{Error, OptionName, Result};
 use rayon::prelude::*;
-use telescopic_runtime::{PositionSchedule, Profile, SCurve, Scene, SceneFile, ShapedProfile};
+use telescopic_runtime::{PositionSchedule, Profile, SCurve, Scene, ShapedProfile};
 
 /// Spacing of the first mode's samples along the move (s).
 const SCHEDULE_STEP_S: f64 = 0.25;
@@ -24,32 +26,6 @@ const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
 
 /// Evaluations the optimizer may make (each runs every evaluated plant).
 const OPTIMIZER_BUDGET: usize = 24;
-
-/// The file of `scene` moving along `profile` (its prescribed motion) until `end` (s): what
-/// a plan writes, and the scene its runs patch with each plant's values.
-pub fn moving_file(scene: &Scene, profile: &Profile, end: f64) -> SceneFile {
-    let mut file = scene.file.clone();
-    file.drive.force = None;
-    file.drive.motion = Some(profile.clone());
-    file.time.end = end;
-    file
-}
-
-/// A scene file as TOML.
-pub fn file_text(file: &SceneFile) -> String {
-    toml::to_string(file).expect("a scene file serializes")
-}
-
-/// The scene moving along `profile` (its prescribed motion) until `end` (s).
-///
-/// # Errors
-/// [`Error::Scene`] when the profile breaks a scene rule.
-pub fn moving_scene(scene: &Scene, profile: &Profile, end: f64) -> Result<Scene> {
-    Ok(Scene::from_file(
-        moving_file(scene, profile, end),
-        &scene.name,
-    )?)
-}
 
 /// The first mode's period (s) along the move, with the vehicle held, scheduled on the
 /// moving telescopic position (a monotone cubic through its values at the positions reached

@@ -77,7 +77,7 @@ fn shaped_parts<'c>(
 /// `rate_hz`.
 ///
 /// ```no_run
-/// # use telescopic::moves::{MoveLimits, PlanOptions, plan_move, emit::emit_filter_c};
+/// # use telescopic::plan::{MoveLimits, PlanOptions, plan_move, emit::emit_filter_c};
 /// # let scene = telescopic::Scene::load("scenes/case-study.toml".as_ref(), &[])?;
 /// # let plan = plan_move(&scene, &PlanOptions::new(MoveLimits { distance: 23.0, v_max: 2.5, a_max: 0.7, j_max: 2.0 }), &telescopic::Silent)?;
 /// let (header, source) = emit_filter_c(&plan.scene, &plan.candidates[plan.best], 1000.0)?;
