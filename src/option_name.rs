@@ -141,6 +141,8 @@ pub enum OptionName {
     Settle,
     /// `PlanOptions::robust`.
     Robust,
+    /// `PlanOptions::checks`: plants the best plan is checked on.
+    Checks,
     /// `PlanOptions::feedback`: the velocity feedback's design.
     Feedback,
     /// `VelocityDesign::velocity_limit` and `acceleration_limit`: the correction's bounds.
@@ -149,6 +151,8 @@ pub enum OptionName {
     Pick,
     /// The setpoint filter emitted as C (`plan::emit::emit_filter_c`).
     EmitC,
+    /// The emitted setpoint filter's rate (Hz).
+    FilterRate,
 }
 
 crate::named::named_enum!(OptionName, "an option", {
@@ -219,8 +223,10 @@ crate::named::named_enum!(OptionName, "an option", {
     MoveTolerance => "PlanOptions::tolerance",
     Settle => "PlanOptions::settle_s",
     Robust => "PlanOptions::robust",
+    Checks => "PlanOptions::checks",
     Feedback => "PlanOptions::feedback",
     CorrectionLimits => "VelocityDesign::velocity_limit/acceleration_limit",
     Pick => "MovePlan::candidate_named",
     EmitC => "plan::emit::emit_filter_c",
+    FilterRate => "plan::emit::emit_filter_c rate_hz",
 });

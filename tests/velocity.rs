@@ -5,8 +5,10 @@
 
 mod common;
 
+use telescopic::control::sampled::SampledController;
 use telescopic::control::velocity::{
-    VelocityDesign, VelocityFeedback, design_velocity_feedback, simulate_velocity,
+    VelocityController, VelocityDesign, VelocityFeedback, design_velocity_feedback,
+    simulate_velocity,
 };
 use telescopic::plan::candidates::unshaped;
 use telescopic::plan::moving_scene;
@@ -172,6 +174,63 @@ fn bad_files_and_scenes_are_refused_naming_the_rule() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("drive.motion"), "{e}");
+}
+
+#[test]
+fn implausible_values_and_duplicated_keys_are_refused_naming_the_field() {
+    let (scene, _) = moving();
+    let file = noiseless(&scene, 0.1);
+    let refused = |edit: &dyn Fn(&mut VelocityFeedback)| {
+        let mut bad = file.clone();
+        edit(&mut bad);
+        bad.check_fits(&scene).unwrap_err().to_string()
+    };
+    let e = refused(&|f| f.noise[1] = 1e308);
+    assert!(e.contains("noise[1]") && e.contains("1/m"), "{e}");
+    let e = refused(&|f| f.points[0].first_mode_hz = -2.0);
+    assert!(e.contains("points[0].first_mode_hz"), "{e}");
+    let e = refused(&|f| f.points[0].tip_per_curvature_m2 = 1e300);
+    assert!(e.contains("points[0].tip_per_curvature_m2"), "{e}");
+    let e = refused(&|f| f.points[0].curvature_per_acceleration = f64::INFINITY);
+    assert!(e.contains("points[0].curvature_per_acceleration"), "{e}");
+    let text = file
+        .to_json()
+        .replacen("\"rate_hz\"", "\"rate_hz\": 10.0,\n  \"rate_hz\"", 1);
+    let e = VelocityFeedback::from_json(&text).unwrap_err().to_string();
+    assert!(e.contains("`rate_hz` is given twice"), "{e}");
+}
+
+#[test]
+fn the_law_holds_its_command_through_non_finite_measurements() {
+    let (scene, _) = moving();
+    let file = noiseless(&scene, 0.3);
+    let setpoint = scene.params.drive_profile().clone();
+    let mut law = VelocityController::new(&file, setpoint);
+    let period = 1.0 / file.rate_hz;
+    let step = file.acceleration_limit_m_per_s2 * period;
+    let (mut last, mut t) = (0.0_f64, 0.0);
+    for k in 0..2000 {
+        t = k as f64 * period;
+        let measured = [0.9 * setpoint_at(&scene, t), 1e-4 * (7.0 * t).sin()];
+        let y = match k % 97 {
+            3 => [f64::NAN, measured[1]],
+            5 => [measured[0], f64::INFINITY],
+            7 => [1e308, -1e308],
+            _ => measured,
+        };
+        let v = law.step(t, &y, 0.0);
+        assert!(v.is_finite(), "tick {k}: {v}");
+        assert!(v.abs() <= file.velocity_limit_m_per_s && (v - last).abs() <= step * (1.0 + 1e-12));
+        last = v;
+    }
+    // after the bad ticks the law runs on: a good tick's command is a finite, bounded one
+    let v = law.step(t + period, &[0.0, 0.0], 0.0);
+    assert!(v.is_finite());
+}
+
+/// The scene's prescribed vehicle position at `t` (s).
+fn setpoint_at(scene: &Scene, t: f64) -> f64 {
+    scene.params.drive_profile().value(t)
 }
 
 #[test]

@@ -72,10 +72,12 @@ pub fn flag(option: OptionName) -> &'static str {
         O::MoveTolerance => "--tolerance",
         O::Settle => "--settle",
         O::Robust => "--robust",
+        O::Checks => "--checks",
         O::Feedback => "--feedback",
         O::CorrectionLimits => "--correction-v-max/--correction-a-max",
         O::Pick => "--pick",
         O::EmitC => "--emit-c",
+        O::FilterRate => "--filter-rate",
     }
 }
 

@@ -441,3 +441,59 @@ fn the_modes_page_draws_each_eigenvector_in_a_real_browser() {
         }
     }
 }
+
+/// case-study with its vehicle held 1e17 m out (a metre is below the position's resolution
+/// there), for a second, written into `dir`.
+fn far_out_scene(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string("scenes/case-study.toml").unwrap();
+    let force = text
+        .lines()
+        .find(|l| l.starts_with("force = "))
+        .expect("case-study is driven by a force");
+    let path = dir.join("far-out.toml");
+    std::fs::write(&path, text.replace(force, "motion = 1e17")).unwrap();
+    path
+}
+
+#[test]
+fn a_gif_of_a_vehicle_far_out_is_written() {
+    let dir = scratch("animate-far-gif");
+    let gif_path = dir.join("far.gif");
+    let scene = far_out_scene(&dir);
+    let out = succeeds(&[
+        "animate",
+        scene.to_str().unwrap(),
+        "--set",
+        "time.end=1",
+        "--out",
+        gif_path.to_str().unwrap(),
+        "--fps",
+        "5",
+    ]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(said.contains("6 frames at 5 per second"), "{said}");
+    let decoder = gif::DecodeOptions::new()
+        .read_info(std::fs::File::open(&gif_path).unwrap())
+        .unwrap();
+    assert!(decoder.width() > 0);
+}
+
+#[test]
+#[ignore = "needs headless Chromium; ./scripts/test installs it"]
+fn the_page_of_a_vehicle_far_out_draws_in_a_real_browser() {
+    let dir = scratch("animate-far-page");
+    let page = dir.join("far.html");
+    let scene = far_out_scene(&dir);
+    succeeds(&[
+        "animate",
+        scene.to_str().unwrap(),
+        "--set",
+        "time.end=1",
+        "--out",
+        page.to_str().unwrap(),
+    ]);
+    let probe = probe(&page, &[0.0, 0.5], &dir.join("profile"));
+    let results = probe["results"].as_array().unwrap();
+    assert_eq!(results.len(), 2);
+    assert!((f(&results[1]["drawn"][0]["time"]) - 0.5).abs() < 1e-9);
+}

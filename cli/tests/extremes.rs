@@ -90,6 +90,48 @@ fn sizes_are_bounded_before_any_allocation() {
         ],
         &["--rtols", "1e-13 to 0.1"],
     );
+    // refused before the reference run, lists bounded and without repeats
+    let rtols: Vec<String> = (0..40)
+        .map(|i| format!("{:e}", 1e-3 / (1.0 + i as f64)))
+        .collect();
+    refused(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--rtols",
+            &rtols.join(","),
+        ],
+        &["--rtols", "40 entries, at most 32"],
+    );
+    refused(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--rtols",
+            "1e-5,1e-4,1e-5",
+        ],
+        &["--rtols", "1e-5 is given twice"],
+    );
+    refused(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--modes",
+            "4,6,4",
+        ],
+        &["--modes", "given twice"],
+    );
+    refused(
+        &[
+            "work-precision",
+            "scenes/adams-linear.toml",
+            "--modes",
+            "4",
+            "--rtols",
+            "0",
+        ],
+        &["--rtols", "1e-13 to 0.1"],
+    );
     refused(
         &[
             "simulate",

@@ -170,7 +170,38 @@ fn emit_c_writes_the_chosen_shaper_and_refuses_a_move_without_one() {
 
 #[test]
 fn bad_plan_options_are_refused_naming_the_flag() {
-    let refused: [(&[&str], &[&str]); 10] = [
+    let refused: [(&[&str], &[&str]); 13] = [
+        (
+            &[
+                "--distance",
+                "2",
+                "--robust",
+                "masses.load=10:30",
+                "--checks",
+                "1000000000",
+            ],
+            &["--checks", "at most 256"],
+        ),
+        (
+            &["--distance", "23", "--v-max", "0.003"],
+            &[
+                "--v-max/--a-max/--j-max",
+                "eigen analyses",
+                "shorten the distance",
+            ],
+        ),
+        (
+            &[
+                "--distance",
+                "2",
+                "--settle",
+                "1000",
+                "--robust",
+                "masses.load=10:30,contact.clearance=0.005:0.02,gravity.g=9:10,\
+                 contact.stiffness=1e7:1e8,contact.damping=100:1000,masses.vehicle=10:20",
+            ],
+            &["--robust", "samples", "fewer robust ranges"],
+        ),
         (
             &[
                 "--distance",

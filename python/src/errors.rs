@@ -170,10 +170,12 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::MoveTolerance => "tolerance",
         O::Settle => "settle",
         O::Robust => "robust",
+        O::Checks => "checks",
         O::Feedback => "feedback",
         O::CorrectionLimits => "feedback",
         O::Pick => "pick",
         O::EmitC => "emit_c",
+        O::FilterRate => "filter_rate",
     }
 }
 

@@ -11,6 +11,7 @@
 
 use crate::OptionName;
 use crate::analysis::beam_reference::{BeamResponse, beam_response};
+use crate::analysis::work_precision::{check_distinct, check_rtols};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::error_budget::{Window, WindowEnd, window};
@@ -122,6 +123,9 @@ pub fn model_size_study(
             ),
         ));
     }
+    check_distinct(OptionName::Sizes, "model size", &options.sizes)?;
+    check_distinct(OptionName::Methods, "method", &options.methods)?;
+    check_rtols(&options.rtols)?;
     let beams = beam_response(scene, &[], reporter)?;
     let window = window(&scene.params, &beams.trajectory);
     reporter.note(&format!(

@@ -379,19 +379,60 @@ fn check_options(options: &WorkPrecisionOptions) -> Result<()> {
             ),
         ));
     }
-    if options.rtols.is_empty()
-        || options
-            .rtols
-            .iter()
-            .any(|r| !(r.is_finite() && (1e-13..=0.1).contains(r)))
+    check_rtols(&options.rtols)?;
+    check_distinct(OptionName::Methods, "method", &options.methods)
+}
+
+/// Most entries of a list option (`--modes`, `--rtols`, `--methods`): each entry is a run
+/// or a sweep of runs.
+pub const MAX_LIST: usize = 32;
+
+/// Refuses relative tolerances out of range, none, more than [`MAX_LIST`] or one given twice.
+///
+/// # Errors
+/// [`Error::Option`] naming the tolerances and the rule.
+pub(crate) fn check_rtols(rtols: &[f64]) -> Result<()> {
+    if let Some(r) = rtols
+        .iter()
+        .find(|r| !(r.is_finite() && (1e-13..=0.1).contains(*r)))
     {
         return Err(Error::option(
             OptionName::Rtols,
-            format!(
-                "each relative tolerance must be 1e-13 to 0.1, at least one (got {:?})",
-                options.rtols
-            ),
+            format!("each relative tolerance must be 1e-13 to 0.1 (got {r})"),
         ));
+    }
+    if rtols.is_empty() {
+        return Err(Error::option(
+            OptionName::Rtols,
+            "give at least one tolerance",
+        ));
+    }
+    check_distinct(OptionName::Rtols, "tolerance", rtols)
+}
+
+/// Refuses a list with more than [`MAX_LIST`] entries or an entry given twice (it would run
+/// again).
+///
+/// # Errors
+/// [`Error::Option`] naming the list and the rule.
+pub(crate) fn check_distinct<T: PartialEq + std::fmt::Debug>(
+    option: OptionName,
+    what: &str,
+    list: &[T],
+) -> Result<()> {
+    if list.len() > MAX_LIST {
+        return Err(Error::option(
+            option,
+            format!("{} entries, at most {MAX_LIST}", list.len()),
+        ));
+    }
+    for (i, entry) in list.iter().enumerate() {
+        if list[..i].contains(entry) {
+            return Err(Error::option(
+                option,
+                format!("the {what} {entry:?} is given twice"),
+            ));
+        }
     }
     Ok(())
 }

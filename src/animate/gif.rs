@@ -184,13 +184,10 @@ fn draw_rail(root: &Area, layout: &GifLayout, k: usize, vehicle: f64) -> Result<
         GREY.stroke_width(2),
     ))
     .map_err(plot_error)?;
-    let span = half / layout.ppm;
-    let mut m = (vehicle - span).ceil();
-    while m <= vehicle + span {
+    for m in metre_marks(vehicle, half / layout.ppm) {
         let x = (layout.cx[k] + layout.ppm * (m - vehicle)) as i32;
         root.draw(&PathElement::new([(x, y), (x, y + 5)], GREY))
             .map_err(plot_error)?;
-        m += 1.0;
     }
     let (cx, gy) = (layout.cx[k] as i32, layout.ground_y as i32);
     root.draw(&Rectangle::new(
@@ -198,6 +195,22 @@ fn draw_rail(root: &Area, layout: &GifLayout, k: usize, vehicle: f64) -> Result<
         DARK.filled(),
     ))
     .map_err(plot_error)
+}
+
+/// Most metre marks a rail draws.
+const MAX_MARKS: usize = 1000;
+
+/// The whole metres within `span` (m) of `vehicle` (m), at most [`MAX_MARKS`]; none where a
+/// metre is below the position's resolution (a vehicle 1e17 m out), where counting up by
+/// one would never advance.
+fn metre_marks(vehicle: f64, span: f64) -> impl Iterator<Item = f64> {
+    let first = (vehicle - span).ceil();
+    let count = if first + 1.0 > first && (vehicle + span).is_finite() {
+        ((vehicle + span - first).floor() + 1.0).clamp(0.0, MAX_MARKS as f64) as usize
+    } else {
+        0
+    };
+    (0..count).map(move |i| first + i as f64)
 }
 
 /// The sections, guides, contacts and load of frame `f` of track `k`.
@@ -325,6 +338,15 @@ fn hex_color(hex: &str) -> RGBColor {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_rail_has_its_metre_marks_and_none_where_a_metre_is_below_resolution() {
+        let marks: Vec<f64> = metre_marks(10.3, 2.0).collect();
+        assert_eq!(marks, vec![9.0, 10.0, 11.0, 12.0]);
+        assert_eq!(metre_marks(1e17, 5.0).count(), 0);
+        assert_eq!(metre_marks(0.0, 1e9).count(), 1000);
+        assert_eq!(metre_marks(f64::NAN, 1.0).count(), 0);
+    }
 
     #[test]
     fn the_palette_holds_the_drawing_colours_exactly() {

@@ -179,7 +179,11 @@
     const halfWidth = STAGE.width / 2 / L.ppm;
     const step = halfWidth > 4 ? 1 : 0.5;
     g.lineWidth = 1;
-    for (let m = Math.floor((vehicle - halfWidth) / step) * step; m <= vehicle + halfWidth; m += step) {
+    // counted, not stepped: far out (1e17 m) adding a step to a mark leaves it where it was
+    const first = Math.floor((vehicle - halfWidth) / step) * step;
+    const count = first + step > first ? Math.min(1000, Math.floor((vehicle + halfWidth - first) / step) + 1) : 0;
+    for (let i = 0; i < count; i++) {
+      const m = first + i * step;
       const x = L.cx + L.ppm * (m - vehicle);
       g.beginPath(); g.moveTo(x, y); g.lineTo(x, y + 6); g.stroke();
       text(g, m.toFixed(step < 1 ? 1 : 0), x, y + 18, "center", 10);

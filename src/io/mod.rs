@@ -4,3 +4,4 @@
 pub mod output;
 pub(crate) mod rows;
 pub mod size;
+pub mod unique_keys;

@@ -85,25 +85,33 @@ fn shaped_parts<'c>(
 /// ```
 ///
 /// # Errors
-/// [`Error::Option`] for a candidate without a shaper or a rate outside 1 Hz to 1 MHz.
+/// [`Error::Option`] for a candidate without a shaper, a rate outside 1 Hz to 1 MHz, or a
+/// state above [`MAX_FILTER_STATE_BYTES`].
 pub fn emit_filter_c(
     scene: &Scene,
     candidate: &Candidate,
     rate_hz: f64,
 ) -> Result<(String, String)> {
-    if !(rate_hz.is_finite() && (1.0..=1e6).contains(&rate_hz)) {
-        return Err(Error::option(
-            OptionName::EmitC,
-            format!("the filter's rate must be 1 to 1e6 Hz (got {rate_hz})"),
-        ));
-    }
+    check_filter_rate(rate_hz)?;
     let (shaped, schedule, section) = shaped_parts(scene, candidate)?;
     let period = 1.0 / rate_hz;
     let longest_multiple = shaped.impulses.iter().map(|p| p[1]).fold(0.0, f64::max);
     let longest_period = schedule.values.iter().copied().fold(0.0, f64::max)
         * schedule.stretch[0].max(schedule.stretch[1]);
     // the ring covers the longest delay and two ticks around it
-    let history = (longest_multiple * longest_period / period).ceil() as usize + 3;
+    let delay_s = longest_multiple * longest_period;
+    let history = (delay_s / period).ceil().min(1e12) as usize + 3;
+    if state_bytes(history) > MAX_FILTER_STATE_BYTES {
+        let top = (MAX_FILTER_STATE_BYTES / SAMPLE_BYTES - 4) as f64 / delay_s;
+        return Err(Error::option(
+            OptionName::FilterRate,
+            format!(
+                "at {rate_hz} Hz the filter keeps {history} ticks of its {delay_s:.2} s delay, \
+                 {} bytes, at most {MAX_FILTER_STATE_BYTES}: give a rate of at most {top:.0} Hz",
+                state_bytes(history)
+            ),
+        ));
+    }
     let spacing = if section.is_empty() {
         "a fixed period".to_string()
     } else {
@@ -191,6 +199,7 @@ fn append_tables(
 /// The filter's header: its memory and its two entry points; `section` names the scheduled
 /// position (empty for a fixed period).
 fn header(banner: &str, history: usize, section: &str) -> String {
+    let bytes = state_bytes(history);
     let position = if section.is_empty() {
         "unused: the period is fixed".to_string()
     } else {
@@ -205,18 +214,50 @@ fn header(banner: &str, history: usize, section: &str) -> String {
          /* The filter's memory: the recent raw setpoint and the last output. */\n\
          typedef struct {{\n    ts_sample history[TS_HISTORY];\n    long count;\n    long newest;\n\
          \x20   double shaped;          /* m */\n\
-         \x20   unsigned long rejected; /* ticks refused: inputs not finite, or not one tick on */\n\
+         \x20   unsigned long rejected; /* ticks refused: inputs not finite, or too early */\n\
          }} ts_state;\n\n\
+         /* A ts_state takes about {bytes} bytes: declare it static (or allocate it once), not\n \
+         * as a local variable of a task whose stack is small. */\n\n\
          /* Starts the filter with no history: start it at the latest when the move starts. */\n\
          void ts_init(ts_state *s);\n\n\
          /* One tick at time t (s): raw = the raw setpoint's position, velocity, acceleration\n \
          * and jerk at t; position = {position}.\n \
-         * Returns the shaped setpoint (m). A tick with an input that is not finite, or that does not\n \
-         * come one tick after the last, is rejected: the last output is returned again and\n \
-         * s->rejected counts it. */\n\
+         * Returns the shaped setpoint (m). A tick is rejected when an input is not finite or\n \
+         * when t is less than half a tick after the last accepted tick's (a repeated tick, a\n \
+         * clock that went back): the last output is returned again and s->rejected counts\n \
+         * it. After a rejection keep calling on every tick as before: the next tick with\n \
+         * finite inputs at least half a tick on is taken, so skipped, late and jittered\n \
+         * ticks cost nothing but the samples they miss. A clock that restarts from an earlier\n \
+         * time is refused until it passes the last accepted one: call ts_init after a\n \
+         * restart, with the machine at rest. */\n\
          double ts_step(ts_state *s, double t, const double raw[4], double position);\n\n\
          #endif\n"
     )
+}
+
+/// Bytes of one raw-setpoint sample in the filter's memory (five doubles).
+const SAMPLE_BYTES: usize = 40;
+
+/// Most memory a filter's state may take (bytes): a controller's RAM is small.
+pub const MAX_FILTER_STATE_BYTES: usize = 16 << 20;
+
+/// The size of a `ts_state` holding `history` samples (bytes).
+fn state_bytes(history: usize) -> usize {
+    history * SAMPLE_BYTES + 32
+}
+
+/// Checks a filter's rate (Hz) before any work: 1 Hz to 1 MHz.
+///
+/// # Errors
+/// [`Error::Option`] naming the rate.
+pub fn check_filter_rate(rate_hz: f64) -> Result<()> {
+    if rate_hz.is_finite() && (1.0..=1e6).contains(&rate_hz) {
+        return Ok(());
+    }
+    Err(Error::option(
+        OptionName::FilterRate,
+        format!("the filter's rate must be 1 to 1e6 Hz (got {rate_hz})"),
+    ))
 }
 
 /// Writes `candidate`'s filter into the directory `dir` (each file whole or not at all).

@@ -32,6 +32,8 @@ pub const DEFAULT_TOLERANCE_M: f64 = 0.005;
 pub const DEFAULT_SETTLE_S: f64 = 10.0;
 /// The default number of check plants.
 pub const DEFAULT_CHECKS: usize = 4;
+/// Most check plants.
+pub const MAX_CHECKS: usize = 256;
 
 /// Options of [`super::plan_move`].
 #[derive(Debug, Clone, PartialEq)]
@@ -111,6 +113,12 @@ impl PlanOptions {
         }
         if let Some(f) = self.force_limit {
             positive(f, OptionName::ForceLimit, "the force limit")?;
+        }
+        if self.checks > MAX_CHECKS {
+            return Err(Error::option(
+                OptionName::Checks,
+                format!("{}: at most {MAX_CHECKS} check plants", self.checks),
+            ));
         }
         Ok(())
     }

@@ -7,6 +7,7 @@ use super::moving::moving_scene;
 use super::optimize::nelder_mead;
 use super::options::PlanOptions;
 use super::outcome::{MovePlan, PlanRow};
+use super::price::{OPTIMIZER_BUDGET, PlanPrice, SCHEDULE_PAST_ARRIVAL_S, SCHEDULE_STEP_S};
 use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
 use crate::analysis::modes::{ModesOptions, compute_modes};
@@ -17,15 +18,9 @@ use crate::{Error, OptionName, Result};
 use rayon::prelude::*;
 use telescopic_runtime::{PositionSchedule, Profile, SCurve, Scene, ShapedProfile};
 
-/// Spacing of the first mode's samples along the move (s).
-const SCHEDULE_STEP_S: f64 = 0.25;
-
 /// The range of the stretches of the spacing the optimizer tries (at the start and at the
 /// end of the move).
 const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
-
-/// Evaluations the optimizer may make (each runs every evaluated plant).
-const OPTIMIZER_BUDGET: usize = 24;
 
 /// The first mode's period (s) along the move, with the vehicle held, scheduled on the
 /// moving telescopic position (a monotone cubic through its values at the positions reached
@@ -228,7 +223,7 @@ fn setting<'a>(scene: &'a Scene, options: &'a PlanOptions) -> Result<(Setting<'a
     let arrival = curve.start + curve.phases().duration();
     // the schedule reaches past the longest shaper at the longest stretch
     let held = moving_scene(scene, &candidates::unshaped(&curve).profile, arrival + 30.0)?;
-    let (schedule, period) = first_period(&held, arrival, arrival + 8.0)?;
+    let (schedule, period) = first_period(&held, arrival, arrival + SCHEDULE_PAST_ARRIVAL_S)?;
     let longest = arrival + 1.5 * STRETCH_RANGE.1 * period.max(max_value(&schedule));
     let end = longest + options.settle_s;
     let feedback = match &options.feedback {
@@ -277,6 +272,9 @@ fn candidate_list(s: &Setting, period: f64) -> (Vec<Candidate>, Vec<(Shaper, usi
 /// The whole plan (see the module documentation).
 pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Result<MovePlan> {
     options.check()?;
+    let price = PlanPrice::of(scene, options);
+    price.check()?;
+    reporter.note(&format!("planning: {}", price.describe()));
     let (s, period) = setting(scene, options)?;
     let (mut list, starts) = candidate_list(&s, period);
     let mut rows: Vec<PlanRow> = Vec::new();

@@ -119,6 +119,16 @@ pub fn evaluated_plants(ranges: &[RobustRange]) -> Vec<Plant> {
     plants
 }
 
+/// How many plants [`evaluated_plants`] gives for `ranges` ranges: the nominal one, then
+/// the corners and the centre of the box.
+pub fn evaluated_plant_count(ranges: usize) -> usize {
+    if ranges == 0 {
+        1
+    } else {
+        2 + (1usize << ranges.min(MAX_RANGES))
+    }
+}
+
 /// Plants inside the box the planner did not evaluate: points of a fixed low-discrepancy
 /// (Halton) sequence, away from the corners and the centre; none without a box.
 pub fn check_plants(ranges: &[RobustRange], count: usize) -> Vec<Plant> {

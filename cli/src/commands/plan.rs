@@ -8,7 +8,7 @@ use clap::Args;
 use std::path::PathBuf;
 use telescopic::control::velocity::VelocityDesign;
 use telescopic::plan;
-use telescopic::plan::emit::{DEFAULT_FILTER_RATE_HZ, write_filter_c};
+use telescopic::plan::emit::{DEFAULT_FILTER_RATE_HZ, check_filter_rate, write_filter_c};
 use telescopic::plan::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 use telescopic::run::SimulationOptions;
 use telescopic::run::stress::Station;
@@ -114,6 +114,9 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
         && !dir.is_dir()
     {
         anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
+    }
+    if args.emit_c.is_some() {
+        check_filter_rate(args.filter_rate)?;
     }
     let scene = args.scene.load()?;
     let options = PlanOptions {

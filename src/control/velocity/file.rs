@@ -83,6 +83,8 @@ impl VelocityFeedback {
     /// [`Error::Analysis`] naming what is malformed.
     pub fn from_json(text: &str) -> Result<Self> {
         let malformed = |e: serde_json::Error| Error::Analysis(format!("velocity feedback: {e}"));
+        crate::io::unique_keys::check_unique_keys(text)
+            .map_err(|e| Error::Analysis(format!("velocity feedback: {e}")))?;
         let head: serde_json::Value = serde_json::from_str(text).map_err(malformed)?;
         if head.get("format").and_then(|f| f.as_str()) != Some(VELOCITY_FEEDBACK_FORMAT) {
             return Err(Error::Analysis(format!(
@@ -141,8 +143,15 @@ impl VelocityFeedback {
                 "must be [\"vehicle\", \"kappa_1_0\"] with one noise each",
             ));
         }
-        if let Some(v) = self.noise.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
-            return Err(field("noise", format!("must be finite and >= 0 (got {v})")));
+        // a standard deviation of 1 m on the vehicle or 1 1/m on a curvature (a beam bent
+        // to a 1 m radius) is no measurement; NaN commands follow from larger ones
+        for (i, (v, unit)) in self.noise.iter().zip(["m", "1/m"]).enumerate() {
+            if !(v.is_finite() && (0.0..=1.0).contains(v)) {
+                return Err(field(
+                    &format!("noise[{i}]"),
+                    format!("must be 0 to 1 {unit} (got {v})"),
+                ));
+            }
         }
         crate::control::sampled::check_rate(self.rate_hz).map_err(|_| {
             field(
@@ -185,13 +194,27 @@ impl VelocityFeedback {
                     format!("must be {} finite positions", params.positions.len()),
                 ));
             }
-            if !(p.gain_m2_per_s.is_finite() && p.gain_m2_per_s.abs() <= 1e6) {
+            for (name, v, high) in [
+                ("gain_m2_per_s", p.gain_m2_per_s, 1e6),
+                ("tip_per_curvature_m2", p.tip_per_curvature_m2, 1e4),
+                (
+                    "curvature_per_acceleration",
+                    p.curvature_per_acceleration,
+                    1.0,
+                ),
+            ] {
+                if !(v.is_finite() && v.abs() <= high) {
+                    return Err(field(
+                        &format!("points[{j}].{name}"),
+                        format!("must be finite, at most {high:e} in size (got {v})"),
+                    ));
+                }
+            }
+            let f = p.first_mode_hz;
+            if !(f.is_finite() && f > 0.0 && f <= 1e4) {
                 return Err(field(
-                    &format!("points[{j}].gain_m2_per_s"),
-                    format!(
-                        "must be finite, at most 1e6 in size (got {})",
-                        p.gain_m2_per_s
-                    ),
+                    &format!("points[{j}].first_mode_hz"),
+                    format!("must be > 0 and at most 1e4 Hz (got {f})"),
                 ));
             }
         }

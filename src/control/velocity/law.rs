@@ -57,9 +57,16 @@ impl SampledController for VelocityController {
         let departure = kappa - c * s_acceleration;
         let (previous, washed) = self.curvature;
         let washed = previous.map_or(0.0, |p| self.washout * (washed + departure - p));
-        self.curvature = (Some(departure), washed);
         let wanted = gain * washed - f.position_gain_per_s * (u - s);
+        if !wanted.is_finite() {
+            // a non-finite measurement (a failed sensor) holds the last command and leaves
+            // the filter's state as it was: NaN must reach neither the drive nor the state
+            return self.last;
+        }
+        self.curvature = (Some(departure), washed);
         let step = f.acceleration_limit_m_per_s2 * self.period;
+        // the bounds are finite and ordered (the file's limits are checked, `last` is a
+        // past command), so `clamp` cannot panic
         let v = wanted
             .clamp(-f.velocity_limit_m_per_s, f.velocity_limit_m_per_s)
             .clamp(self.last - step, self.last + step);

@@ -130,8 +130,11 @@ double ts_step(ts_state *s, double t, const double raw[4], double position)
     for (i = 0; i < 4; i++) {
         finite = finite && isfinite(raw[i]);
     }
-    /* a tick must come one period after the last (to a millionth of the period) */
-    if (!finite || (s->count > 0 && fabs(t - newest->t - TS_PERIOD) > 1e-6 * TS_PERIOD)) {
+    /* a tick must come at least half a period after the last accepted one: a repeated or
+     * early tick is refused, a late, jittered or skipped one taken (the history is read by
+     * its times, not by its count); the difference of two times stays exact to the clock's
+     * resolution for any start time a double can hold to a tenth of the period */
+    if (!finite || (s->count > 0 && !(t - newest->t >= 0.5 * TS_PERIOD))) {
         s->rejected++;
         return s->shaped;
     }
