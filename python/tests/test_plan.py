@@ -50,3 +50,14 @@ def test_a_plan_with_feedback_runs_from_python_as_the_cli_reports(cli, tmp_path)
     assert "s-curve + feedback" in set(plan.table["candidate"])
     assert str(plan) == printed
     assert (plan.controller is None) == ("feedback" not in plan.best)
+
+
+def test_a_plan_too_large_is_refused_before_any_work_naming_the_argument():
+    import pytest
+
+    scene = telescopic.Scene.load("scenes/adams-linear.toml")
+    for arguments, name in [({"checks": 10**9, "robust": {"masses.load": (10, 30)}}, "checks"),
+                            ({"v_max": 0.003}, "v_max/a_max/j_max")]:
+        with pytest.raises(telescopic.OptionError) as caught:
+            telescopic.plan(scene, 23.0, **arguments)
+        assert caught.value.option == name, (arguments, caught.value)
