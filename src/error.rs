@@ -135,6 +135,13 @@ pub enum Error {
         /// The work file that keeps the finished runs (none when the output is a stream).
         kept: Option<PathBuf>,
     },
+    /// A call stopped at its caller's request (a Ctrl-C, or an exception of a progress
+    /// callable) before it finished; nothing was written.
+    #[error("{what} stopped at the caller's request; nothing was written")]
+    Stopped {
+        /// What stopped, e.g. `the plan, evaluating zvd scheduled`.
+        what: String,
+    },
     /// One run of a multi-run command panicked: a bug in telescopic, recorded as that run's
     /// error so the others go on.
     #[error("the run panicked (a bug in telescopic; please report it with the run's values): {0}")]

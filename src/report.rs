@@ -76,3 +76,15 @@ impl Reporter for Phase<'_> {
 pub struct Silent;
 
 impl Reporter for Silent {}
+
+/// A [`Reporter`] that drops everything but the caller's stop request: for runs inside a
+/// larger call (a plan's candidates on each plant) whose own progress would confuse the
+/// caller's, but which must stop when the caller asks.
+#[derive(Clone, Copy)]
+pub struct StopOnly<'a>(pub &'a dyn Reporter);
+
+impl Reporter for StopOnly<'_> {
+    fn stop_requested(&self) -> bool {
+        self.0.stop_requested()
+    }
+}

@@ -96,3 +96,54 @@ fn shaped_moves_leave_the_closed_form_residual_on_an_undamped_mode() {
         }
     }
 }
+
+/// A caller that asks a plan to stop once a note containing `after` was given (at once for
+/// an empty `after`), and keeps every note.
+struct StopAfter {
+    after: &'static str,
+    notes: std::sync::Mutex<Vec<String>>,
+}
+
+impl telescopic::Reporter for StopAfter {
+    fn note(&self, line: &str) {
+        self.notes.lock().unwrap().push(line.to_string());
+    }
+    fn stop_requested(&self) -> bool {
+        self.after.is_empty()
+            || self
+                .notes
+                .lock()
+                .unwrap()
+                .iter()
+                .any(|n| n.contains(self.after))
+    }
+}
+
+#[test]
+fn a_plan_stops_at_its_next_run_or_eigen_analysis_when_its_caller_asks() {
+    use telescopic::plan::{MoveLimits, PlanOptions, plan_move};
+    let scene = Scene::load("scenes/adams-linear.toml".as_ref(), &[]).unwrap();
+    let options = PlanOptions::new(MoveLimits {
+        distance: 2.0,
+        v_max: 1.0,
+        a_max: 1.0,
+        j_max: 5.0,
+    });
+    for (after, stopped_in) in [
+        ("", "first mode's schedule"),
+        ("evaluating", "evaluating s-curve"),
+    ] {
+        let caller = StopAfter {
+            after,
+            notes: Default::default(),
+        };
+        let error = plan_move(&scene, &options, &caller).unwrap_err();
+        assert!(
+            matches!(&error, telescopic::Error::Stopped { what } if what.contains(stopped_in)),
+            "{error}"
+        );
+        let notes = caller.notes.lock().unwrap();
+        let evaluated = notes.iter().filter(|n| n.contains("evaluating")).count();
+        assert!(evaluated <= 1, "went on after the stop: {notes:?}");
+    }
+}

@@ -87,7 +87,8 @@ fn case_study() -> (Scene, SCurve, Profile, f64) {
     };
     let arrival = unshaped(&curve).arrival_s;
     let held = moving_scene(&scene, &unshaped(&curve).profile, arrival + 30.0).unwrap();
-    let (schedule, period) = first_period(&held, arrival, arrival + 8.0).unwrap();
+    let (schedule, period) =
+        first_period(&held, arrival, arrival + 8.0, &telescopic::Silent).unwrap();
     (scene, curve, schedule, period)
 }
 

@@ -25,7 +25,7 @@ fn main() -> std::process::ExitCode {
             // stopped by Ctrl-C or SIGTERM (a sweep between runs): the shell's 128 + SIGINT
             let interrupted = matches!(
                 e.downcast_ref::<telescopic::Error>(),
-                Some(telescopic::Error::Interrupted { .. })
+                Some(telescopic::Error::Interrupted { .. } | telescopic::Error::Stopped { .. })
             );
             std::process::ExitCode::from(if interrupted { 130 } else { 1 })
         }

@@ -497,3 +497,48 @@ fn the_page_of_a_vehicle_far_out_draws_in_a_real_browser() {
     assert_eq!(results.len(), 2);
     assert!((f(&results[1]["drawn"][0]["time"]) - 0.5).abs() < 1e-9);
 }
+
+#[test]
+fn a_page_or_gif_beyond_its_bounds_is_refused_before_the_run() {
+    let dir = scratch("animate-bounds");
+    let page = dir.join("long.html");
+    // 400 s at 1000 frames a second: a page of about 90 MB, built at 5x that
+    let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+        .args([
+            "animate",
+            "scenes/case-study.toml",
+            "--set",
+            "time.end=400",
+            "--fps",
+            "1000",
+            "--out",
+            page.to_str().unwrap(),
+        ])
+        .env("TELESCOPIC_MEMORY_BUDGET", "256M")
+        .current_dir(common::ROOT)
+        .output()
+        .unwrap();
+    let args = ["animate", "--fps"];
+    common::failed_cleanly(
+        &args,
+        &out,
+        &["--fps", "building a page", "more than the budget"],
+    );
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("simulating"));
+    assert!(!page.exists());
+    let gif = dir.join("long.gif");
+    fails_with(
+        &[
+            "animate",
+            "scenes/case-study.toml",
+            "--set",
+            "time.end=10",
+            "--fps",
+            "1000",
+            "--out",
+            gif.to_str().unwrap(),
+        ],
+        &["--fps", "10001 frames", "at most 6000"],
+    );
+    assert!(!gif.exists());
+}

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{Csv, fails_with, scratch, succeeds};
+use common::{Csv, failed_cleanly, fails_with, scratch, succeeds, telescopic};
 
 /// The nominal row of candidate `name` in `table`: its cells after the name.
 fn nominal_row(table: &str, name: &str) -> Vec<String> {
@@ -170,7 +170,38 @@ fn emit_c_writes_the_chosen_shaper_and_refuses_a_move_without_one() {
 
 #[test]
 fn bad_plan_options_are_refused_naming_the_flag() {
-    let refused: [(&[&str], &[&str]); 13] = [
+    let refused: [(&[&str], &[&str]); 18] = [
+        (
+            &["--distance", "2", "--pick", "zw scheduled"],
+            &[
+                "--pick",
+                "no candidate of this plan can be named \"zw scheduled\"",
+                "zvd",
+            ],
+        ),
+        (
+            &["--distance", "2", "--pick", "zv + feedback"],
+            &["--pick", "+ feedback"],
+        ),
+        (
+            &["--distance", "2", "--pick", "s-curve", "--emit-c", "."],
+            &["--emit-c", "no shaper to emit"],
+        ),
+        (
+            &[
+                "--distance",
+                "2",
+                "--feedback",
+                "0.2",
+                "--correction-v-max",
+                "1e9",
+            ],
+            &["--correction-v-max", "at most 1000"],
+        ),
+        (
+            &["--distance", "2", "--robust", "masses.load=-10:30"],
+            &["--robust", "plant", "masses.load"],
+        ),
         (
             &[
                 "--distance",
@@ -243,6 +274,49 @@ fn bad_plan_options_are_refused_naming_the_flag() {
     ];
     for (flags, needles) in refused {
         let args = [&["plan", "scenes/adams-linear.toml"][..], flags].concat();
-        fails_with(&args, needles);
+        let out = telescopic(&args);
+        failed_cleanly(&args, &out, needles);
+        // before any work: no candidate was evaluated
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !said.contains("evaluating"),
+            "{args:?} refused only after work:\n{said}"
+        );
     }
+}
+
+#[test]
+fn emitted_c_never_overwrites_an_input_in_its_directory() {
+    let dir = scratch("plan-emit-input");
+    let scene = dir.join("telescopic_setpoint.c");
+    std::fs::copy("scenes/adams-linear.toml", &scene).unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    fails_with(
+        &[
+            "plan",
+            scene.to_str().unwrap(),
+            "--distance",
+            "2",
+            "--emit-c",
+            dir.to_str().unwrap(),
+        ],
+        &["--emit-c", "is the input", "telescopic_setpoint.c"],
+    );
+    let controller = dir.join("telescopic_controller.h");
+    std::fs::copy("scenes/case-study.toml", &controller).unwrap();
+    fails_with(
+        &[
+            "design",
+            controller.to_str().unwrap(),
+            "--out",
+            dir.join("c.json").to_str().unwrap(),
+            "--sensors",
+            "vehicle,kappa_1_0",
+            "--emit-c",
+            dir.to_str().unwrap(),
+        ],
+        &["--emit-c", "is the input"],
+    );
+    assert_eq!(std::fs::read(&scene).unwrap(), before);
+    std::fs::remove_dir_all(&dir).unwrap();
 }

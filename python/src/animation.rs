@@ -21,6 +21,9 @@ use telescopic::run::SimulationOptions;
 pub struct PyMovie {
     movie: Movie,
     options: AnimationOptions,
+    /// The files the movie was made from: `save` never writes onto one of them (through a
+    /// symbolic link either).
+    inputs: Vec<PathBuf>,
 }
 
 /// What a [`PyMovie`] shows.
@@ -52,11 +55,13 @@ impl PyMovie {
     /// Writes the movie to `path` (.html, or .gif for a run), completely or not at all;
     /// returns its size in bytes.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<u64> {
-        py.detach(|| match &self.movie {
-            Movie::Run(m) => save_run(m, &self.options, &path),
+        let inputs: Vec<&std::path::Path> = self.inputs.iter().map(PathBuf::as_path).collect();
+        telescopic::io::output::check_not_an_input(&path, &inputs).map_err(to_python)?;
+        // off the interpreter, a Ctrl-C stopping a GIF between frames (no file is left)
+        run(py, None, |reporter| match &self.movie {
+            Movie::Run(m) => save_run(m, &self.options, &path, reporter),
             Movie::Modes(m) => save_modes(m, &path),
         })
-        .map_err(to_python)
     }
 }
 
@@ -86,6 +91,13 @@ pub fn animate(
         ..defaults
     };
     let simulation: SimulationOptions = options.into_options()?;
+    // a view is a page: its memory is priced before the runs
+    let mut shown = vec![&scene.scene];
+    shown.extend(controller.as_ref().map(|_| &scene.scene));
+    shown.extend(compare.map(|c| &c.scene));
+    animation.check().map_err(to_python)?;
+    telescopic::animate::memory::check_page(&shown, animation.fps, simulation.memory_budget)
+        .map_err(to_python)?;
     let controller = match controller {
         Some(text) => Some(ControllerFile::from_json(&text).map_err(to_python)?),
         None => None,
@@ -99,9 +111,12 @@ pub fn animate(
     let movie = run(py, progress, |reporter| {
         animate_run(&request, &animation, reporter)
     })?;
+    let mut inputs = vec![scene.origin().to_path_buf()];
+    inputs.extend(compare.map(|c| c.origin().to_path_buf()));
     Ok(PyMovie {
         movie: Movie::Run(movie),
         options: animation,
+        inputs,
     })
 }
 
@@ -122,10 +137,12 @@ pub fn animate_modes_of(
         memory_budget: crate::calls::memory_budget()?,
         ..ModesOptions::default()
     };
+    let inputs = vec![scene.origin().to_path_buf()];
     let scene = &scene.scene;
     let (_, movie) = run(py, None, |_| animate_modes(scene, &options, DEFAULT_POINTS))?;
     Ok(PyMovie {
         movie: Movie::Modes(movie),
         options: AnimationOptions::default(),
+        inputs,
     })
 }

@@ -96,6 +96,11 @@ pub fn overrides(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
 }
 
 impl PyScene {
+    /// The file the scene was read from (or the name given for its text).
+    pub fn origin(&self) -> &std::path::Path {
+        &self.origin
+    }
+
     fn build(text: String, origin: PathBuf, overrides: Vec<String>) -> PyResult<Self> {
         let scene = Scene::from_toml_str(&text, &origin, &overrides)
             .map_err(|e| to_python(telescopic::Error::Scene(e)))?;

@@ -54,3 +54,18 @@ def test_bad_animation_arguments_name_themselves():
         with pytest.raises(telescopic.OptionError) as caught:
             sim.animate(**arguments)
         assert caught.value.option == name, (arguments, caught.value)
+
+
+def test_saving_through_a_link_onto_the_input_scene_is_refused(tmp_path):
+    source = tmp_path / "scene.toml"
+    source.write_text(open("scenes/adams-linear.toml").read())
+    before = source.read_bytes()
+    scene = telescopic.Scene.load(str(source), set={"time.end": 0.2})
+    view = telescopic.simulate(scene).animate()
+    link = tmp_path / "view.html"
+    link.symlink_to(source)
+    with pytest.raises(telescopic.TelescopicError, match="is the input"):
+        view.save(str(link))
+    with pytest.raises(telescopic.TelescopicError, match="is the input"):
+        telescopic.modes(scene).animate().save(str(link))
+    assert source.read_bytes() == before

@@ -61,3 +61,22 @@ def test_a_plan_too_large_is_refused_before_any_work_naming_the_argument():
         with pytest.raises(telescopic.OptionError) as caught:
             telescopic.plan(scene, 23.0, **arguments)
         assert caught.value.option == name, (arguments, caught.value)
+
+
+def test_an_exception_of_the_progress_callable_ends_the_plan_with_it():
+    # the plan stops at its next run or eigen analysis (tests/plan.rs shows where); here the
+    # exception reaches Python as raised, once
+    import pytest
+
+    scene = telescopic.Scene.load("scenes/case-study.toml")
+    calls = []
+
+    def progress(fraction):
+        calls.append(fraction)
+        raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        telescopic.plan(scene, 23.0, robust={"masses.load": (10, 30), "contact.clearance": (0.005, 0.02),
+                                             "sections.youngs_modulus": (1.9e11, 2.3e11)},
+                        progress=progress)
+    assert len(calls) == 1

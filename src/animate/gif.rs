@@ -6,9 +6,10 @@
 //! 40 greys (text's anti-aliasing), so a frame is indexed by rounding: no per-frame
 //! quantizer pass, and the load's colour is exact.
 
-use super::RunMovie;
 use super::options::AnimationOptions;
+use super::run_movie::RunMovie;
 use crate::plot::{plot_error, register_font};
+use crate::report::Reporter;
 use crate::{Error, Result};
 use plotters::prelude::*;
 
@@ -80,42 +81,53 @@ pub fn frame_delay_cs(fps: f64, speed: f64) -> u16 {
     (100.0 / (fps * speed)).round().clamp(2.0, 65535.0) as u16
 }
 
-/// The GIF of `movie` with `options`' size and speed.
+/// Writes the GIF of `movie` with `options`' size and speed to `out`, frame by frame, with
+/// `reporter`'s progress; stops when `reporter` asks.
 ///
 /// # Errors
-/// [`Error::Plot`] when drawing or encoding fails.
-pub fn gif_bytes(movie: &RunMovie, options: &AnimationOptions) -> Result<Vec<u8>> {
+/// [`Error::Plot`] when drawing or encoding fails; [`Error::Stopped`] when asked to stop.
+pub fn write_gif(
+    movie: &RunMovie,
+    options: &AnimationOptions,
+    out: &mut dyn std::io::Write,
+    reporter: &dyn Reporter,
+) -> Result<()> {
     register_font()?;
     let (width, height) = options.size;
     let layout = GifLayout::of(movie, options.size);
     let palette = palette();
-    let mut out = Vec::new();
-    {
-        let mut encoder = gif::Encoder::new(&mut out, width as u16, height as u16, &palette)
-            .map_err(gif_error)?;
-        encoder
-            .set_repeat(gif::Repeat::Infinite)
-            .map_err(gif_error)?;
-        let mut rgb = vec![0u8; 3 * (width * height) as usize];
-        let mut indices = vec![0u8; (width * height) as usize];
-        let delay = frame_delay_cs(movie.fps, options.speed);
-        for i in 0..movie.frame_count() {
-            {
-                let root =
-                    BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
-                draw_frame(&root, movie, &layout, i)?;
-                root.present().map_err(plot_error)?;
-            }
-            for (index, px) in indices.iter_mut().zip(rgb.chunks_exact(3)) {
-                *index = palette_index(px[0], px[1], px[2]);
-            }
-            let mut frame =
-                gif::Frame::from_indexed_pixels(width as u16, height as u16, indices.clone(), None);
-            frame.delay = delay;
-            encoder.write_frame(&frame).map_err(gif_error)?;
+    let mut encoder =
+        gif::Encoder::new(out, width as u16, height as u16, &palette).map_err(gif_error)?;
+    encoder
+        .set_repeat(gif::Repeat::Infinite)
+        .map_err(gif_error)?;
+    let mut rgb = vec![0u8; 3 * (width * height) as usize];
+    let mut indices = vec![0u8; (width * height) as usize];
+    let delay = frame_delay_cs(movie.fps, options.speed);
+    let frames = movie.frame_count();
+    reporter.start("writing the GIF");
+    for i in 0..frames {
+        if reporter.stop_requested() {
+            return Err(Error::Stopped {
+                what: format!("writing the GIF at frame {i} of {frames}"),
+            });
         }
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+            draw_frame(&root, movie, &layout, i)?;
+            root.present().map_err(plot_error)?;
+        }
+        for (index, px) in indices.iter_mut().zip(rgb.chunks_exact(3)) {
+            *index = palette_index(px[0], px[1], px[2]);
+        }
+        let mut frame =
+            gif::Frame::from_indexed_pixels(width as u16, height as u16, indices.clone(), None);
+        frame.delay = delay;
+        encoder.write_frame(&frame).map_err(gif_error)?;
+        reporter.progress((i + 1) as f64 / frames as f64);
     }
-    Ok(out)
+    reporter.finish();
+    Ok(())
 }
 
 fn gif_error(e: impl std::fmt::Display) -> Error {
@@ -338,6 +350,52 @@ fn hex_color(hex: &str) -> RGBColor {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A caller that asks to stop after `after` progress reports, and counts them.
+    struct StopAfter {
+        after: usize,
+        reports: std::sync::atomic::AtomicUsize,
+    }
+
+    impl Reporter for StopAfter {
+        fn progress(&self, _: f64) {
+            self.reports
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+        fn stop_requested(&self) -> bool {
+            self.reports.load(std::sync::atomic::Ordering::Relaxed) >= self.after
+        }
+    }
+
+    #[test]
+    fn a_gif_stopped_between_frames_leaves_no_file() {
+        use crate::animate::{RunRequest, animate_run, save_run};
+        let scene = telescopic_runtime::Scene::load(
+            "scenes/adams-clearance.toml".as_ref(),
+            &["time.end=1".to_string()],
+        )
+        .unwrap();
+        let options = AnimationOptions {
+            size: (160, 120),
+            ..AnimationOptions::default()
+        };
+        let request = RunRequest::new(&scene, crate::run::SimulationOptions::default());
+        let movie = animate_run(&request, &options, &crate::Silent).unwrap();
+        let path = std::env::temp_dir().join(format!("stopped-{}.gif", std::process::id()));
+        let caller = StopAfter {
+            after: 3,
+            reports: Default::default(),
+        };
+        let error = save_run(&movie, &options, &path, &caller).unwrap_err();
+        assert!(
+            matches!(&error, Error::Stopped { what } if what.contains("frame 3 of 51")),
+            "{error}"
+        );
+        assert!(!path.exists());
+        let written = save_run(&movie, &options, &path, &crate::Silent).unwrap();
+        assert_eq!(std::fs::metadata(&path).unwrap().len(), written);
+        std::fs::remove_file(&path).unwrap();
+    }
 
     #[test]
     fn a_rail_has_its_metre_marks_and_none_where_a_metre_is_below_resolution() {

@@ -24,6 +24,7 @@
 
 pub mod geometry;
 pub mod gif;
+pub mod memory;
 pub mod mode_movie;
 pub mod options;
 pub mod page;
@@ -222,18 +223,62 @@ impl AnimationFormat {
     }
 }
 
-/// Writes `movie` to `path` as HTML or GIF by its extension (completely or not at all);
-/// returns the file's size (bytes).
+/// Writes `movie` to `path` as HTML or GIF by its extension (completely or not at all; a
+/// GIF frame by frame, with `reporter`'s progress, stopping when it asks); returns the
+/// file's size (bytes).
 ///
 /// # Errors
-/// [`Error::Destination`], [`Error::Plot`] or [`Error::Write`].
-pub fn save_run(movie: &RunMovie, options: &AnimationOptions, path: &Path) -> Result<u64> {
-    let bytes = match AnimationFormat::of_path(path)? {
-        AnimationFormat::Html => movie.html().into_bytes(),
-        AnimationFormat::Gif => gif::gif_bytes(movie, options)?,
-    };
-    crate::io::output::write_atomically(path, |w| w.write_all(&bytes))?;
-    Ok(bytes.len() as u64)
+/// [`Error::Destination`], [`Error::Plot`], [`Error::Write`], or [`Error::Stopped`].
+pub fn save_run(
+    movie: &RunMovie,
+    options: &AnimationOptions,
+    path: &Path,
+    reporter: &dyn Reporter,
+) -> Result<u64> {
+    match AnimationFormat::of_path(path)? {
+        AnimationFormat::Html => {
+            let bytes = movie.html().into_bytes();
+            crate::io::output::write_atomically(path, |w| w.write_all(&bytes))?;
+            Ok(bytes.len() as u64)
+        }
+        AnimationFormat::Gif => {
+            memory::check_gif_frames(movie.frame_count() as u64, movie.fps)?;
+            // streamed frame by frame; a failure or a stop between frames leaves no file
+            let mut failure = None;
+            let mut written = 0;
+            let outcome = crate::io::output::write_atomically(path, |w| {
+                let mut counted = CountingWriter { inner: w, bytes: 0 };
+                let result = gif::write_gif(movie, options, &mut counted, reporter);
+                written = counted.bytes;
+                result.map_err(|e| {
+                    failure = Some(e);
+                    std::io::Error::other("the GIF was not finished")
+                })
+            });
+            if let Some(error) = failure {
+                return Err(error);
+            }
+            outcome?;
+            Ok(written)
+        }
+    }
+}
+
+/// A writer that counts the bytes it passes on.
+struct CountingWriter<'w> {
+    inner: &'w mut dyn std::io::Write,
+    bytes: u64,
+}
+
+impl std::io::Write for CountingWriter<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.bytes += n as u64;
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
 }
 
 /// Writes the page of `movie` to `path` (completely or not at all); returns its size

@@ -78,7 +78,7 @@ pub struct Take<'a> {
 }
 
 /// Samples per chart series at most (twice the buckets of the min/max decimation).
-const CHART_BUCKETS: usize = 1500;
+pub(crate) const CHART_BUCKETS: usize = 1500;
 
 /// Share of the height the largest deflection is drawn at by the default scale.
 const DEFLECTION_SHARE: f64 = 0.2;

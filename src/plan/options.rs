@@ -114,6 +114,9 @@ impl PlanOptions {
         if let Some(f) = self.force_limit {
             positive(f, OptionName::ForceLimit, "the force limit")?;
         }
+        if let Some(design) = &self.feedback {
+            design.check()?;
+        }
         if self.checks > MAX_CHECKS {
             return Err(Error::option(
                 OptionName::Checks,

@@ -3,6 +3,8 @@
 use super::candidates;
 use super::metrics::CycleMetrics;
 use super::moving;
+use super::options::PlanOptions;
+use super::shapers::Shaper;
 use crate::control::velocity::VelocityFeedback;
 use crate::{Error, OptionName, Result};
 use std::fmt::Write as _;
@@ -99,6 +101,54 @@ impl MovePlan {
                     ),
                 )
             })
+    }
+
+    /// Checks, before planning, that `name` can name a candidate of a plan with `options`
+    /// (the S-curve, a shaper, a scheduled shaper, an optimized one when the optimizer
+    /// runs, each `+ feedback` when the feedback is evaluated), and, when `emit_c`, that it
+    /// has a shaper to emit.
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the pick (or `--emit-c`) and the names it may take.
+    pub fn check_pick(name: &str, options: &PlanOptions, emit_c: bool) -> Result<()> {
+        let (base, with_feedback) = match name.strip_suffix(" + feedback") {
+            Some(base) => (base, true),
+            None => (name, false),
+        };
+        let shaper_named = |n: &str| n.parse::<Shaper>().is_ok();
+        let known = base == "s-curve"
+            || shaper_named(base)
+            || base.strip_suffix(" scheduled").is_some_and(shaper_named)
+            || (options.optimize && base.starts_with("optimized "));
+        if !known || (with_feedback && options.feedback.is_none()) {
+            let mut forms = vec![
+                "s-curve".to_string(),
+                "SHAPER".into(),
+                "SHAPER scheduled".into(),
+            ];
+            if options.optimize {
+                forms.push("optimized ... (as the table names it)".into());
+            }
+            if options.feedback.is_some() {
+                forms.push("any of these + feedback".into());
+            }
+            return Err(Error::option(
+                OptionName::Pick,
+                format!(
+                    "no candidate of this plan can be named {name:?}: the names are {}, with \
+                     SHAPER one of {}",
+                    forms.join(", "),
+                    Shaper::ALL.map(|s| s.to_string()).join(", ")
+                ),
+            ));
+        }
+        if emit_c && base == "s-curve" {
+            return Err(Error::option(
+                OptionName::EmitC,
+                format!("the candidate {name:?} has no shaper to emit as a setpoint filter"),
+            ));
+        }
+        Ok(())
     }
 
     /// The table: every candidate on every plant, the rigid limit, the best and its checks.

@@ -12,7 +12,7 @@ use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
 use crate::analysis::modes::{ModesOptions, compute_modes};
 use crate::control::velocity::{VelocityFeedback, design_velocity_feedback, simulate_velocity};
-use crate::report::Reporter;
+use crate::report::{Reporter, StopOnly};
 use crate::run::simulate_scene;
 use crate::{Error, OptionName, Result};
 use rayon::prelude::*;
@@ -27,10 +27,16 @@ const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
 /// every 0.25 s; a number when no position moves), and its value at `arrival`
 /// (s). With one moving position the period is a function of it; with several, the first
 /// one's schedule is exact only along the scene's own motion.
-pub fn first_period(held: &Scene, arrival: f64, end: f64) -> Result<(Profile, f64)> {
+pub fn first_period(
+    held: &Scene,
+    arrival: f64,
+    end: f64,
+    reporter: &dyn Reporter,
+) -> Result<(Profile, f64)> {
     let start = held.time.start;
     let steps = ((end - start) / SCHEDULE_STEP_S).ceil() as usize;
     let period_at = |t: f64| -> Result<f64> {
+        stop_point(reporter, "in the first mode's schedule")?;
         let options = ModesOptions {
             at: Some(t.min(held.time.end)),
             count: Some(1),
@@ -73,6 +79,7 @@ pub fn evaluate(
     plants: &[Plant],
     options: &PlanOptions,
     end: f64,
+    reporter: &dyn Reporter,
 ) -> Result<Vec<CycleMetrics>> {
     // built once; each plant patches it with its values
     let moving = moving_scene(scene, &candidate.profile, end)?;
@@ -84,11 +91,13 @@ pub fn evaluate(
     plants
         .par_iter()
         .map(|plant| {
+            stop_point(reporter, &format!("evaluating {}", candidate.name))?;
+            let quiet = StopOnly(reporter);
             let s = plant_scene(&moving, plant)?;
             let trajectory = match (candidate.feedback, feedback) {
-                (false, _) => simulate_scene(&s, &simulation, &crate::Silent)?.trajectory,
+                (false, _) => simulate_scene(&s, &simulation, &quiet)?.trajectory,
                 (true, Some(f)) => {
-                    simulate_velocity(&s, f, &simulation, &crate::Silent)?
+                    simulate_velocity(&s, f, &simulation, &quiet)?
                         .simulation
                         .trajectory
                 }
@@ -107,6 +116,19 @@ pub fn evaluate(
             ))
         })
         .collect()
+}
+
+/// A point where a plan honours its caller's stop request.
+///
+/// # Errors
+/// [`Error::Stopped`] naming where, once the caller asked.
+fn stop_point(reporter: &dyn Reporter, at: &str) -> Result<()> {
+    if reporter.stop_requested() {
+        return Err(Error::Stopped {
+            what: format!("the plan, {at},"),
+        });
+    }
+    Ok(())
 }
 
 /// What the planner minimizes: the worst cycle time (s) of `metrics`, where a plant that
@@ -129,6 +151,8 @@ struct Setting<'a> {
     end: f64,
     /// The velocity feedback, designed on the nominal plant, if asked for.
     feedback: Option<VelocityFeedback>,
+    /// The caller's: its stop request ends the plan at the next run or eigen analysis.
+    reporter: &'a dyn Reporter,
 }
 
 impl Setting<'_> {
@@ -140,6 +164,7 @@ impl Setting<'_> {
             &self.plants,
             self.options,
             self.end,
+            self.reporter,
         )?;
         Ok(self
             .plants
@@ -183,9 +208,16 @@ impl Setting<'_> {
                 shaper,
                 (&self.schedule, early, late),
             );
-            evaluate(self.scene, (&c, None), &self.plants, self.options, self.end)
-                .map(|m| objective(&m, self.penalty()))
-                .unwrap_or(f64::INFINITY)
+            evaluate(
+                self.scene,
+                (&c, None),
+                &self.plants,
+                self.options,
+                self.end,
+                self.reporter,
+            )
+            .map(|m| objective(&m, self.penalty()))
+            .unwrap_or(f64::INFINITY)
         };
         let found = nelder_mead(
             &mut objective,
@@ -210,7 +242,11 @@ impl Setting<'_> {
 
 /// The S-curve of `options` from the scene's start, its fixed period and schedule, and the
 /// span of every run.
-fn setting<'a>(scene: &'a Scene, options: &'a PlanOptions) -> Result<(Setting<'a>, f64)> {
+fn setting<'a>(
+    scene: &'a Scene,
+    options: &'a PlanOptions,
+    reporter: &'a dyn Reporter,
+) -> Result<(Setting<'a>, f64)> {
     let limits = &options.limits;
     let curve = SCurve {
         start: scene.time.start,
@@ -223,7 +259,8 @@ fn setting<'a>(scene: &'a Scene, options: &'a PlanOptions) -> Result<(Setting<'a
     let arrival = curve.start + curve.phases().duration();
     // the schedule reaches past the longest shaper at the longest stretch
     let held = moving_scene(scene, &candidates::unshaped(&curve).profile, arrival + 30.0)?;
-    let (schedule, period) = first_period(&held, arrival, arrival + SCHEDULE_PAST_ARRIVAL_S)?;
+    let (schedule, period) =
+        first_period(&held, arrival, arrival + SCHEDULE_PAST_ARRIVAL_S, reporter)?;
     let longest = arrival + 1.5 * STRETCH_RANGE.1 * period.max(max_value(&schedule));
     let end = longest + options.settle_s;
     let feedback = match &options.feedback {
@@ -241,6 +278,7 @@ fn setting<'a>(scene: &'a Scene, options: &'a PlanOptions) -> Result<(Setting<'a
         plants: evaluated_plants(&options.robust),
         end,
         feedback,
+        reporter,
     };
     Ok((setting, period))
 }
@@ -269,13 +307,26 @@ fn candidate_list(s: &Setting, period: f64) -> (Vec<Candidate>, Vec<(Shaper, usi
     (list, starts)
 }
 
+/// Every plant of the robust set, the checks included, a valid scene: refused before any
+/// work, naming the plant and the rule (a load range reaching below zero).
+fn check_robust_set(scene: &Scene, options: &PlanOptions) -> Result<()> {
+    let checks = check_plants(&options.robust, options.checks);
+    for plant in evaluated_plants(&options.robust).iter().chain(&checks) {
+        plant_scene(scene, plant).map_err(|e| {
+            Error::option(OptionName::Robust, format!("the {} plant: {e}", plant.name))
+        })?;
+    }
+    Ok(())
+}
+
 /// The whole plan (see the module documentation).
 pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Result<MovePlan> {
     options.check()?;
     let price = PlanPrice::of(scene, options);
     price.check()?;
     reporter.note(&format!("planning: {}", price.describe()));
-    let (s, period) = setting(scene, options)?;
+    check_robust_set(scene, options)?;
+    let (s, period) = setting(scene, options, reporter)?;
     let (mut list, starts) = candidate_list(&s, period);
     let mut rows: Vec<PlanRow> = Vec::new();
     let steps = (list.len() + 2) as f64;
@@ -317,7 +368,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
     let best = best_within_limit(&s, &rows, list.len())?;
     let checks = check_plants(&options.robust, options.checks);
     let with = (&list[best], s.feedback.as_ref());
-    let check_rows = evaluate(scene, with, &checks, options, s.end)?
+    let check_rows = evaluate(scene, with, &checks, options, s.end, reporter)?
         .into_iter()
         .zip(&checks)
         .map(|(m, p)| PlanRow {

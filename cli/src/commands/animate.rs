@@ -7,6 +7,7 @@ use super::{SceneArgs, of_flag};
 use clap::Args;
 use std::path::PathBuf;
 use telescopic::Scene;
+use telescopic::animate::memory;
 use telescopic::animate::options::{DEFAULT_GIF_FPS, DEFAULT_PAGE_FPS};
 use telescopic::animate::{
     AnimationFormat, AnimationOptions, RunRequest, animate_run, describe, save_run,
@@ -91,15 +92,27 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         ..defaults
     };
     animation.check()?;
+    let options = args.run.options()?;
+    let mut shown = vec![&scene];
+    shown.extend(controller.as_ref().map(|_| &scene));
+    shown.extend(other.as_ref());
+    match format {
+        AnimationFormat::Html => {
+            memory::check_page(&shown, animation.fps, options.memory_budget)?;
+        }
+        AnimationFormat::Gif => {
+            memory::check_gif_frames(memory::frames(&scene, animation.fps), animation.fps)?;
+        }
+    }
     let request = RunRequest {
         scene: &scene,
-        options: args.run.options()?,
+        options,
         controller: controller.as_ref(),
         compare: other.as_ref(),
     };
     let progress = Progress::new();
     let movie = animate_run(&request, &animation, &progress)?;
-    let bytes = save_run(&movie, &animation, &args.out)?;
+    let bytes = save_run(&movie, &animation, &args.out, &progress)?;
     eprintln!("{}", describe(&movie, &args.out, bytes));
     Ok(())
 }

@@ -226,14 +226,12 @@ pub fn design(args: &DesignArgs) -> anyhow::Result<()> {
         models: Default::default(),
         memory_budget: crate::memory_budget()?,
     };
-    if let Some(dir) = &args.emit_c
-        && !dir.is_dir()
-    {
-        anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
-    }
-    if let Some(dir) = &args.emit_c {
-        crate::signals::watch_output_dir(dir.clone());
-    }
+    super::check_emit_dir(
+        "--emit-c",
+        args.emit_c.as_deref(),
+        &telescopic::control::emit::C_FILES,
+        &[&args.scene.scene, &args.out],
+    )?;
     let controller = telescopic::control::design(&scene, &options)?;
     if controller.shaper.is_some() && controller.shaper_timing != options.shaper_timing {
         eprintln!(

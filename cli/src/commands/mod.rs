@@ -109,6 +109,27 @@ pub fn check_output(option: &str, path: Option<&Path>, inputs: &[&Path]) -> anyh
     Ok(())
 }
 
+/// Checks a directory C files are emitted into before any work: it exists, and none of the
+/// files `names` written there is one of the command's `inputs` (or another of its outputs).
+pub fn check_emit_dir(
+    option: &str,
+    dir: Option<&Path>,
+    names: &[&str],
+    inputs: &[&Path],
+) -> anyhow::Result<()> {
+    let Some(dir) = dir else {
+        return Ok(());
+    };
+    if !dir.is_dir() {
+        anyhow::bail!("{option} {}: not an existing directory", dir.display());
+    }
+    for name in names {
+        check_output(option, Some(&dir.join(name)), inputs)?;
+    }
+    crate::signals::watch_output_dir(dir.to_path_buf());
+    Ok(())
+}
+
 /// A library error about the path that `flag` gives, told as that flag's.
 pub fn of_flag(flag: &str) -> impl Fn(telescopic::Error) -> anyhow::Error + '_ {
     move |e| anyhow::Error::new(e).context(flag.to_string())

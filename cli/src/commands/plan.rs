@@ -5,10 +5,12 @@ use super::progress::Progress;
 use super::simulate::RunArgs;
 use super::{SceneArgs, check_output};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use telescopic::control::velocity::VelocityDesign;
 use telescopic::plan;
-use telescopic::plan::emit::{DEFAULT_FILTER_RATE_HZ, check_filter_rate, write_filter_c};
+use telescopic::plan::emit::{
+    DEFAULT_FILTER_RATE_HZ, FILTER_FILES, check_filter_rate, write_filter_c,
+};
 use telescopic::plan::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 use telescopic::run::SimulationOptions;
 use telescopic::run::stress::Station;
@@ -110,11 +112,9 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
         }
         check_output("--out", Some(&beside), &[args.scene.scene.as_path()])?;
     }
-    if let Some(dir) = &args.emit_c
-        && !dir.is_dir()
-    {
-        anyhow::bail!("--emit-c {}: not an existing directory", dir.display());
-    }
+    let mut inputs: Vec<&Path> = vec![args.scene.scene.as_path()];
+    inputs.extend(args.out.as_deref());
+    super::check_emit_dir("--emit-c", args.emit_c.as_deref(), &FILTER_FILES, &inputs)?;
     if args.emit_c.is_some() {
         check_filter_rate(args.filter_rate)?;
     }
@@ -149,6 +149,10 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
             j_max: args.j_max,
         })
     };
+    options.check()?;
+    if let Some(name) = &args.pick {
+        MovePlan::check_pick(name, &options, args.emit_c.is_some())?;
+    }
     let progress = Progress::new();
     let plan = plan_move(&scene, &options, &progress)?;
     write_outputs(args, &plan)?;

@@ -167,6 +167,17 @@ fn static_curvature(model: &dyn Model, lpv: &Lpv, positions: &[f64]) -> Result<f
     Ok((0..r).map(|j| full.c[(row, j + 1)] * p[j]).sum())
 }
 
+impl VelocityDesign {
+    /// The settings against their rules, before any work (the bounds a feedback file
+    /// accepts).
+    ///
+    /// # Errors
+    /// [`Error::Option`] naming the setting.
+    pub fn check(&self) -> Result<()> {
+        check_design(self)
+    }
+}
+
 /// The design's settings against their rules.
 fn check_design(design: &VelocityDesign) -> Result<()> {
     let bad = |rule: String| Err(Error::option(OptionName::Feedback, rule));
@@ -176,14 +187,15 @@ fn check_design(design: &VelocityDesign) -> Result<()> {
             design.added_damping
         ));
     }
-    for (what, v) in [
-        ("velocity", design.velocity_limit),
-        ("acceleration", design.acceleration_limit),
+    // the file's own bounds (`check_fits`), so that a design is never refused when read
+    for (what, v, high) in [
+        ("velocity", design.velocity_limit, 1e3),
+        ("acceleration", design.acceleration_limit, 1e4),
     ] {
-        if !(v.is_finite() && v > 0.0) {
+        if !(v.is_finite() && v > 0.0 && v <= high) {
             return Err(Error::option(
                 OptionName::CorrectionLimits,
-                format!("the correction's {what} bound must be > 0 (got {v})"),
+                format!("the correction's {what} bound must be > 0 and at most {high} (got {v})"),
             ));
         }
     }
