@@ -97,6 +97,8 @@ pub enum OptionName {
     Sizes,
     /// `ModesOptions::at` (s).
     ModesAt,
+    /// `ModesOptions::count`.
+    ModesCount,
     /// `ModesOptions::shapes`.
     Shapes,
     /// The LaTeX format of a linear export.
@@ -201,6 +203,7 @@ crate::named::named_enum!(OptionName, "an option", {
     Rtols => "WorkPrecisionOptions::rtols",
     Sizes => "ModelSizeOptions::sizes",
     ModesAt => "ModesOptions::at",
+    ModesCount => "ModesOptions::count",
     Shapes => "ModesOptions::shapes",
     LatexFormat => "LinearExport format latex",
     AtTime => "LinearizeOptions::at_time",

@@ -51,6 +51,7 @@ pub fn flag(option: OptionName) -> &'static str {
         O::Rtols => "--rtols",
         O::Sizes => "--modes",
         O::ModesAt => "--at",
+        O::ModesCount => "--count",
         O::Shapes => "--shapes",
         O::LatexFormat => "--format latex",
         O::AtTime => "--at-time",

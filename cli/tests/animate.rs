@@ -165,6 +165,19 @@ fn a_long_run_makes_a_small_page_and_bad_options_are_refused() {
         &["--animate", ".html"],
     );
     assert!(!modes_gif.exists());
+    let no_modes = dir.join("none.html");
+    fails_with(
+        &[
+            "modes",
+            scene,
+            "--count",
+            "0",
+            "--animate",
+            no_modes.to_str().unwrap(),
+        ],
+        &["--count", "at least one mode"],
+    );
+    assert!(!no_modes.exists());
 }
 
 /// Chromium, from `TELESCOPIC_CHROMIUM` or on the PATH; a missing browser fails the test.

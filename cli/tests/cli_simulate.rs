@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{fails_with, scratch, telescopic};
+use common::{fails_with, scratch, succeeds, telescopic};
 
 /// A fresh directory for one test's files.
 
@@ -685,4 +685,19 @@ fn the_json_summary_is_the_runs_and_agrees_with_the_text_summary_and_the_csv() {
         &["--out"],
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_documented_top_accuracy_is_taken() {
+    // 0.1 m in all: its integration share (a tenth) rounds above the integration's top
+    let out = succeeds(&[
+        "simulate",
+        "scenes/adams-linear.toml",
+        "--accuracy",
+        "0.1",
+        "--out",
+        "/dev/null",
+    ]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(said.contains("wrote /dev/null"), "{said}");
 }

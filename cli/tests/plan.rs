@@ -151,6 +151,16 @@ fn a_plan_with_feedback_writes_its_file_and_simulate_reproduces_its_row() {
     ]);
     let said = String::from_utf8_lossy(&out.stderr);
     assert!(said.contains("wrote") && page.is_file(), "{said}");
+    // planned again without feedback: the old feedback file does not stay beside the plan
+    let out = succeeds(
+        &[
+            &SHORT_MOVE[..],
+            &["6", "--pick", "zvd", "--out", plan.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(said.contains("removed") && !feedback.exists(), "{said}");
 }
 
 #[test]
@@ -164,13 +174,17 @@ fn emit_c_writes_the_chosen_shaper_and_refuses_a_move_without_one() {
     let flags = ["4", "--pick", "s-curve", "--emit-c", dir.to_str().unwrap()];
     fails_with(
         &[&SHORT_MOVE[..], &flags].concat(),
-        &["--emit-c", "s-curve has no shaper to emit"],
+        &["--emit-c", "\"s-curve\" has no shaper to emit"],
     );
 }
 
 #[test]
 fn bad_plan_options_are_refused_naming_the_flag() {
-    let refused: [(&[&str], &[&str]); 18] = [
+    let refused: [(&[&str], &[&str]); 19] = [
+        (
+            &["--distance", "2", "--stations", "1:0"],
+            &["--stations", "sections.section_modulus nor sections.height"],
+        ),
         (
             &["--distance", "2", "--pick", "zw scheduled"],
             &[

@@ -149,6 +149,7 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::Rtols => "rtols",
         O::Sizes => "sizes",
         O::ModesAt => "at",
+        O::ModesCount => "count",
         O::Shapes => "points",
         O::LatexFormat => "format",
         O::AtTime => "at_time",

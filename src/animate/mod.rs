@@ -172,7 +172,19 @@ pub fn animate_modes(
         ..AnimationOptions::default()
     }
     .check()?;
+    if options.count == Some(0) {
+        return Err(Error::option(
+            OptionName::ModesCount,
+            "0: a modes' animation shows at least one mode",
+        ));
+    }
     let report = compute_modes(scene, options)?;
+    if report.frequencies_hz.is_empty() {
+        return Err(Error::option(
+            OptionName::ModesCount,
+            format!("scene {} has no vibration mode to animate", scene.name),
+        ));
+    }
     let chosen = options.models.build(&scene.params, options.model)?;
     let movie = ModeMovie::new(scene, &report, chosen.model.as_ref(), points);
     Ok((report, movie))

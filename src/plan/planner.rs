@@ -322,6 +322,16 @@ fn check_robust_set(scene: &Scene, options: &PlanOptions) -> Result<()> {
 /// The whole plan (see the module documentation).
 pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Result<MovePlan> {
     options.check()?;
+    if !options.simulation.stations.is_empty() && scene.section_moduli().is_none() {
+        return Err(Error::option(
+            OptionName::Stations,
+            format!(
+                "the table's peak stress needs the sections' moduli: scene {} gives neither \
+                 sections.section_modulus nor sections.height",
+                scene.name
+            ),
+        ));
+    }
     let price = PlanPrice::of(scene, options);
     price.check()?;
     reporter.note(&format!("planning: {}", price.describe()));

@@ -251,8 +251,11 @@ pub fn simulate_for_accuracy(
     let started = Instant::now();
     let accuracy = options.accuracy.expect("called with an accuracy");
     check_options(accuracy, options)?;
+    // the share, within the integration's own range (0.1 x the top 0.1 m rounds above 1e-2)
+    let integration_m =
+        (accuracy * INTEGRATION_SHARE).min(telescopic_runtime::accuracy::ACCURACY_RANGE.1);
     let integration = SimulationOptions {
-        accuracy: Some(accuracy * INTEGRATION_SHARE),
+        accuracy: Some(integration_m),
         modes_as_given: true,
         error_estimate: false,
         ..options.clone()

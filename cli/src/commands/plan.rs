@@ -194,7 +194,35 @@ fn write_outputs(args: &PlanArgs, plan: &MovePlan) -> anyhow::Result<()> {
                 path.display(),
                 beside.display()
             );
+        } else {
+            remove_stale_feedback(&path.with_extension("json"))?;
         }
+    }
+    Ok(())
+}
+
+/// Removes the velocity-feedback file an earlier plan wrote beside this plan's scene: this
+/// plan uses none, and a stale one would run with it unnoticed. Any other file is left.
+fn remove_stale_feedback(beside: &Path) -> anyhow::Result<()> {
+    // a regular file of a feedback file's size only (a FIFO would block the read)
+    let small_file =
+        std::fs::symlink_metadata(beside).is_ok_and(|m| m.is_file() && m.len() < 1 << 20);
+    if !small_file {
+        return Ok(());
+    }
+    let Ok(text) = std::fs::read_to_string(beside) else {
+        return Ok(());
+    };
+    let format = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .and_then(|v| v.get("format").and_then(|f| f.as_str()).map(String::from));
+    if format.as_deref() == Some(telescopic::control::velocity::VELOCITY_FEEDBACK_FORMAT) {
+        std::fs::remove_file(beside)
+            .map_err(|e| anyhow::anyhow!("--out: removing the stale {}: {e}", beside.display()))?;
+        eprintln!(
+            "removed {}: an earlier plan's velocity feedback; this plan uses none",
+            beside.display()
+        );
     }
     Ok(())
 }
