@@ -68,6 +68,17 @@ fn linearize_refuses_bad_operating_points() {
     fails_with(
         &[
             "linearize",
+            "scenes/case-study.toml",
+            "--positions",
+            "a2=0.5",
+            "--grid",
+            "a2=0.35:1.15:5",
+        ],
+        &["--positions", "a2", "one or the other", "--grid"],
+    );
+    fails_with(
+        &[
+            "linearize",
             "scenes/three-section.toml",
             "--set",
             "sections.modes=6",

@@ -240,6 +240,30 @@ fn fmu_refuses_bad_names_and_libraries_and_takes_a_prescribed_motion() {
             "cargo build --release --manifest-path fmu/Cargo.toml",
         ],
     );
+    // a file that is not the FMU's library is not packed
+    for (library, why) in [
+        (
+            "scenes/adams-linear.toml",
+            "not a 64-bit ELF shared library",
+        ),
+        ("/dev/zero", "not a 64-bit ELF shared library"),
+        (
+            env!("CARGO_BIN_EXE_telescopic"),
+            "an executable, not a shared library",
+        ),
+    ] {
+        fails_with(
+            &[
+                "fmu",
+                "scenes/adams-linear.toml",
+                "--out",
+                o,
+                "--library",
+                library,
+            ],
+            &["--library", why],
+        );
+    }
     // a prescribed motion: the FMU's input is the vehicle's acceleration
     let motion = dir.join("motion.toml");
     let text = std::fs::read_to_string("scenes/adams-linear.toml")

@@ -8,10 +8,10 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use telescopic::analysis::modes::ModesOptions;
 use telescopic::animate::geometry::DEFAULT_POINTS;
-use telescopic::animate::options::DEFAULT_PAGE_FPS;
+use telescopic::animate::options::{DEFAULT_GIF_FPS, DEFAULT_PAGE_FPS};
 use telescopic::animate::{
-    AnimationOptions, ModeMovie, RunMovie, RunRequest, animate_modes, animate_run, save_modes,
-    save_run,
+    AnimationFormat, AnimationOptions, ModeMovie, RunMovie, RunRequest, animate_modes, animate_run,
+    save_modes, save_run,
 };
 use telescopic::control::ControllerFile;
 use telescopic::run::SimulationOptions;
@@ -24,6 +24,8 @@ pub struct PyMovie {
     /// The files the movie was made from: `save` never writes onto one of them (through a
     /// symbolic link either).
     inputs: Vec<PathBuf>,
+    /// Whether the caller chose the frame rate: else a GIF takes the CLI's GIF rate.
+    fps_given: bool,
 }
 
 /// What a [`PyMovie`] shows.
@@ -59,6 +61,12 @@ impl PyMovie {
         telescopic::io::output::check_not_an_input(&path, &inputs).map_err(to_python)?;
         // off the interpreter, a Ctrl-C stopping a GIF between frames (no file is left)
         run(py, None, |reporter| match &self.movie {
+            Movie::Run(m)
+                if !self.fps_given && AnimationFormat::of_path(&path)? == AnimationFormat::Gif =>
+            {
+                // the GIF's rate, as `telescopic animate` gives a .gif (the page's is double)
+                save_run(&m.at_rate(DEFAULT_GIF_FPS), &self.options, &path, reporter)
+            }
             Movie::Run(m) => save_run(m, &self.options, &path, reporter),
             Movie::Modes(m) => save_modes(m, &path),
         })
@@ -117,6 +125,7 @@ pub fn animate(
         movie: Movie::Run(movie),
         options: animation,
         inputs,
+        fps_given: fps.is_some(),
     })
 }
 
@@ -144,5 +153,6 @@ pub fn animate_modes_of(
         movie: Movie::Modes(movie),
         options: AnimationOptions::default(),
         inputs,
+        fps_given: false,
     })
 }

@@ -229,3 +229,16 @@ impl PyScene {
         )
     }
 }
+
+/// The text of an input file (a controller file), read with the size cap every input has:
+/// a device or a huge file is refused, not read whole.
+#[pyfunction]
+pub fn read_input(path: PathBuf) -> PyResult<String> {
+    telescopic::runtime::input::read_text(&path, telescopic::runtime::input::MAX_TEXT_INPUT_BYTES)
+        .map_err(|error| {
+            to_python(telescopic::Error::Input(format!(
+                "{}: {error}",
+                path.display()
+            )))
+        })
+}

@@ -253,9 +253,8 @@ class Controller:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "Controller":
-        """Reads a controller file."""
-        with open(path, encoding="utf-8") as f:
-            return cls(f.read())
+        """Reads a controller file (at most 16 MiB, as every input)."""
+        return cls(_telescopic.read_input(os.fspath(path)))
 
     def to_json(self) -> str:
         """The controller file's JSON."""

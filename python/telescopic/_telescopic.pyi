@@ -150,6 +150,9 @@ def sweep(
 def equations(scene: Scene, format: str = "latex") -> str:
     """The derived equations: text, latex, rust or json."""
 
+def read_input(path: str) -> str:
+    """The text of an input file, at most 16 MiB."""
+
 def plan(
     scene: Scene,
     distance: float,

@@ -39,6 +39,19 @@ def test_a_view_saves_as_page_and_gif(tmp_path):
     assert not (tmp_path / "run.mp4").exists()
 
 
+def test_a_default_views_gif_has_the_clis_frame_rate(cli, tmp_path):
+    scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.4})
+    view = telescopic.simulate(scene).animate(size=(320, 240))
+    assert view.frame_count == 21  # the page: 50 frames a second
+    view.save(tmp_path / "python.gif")
+    cli("animate", "scenes/adams-linear.toml", "--set", "time.end=0.4", "--size", "320x240",
+        "--out", str(tmp_path / "cli.gif"))
+    python = (tmp_path / "python.gif").read_bytes()
+    # 0.4 s at the GIF's 25 frames a second, as the CLI writes it
+    assert python.count(b"\x21\xf9\x04") == 11
+    assert python == (tmp_path / "cli.gif").read_bytes()
+
+
 def test_the_modes_view_holds_each_mode():
     rig = telescopic.Scene.load("scenes/test-rig.toml")
     view = telescopic.modes(rig, count=4).animate()

@@ -260,3 +260,8 @@ def test_a_scene_pickles():
     back = pickle.loads(pickle.dumps(scene))
     assert back.to_toml() == scene.to_toml()
     assert back.overrides == scene.overrides and back.path == scene.path
+
+
+def test_a_controller_file_is_read_with_the_input_cap():
+    with pytest.raises(telescopic.OptionError, match="more than the 16777216 bytes"):
+        telescopic.Controller.load("/dev/zero")

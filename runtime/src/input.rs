@@ -14,6 +14,23 @@ pub const MAX_TEXT_INPUT_BYTES: u64 = 16 << 20;
 /// The I/O error, or `InvalidData` for a file over the cap (its size and the cap named) or
 /// one that is not UTF-8 text.
 pub fn read_text(path: &Path, cap: u64) -> std::io::Result<String> {
+    let bytes = read_bytes(path, cap)?;
+    String::from_utf8(bytes).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "not UTF-8 text (byte {} is invalid)",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
+/// Reads `path` whole, at most `cap` bytes.
+///
+/// # Errors
+/// The I/O error, or `InvalidData` for a file over the cap (its size and the cap named).
+pub fn read_bytes(path: &Path, cap: u64) -> std::io::Result<Vec<u8>> {
     let too_big = |size: String| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
@@ -36,15 +53,7 @@ pub fn read_text(path: &Path, cap: u64) -> std::io::Result<String> {
     if bytes.len() as u64 > cap {
         return Err(too_big(format!("over {cap}")));
     }
-    String::from_utf8(bytes).map_err(|e| {
-        std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!(
-                "not UTF-8 text (byte {} is invalid)",
-                e.utf8_error().valid_up_to()
-            ),
-        )
-    })
+    Ok(bytes)
 }
 
 #[cfg(test)]

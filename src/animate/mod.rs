@@ -222,17 +222,30 @@ impl AnimationFormat {
         let format = match path.extension().and_then(|e| e.to_str()) {
             Some("html" | "htm") => AnimationFormat::Html,
             Some("gif") => AnimationFormat::Gif,
+            // a device or a pipe (`/dev/null`, `/dev/stdout`) takes the page as a stream
+            _ if is_stream(path) => AnimationFormat::Html,
             _ => {
                 return Err(Error::Destination {
                     path: path.to_path_buf(),
-                    rule: "the file name must end in .html, .htm or .gif (the format follows it)"
-                        .into(),
+                    rule:
+                        "the file name must end in .html, .htm or .gif (the format follows it); a \
+                           device or pipe takes a page"
+                            .into(),
                 });
             }
         };
         crate::io::output::check_writable(path)?;
         Ok(format)
     }
+}
+
+/// Whether `path` names an existing device or pipe (written as a stream, not replaced).
+fn is_stream(path: &Path) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    std::fs::metadata(path).is_ok_and(|m| {
+        let kind = m.file_type();
+        kind.is_char_device() || kind.is_fifo()
+    })
 }
 
 /// Writes `movie` to `path` as HTML or GIF by its extension (completely or not at all; a

@@ -130,6 +130,32 @@ impl RunMovie {
     pub fn frame_count(&self) -> usize {
         self.tracks.iter().map(|t| t.t.len()).max().unwrap_or(0)
     }
+
+    /// The movie at `fps` frames a second, at most its own rate: every `k`-th frame, `k` the
+    /// ratio of the rates rounded (a page's 50 to a GIF's 25: every other frame).
+    pub fn at_rate(&self, fps: f64) -> RunMovie {
+        let k = (self.fps / fps).round().max(1.0) as usize;
+        let every = |v: &[f64]| v.iter().step_by(k).copied().collect::<Vec<_>>();
+        let every_row = |v: &[Vec<f32>]| v.iter().step_by(k).cloned().collect::<Vec<_>>();
+        let tracks = self
+            .tracks
+            .iter()
+            .map(|t| RunTrack {
+                t: every(&t.t),
+                z: every_row(&t.z),
+                feet: every_row(&t.feet),
+                vehicle: every(&t.vehicle),
+                gaps: every_row(&t.gaps),
+                forces: every_row(&t.forces),
+                ..t.clone()
+            })
+            .collect();
+        RunMovie {
+            fps: self.fps / k as f64,
+            tracks,
+            ..self.clone()
+        }
+    }
 }
 
 /// Indices of the samples nearest to the frame times `t0 + j / fps`.

@@ -28,6 +28,69 @@ use std::io::Write;
 use std::path::Path;
 use telescopic_runtime::Scene;
 
+/// Largest FMU library read (bytes): the release build is a few MiB.
+const MAX_LIBRARY_BYTES: u64 = 256 << 20;
+
+/// The FMU's shared library at `library`: read with a size cap, and checked to be a 64-bit
+/// ELF shared object that exports the FMI functions.
+///
+/// # Errors
+/// [`Error::Option`] naming the file and what it is not.
+fn read_library(library: &Path) -> Result<Vec<u8>> {
+    let refused = |why: String| {
+        Error::option(
+            OptionName::FmuLibrary,
+            format!(
+                "{}: {why}; build it with `cargo build --release --manifest-path fmu/Cargo.toml` \
+                 (docs/fmu.md)",
+                library.display()
+            ),
+        )
+    };
+    // the header first: a device or a large file of another kind is refused unread
+    let mut header = [0u8; 18];
+    std::fs::File::open(library)
+        .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut header))
+        .map_err(|e| refused(e.to_string()))?;
+    // ELF magic, 64-bit class, and e_type ET_DYN (3) at byte 16, little-endian
+    if header[..4] != *b"\x7fELF" || header[4] != 2 || header[16..18] != [3, 0] {
+        return Err(refused("not a 64-bit ELF shared library".into()));
+    }
+    let binary = telescopic_runtime::input::read_bytes(library, MAX_LIBRARY_BYTES)
+        .map_err(|e| refused(e.to_string()))?;
+    if has_interpreter(&binary) {
+        return Err(refused("an executable, not a shared library".into()));
+    }
+    let exports = |name: &[u8]| binary.windows(name.len()).any(|w| w == name);
+    if !exports(b"fmi2Instantiate") || !exports(b"fmi2DoStep") {
+        return Err(refused(
+            "a shared library without the FMI 2.0 functions (fmi2Instantiate, fmi2DoStep)".into(),
+        ));
+    }
+    Ok(binary)
+}
+
+/// Whether the 64-bit little-endian ELF `binary` asks for a program interpreter (a
+/// `PT_INTERP` program header): an executable, a position-independent one included, which
+/// has the shared library's ELF type. Hand-read: three header fields and the program
+/// headers' types; no ELF crate is needed for that.
+fn has_interpreter(binary: &[u8]) -> bool {
+    let field = |at: usize, len: usize| -> Option<u64> {
+        let bytes = binary.get(at..at.checked_add(len)?)?;
+        Some(bytes.iter().rev().fold(0, |v, b| (v << 8) | u64::from(*b)))
+    };
+    let (Some(offset), Some(size), Some(count)) = (field(32, 8), field(54, 2), field(56, 2)) else {
+        return false;
+    };
+    (0..count).any(|i| {
+        i.checked_mul(size)
+            .and_then(|d| d.checked_add(offset))
+            .and_then(|at| usize::try_from(at).ok())
+            .and_then(|at| field(at, 4))
+            == Some(3)
+    })
+}
+
 /// Where the scene goes inside the FMU.
 pub const SCENE_RESOURCE: &str = "scene.toml";
 
@@ -52,15 +115,7 @@ pub fn scene_text(scene: &Scene) -> Result<(String, Scene)> {
 pub fn write_fmu(scene: &Scene, library: &Path, kind: FmuKind, out: &Path) -> Result<()> {
     let (text, scene) = scene_text(scene)?;
     let xml = model_description(&scene, kind)?;
-    let binary = std::fs::read(library).map_err(|e| {
-        Error::option(
-            OptionName::FmuLibrary,
-            format!(
-                "{}: {e}; build it with `cargo build --release --manifest-path fmu/Cargo.toml` (docs/fmu.md)",
-                library.display()
-            ),
-        )
-    })?;
+    let binary = read_library(library)?;
     crate::io::output::write_atomically(out, |w| {
         let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
         let options = zip::write::SimpleFileOptions::default()

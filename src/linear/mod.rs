@@ -234,6 +234,18 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         }
         operating_point = "positions given, at rest".to_string();
     }
+    if let Some(g) = &options.grid
+        && options.positions.iter().any(|&(k, _)| k == g.section)
+    {
+        return Err(Error::option_see(
+            OptionName::Positions,
+            format!(
+                "a{} is given a value and is the grid's position: give it one or the other",
+                g.section
+            ),
+            OptionName::Grid,
+        ));
+    }
     let (grid, points) = match &options.grid {
         None => (
             None,
