@@ -825,6 +825,22 @@ fn the_memory_budget_reaches_every_command_that_runs_scenes() {
 
 #[test]
 fn values_in_the_wrong_unit_name_the_field_and_say_si() {
+    // a modulus in GPa on a scene whose soft contacts break no other rule
+    refused(
+        &[
+            "modes",
+            "scenes/three-section.toml",
+            "--set",
+            "contact.stiffness=1e5",
+            "--set",
+            "sections.youngs_modulus=210",
+        ],
+        &[
+            "`sections.youngs_modulus[0]`",
+            "values are SI",
+            "MPa or GPa",
+        ],
+    );
     refused(
         &[
             "simulate",
@@ -861,7 +877,8 @@ fn values_in_the_wrong_unit_name_the_field_and_say_si() {
             "--out",
             "/dev/null",
         ],
-        &["buckle", "sections.youngs_modulus[0]", "MPa"],
+        // refused before the run (it used to buckle at 0.7 s first)
+        &["sections.youngs_modulus[0]", "would sag", "MPa"],
     );
 }
 
@@ -931,4 +948,88 @@ fn exit_codes_agree_with_the_docs() {
             "docs/cli.md does not state exit code {code}"
         );
     }
+}
+
+#[test]
+fn control_characters_in_a_scene_name_leave_every_output_valid() {
+    let dir = common::scratch("control-characters");
+    let text =
+        std::fs::read_to_string(format!("{}/scenes/adams-clearance.toml", common::ROOT)).unwrap();
+    let name_line = text
+        .lines()
+        .find(|l| l.starts_with("name = "))
+        .expect("the scene has a name");
+    let scene = dir.join("ctl.toml");
+    std::fs::write(
+        &scene,
+        text.replace(
+            name_line,
+            "name = \"bell\\u0007 null\\u0000 esc\\u001b <&>\"",
+        ),
+    )
+    .unwrap();
+    let s = scene.to_str().unwrap();
+    let svg = dir.join("run.svg");
+    let page = dir.join("run.html");
+    let csv = dir.join("run.csv");
+    let json = dir.join("lin.json");
+    let outputs: [(&[&str], &std::path::Path); 4] = [
+        (
+            &[
+                "simulate",
+                s,
+                "--set",
+                "time.end=0.5",
+                "--plot",
+                svg.to_str().unwrap(),
+                "--out",
+                "/dev/null",
+            ],
+            &svg,
+        ),
+        (
+            &[
+                "animate",
+                s,
+                "--set",
+                "time.end=0.5",
+                "--out",
+                page.to_str().unwrap(),
+            ],
+            &page,
+        ),
+        (
+            &[
+                "simulate",
+                s,
+                "--set",
+                "time.end=0.5",
+                "--out",
+                csv.to_str().unwrap(),
+            ],
+            &csv,
+        ),
+        (&["linearize", s, "--out", json.to_str().unwrap()], &json),
+    ];
+    for (args, path) in outputs {
+        let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
+            .args(args)
+            .current_dir(common::ROOT)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let bytes = std::fs::read(path).unwrap();
+        let bad = bytes
+            .iter()
+            .position(|&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r'));
+        assert!(
+            bad.is_none(),
+            "{args:?}: a control character at byte {bad:?}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

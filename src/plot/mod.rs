@@ -265,10 +265,23 @@ pub fn save<F: Figure>(figure: &F, path: &Path) -> Result<()> {
         _ => {
             let mut svg = String::new();
             figure.draw(SVGBackend::with_string(&mut svg, size).into_drawing_area())?;
-            svg.into_bytes()
+            xml_chars(&svg).into_bytes()
         }
     };
     crate::io::output::write_atomically(path, |w| w.write_all(&bytes))
+}
+
+/// `text` with the characters XML 1.0 forbids (control characters but tab, newline and
+/// carriage return; U+FFFE and U+FFFF) replaced by U+FFFD: a label the user gave (a scene's
+/// name) may hold them, and escaping cannot make them valid.
+pub fn xml_chars(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            '\t' | '\n' | '\r' => c,
+            c if c < ' ' || c == '\u{fffe}' || c == '\u{ffff}' => '\u{fffd}',
+            c => c,
+        })
+        .collect()
 }
 
 /// The paper's figures for one scene, with overlaid runs.

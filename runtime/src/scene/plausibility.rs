@@ -116,6 +116,12 @@ pub fn check(params: &ModelParams) -> Vec<FieldError> {
             );
         }
     }
+    // a value in a wrong unit is refused on its own too, whatever else the scene has
+    for (field, hint) in suspects {
+        if !errors.iter().any(|e| e.field.starts_with(&field)) {
+            fail(&mut errors, field, format!("values are SI: {hint}"));
+        }
+    }
     errors
 }
 
