@@ -86,7 +86,7 @@ pub fn animate(
     compare: Option<&PyScene>,
     fps: Option<f64>,
     scale: Option<f64>,
-    size: Option<(u32, u32)>,
+    size: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
     speed: Option<f64>,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyMovie> {
@@ -94,7 +94,10 @@ pub fn animate(
     let animation = AnimationOptions {
         fps: fps.unwrap_or(DEFAULT_PAGE_FPS),
         scale,
-        size: size.unwrap_or(defaults.size),
+        size: match &size {
+            Some((w, h)) => (pixels(w)?, pixels(h)?),
+            None => defaults.size,
+        },
         speed: speed.unwrap_or(defaults.speed),
         ..defaults
     };
@@ -136,12 +139,14 @@ pub fn animate_modes_of(
     py: Python<'_>,
     scene: &PyScene,
     at: Option<f64>,
-    count: Option<usize>,
+    count: Option<Bound<'_, PyAny>>,
     model: &str,
 ) -> PyResult<PyMovie> {
     let options = ModesOptions {
         at,
-        count,
+        count: count
+            .map(|c| crate::calls::whole("count", &c))
+            .transpose()?,
         model: model.parse().map_err(|e| argument("model", e))?,
         memory_budget: crate::calls::memory_budget()?,
         ..ModesOptions::default()
@@ -155,4 +160,11 @@ pub fn animate_modes_of(
         inputs,
         fps_given: false,
     })
+}
+
+/// A GIF's width or height (pixels), or an error naming `size` (its range is the library's
+/// to judge).
+fn pixels(value: &Bound<'_, PyAny>) -> PyResult<u32> {
+    let n = crate::calls::whole("size", value)?;
+    u32::try_from(n).map_err(|_| argument("size", format!("{n} pixels is far above any size")))
 }

@@ -36,7 +36,7 @@ where
 
 /// A whole number `>= 0` (a count or a section number), or an error naming `name`: PyO3's own
 /// conversion to `usize` raises an `OverflowError` that names no argument.
-fn whole(name: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
+pub fn whole(name: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
     let number: i64 = value
         .extract()
         .map_err(|_| argument(name, format!("must be a whole number (got {value})")))?;

@@ -45,7 +45,7 @@ fn rows<'py>(py: Python<'py>, plan: &MovePlan) -> PyResult<Vec<Bound<'py, PyDict
 #[pyfunction]
 #[pyo3(signature = (scene, distance, v_max = DEFAULT_V_MAX, a_max = DEFAULT_A_MAX,
     j_max = DEFAULT_J_MAX, tolerance = DEFAULT_TOLERANCE_M, robust = None,
-    settle = DEFAULT_SETTLE_S, optimize = true, checks = DEFAULT_CHECKS, force_limit = None,
+    settle = DEFAULT_SETTLE_S, optimize = true, checks = None, force_limit = None,
     feedback = None,
     options = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
@@ -60,7 +60,7 @@ pub fn plan<'py>(
     robust: Option<Vec<(String, f64, f64)>>,
     settle: f64,
     optimize: bool,
-    checks: usize,
+    checks: Option<Bound<'py, PyAny>>,
     force_limit: Option<f64>,
     feedback: Option<f64>,
     options: Option<crate::calls::RunArguments>,
@@ -81,7 +81,10 @@ pub fn plan<'py>(
         },
         settle_s: settle,
         optimize,
-        checks,
+        checks: match &checks {
+            Some(c) => crate::calls::whole("checks", c)?,
+            None => DEFAULT_CHECKS,
+        },
         force_limit,
         feedback: feedback.map(|zeta| VelocityDesign {
             added_damping: zeta,

@@ -163,7 +163,7 @@ def plan(
     robust: list[tuple[str, float, float]] | None = None,
     settle: float = 10.0,
     optimize: bool = True,
-    checks: int = 4,
+    checks: int | None = None,
     force_limit: float | None = None,
     feedback: float | None = None,
     options: dict[str, Any] | None = None,

@@ -265,3 +265,18 @@ def test_a_scene_pickles():
 def test_a_controller_file_is_read_with_the_input_cap():
     with pytest.raises(telescopic.OptionError, match="more than the 16777216 bytes"):
         telescopic.Controller.load("/dev/zero")
+
+
+def test_an_integer_too_large_names_its_argument():
+    # PyO3's own conversion would raise an OverflowError naming no argument
+    scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 0.2})
+    calls = [
+        (lambda: telescopic.plan(scene, 2.0, checks=10**30), "checks"),
+        (lambda: telescopic.plan(scene, 2.0, checks=-1), "checks"),
+        (lambda: telescopic.simulate(scene).animate(size=(2**40, 100)), "size"),
+        (lambda: telescopic._telescopic.animate_modes_of(scene, count=2**70), "count"),
+    ]
+    for call, name in calls:
+        with pytest.raises(telescopic.OptionError) as caught:
+            call()
+        assert caught.value.option == name, (name, caught.value)

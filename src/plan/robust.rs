@@ -59,7 +59,8 @@ impl RobustRange {
         let mut out: Vec<RobustRange> = Vec::new();
         for (key, low, high) in entries {
             let (key, low, high) = (key.trim(), *low, *high);
-            let entry = format!("{key}={low}:{high}");
+            // shortest round-trip form: 1e300, not a 301-digit integer
+            let entry = format!("{key}={low:?}:{high:?}");
             if !(low.is_finite() && high.is_finite()) {
                 return Err(bad(&entry, "LOW and HIGH must be finite numbers"));
             }
@@ -199,6 +200,8 @@ mod tests {
         assert!(refused(&[("masses.lod".into(), 1.0, 2.0)]).contains("masses.lod"));
         assert!(refused(&[("masses.load".into(), f64::NAN, 2.0)]).contains("finite"));
         assert!(refused(&[("masses.load".into(), 3.0, 2.0)]).contains("below"));
+        let huge = refused(&[("masses.lod".into(), 1e300, 2e300)]);
+        assert!(huge.contains("masses.lod=1e300:2e300"), "{huge}");
         let twice = [
             ("masses.load".to_string(), 1.0, 2.0),
             ("masses.load".into(), 1.0, 3.0),
