@@ -379,7 +379,10 @@ fn the_riccati_solver_agrees_with_scipy_and_python_control() {
 #[ignore = "needs pdflatex: run ./scripts/test"]
 fn pdflatex_compiles_the_latex_export() {
     let dir = scratch("clients-latex");
-    write(&case_study(None), Format::Latex, &dir.join("model.tex"));
+    let mut export = case_study(None);
+    // a name with every character LaTeX gives a meaning
+    export.scene = r"odd \ {&} $5 #1 50% a_b ~x <y>".into();
+    write(&export, Format::Latex, &dir.join("model.tex"));
     run(
         "pdflatex",
         "pdflatex",

@@ -951,67 +951,73 @@ fn exit_codes_agree_with_the_docs() {
 }
 
 #[test]
-fn control_characters_in_a_scene_name_leave_every_output_valid() {
-    let dir = common::scratch("control-characters");
+fn a_users_text_never_leaves_its_comment_or_breaks_an_output() {
+    let dir = common::scratch("user-text");
     let text =
-        std::fs::read_to_string(format!("{}/scenes/adams-clearance.toml", common::ROOT)).unwrap();
+        std::fs::read_to_string(format!("{}/scenes/adams-linear.toml", common::ROOT)).unwrap();
     let name_line = text
         .lines()
         .find(|l| l.starts_with("name = "))
         .expect("the scene has a name");
-    let scene = dir.join("ctl.toml");
-    std::fs::write(
-        &scene,
-        text.replace(
-            name_line,
-            "name = \"bell\\u0007 null\\u0000 esc\\u001b <&>\"",
-        ),
-    )
-    .unwrap();
-    let s = scene.to_str().unwrap();
+    // `name` as TOML writes it, escapes included
+    let with_name = |name: &str, file: &str| {
+        let path = dir.join(file);
+        std::fs::write(
+            &path,
+            text.replace(name_line, &format!("name = \"{name}\"")),
+        )
+        .unwrap();
+        path
+    };
+    // a control character in the name (a newline would start a line of code in a comment)
+    let bell = with_name(r"bell\u0007 x\nimport os", "ctl.toml");
+    refused(
+        &["modes", bell.to_str().unwrap()],
+        &["`name`", "one line of text without control characters"],
+    );
+    // a newline in the scene's path, and `*/` and markup in its name
+    let odd = with_name("a */ b <&> %", "odd\nimport os.toml");
+    let o = odd.to_str().unwrap();
+    let py = dir.join("lin.py");
     let svg = dir.join("run.svg");
     let page = dir.join("run.html");
-    let csv = dir.join("run.csv");
-    let json = dir.join("lin.json");
-    let outputs: [(&[&str], &std::path::Path); 4] = [
-        (
-            &[
-                "simulate",
-                s,
-                "--set",
-                "time.end=0.5",
-                "--plot",
-                svg.to_str().unwrap(),
-                "--out",
-                "/dev/null",
-            ],
-            &svg,
-        ),
-        (
-            &[
-                "animate",
-                s,
-                "--set",
-                "time.end=0.5",
-                "--out",
-                page.to_str().unwrap(),
-            ],
-            &page,
-        ),
-        (
-            &[
-                "simulate",
-                s,
-                "--set",
-                "time.end=0.5",
-                "--out",
-                csv.to_str().unwrap(),
-            ],
-            &csv,
-        ),
-        (&["linearize", s, "--out", json.to_str().unwrap()], &json),
-    ];
-    for (args, path) in outputs {
+    let tex = dir.join("lin.tex");
+    for args in [
+        &[
+            "linearize",
+            o,
+            "--format",
+            "python",
+            "--out",
+            py.to_str().unwrap(),
+        ][..],
+        &[
+            "linearize",
+            o,
+            "--format",
+            "latex",
+            "--out",
+            tex.to_str().unwrap(),
+        ],
+        &[
+            "simulate",
+            o,
+            "--set",
+            "time.end=0.2",
+            "--plot",
+            svg.to_str().unwrap(),
+            "--out",
+            "/dev/null",
+        ],
+        &[
+            "animate",
+            o,
+            "--set",
+            "time.end=0.2",
+            "--out",
+            page.to_str().unwrap(),
+        ],
+    ] {
         let out = Command::new(env!("CARGO_BIN_EXE_telescopic"))
             .args(args)
             .current_dir(common::ROOT)
@@ -1022,13 +1028,26 @@ fn control_characters_in_a_scene_name_leave_every_output_valid() {
             "{args:?}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
+    }
+    // the Python file's header stays comments: every line before the code is one
+    let python = std::fs::read_to_string(&py).unwrap();
+    let head: Vec<&str> = python
+        .lines()
+        .take_while(|l| !l.starts_with("import numpy"))
+        .collect();
+    assert!(
+        head.len() >= 3 && head.iter().all(|l| l.starts_with('#')),
+        "{head:#?}"
+    );
+    for path in [&py, &svg, &page, &tex] {
         let bytes = std::fs::read(path).unwrap();
         let bad = bytes
             .iter()
             .position(|&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r'));
         assert!(
             bad.is_none(),
-            "{args:?}: a control character at byte {bad:?}"
+            "{}: a control character at byte {bad:?}",
+            path.display()
         );
     }
     std::fs::remove_dir_all(&dir).unwrap();

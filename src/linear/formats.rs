@@ -296,7 +296,7 @@ impl LinearExport {
             ),
         ]
         .iter()
-        .map(|l| format!("{comment} {l}\n"))
+        .map(|l| format!("{comment} {}\n", crate::io::comment::comment_text(l)))
         .collect()
     }
 
@@ -516,9 +516,19 @@ impl LinearExport {
     /// A LaTeX document with the names, units and the entries of `A`, `B`, `C` and `D` (six
     /// significant digits; the first operating point of a grid).
     pub fn to_latex(&self) -> String {
-        // `_` and `^` are special outside math: `m/s^2` is typeset as `m/s$^{2}$`
+        // LaTeX's special characters as text (a scene's name may hold any); `^` is a unit's
+        // power: `m/s^2` is typeset as `m/s$^{2}$`
         let esc = |t: &str| {
-            let t = t.replace('_', "\\_");
+            let t: String = t
+                .chars()
+                .map(|c| match c {
+                    '\\' => "\\textbackslash{}".to_string(),
+                    '~' => "\\textasciitilde{}".to_string(),
+                    '&' | '%' | '$' | '#' | '_' | '{' | '}' => format!("\\{c}"),
+                    c if c.is_control() => "\u{fffd}".to_string(),
+                    c => c.to_string(),
+                })
+                .collect();
             match t.split_once('^') {
                 Some((base, power)) => format!("{base}$^{{{power}}}$"),
                 None => t,

@@ -13,6 +13,7 @@
 
 use super::candidates::Candidate;
 use crate::control::emit::common::{list, lit};
+use crate::io::comment::comment_text;
 use crate::{Error, OptionName, Result};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -122,8 +123,8 @@ pub fn emit_filter_c(
          * candidate `{}`, {} impulses, {spacing}, at {rate_hz} Hz.\n \
          * Do not edit: plan again and emit it anew. */\n",
         env!("CARGO_PKG_VERSION"),
-        scene.name,
-        candidate.name,
+        comment_text(&scene.name),
+        comment_text(&candidate.name),
         shaped.impulses.len()
     );
     let header = header(&banner, history, &section);

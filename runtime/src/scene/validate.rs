@@ -213,6 +213,16 @@ impl Rules {
 /// Checks every rule and builds the validated [`Scene`].
 pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> {
     let mut r = Rules::default();
+    // the name and the description go into titles, file headers and comments of emitted
+    // code: one line each, so that neither can end a comment or start a line of its own
+    for (field, text) in [("name", &file.name), ("description", &file.description)] {
+        if let Some(c) = text.chars().find(|c| c.is_control()) {
+            r.fail(
+                field,
+                format!("must be one line of text without control characters (holds {c:?})"),
+            );
+        }
+    }
     let s = &file.sections;
     let n = s.count;
     let SectionChecks {

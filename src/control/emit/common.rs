@@ -3,6 +3,7 @@
 //! helpers that read them).
 
 use crate::control::schema::Controller;
+use crate::io::comment::comment_text;
 use std::fmt::Write as _;
 
 /// A number as a C double literal that reads back to the same `f64`.
@@ -72,10 +73,10 @@ pub(crate) fn banner(file: &Controller, what: &str) -> String {
          * {what},\n * sampled at {} Hz from {}.\n \
          * Do not edit: design the controller again and emit it anew. */\n",
         env!("CARGO_PKG_VERSION"),
-        file.scene,
-        file.configuration,
+        comment_text(&file.scene),
+        comment_text(&file.configuration),
         sampled.rate_hz,
-        sampled.sensors.join(", ")
+        comment_text(&sampled.sensors.join(", "))
     )
 }
 
