@@ -5,6 +5,7 @@ use super::robust::RobustRange;
 use crate::control::velocity::VelocityDesign;
 use crate::run::SimulationOptions;
 use crate::{Error, OptionName, Result};
+use telescopic_runtime::SCurve;
 
 /// The default velocity limit (m/s): the case study's drive.
 pub const DEFAULT_V_MAX: f64 = 2.5;
@@ -24,6 +25,21 @@ pub struct MoveLimits {
     pub a_max: f64,
     /// Jerk limit (m/s^3).
     pub j_max: f64,
+}
+
+impl MoveLimits {
+    /// The time-optimal jerk-limited move within these limits, from rest at 0 m at `start`
+    /// (s).
+    pub fn curve(&self, start: f64) -> SCurve {
+        SCurve {
+            start,
+            from: 0.0,
+            distance: self.distance,
+            v_max: self.v_max,
+            a_max: self.a_max,
+            j_max: self.j_max,
+        }
+    }
 }
 
 /// The default tolerance on `tip_rel` (m).

@@ -247,15 +247,7 @@ fn setting<'a>(
     options: &'a PlanOptions,
     reporter: &'a dyn Reporter,
 ) -> Result<(Setting<'a>, f64)> {
-    let limits = &options.limits;
-    let curve = SCurve {
-        start: scene.time.start,
-        from: 0.0,
-        distance: limits.distance,
-        v_max: limits.v_max,
-        a_max: limits.a_max,
-        j_max: limits.j_max,
-    };
+    let curve = options.limits.curve(scene.time.start);
     let arrival = curve.start + curve.phases().duration();
     // the schedule reaches past the longest shaper at the longest stretch
     let held = moving_scene(scene, &candidates::unshaped(&curve).profile, arrival + 30.0)?;

@@ -6,7 +6,7 @@ use super::options::PlanOptions;
 use super::robust::evaluated_plant_count;
 use super::shapers::Shaper;
 use crate::{Error, OptionName, Result};
-use telescopic_runtime::{SCurve, Scene};
+use telescopic_runtime::Scene;
 
 /// Spacing of the first mode's samples along the move (s).
 pub const SCHEDULE_STEP_S: f64 = 0.25;
@@ -43,16 +43,7 @@ pub struct PlanPrice {
 impl PlanPrice {
     /// The price of planning on `scene` with `options` (whose fields are checked).
     pub fn of(scene: &Scene, options: &PlanOptions) -> PlanPrice {
-        let l = &options.limits;
-        let curve = SCurve {
-            start: scene.time.start,
-            from: 0.0,
-            distance: l.distance,
-            v_max: l.v_max,
-            a_max: l.a_max,
-            j_max: l.j_max,
-        };
-        let move_s = curve.phases().duration();
+        let move_s = options.limits.curve(scene.time.start).phases().duration();
         let schedule_s = move_s + SCHEDULE_PAST_ARRIVAL_S;
         let schedule_points = (schedule_s / SCHEDULE_STEP_S).ceil().min(1e12) as usize + 1;
         let candidates = 1 + 2 * Shaper::ALL.len();
