@@ -102,13 +102,7 @@ pub fn animate(
         ..defaults
     };
     let simulation: SimulationOptions = options.into_options()?;
-    // a view is a page: its memory is priced before the runs
-    let mut shown = vec![&scene.scene];
-    shown.extend(controller.as_ref().map(|_| &scene.scene));
-    shown.extend(compare.map(|c| &c.scene));
     animation.check().map_err(to_python)?;
-    telescopic::animate::memory::check_page(&shown, animation.fps, simulation.memory_budget)
-        .map_err(to_python)?;
     let controller = match controller {
         Some(text) => Some(ControllerFile::from_json(&text).map_err(to_python)?),
         None => None,
@@ -119,6 +113,8 @@ pub fn animate(
         controller: controller.as_ref(),
         compare: compare.map(|c| &c.scene),
     };
+    // a view is a page: its memory is priced before the runs
+    request.check_page(animation.fps).map_err(to_python)?;
     let movie = run(py, progress, |reporter| {
         animate_run(&request, &animation, reporter)
     })?;

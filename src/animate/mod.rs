@@ -36,6 +36,7 @@ pub use run_movie::{RunMovie, RunTrack, Take};
 
 use crate::analysis::modes::{ModesOptions, ModesReport, compute_modes};
 use crate::control::{ControllerFile, compare_file_with_open_loop};
+use crate::io::output::Destination;
 use crate::plot::{Role, clearance_label};
 use crate::report::Reporter;
 use crate::run::{Simulation, SimulationOptions, simulate_scene};
@@ -66,6 +67,24 @@ impl<'a> RunRequest<'a> {
             controller: None,
             compare: None,
         }
+    }
+
+    /// The scenes whose runs a page of this request shows (a controlled run's scene twice:
+    /// with its controller and without).
+    pub fn shown(&self) -> Vec<&'a Scene> {
+        let mut shown = vec![self.scene];
+        shown.extend(self.controller.map(|_| self.scene));
+        shown.extend(self.compare);
+        shown
+    }
+
+    /// Refuses a page of this request at `fps` (frames per second) whose building would
+    /// pass the options' memory budget, before any run.
+    ///
+    /// # Errors
+    /// [`Error::OverMemoryBudget`] naming the frame rate, time.sample and time.end.
+    pub fn check_page(&self, fps: f64) -> Result<()> {
+        memory::check_page(&self.shown(), fps, self.options.memory_budget)
     }
 }
 
@@ -223,7 +242,9 @@ impl AnimationFormat {
             Some("html" | "htm") => AnimationFormat::Html,
             Some("gif") => AnimationFormat::Gif,
             // a device or a pipe (`/dev/null`, `/dev/stdout`) takes the page as a stream
-            _ if is_stream(path) => AnimationFormat::Html,
+            _ if matches!(Destination::of(path), Ok(Destination::Stream(_))) => {
+                AnimationFormat::Html
+            }
             _ => {
                 return Err(Error::Destination {
                     path: path.to_path_buf(),
@@ -237,15 +258,6 @@ impl AnimationFormat {
         crate::io::output::check_writable(path)?;
         Ok(format)
     }
-}
-
-/// Whether `path` names an existing device or pipe (written as a stream, not replaced).
-fn is_stream(path: &Path) -> bool {
-    use std::os::unix::fs::FileTypeExt;
-    std::fs::metadata(path).is_ok_and(|m| {
-        let kind = m.file_type();
-        kind.is_char_device() || kind.is_fifo()
-    })
 }
 
 /// Writes `movie` to `path` as HTML or GIF by its extension (completely or not at all; a

@@ -93,23 +93,18 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
     };
     animation.check()?;
     let options = args.run.options()?;
-    let mut shown = vec![&scene];
-    shown.extend(controller.as_ref().map(|_| &scene));
-    shown.extend(other.as_ref());
-    match format {
-        AnimationFormat::Html => {
-            memory::check_page(&shown, animation.fps, options.memory_budget)?;
-        }
-        AnimationFormat::Gif => {
-            memory::check_gif_frames(memory::frames(&scene, animation.fps), animation.fps)?;
-        }
-    }
     let request = RunRequest {
         scene: &scene,
         options,
         controller: controller.as_ref(),
         compare: other.as_ref(),
     };
+    match format {
+        AnimationFormat::Html => request.check_page(animation.fps)?,
+        AnimationFormat::Gif => {
+            memory::check_gif_frames(memory::frames(&scene, animation.fps), animation.fps)?;
+        }
+    }
     let progress = Progress::new();
     let movie = animate_run(&request, &animation, &progress)?;
     let bytes = save_run(&movie, &animation, &args.out, &progress)?;
