@@ -213,10 +213,7 @@ fn remove_stale_feedback(beside: &Path) -> anyhow::Result<()> {
     let Ok(text) = std::fs::read_to_string(beside) else {
         return Ok(());
     };
-    let format = serde_json::from_str::<serde_json::Value>(&text)
-        .ok()
-        .and_then(|v| v.get("format").and_then(|f| f.as_str()).map(String::from));
-    if format.as_deref() == Some(telescopic::control::velocity::VELOCITY_FEEDBACK_FORMAT) {
+    if telescopic::control::velocity::VelocityFeedback::is_feedback_file(&text) {
         std::fs::remove_file(beside)
             .map_err(|e| anyhow::anyhow!("--out: removing the stale {}: {e}", beside.display()))?;
         eprintln!(

@@ -77,6 +77,13 @@ impl VelocityFeedback {
         serde_json::to_string_pretty(self).expect("plain data") + "\n"
     }
 
+    /// Whether `text` says it is a velocity-feedback file (its `format` field), whatever
+    /// its version or contents.
+    pub fn is_feedback_file(text: &str) -> bool {
+        serde_json::from_str::<serde_json::Value>(text)
+            .is_ok_and(|head| feedback_format(&head) == Some(VELOCITY_FEEDBACK_FORMAT))
+    }
+
     /// Reads a velocity-feedback file: its format and version first.
     ///
     /// # Errors
@@ -86,7 +93,7 @@ impl VelocityFeedback {
         crate::io::unique_keys::check_unique_keys(text)
             .map_err(|e| Error::Analysis(format!("velocity feedback: {e}")))?;
         let head: serde_json::Value = serde_json::from_str(text).map_err(malformed)?;
-        if head.get("format").and_then(|f| f.as_str()) != Some(VELOCITY_FEEDBACK_FORMAT) {
+        if feedback_format(&head) != Some(VELOCITY_FEEDBACK_FORMAT) {
             return Err(Error::Analysis(format!(
                 "velocity feedback: `format` is not \"{VELOCITY_FEEDBACK_FORMAT}\""
             )));
@@ -245,4 +252,9 @@ impl VelocityFeedback {
             .and_then(|k| k.parse::<usize>().ok())
             .and_then(|k| k.checked_sub(2))
     }
+}
+
+/// The `format` field of a JSON file's head.
+fn feedback_format(head: &serde_json::Value) -> Option<&str> {
+    head.get("format").and_then(|f| f.as_str())
 }
