@@ -164,57 +164,67 @@ macro_rules! section_field {
     };
 }
 
-/// An optional number of `[sections]`, zero when absent.
-macro_rules! optional_section_field {
-    ($path:literal, $field:ident, $unit:literal, $description:literal) => {
-        KeyField {
-            path: $path,
-            unit: $unit,
-            description: $description,
-            parameter: true,
-            per_section: false,
-            get: |f, _| Ok(f.sections.$field.unwrap_or(0.0)),
-            set: |f, _, v| {
-                f.sections.$field = Some(v);
-                Ok(())
-            },
-        }
-    };
-}
-
-/// A single number of the file, always present.
-macro_rules! number_field {
-    ($path:literal, $unit:literal, $description:literal, $parameter:literal, |$f:ident| $place:expr) => {
+/// A key that is one number of the file: how to read it and how to set it.
+macro_rules! single_field {
+    ($path:literal, $unit:literal, $description:literal, $parameter:literal,
+     get |$g:ident| $get:expr, set |$s:ident, $v:ident| $set:expr) => {
         KeyField {
             path: $path,
             unit: $unit,
             description: $description,
             parameter: $parameter,
             per_section: false,
-            get: |$f, _| Ok($place),
-            set: |$f, _, v| {
-                $place = v;
+            get: |$g, _| Ok($get),
+            set: |$s, _, $v| {
+                $set;
                 Ok(())
             },
         }
     };
 }
 
+/// An optional number of `[sections]`, zero when absent.
+macro_rules! optional_section_field {
+    ($path:literal, $field:ident, $unit:literal, $description:literal) => {
+        single_field!(
+            $path,
+            $unit,
+            $description,
+            true,
+            get | f | f.sections.$field.unwrap_or(0.0),
+            set | f,
+            v | f.sections.$field = Some(v)
+        )
+    };
+}
+
+/// A single number of the file, always present.
+macro_rules! number_field {
+    ($path:literal, $unit:literal, $description:literal, $parameter:literal, |$f:ident| $place:expr) => {
+        single_field!(
+            $path,
+            $unit,
+            $description,
+            $parameter,
+            get | $f | $place,
+            set | $f,
+            v | $place = v
+        )
+    };
+}
+
 /// A number of `[contact]`.
 macro_rules! contact_field {
     ($path:literal, $field:ident, $unit:literal, $description:literal) => {
-        KeyField {
-            path: $path,
-            unit: $unit,
-            description: $description,
-            parameter: true,
-            per_section: false,
-            get: |f, _| Ok(contact(f)?.$field),
-            set: |f, _, v| {
-                contact_mut(f)?.$field = v;
-                Ok(())
-            },
-        }
+        single_field!(
+            $path,
+            $unit,
+            $description,
+            true,
+            get | f | contact(f)?.$field,
+            set | f,
+            v | contact_mut(f)?.$field = v
+        )
     };
 }
 
