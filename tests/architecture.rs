@@ -1,10 +1,14 @@
 //! The rooms of the source stay apart: within each crate, no file imports (by `use` or a
-//! path) a file that imports it back. The crate root, a facade of re-exports, is left out. Paths are read from the
-//! source text (`crate::`, `super::`, `self::` and a module's own children), comments and
-//! inline test modules left out; a file is a module (`a/b.rs` or `a/b/mod.rs`).
+//! path) a file that imports it back. The crate root, a facade of re-exports, is left out.
+//! Paths are read from the source text (`crate::`, `super::`, `self::` and a module's own
+//! children), comments and inline test modules left out; a file is a module (`a/b.rs` or
+//! `a/b/mod.rs`). And no hand-written function, tests included, is over 100 lines.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
+
+/// The most lines a hand-written function may take, its signature and braces included.
+const MAX_FUNCTION_LINES: usize = 100;
 
 const CRATES: [&str; 6] = [
     "src",
@@ -205,4 +209,114 @@ fn the_reader_finds_the_imports_it_must() {
         .map(String::from)
         .collect();
     assert_eq!(found, expected);
+}
+
+/// Every `.rs` file under `root`, recursively, build directories (`target`) left out.
+fn rust_files(root: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut pending = vec![root.to_path_buf()];
+    while let Some(dir) = pending.pop() {
+        for entry in std::fs::read_dir(&dir).expect("a source directory") {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                if path.file_name().is_some_and(|n| n != "target") {
+                    pending.push(path);
+                }
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The functions of one file longer than [`MAX_FUNCTION_LINES`]: name, first line, lines.
+#[derive(Default)]
+struct LongFunctions(Vec<(String, usize, usize)>);
+
+impl LongFunctions {
+    /// Counts from the signature to the closing brace (doc comments and attributes left out).
+    fn check(&mut self, sig: &syn::Signature, block: &syn::Block) {
+        let (start, end) = (
+            sig.fn_token.span.start().line,
+            block.brace_token.span.close().end().line,
+        );
+        let lines = end - start + 1;
+        if lines > MAX_FUNCTION_LINES {
+            self.0.push((sig.ident.to_string(), start, lines));
+        }
+    }
+}
+
+impl<'ast> syn::visit::Visit<'ast> for LongFunctions {
+    fn visit_item_fn(&mut self, f: &'ast syn::ItemFn) {
+        self.check(&f.sig, &f.block);
+        syn::visit::visit_item_fn(self, f);
+    }
+    fn visit_impl_item_fn(&mut self, f: &'ast syn::ImplItemFn) {
+        self.check(&f.sig, &f.block);
+        syn::visit::visit_impl_item_fn(self, f);
+    }
+    fn visit_trait_item_fn(&mut self, f: &'ast syn::TraitItemFn) {
+        if let Some(block) = &f.default {
+            self.check(&f.sig, block);
+        }
+        syn::visit::visit_trait_item_fn(self, f);
+    }
+}
+
+/// The functions over [`MAX_FUNCTION_LINES`] in `text` (a whole source file).
+fn long_functions(text: &str) -> Vec<(String, usize, usize)> {
+    let file = syn::parse_file(text).expect("the source parses");
+    let mut long = LongFunctions::default();
+    syn::visit::Visit::visit_file(&mut long, &file);
+    long.0
+}
+
+#[test]
+fn no_hand_written_function_is_over_100_lines() {
+    let workspace = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // every crate with its tests, benchmarks and build scripts, and the examples; the
+    // committed generated models are the generator's output, not hand-written
+    let roots = [
+        "src", "tests", "runtime", "cli", "codegen", "fmu", "python", "examples",
+    ];
+    let mut found = Vec::new();
+    for root in roots {
+        for file in rust_files(&workspace.join(root)) {
+            let text = std::fs::read_to_string(&file).expect("a readable source file");
+            for (name, line, lines) in long_functions(&text) {
+                let at = file.strip_prefix(workspace).unwrap_or(&file).display();
+                found.push(format!("{at}:{line} {name}: {lines} lines"));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines:\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn the_function_reader_counts_every_kind_of_function() {
+    let body = "    let x = 1;\n".repeat(MAX_FUNCTION_LINES - 1);
+    let text = format!(
+        "fn free() {{\n{body}}}\nstruct S;\nimpl S {{\n    fn method() {{\n{body}    }}\n}}\n\
+         trait T {{\n    fn provided() {{\n{body}    }}\n}}\nfn short() {{}}\n"
+    );
+    let names: Vec<String> = long_functions(&text)
+        .into_iter()
+        .map(|(n, _, _)| n)
+        .collect();
+    assert_eq!(names, ["free", "method", "provided"]);
+    let exact = format!(
+        "/// A doc comment is not counted.\n#[inline]\nfn edge() {{\n{}}}\n",
+        "    let x = 1;\n".repeat(MAX_FUNCTION_LINES - 2)
+    );
+    assert!(
+        long_functions(&exact).is_empty(),
+        "exactly {MAX_FUNCTION_LINES} lines is allowed"
+    );
 }

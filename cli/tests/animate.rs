@@ -388,9 +388,14 @@ fn the_page_draws_the_runs_csv_values_in_a_real_browser() {
         }
     }
     assert!(switched, "no probed frame has a closed contact");
+    frames_are_drawn_and_differ(&page, &dir, &profile);
+}
+
+/// Screenshots of `page` at 2 s and 9 s are pictures (not blank) and differ.
+fn frames_are_drawn_and_differ(page: &Path, dir: &Path, profile: &Path) {
     let (a, b) = (
-        screenshot(&page, 2.0, &dir, &profile),
-        screenshot(&page, 9.0, &dir, &profile),
+        screenshot(page, 2.0, dir, profile),
+        screenshot(page, 9.0, dir, profile),
     );
     let colours: std::collections::HashSet<&[u8]> = a.chunks(3).collect();
     assert!(

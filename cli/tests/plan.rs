@@ -178,115 +178,117 @@ fn emit_c_writes_the_chosen_shaper_and_refuses_a_move_without_one() {
     );
 }
 
+/// Plan options refused before any work, and what the refusal names.
+static REFUSED_PLAN_OPTIONS: &[(&[&str], &[&str])] = &[
+    (
+        &["--distance", "2", "--stations", "1:0"],
+        &["--stations", "sections.section_modulus nor sections.height"],
+    ),
+    (
+        &["--distance", "2", "--pick", "zw scheduled"],
+        &[
+            "--pick",
+            "no candidate of this plan can be named \"zw scheduled\"",
+            "zvd",
+        ],
+    ),
+    (
+        &["--distance", "2", "--pick", "zv + feedback"],
+        &["--pick", "+ feedback"],
+    ),
+    (
+        &["--distance", "2", "--pick", "s-curve", "--emit-c", "."],
+        &["--emit-c", "no shaper to emit"],
+    ),
+    (
+        &[
+            "--distance",
+            "2",
+            "--feedback",
+            "0.2",
+            "--correction-v-max",
+            "1e9",
+        ],
+        &["--correction-v-max", "at most 1000"],
+    ),
+    (
+        &["--distance", "2", "--robust", "masses.load=-10:30"],
+        &["--robust", "plant", "masses.load"],
+    ),
+    (
+        &[
+            "--distance",
+            "2",
+            "--robust",
+            "masses.load=10:30",
+            "--checks",
+            "1000000000",
+        ],
+        &["--checks", "at most 256"],
+    ),
+    (
+        &["--distance", "23", "--v-max", "0.003"],
+        &[
+            "--v-max/--a-max/--j-max",
+            "eigen analyses",
+            "shorten the distance",
+        ],
+    ),
+    (
+        &[
+            "--distance",
+            "2",
+            "--settle",
+            "1000",
+            "--robust",
+            "masses.load=10:30,contact.clearance=0.005:0.02,gravity.g=9:10,\
+             contact.stiffness=1e7:1e8,contact.damping=100:1000,masses.vehicle=10:20",
+        ],
+        &["--robust", "samples", "fewer robust ranges"],
+    ),
+    (
+        &[
+            "--distance",
+            "2",
+            "--feedback",
+            "0.2",
+            "--correction-v-max",
+            "-1",
+        ],
+        &["--correction-v-max", "velocity bound must be > 0"],
+    ),
+    (
+        &["--distance", "2", "--emit-c", "/nonexistent/dir"],
+        &["--emit-c", "not an existing directory"],
+    ),
+    (
+        &["--distance", "2", "--feedback", "0"],
+        &["--feedback", "(0, 2]"],
+    ),
+    (
+        &["--distance", "2", "--feedback", "0.2", "--out", "plan.json"],
+        &["--out", "another extension"],
+    ),
+    (&["--distance", "0"], &["--distance", "not 0"]),
+    (&["--distance", "2", "--v-max", "-1"], &["--v-max", "> 0"]),
+    (&["--distance", "2", "--tolerance", "0"], &["--tolerance"]),
+    (
+        &["--distance", "2", "--robust", "masses.load=30:10"],
+        &["--robust", "LOW must be below HIGH"],
+    ),
+    (
+        &["--distance", "2", "--robust", "masses.load"],
+        &["--robust", "KEY=LOW:HIGH"],
+    ),
+    (
+        &["--distance", "2", "--robust", "nonsense.key=1:2"],
+        &["nonsense"],
+    ),
+];
+
 #[test]
 fn bad_plan_options_are_refused_naming_the_flag() {
-    let refused: [(&[&str], &[&str]); 19] = [
-        (
-            &["--distance", "2", "--stations", "1:0"],
-            &["--stations", "sections.section_modulus nor sections.height"],
-        ),
-        (
-            &["--distance", "2", "--pick", "zw scheduled"],
-            &[
-                "--pick",
-                "no candidate of this plan can be named \"zw scheduled\"",
-                "zvd",
-            ],
-        ),
-        (
-            &["--distance", "2", "--pick", "zv + feedback"],
-            &["--pick", "+ feedback"],
-        ),
-        (
-            &["--distance", "2", "--pick", "s-curve", "--emit-c", "."],
-            &["--emit-c", "no shaper to emit"],
-        ),
-        (
-            &[
-                "--distance",
-                "2",
-                "--feedback",
-                "0.2",
-                "--correction-v-max",
-                "1e9",
-            ],
-            &["--correction-v-max", "at most 1000"],
-        ),
-        (
-            &["--distance", "2", "--robust", "masses.load=-10:30"],
-            &["--robust", "plant", "masses.load"],
-        ),
-        (
-            &[
-                "--distance",
-                "2",
-                "--robust",
-                "masses.load=10:30",
-                "--checks",
-                "1000000000",
-            ],
-            &["--checks", "at most 256"],
-        ),
-        (
-            &["--distance", "23", "--v-max", "0.003"],
-            &[
-                "--v-max/--a-max/--j-max",
-                "eigen analyses",
-                "shorten the distance",
-            ],
-        ),
-        (
-            &[
-                "--distance",
-                "2",
-                "--settle",
-                "1000",
-                "--robust",
-                "masses.load=10:30,contact.clearance=0.005:0.02,gravity.g=9:10,\
-                 contact.stiffness=1e7:1e8,contact.damping=100:1000,masses.vehicle=10:20",
-            ],
-            &["--robust", "samples", "fewer robust ranges"],
-        ),
-        (
-            &[
-                "--distance",
-                "2",
-                "--feedback",
-                "0.2",
-                "--correction-v-max",
-                "-1",
-            ],
-            &["--correction-v-max", "velocity bound must be > 0"],
-        ),
-        (
-            &["--distance", "2", "--emit-c", "/nonexistent/dir"],
-            &["--emit-c", "not an existing directory"],
-        ),
-        (
-            &["--distance", "2", "--feedback", "0"],
-            &["--feedback", "(0, 2]"],
-        ),
-        (
-            &["--distance", "2", "--feedback", "0.2", "--out", "plan.json"],
-            &["--out", "another extension"],
-        ),
-        (&["--distance", "0"], &["--distance", "not 0"]),
-        (&["--distance", "2", "--v-max", "-1"], &["--v-max", "> 0"]),
-        (&["--distance", "2", "--tolerance", "0"], &["--tolerance"]),
-        (
-            &["--distance", "2", "--robust", "masses.load=30:10"],
-            &["--robust", "LOW must be below HIGH"],
-        ),
-        (
-            &["--distance", "2", "--robust", "masses.load"],
-            &["--robust", "KEY=LOW:HIGH"],
-        ),
-        (
-            &["--distance", "2", "--robust", "nonsense.key=1:2"],
-            &["nonsense"],
-        ),
-    ];
-    for (flags, needles) in refused {
+    for &(flags, needles) in REFUSED_PLAN_OPTIONS {
         let args = [&["plan", "scenes/adams-linear.toml"][..], flags].concat();
         let out = telescopic(&args);
         failed_cleanly(&args, &out, needles);

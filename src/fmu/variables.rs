@@ -79,6 +79,36 @@ pub struct FmuVariables {
     pub event_indicators: usize,
 }
 
+/// The FMU's one input (value reference 0): the drive force, or the vehicle's acceleration
+/// when the scene prescribes its motion; its start is the scene's value at the start.
+fn input_variable(scene: &Scene, motion: bool) -> Variable {
+    let p = &scene.params;
+    let (input, unit, description, start) = if motion {
+        (
+            "a_vehicle",
+            "m/s2",
+            "the vehicle's acceleration, replacing the scene's prescribed motion",
+            p.drive_profile().acceleration(scene.time.start),
+        )
+    } else {
+        (
+            "F",
+            "N",
+            "drive force on the vehicle, replacing the scene's profile",
+            p.drive_profile().value(scene.time.start),
+        )
+    };
+    Variable {
+        name: input.into(),
+        reference: 0,
+        causality: Causality::Input,
+        unit: unit.into(),
+        description: description.into(),
+        start: Some(start),
+        derivative_of: None,
+    }
+}
+
 impl FmuVariables {
     /// The variables of `scene`.
     ///
@@ -88,30 +118,7 @@ impl FmuVariables {
         let p = &scene.params;
         let motion = matches!(p.drive, Drive::Motion(_));
         let layout = Layout::new(&p.modes(), p.contact_points);
-        let (input, unit, description, start) = if motion {
-            (
-                "a_vehicle",
-                "m/s2",
-                "the vehicle's acceleration, replacing the scene's prescribed motion",
-                p.drive_profile().acceleration(scene.time.start),
-            )
-        } else {
-            (
-                "F",
-                "N",
-                "drive force on the vehicle, replacing the scene's profile",
-                p.drive_profile().value(scene.time.start),
-            )
-        };
-        let mut variables = vec![Variable {
-            name: input.into(),
-            reference: 0,
-            causality: Causality::Input,
-            unit: unit.into(),
-            description: description.into(),
-            start: Some(start),
-            derivative_of: None,
-        }];
+        let mut variables = vec![input_variable(scene, motion)];
         let mut names = layout.output_names(motion);
         names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
         for name in &names {

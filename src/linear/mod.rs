@@ -194,65 +194,18 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         ));
     }
     let npos = scene.params.sections.len() - 1;
-    let t = options.at_time.unwrap_or(scene.time.start);
-    if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
-        return Err(Error::option(
-            OptionName::AtTime,
-            format!(
-                "{t}: must lie in the scene's time span [{}, {}] s",
-                scene.time.start, scene.time.end
-            ),
-        ));
-    }
-    let mut positions: Vec<f64> = scene.params.positions.iter().map(|p| p.value(t)).collect();
-    let mut rates: Vec<f64> = scene.params.positions.iter().map(|p| p.rate(t)).collect();
-    let mut operating_point = format!("positions and speeds of the scene at t = {t} s");
-    let check = |option: OptionName, k: usize| {
-        if !(2..=npos + 1).contains(&k) {
-            return Err(Error::option(
-                option,
-                format!(
-                    "a{k}: the scene has {} section(s), so its positions are a2..a{}",
-                    npos + 1,
-                    npos + 1
-                ),
-            ));
-        }
-        Ok(())
-    };
-    if !options.positions.is_empty() {
-        for (i, &(k, v)) in options.positions.iter().enumerate() {
-            check(OptionName::Positions, k)?;
-            if options.positions[..i].iter().any(|&(other, _)| other == k) {
-                return Err(Error::option(
-                    OptionName::Positions,
-                    format!("a{k} is given twice"),
-                ));
-            }
-            positions[k - 2] = v;
-            rates[k - 2] = 0.0;
-        }
-        operating_point = "positions given, at rest".to_string();
-    }
-    if let Some(g) = &options.grid
-        && options.positions.iter().any(|&(k, _)| k == g.section)
-    {
-        return Err(Error::option_see(
-            OptionName::Positions,
-            format!(
-                "a{} is given a value and is the grid's position: give it one or the other",
-                g.section
-            ),
-            OptionName::Grid,
-        ));
-    }
+    let OperatingPoint {
+        positions,
+        rates,
+        mut operating_point,
+    } = operating_point(scene, options)?;
     let (grid, points) = match &options.grid {
         None => (
             None,
             vec![at(&lpv, &positions, &rates, OptionName::Positions)?],
         ),
         Some(g) => {
-            check(OptionName::Grid, g.section)?;
+            check_position(OptionName::Grid, g.section, npos)?;
             let (grid, points) = grid_points(&lpv, g, &positions, &rates, options.memory_budget)?;
             let others = if npos > 1 {
                 format!("; the other positions: {operating_point}")
@@ -290,6 +243,78 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExpo
         operating_point,
         points,
         discrete,
+    })
+}
+
+/// The positions (m), their rates (m/s) and a description of the point a linear model is
+/// taken at.
+struct OperatingPoint {
+    positions: Vec<f64>,
+    rates: Vec<f64>,
+    operating_point: String,
+}
+
+/// Refuses a position index `k` (a_k) the scene with `npos` moving positions lacks.
+fn check_position(option: OptionName, k: usize, npos: usize) -> Result<()> {
+    if !(2..=npos + 1).contains(&k) {
+        return Err(Error::option(
+            option,
+            format!(
+                "a{k}: the scene has {} section(s), so its positions are a2..a{}",
+                npos + 1,
+                npos + 1
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The scene's positions and rates at `options.at_time`, or the positions given at rest.
+fn operating_point(scene: &Scene, options: &LinearizeOptions) -> Result<OperatingPoint> {
+    let npos = scene.params.sections.len() - 1;
+    let t = options.at_time.unwrap_or(scene.time.start);
+    if !(t.is_finite() && t >= scene.time.start && t <= scene.time.end) {
+        return Err(Error::option(
+            OptionName::AtTime,
+            format!(
+                "{t}: must lie in the scene's time span [{}, {}] s",
+                scene.time.start, scene.time.end
+            ),
+        ));
+    }
+    let mut positions: Vec<f64> = scene.params.positions.iter().map(|p| p.value(t)).collect();
+    let mut rates: Vec<f64> = scene.params.positions.iter().map(|p| p.rate(t)).collect();
+    let mut operating_point = format!("positions and speeds of the scene at t = {t} s");
+    if !options.positions.is_empty() {
+        for (i, &(k, v)) in options.positions.iter().enumerate() {
+            check_position(OptionName::Positions, k, npos)?;
+            if options.positions[..i].iter().any(|&(other, _)| other == k) {
+                return Err(Error::option(
+                    OptionName::Positions,
+                    format!("a{k} is given twice"),
+                ));
+            }
+            positions[k - 2] = v;
+            rates[k - 2] = 0.0;
+        }
+        operating_point = "positions given, at rest".to_string();
+    }
+    if let Some(g) = &options.grid
+        && options.positions.iter().any(|&(k, _)| k == g.section)
+    {
+        return Err(Error::option_see(
+            OptionName::Positions,
+            format!(
+                "a{} is given a value and is the grid's position: give it one or the other",
+                g.section
+            ),
+            OptionName::Grid,
+        ));
+    }
+    Ok(OperatingPoint {
+        positions,
+        rates,
+        operating_point,
     })
 }
 

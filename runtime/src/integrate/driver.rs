@@ -102,6 +102,34 @@ pub(super) struct Driver<'m> {
     step_cap: f64,
 }
 
+/// Refuses settings `method` cannot run with: a fixed step without `dt`, a step that is not
+/// a positive number of seconds, tolerances that are not positive with rtol < 1.
+fn check_settings(method: Method, settings: &Settings) -> Result<(), SimError> {
+    let control = method.step_control();
+    match (control, settings.dt) {
+        (StepControl::Fixed, None) => {
+            return Err(SimError::Settings(format!(
+                "method {method} has a fixed step: give the step dt (s)"
+            )));
+        }
+        (_, Some(dt)) if !(dt > 0.0 && dt.is_finite()) => {
+            return Err(SimError::Settings(format!(
+                "the step dt must be a positive number of seconds (got {dt})"
+            )));
+        }
+        _ => {}
+    }
+    if control == StepControl::Adaptive
+        && !(settings.rtol > 0.0 && settings.atol > 0.0 && settings.rtol < 1.0)
+    {
+        return Err(SimError::Settings(format!(
+            "tolerances must be positive with rtol < 1 (got rtol = {}, atol = {})",
+            settings.rtol, settings.atol
+        )));
+    }
+    Ok(())
+}
+
 impl<'m> Driver<'m> {
     pub(super) fn new(
         model: &'m dyn Model,
@@ -111,28 +139,7 @@ impl<'m> Driver<'m> {
         settings: &Settings,
     ) -> Result<Self, SimError> {
         let n = model.dof();
-        let control = method.step_control();
-        match (control, settings.dt) {
-            (StepControl::Fixed, None) => {
-                return Err(SimError::Settings(format!(
-                    "method {method} has a fixed step: give the step dt (s)"
-                )));
-            }
-            (_, Some(dt)) if !(dt > 0.0 && dt.is_finite()) => {
-                return Err(SimError::Settings(format!(
-                    "the step dt must be a positive number of seconds (got {dt})"
-                )));
-            }
-            _ => {}
-        }
-        if control == StepControl::Adaptive
-            && !(settings.rtol > 0.0 && settings.atol > 0.0 && settings.rtol < 1.0)
-        {
-            return Err(SimError::Settings(format!(
-                "tolerances must be positive with rtol < 1 (got rtol = {}, atol = {})",
-                settings.rtol, settings.atol
-            )));
-        }
+        check_settings(method, settings)?;
         let params = model.params();
         let mut breakpoints: Vec<f64> = params
             .positions
