@@ -45,7 +45,7 @@ pub fn whole(name: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
 }
 
 /// `linearize`'s grid as Python gives it, `(position, (from, to, count))`, the count left
-/// unconverted: the library's parser judges it.
+/// unconverted so that a count that is no whole number names the grid.
 type GridArgument<'py> = (String, (f64, f64, Bound<'py, PyAny>));
 
 /// A simulation for Python: `(columns, data, summary)`, `data` samples x (1 + columns).
@@ -271,12 +271,10 @@ pub fn linearize<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let contacts = parsed::<ContactMode>("contacts", contacts)?;
     let grid = match grid {
-        // the count as Python writes it: the library's parser judges any value (`-3`,
-        // `2.5`, `2**70`) by its one rule and names it
-        Some((name, (from, to, count))) => Some(
-            Grid::from_str(&format!("{name}={from}:{to}:{count}"))
-                .map_err(|e| argument("grid", e))?,
-        ),
+        Some((name, (from, to, count))) => {
+            let count = whole("grid", &count)?;
+            Some(Grid::new(&name, from, to, count).map_err(|e| argument("grid", e))?)
+        }
         None => None,
     };
     let options = LinearizeOptions {
@@ -402,13 +400,13 @@ pub fn check_controller(text: &str) -> PyResult<String> {
     }
 }
 
-/// Runs a sweep file into `out`; returns `(columns, rows)` of the result (see
-/// `telescopic.sweep`).
+/// Runs a sweep (a file, or a dict of a sweep file's keys) into `out`; returns `(columns,
+/// rows)` of the result (see `telescopic.sweep`).
 #[pyfunction]
-#[pyo3(signature = (path, out, jobs = None, progress = None))]
+#[pyo3(signature = (spec, out, jobs = None, progress = None))]
 pub fn sweep(
     py: Python<'_>,
-    path: PathBuf,
+    spec: &Bound<'_, PyAny>,
     out: PathBuf,
     jobs: Option<Bound<'_, PyAny>>,
     progress: Option<&Bound<'_, PyAny>>,
@@ -425,8 +423,27 @@ pub fn sweep(
         memory_budget: memory_budget()?,
         cancel: telescopic::Cancel::default(),
     };
+    // a dict is the sweep file's keys as values: a relative scene is the current directory's
+    let table = match spec.cast::<PyDict>() {
+        Ok(dict) => Some(crate::scene::toml_table("spec", dict, 0)?),
+        Err(_) => None,
+    };
+    let path: PathBuf = match table {
+        Some(_) => PathBuf::from("<the sweep dict>"),
+        None => spec.extract().map_err(|_| {
+            argument(
+                "spec",
+                "a sweep file's path or a dict of a sweep file's keys",
+            )
+        })?,
+    };
     let result = run(py, progress, |reporter| {
-        let sweep = telescopic::sweep::Sweep::load_within(&path, options.memory_budget)?;
+        let sweep = match table {
+            Some(table) => {
+                telescopic::sweep::Sweep::from_table(table, &path, options.memory_budget)?
+            }
+            None => telescopic::sweep::Sweep::load_within(&path, options.memory_budget)?,
+        };
         let options = telescopic::sweep::SweepOptions {
             cancel: reporter.cancel.clone(),
             ..options

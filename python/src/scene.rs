@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::{Path, PathBuf};
 use telescopic::Scene;
+use telescopic::runtime::scene::SceneEdit;
 
 /// A scene: geometry, materials, masses, contacts, telescopic positions, drive and time span.
 #[pyclass(name = "Scene", module = "telescopic._telescopic", frozen)]
@@ -14,68 +15,83 @@ pub struct PyScene {
     pub scene: Scene,
     text: String,
     origin: PathBuf,
-    overrides: Vec<String>,
+    edits: Vec<SceneEdit>,
 }
 
 /// Deepest nesting of lists a `set=` value may have: a scene's deepest value is a list of
 /// numbers inside a list; the bound keeps a hostile value from exhausting the stack.
 const MAX_SET_DEPTH: usize = 8;
 
-/// A Python value as a TOML value's text (numbers, booleans, strings, lists, NumPy scalars and
-/// arrays), at most [`MAX_SET_DEPTH`] lists deep.
-fn toml_value(key: &str, value: &Bound<'_, PyAny>, depth: usize) -> PyResult<String> {
-    let bad = |rule: String| argument(&format!("set[{key:?}]"), rule);
+/// A Python value as a TOML value (numbers, booleans, strings, lists, dicts, NumPy scalars
+/// and arrays), at most [`MAX_SET_DEPTH`] lists or dicts deep; `what` names it in errors.
+pub fn toml_value(what: &str, value: &Bound<'_, PyAny>, depth: usize) -> PyResult<toml::Value> {
+    let bad = |rule: String| argument(what, rule);
     if value.is_instance_of::<PyBool>() {
-        return Ok(value.extract::<bool>()?.to_string());
+        return Ok(toml::Value::Boolean(value.extract()?));
     }
     if value.is_instance_of::<PyInt>() {
         return value
             .extract::<i64>()
-            .map(|v| v.to_string())
+            .map(toml::Value::Integer)
             .map_err(|_| bad("the integer does not fit in 64 bits".into()));
     }
     if value.is_instance_of::<PyString>() {
-        return Ok(toml::Value::String(value.extract()?).to_string());
+        return Ok(toml::Value::String(value.extract()?));
+    }
+    if depth >= MAX_SET_DEPTH {
+        return Err(bad(format!("lists nest deeper than {MAX_SET_DEPTH}")));
+    }
+    if let Ok(dict) = value.cast::<PyDict>() {
+        return toml_table(what, dict, depth + 1).map(toml::Value::Table);
     }
     let listlike = value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>();
     // NumPy arrays and scalars: `tolist` gives nested lists or the Python scalar
     if listlike || value.hasattr("tolist")? {
-        if depth >= MAX_SET_DEPTH {
-            return Err(bad(format!("lists nest deeper than {MAX_SET_DEPTH}")));
-        }
-        // a NumPy array becomes its nested list
         let list = if listlike {
             value.clone()
         } else {
             value.call_method0("tolist")?
         };
         if !(list.is_instance_of::<PyList>() || list.is_instance_of::<PyTuple>()) {
-            return toml_value(key, &list, depth + 1);
+            return toml_value(what, &list, depth + 1);
         }
-        let items: Vec<String> = list
+        return list
             .try_iter()?
-            .map(|item| toml_value(key, &item?, depth + 1))
-            .collect::<PyResult<_>>()?;
-        return Ok(format!("[{}]", items.join(", ")));
+            .map(|item| toml_value(what, &item?, depth + 1))
+            .collect::<PyResult<Vec<_>>>()
+            .map(toml::Value::Array);
     }
     // NumPy integers have __index__; floats (Python's and NumPy's) __float__
     if !value.is_instance_of::<PyFloat>()
         && let Ok(v) = value.extract::<i64>()
     {
-        return Ok(v.to_string());
+        return Ok(toml::Value::Integer(v));
     }
     match value.extract::<f64>() {
-        Ok(v) if v.is_finite() => Ok(format!("{v:e}")),
+        Ok(v) if v.is_finite() => Ok(toml::Value::Float(v)),
         Ok(v) => Err(bad(format!("{v} is not a finite number"))),
         Err(_) => Err(bad(format!(
-            "{} is not a number, string, bool or list",
+            "{} is not a number, string, bool, list or dict",
             value.get_type().name()?
         ))),
     }
 }
 
-/// `{"contact.clearance": 0.005}` as `["contact.clearance=5e-3"]`.
-pub fn overrides(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
+/// A Python dict with string keys as a TOML table.
+pub fn toml_table(what: &str, dict: &Bound<'_, PyDict>, depth: usize) -> PyResult<toml::Table> {
+    dict.iter()
+        .map(|(k, v)| {
+            let key: String = k
+                .extract()
+                .map_err(|_| argument(what, "keys are strings"))?;
+            let value = toml_value(&format!("{what}[{key:?}]"), &v, depth)?;
+            Ok((key, value))
+        })
+        .collect()
+}
+
+/// `{"contact.clearance": 0.005}` as typed scene edits.
+pub fn edits(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<SceneEdit>> {
     let Some(set) = set else {
         return Ok(Vec::new());
     };
@@ -90,7 +106,8 @@ pub fn overrides(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
                     "a key holds no `=` (the value is the dictionary's)",
                 ));
             }
-            Ok(format!("{key}={}", toml_value(&key, &v, 0)?))
+            let value = toml_value(&format!("set[{key:?}]"), &v, 0)?;
+            Ok(SceneEdit::new(key, value))
         })
         .collect()
 }
@@ -101,15 +118,20 @@ impl PyScene {
         &self.origin
     }
 
-    fn build(text: String, origin: PathBuf, overrides: Vec<String>) -> PyResult<Self> {
-        let scene = Scene::from_toml_str(&text, &origin, &overrides)
+    fn build(text: String, origin: PathBuf, edits: Vec<SceneEdit>) -> PyResult<Self> {
+        let scene = Scene::from_toml_edited(&text, &origin, &edits)
             .map_err(|e| to_python(telescopic::Error::Scene(e)))?;
         Ok(PyScene {
             scene,
             text,
             origin,
-            overrides,
+            edits,
         })
+    }
+
+    /// The edits as `KEY=VALUE` text, as `--set` reads them.
+    fn edit_texts(&self) -> Vec<String> {
+        self.edits.iter().map(SceneEdit::to_string).collect()
     }
 }
 
@@ -120,7 +142,7 @@ impl PyScene {
     #[staticmethod]
     #[pyo3(signature = (path, set = None))]
     fn load(path: PathBuf, set: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        let overrides = overrides(set)?;
+        let edits = edits(set)?;
         let text = telescopic::runtime::input::read_text(
             &path,
             telescopic::runtime::input::MAX_TEXT_INPUT_BYTES,
@@ -133,14 +155,14 @@ impl PyScene {
                 },
             ))
         })?;
-        Self::build(text, path, overrides)
+        Self::build(text, path, edits)
     }
 
     /// A scene from TOML text, with `set` overrides.
     #[staticmethod]
     #[pyo3(signature = (text, set = None))]
     fn from_toml(text: String, set: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        Self::build(text, PathBuf::from("<string>"), overrides(set)?)
+        Self::build(text, PathBuf::from("<string>"), edits(set)?)
     }
 
     /// Pickling (multiprocessing with `spawn` needs it): the scene is rebuilt from its text,
@@ -156,7 +178,7 @@ impl PyScene {
             (
                 scene.text.clone(),
                 scene.origin.to_string_lossy().into_owned(),
-                scene.overrides.clone(),
+                scene.edit_texts(),
             ),
         ))
     }
@@ -164,13 +186,18 @@ impl PyScene {
     /// The scene of a pickle: its text, origin and overrides.
     #[staticmethod]
     fn _restore(text: String, origin: String, overrides: Vec<String>) -> PyResult<Self> {
-        Self::build(text, PathBuf::from(origin), overrides)
+        let edits = overrides
+            .iter()
+            .map(|o| SceneEdit::parse(o))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| to_python(telescopic::Error::Scene(e)))?;
+        Self::build(text, PathBuf::from(origin), edits)
     }
 
     /// A new scene: this one with more overrides (checked like `--set`).
     fn with_set(&self, set: &Bound<'_, PyDict>) -> PyResult<Self> {
-        let mut all = self.overrides.clone();
-        all.extend(overrides(Some(set))?);
+        let mut all = self.edits.clone();
+        all.extend(edits(Some(set))?);
         Self::build(self.text.clone(), self.origin.clone(), all)
     }
 
@@ -202,7 +229,7 @@ impl PyScene {
     /// The overrides applied, as `KEY=VALUE` strings.
     #[getter]
     fn overrides(&self) -> Vec<String> {
-        self.overrides.clone()
+        self.edit_texts()
     }
 
     /// The file it was read from (`<string>` for text).
@@ -213,10 +240,10 @@ impl PyScene {
 
     fn __repr__(&self) -> String {
         let p = &self.scene.params;
-        let set = if self.overrides.is_empty() {
+        let set = if self.edits.is_empty() {
             String::new()
         } else {
-            format!(", set {:?}", self.overrides)
+            format!(", set {:?}", self.edit_texts())
         };
         format!(
             "Scene({:?}: {} section(s), modes {:?}, clearance {} m, t = {} .. {} s{set})",

@@ -430,59 +430,25 @@ def design(
     return Controller(text)
 
 
-def _sweep_file(spec: Mapping[str, Any], directory: str) -> str:
-    """A sweep file for ``spec`` (the sweep file's keys) in ``directory``; relative scene
-    paths are taken from the current directory."""
-    import json
-
-    def value(v: Any) -> str:
-        if isinstance(v, str):
-            return json.dumps(v)
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, (list, tuple)):
-            return "[" + ", ".join(value(x) for x in v) + "]"
-        if isinstance(v, Mapping):
-            return "{ " + ", ".join(f"{json.dumps(k)} = {value(x)}" for k, x in v.items()) + " }"
-        return repr(float(v)) if isinstance(v, float) else str(v)
-
-    lines = []
-    tables = []
-    for key, v in spec.items():
-        if key == "scene":
-            v = os.path.abspath(os.fspath(v))
-        if isinstance(v, Mapping):
-            tables.append((key, v))
-        else:
-            lines.append(f"{key} = {value(v)}")
-    for key, table in tables:
-        lines.append(f"\n[{key}]")
-        lines.extend(f"{json.dumps(k)} = {value(x)}" for k, x in table.items())
-    path = os.path.join(directory, "sweep.toml")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write("\n".join(lines) + "\n")
-    return path
-
-
 def sweep(spec: str | os.PathLike | Mapping[str, Any], jobs: int | None = None,
           progress: Any = None):
     """Runs a parameter study (``telescopic sweep``) and returns a pandas DataFrame with the
     result file's columns, one row per run.
 
     ``spec`` is a sweep file or a dict of its keys, e.g.
-    ``{"scene": "scenes/case-study.toml", "grid": {"contact.clearance": [0.005, 0.01]}}``.
+    ``{"scene": "scenes/case-study.toml", "grid": {"contact.clearance": [0.005, 0.01]}}``
+    (a relative scene is taken from the current directory).
     Runs on ``jobs`` threads (default: every core). Ctrl-C stops between runs and raises
     ``KeyboardInterrupt``; no file is left.
     """
     import pandas as pd
 
+    # a dict goes to the library as values; the result file is a temporary one
+    if not isinstance(spec, Mapping):
+        spec = os.fspath(spec)
     with tempfile.TemporaryDirectory(prefix="telescopic-sweep-") as directory:
-        if isinstance(spec, Mapping):
-            path = _sweep_file(spec, directory)
-        else:
-            path = os.fspath(spec)
         out = os.path.join(directory, "result.csv")
-        columns, rows = _telescopic.sweep(path, out, jobs=jobs, progress=_progress(progress))
+        columns, rows = _telescopic.sweep(spec, out, jobs=jobs, progress=_progress(progress))
     return pd.read_csv(io.StringIO("\n".join([columns, *rows])))
 
 

@@ -142,7 +142,7 @@ def check_controller(text: str) -> str:
     """The controller JSON, checked."""
 
 def sweep(
-    path: str | PathLike[str], out: str | PathLike[str], jobs: int | None = None,
+    spec: str | PathLike[str] | Mapping[str, Any], out: str | PathLike[str], jobs: int | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> tuple[str, list[str]]:
     """The result's column line and rows."""

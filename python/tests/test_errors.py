@@ -256,7 +256,20 @@ def test_scene_text_is_capped_and_a_long_line_is_not_quoted_whole():
 def test_a_scene_pickles():
     import pickle
 
-    scene = telescopic.Scene.load("scenes/case-study.toml", set={"contact.clearance": 0.004})
+    # a float, a list, a string and an inline table, each kept as the value it is
+    scene = telescopic.Scene.load("scenes/case-study.toml", set={
+        "contact.clearance": 0.004,
+        "sections.length": [1.35, 1.2],
+        "gravity.force_flow": "none",
+        "drive.force": {"kind": "constant", "value": 50.0},
+    })
+    import tomllib
+
+    written = tomllib.loads(scene.to_toml())
+    assert written["contact"]["clearance"] == 0.004
+    assert written["sections"]["length"] == [1.35, 1.2]
+    assert written["gravity"]["force_flow"] == "none"
+    assert written["drive"]["force"]["value"] == 50.0
     back = pickle.loads(pickle.dumps(scene))
     assert back.to_toml() == scene.to_toml()
     assert back.overrides == scene.overrides and back.path == scene.path

@@ -51,6 +51,32 @@ pub struct Grid {
 }
 
 impl Grid {
+    /// `count` evenly spaced values of the position `name` (`a2`, `a3`, ...) from `from` to
+    /// `to` (m).
+    ///
+    /// # Errors
+    /// A message naming the bad part: a name that is no position, a bound that is not
+    /// finite, a count outside 2 to [`MAX_GRID_POINTS`].
+    pub fn new(name: &str, from: f64, to: f64, count: usize) -> std::result::Result<Self, String> {
+        let section = position_name(name)?;
+        for bound in [from, to] {
+            if !bound.is_finite() {
+                return Err(format!("`{bound}` is not a finite number of metres"));
+            }
+        }
+        if !(2..=MAX_GRID_POINTS).contains(&count) {
+            return Err(format!(
+                "COUNT must be 2 to {MAX_GRID_POINTS} (got `{count}`)"
+            ));
+        }
+        Ok(Grid {
+            section,
+            from,
+            to,
+            count,
+        })
+    }
+
     /// The grid's values (m).
     pub fn values(&self) -> Vec<f64> {
         (0..self.count)
@@ -75,7 +101,6 @@ impl FromStr for Grid {
     fn from_str(s: &str) -> std::result::Result<Self, String> {
         let usage = "expected a<k>=FROM:TO:COUNT, e.g. a2=0.35:1.15:9";
         let (name, range) = s.split_once('=').ok_or(usage)?;
-        let section = position_name(name)?;
         let parts: Vec<&str> = range.split(':').collect();
         let [from, to, count] = parts.as_slice() else {
             return Err(usage.to_string());
@@ -83,22 +108,13 @@ impl FromStr for Grid {
         let number = |v: &str| {
             v.trim()
                 .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| format!("`{v}` is not a finite number of metres"))
+                .map_err(|_| format!("`{v}` is not a finite number of metres"))
         };
         let count = count
             .trim()
             .parse::<usize>()
-            .ok()
-            .filter(|c| (2..=MAX_GRID_POINTS).contains(c))
-            .ok_or_else(|| format!("COUNT must be 2 to {MAX_GRID_POINTS} (got `{count}`)"))?;
-        Ok(Grid {
-            section,
-            from: number(from)?,
-            to: number(to)?,
-            count,
-        })
+            .map_err(|_| format!("COUNT must be 2 to {MAX_GRID_POINTS} (got `{count}`)"))?;
+        Grid::new(name, number(from)?, number(to)?, count)
     }
 }
 

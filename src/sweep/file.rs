@@ -13,6 +13,7 @@ use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use telescopic_runtime::Scene;
 use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
+use telescopic_runtime::scene::{SceneEdit, value_text};
 
 /// Most runs of one sweep.
 pub const MAX_RUNS: usize = 10_000_000;
@@ -77,8 +78,8 @@ pub struct Sweep {
     pub scene_path: PathBuf,
     /// The base scene, parsed, before any override.
     base: toml::Table,
-    /// Overrides of every run.
-    pub set: Vec<String>,
+    /// Edits of every run (`set`): scene values and run settings (`dt=5e-5`) alike.
+    pub set: Vec<SceneEdit>,
     /// The column keys: grid keys (sorted), then those of the explicit runs, then the
     /// sampled ones.
     pub keys: Vec<String>,
@@ -93,22 +94,6 @@ pub struct Sweep {
 
 fn invalid(path: &Path, what: String) -> Error {
     Error::input("sweep file", format!("{}: {what}", path.display()))
-}
-
-/// A value as TOML text, floats short (`0.005`, `10.0`, `8.3e-11`, `1e15`) and still floats.
-pub fn value_text(value: &toml::Value) -> String {
-    match value {
-        toml::Value::Float(f) if f.is_finite() && *f != 0.0 && !(1e-4..1e7).contains(&f.abs()) => {
-            format!("{f:e}")
-        }
-        toml::Value::Float(f) if f.is_finite() => format!("{f:?}"),
-        v => v.to_string(),
-    }
-}
-
-/// A value as `--set` reads it.
-pub fn override_text(key: &str, value: &toml::Value) -> String {
-    format!("{key}={}", value_text(value))
 }
 
 impl Sweep {
@@ -127,8 +112,30 @@ impl Sweep {
     /// # Errors
     /// As [`Sweep::load`].
     pub fn load_within(path: &Path, memory_budget: u64) -> Result<Self> {
-        let (text, spec) = read_spec(path)?;
+        let text = read_text(path, MAX_TEXT_INPUT_BYTES)
+            .map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e| invalid(path, format!("not valid TOML: {e}")))?;
+        Self::from_table(table, path, memory_budget)
+    }
+
+    /// A sweep from its keys as a parsed table (what a sweep file holds; Python's dict),
+    /// validated as [`Sweep::load`] does. `path` names it in messages, and a relative
+    /// `scene` is taken from its directory.
+    ///
+    /// # Errors
+    /// As [`Sweep::load`].
+    pub fn from_table(table: toml::Table, path: &Path, memory_budget: u64) -> Result<Self> {
+        let hash_text = toml::to_string(&table).unwrap_or_default();
+        let spec: SweepSpec = serde_path_to_error::deserialize(toml::Value::Table(table))
+            .map_err(|e| invalid(path, format!("field `{}`: {}", e.path(), e.inner())))?;
         check_memory(path, &spec, memory_budget)?;
+        let set = spec
+            .set
+            .iter()
+            .map(|entry| SceneEdit::parse(entry).map_err(|e| Error::input("`set`", e.to_string())))
+            .collect::<Result<Vec<_>>>()?;
         let (scene_path, scene_text, base) = read_base_scene(path, &spec)?;
         let mut keys: Vec<String> = Vec::new();
         let mut runs: Vec<Run> = Vec::new();
@@ -142,20 +149,9 @@ impl Sweep {
         for run in &mut runs {
             run.values.resize(keys.len(), None);
         }
-        if runs.is_empty() {
-            return Err(invalid(
-                path,
-                "no runs: give [grid], [[runs]] or [latin]".into(),
-            ));
-        }
-        if runs.len() > MAX_RUNS {
-            return Err(invalid(
-                path,
-                format!("{} runs, more than {MAX_RUNS}", runs.len()),
-            ));
-        }
+        check_run_count(path, runs.len())?;
         let mut hasher = Sha256::new();
-        hasher.update(text.as_bytes());
+        hasher.update(hash_text.as_bytes());
         hasher.update([0u8]);
         hasher.update(scene_text.as_bytes());
         let digest = hasher.finalize();
@@ -164,7 +160,7 @@ impl Sweep {
             path: path.to_owned(),
             scene_path,
             base,
-            set: spec.set,
+            set,
             keys,
             runs,
             hash,
@@ -179,23 +175,15 @@ impl Sweep {
     /// # Errors
     /// [`Error::Scene`] or [`Error::Input`] for the run's values.
     pub fn scene_of(&self, run: &Run) -> Result<(Scene, SimulationOptions)> {
-        let mut overrides = Vec::with_capacity(self.set.len() + self.keys.len());
+        let mut edits = Vec::with_capacity(self.set.len() + self.keys.len());
         let mut options = SimulationOptions::default();
-        // `set` holds scene overrides and run settings (`dt=5e-5`) alike
+        // `set` holds scene edits and run settings (`dt=5e-5`) alike
         let mut settings: Vec<(String, toml::Value)> = Vec::new();
-        for entry in &self.set {
-            match entry.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
-                Some((key, value)) if RUN_KEYS.contains(&key) => {
-                    let value: toml::Value = format!("v = {value}")
-                        .parse::<toml::Table>()
-                        .ok()
-                        .and_then(|mut t| t.remove("v"))
-                        .ok_or_else(|| {
-                            Error::input("`set`", format!("{entry:?}: the value is not TOML"))
-                        })?;
-                    settings.push((key.to_string(), value));
-                }
-                _ => overrides.push(entry.clone()),
+        for edit in &self.set {
+            if RUN_KEYS.contains(&edit.key.as_str()) {
+                settings.push((edit.key.clone(), edit.value.clone()));
+            } else {
+                edits.push(edit.clone());
             }
         }
         let run_values = self
@@ -221,10 +209,10 @@ impl Sweep {
                         _ => options.dt = Some(v),
                     }
                 }
-                _ => overrides.push(override_text(key, value)),
+                _ => edits.push(SceneEdit::new(key.as_str(), value.clone())),
             }
         }
-        let scene = Scene::from_table(self.base.clone(), &self.scene_path, &overrides)?;
+        let scene = Scene::from_table_edited(self.base.clone(), &self.scene_path, &edits)?;
         Ok((scene, options))
     }
 
@@ -377,7 +365,10 @@ impl Sweep {
             .keys
             .iter()
             .zip(&run.values)
-            .filter_map(|(k, v)| v.as_ref().map(|v| override_text(k, v)))
+            .filter_map(|(k, v)| {
+                v.as_ref()
+                    .map(|v| SceneEdit::new(k.as_str(), v.clone()).to_string())
+            })
             .collect();
         if parts.is_empty() {
             "the base scene".into()
@@ -434,17 +425,18 @@ fn check_memory(path: &Path, spec: &SweepSpec, budget: u64) -> Result<()> {
     )
 }
 
-/// The sweep file's text and its parsed fields.
-fn read_spec(path: &Path) -> Result<(String, SweepSpec)> {
-    let text = read_text(path, MAX_TEXT_INPUT_BYTES)
-        .map_err(|e| invalid(path, format!("cannot be read: {e}")))?;
-    let spec: SweepSpec = {
-        let de = toml::Deserializer::parse(&text)
-            .map_err(|e| invalid(path, format!("not valid TOML: {e}")))?;
-        serde_path_to_error::deserialize(de)
-            .map_err(|e| invalid(path, format!("field `{}`: {}", e.path(), e.inner())))?
-    };
-    Ok((text, spec))
+/// Refuses a sweep without runs or with more than [`MAX_RUNS`].
+fn check_run_count(path: &Path, runs: usize) -> Result<()> {
+    if runs == 0 {
+        return Err(invalid(
+            path,
+            "no runs: give [grid], [[runs]] or [latin]".into(),
+        ));
+    }
+    if runs > MAX_RUNS {
+        return Err(invalid(path, format!("{runs} runs, more than {MAX_RUNS}")));
+    }
+    Ok(())
 }
 
 /// The base scene named by the sweep file: its path, text and TOML table.
@@ -615,34 +607,4 @@ fn latin_runs(
         });
     }
     Ok(sampled)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn value_text_reads_back_as_the_same_value() {
-        for f in [
-            0.0,
-            0.005,
-            10.0,
-            17.897,
-            1e-4,
-            9.99e6,
-            1e7,
-            8.3e-11,
-            1e15,
-            1e300,
-            5e-324,
-            -1.0 / 3.0,
-        ] {
-            let text = value_text(&toml::Value::Float(f));
-            let back: toml::Table = format!("x = {text}").parse().unwrap();
-            assert_eq!(back["x"], toml::Value::Float(f), "{f} written as {text}");
-        }
-        assert_eq!(value_text(&toml::Value::Float(0.005)), "0.005");
-        assert_eq!(value_text(&toml::Value::Float(1e15)), "1e15");
-        assert_eq!(value_text(&toml::Value::String("rk4".into())), "\"rk4\"");
-    }
 }

@@ -29,10 +29,11 @@ mod table;
 
 #[cfg(feature = "plot")]
 pub use chart::{SweepChart, chart};
-pub use file::{MAX_RUNS, RUN_KEYS, Run, Sweep, override_text, value_text};
+pub use file::{MAX_RUNS, RUN_KEYS, Run, Sweep};
 pub use merge::merge_shards;
 pub use run::{
     MAX_JOBS, SweepOptions, SweepOutcome, check_jobs, discard_sweep, partial_path, run_sweep,
 };
 pub use shard::Shard;
 pub use table::{MAX_RESULT_BYTES, METRIC_COLUMNS, STATUSES, SweepTable, read_table, split_csv};
+pub use telescopic_runtime::scene::value_text;

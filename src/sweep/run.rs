@@ -229,7 +229,7 @@ fn row(sweep: &Sweep, run: &Run, gate: &MemoryGate) -> (String, bool) {
     let mut cells = vec![run.index.to_string()];
     cells.extend(run.values.iter().map(|v| match v {
         Some(toml::Value::String(s)) => csv_text(s),
-        Some(v) => csv_text(&super::file::value_text(v)),
+        Some(v) => csv_text(&telescopic_runtime::scene::value_text(v)),
         None => String::new(),
     }));
     let failed = outcome.is_err();

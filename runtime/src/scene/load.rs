@@ -1,9 +1,10 @@
-//! Building a [`Scene`]: from a file, TOML text or a parsed table with `--set` overrides,
+//! Building a [`Scene`]: from a file, TOML text or a parsed table with `--set` overrides or
+//! typed edits ([`SceneEdit`]),
 //! from a typed scene file, or from another scene with typed edits of its values.
 
 use super::error::{SceneError, clipped_lines};
 use super::keys::SceneKey;
-use super::overrides::apply_override;
+use super::overrides::SceneEdit;
 use super::schema::SceneFile;
 use super::validate;
 use super::validated::Scene;
@@ -35,6 +36,22 @@ impl Scene {
         path: &Path,
         overrides: &[String],
     ) -> Result<Self, SceneError> {
+        let edits = overrides
+            .iter()
+            .map(|o| SceneEdit::parse(o))
+            .collect::<Result<Vec<_>, _>>()?;
+        Self::from_toml_edited(text, path, &edits)
+    }
+
+    /// As [`Scene::from_toml_str`], with typed edits.
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the field and the rule for every problem found.
+    pub fn from_toml_edited(
+        text: &str,
+        path: &Path,
+        edits: &[SceneEdit],
+    ) -> Result<Self, SceneError> {
         if text.len() as u64 > crate::input::MAX_TEXT_INPUT_BYTES {
             return Err(SceneError::Io {
                 path: path.to_owned(),
@@ -51,30 +68,43 @@ impl Scene {
                 path: path.to_owned(),
                 message: clipped_lines(&e.to_string()),
             })?;
-        Self::from_table(table, path, overrides)
+        Self::from_table_edited(table, path, edits)
     }
 
-    /// As [`Scene::from_toml_str`], from a parsed TOML table (a sweep applies its overrides to
-    /// one parsed scene many times).
+    /// As [`Scene::from_toml_str`], from a parsed TOML table.
     ///
     /// # Errors
     /// [`SceneError`] naming the field and the rule for every problem found.
     pub fn from_table(
-        mut table: toml::Table,
+        table: toml::Table,
         path: &Path,
         overrides: &[String],
     ) -> Result<Self, SceneError> {
-        for o in overrides {
-            apply_override(&mut table, o)?;
+        let edits = overrides
+            .iter()
+            .map(|o| SceneEdit::parse(o))
+            .collect::<Result<Vec<_>, _>>()?;
+        Self::from_table_edited(table, path, &edits)
+    }
+
+    /// A scene from a parsed TOML table with typed edits applied in order (a sweep edits one
+    /// parsed scene many times; Python's `set=` gives values, not text).
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the field and the rule for every problem found.
+    pub fn from_table_edited(
+        mut table: toml::Table,
+        path: &Path,
+        edits: &[SceneEdit],
+    ) -> Result<Self, SceneError> {
+        for edit in edits {
+            edit.apply(&mut table)?;
         }
-        let origin = if overrides.is_empty() {
+        let origin = if edits.is_empty() {
             path.display().to_string()
         } else {
-            format!(
-                "{} (with overrides {})",
-                path.display(),
-                overrides.join(", ")
-            )
+            let edits: Vec<String> = edits.iter().map(SceneEdit::to_string).collect();
+            format!("{} (with overrides {})", path.display(), edits.join(", "))
         };
         let file: SceneFile =
             serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {

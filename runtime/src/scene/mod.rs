@@ -13,7 +13,7 @@ mod validated;
 
 pub use error::{FieldError, SceneError};
 pub use keys::{KEYS, KeyField, SceneKey};
-pub use overrides::apply_override;
+pub use overrides::{SceneEdit, value_text};
 pub use schema::SceneFile;
 pub use validate::profile_errors;
 pub use validated::{Scene, TimeSpan};
