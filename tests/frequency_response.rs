@@ -6,6 +6,7 @@ mod common;
 
 use telescopic::linear::LinearizeOptions;
 use telescopic::linear::bode::{BodeOptions, frequency_response};
+use telescopic::runtime::LinearInput;
 use telescopic::{Error, Scene};
 
 /// A single section held at its foot (a prescribed motion at rest), lightly damped.
@@ -21,7 +22,7 @@ fn held_cantilever() -> Scene {
 fn a_tip_force_bends_the_held_cantilever_by_f_l3_over_3ei_at_low_frequency() {
     let scene = held_cantilever();
     let options = BodeOptions {
-        inputs: vec!["F_load".into()],
+        inputs: vec![LinearInput::LoadForce],
         outputs: vec!["tip_rel".into(), "kappa_1_0".into()],
         from_hz: Some(1e-4),
         to_hz: Some(100.0),
@@ -107,7 +108,8 @@ fn the_csv_has_a_magnitude_and_a_phase_column_per_output_and_bad_requests_are_re
         ),
         (
             BodeOptions {
-                inputs: vec!["G".into()],
+                // the scene is force-driven: it has no acceleration input
+                inputs: vec![LinearInput::VehicleAcceleration],
                 ..BodeOptions::default()
             },
             "BodeOptions::inputs",

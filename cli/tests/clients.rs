@@ -17,8 +17,8 @@ use std::process::Command;
 use telescopic::Scene;
 use telescopic::control::{DesignOptions, design};
 use telescopic::linear::{Format, LinearExport, LinearizeOptions, linearize};
-use telescopic::runtime::eigenvalues;
 use telescopic::runtime::nalgebra::{Complex, DMatrix};
+use telescopic::runtime::{LinearInput, eigenvalues};
 
 /// The frequencies (rad/s) the responses are compared at.
 const FREQUENCIES: [f64; 5] = [0.5, 3.0, 30.0, 300.0, 3000.0];
@@ -433,7 +433,7 @@ fn bode_equals_python_control_and_the_discrete_model_equals_scipys_cont2discrete
             ..linear.clone()
         },
         outputs: vec!["tip_rel".into(), "kappa_1_0".into(), "acc_load".into()],
-        inputs: vec!["F".into(), "F_load".into()],
+        inputs: vec![LinearInput::DriveForce, LinearInput::LoadForce],
         ..BodeOptions::default()
     };
     let ours = frequency_response(&scene, &options).unwrap();

@@ -4,6 +4,7 @@
 //! `offset(k) + i - 1`. In the computing coordinates of [`crate::model`], index 0 is the
 //! vehicle position and the rest keep their place.
 
+use crate::output::Output;
 /// One contact point: overlap `k` (the inner section, `2..=n`) and point `j` (`0..n_c`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactPoint {
@@ -110,23 +111,27 @@ impl Layout {
     /// and `f_k_j` for every contact, then `drive_force` when the vehicle motion is
     /// prescribed.
     pub fn output_names(&self, prescribed_motion: bool) -> Vec<String> {
-        let mut names = vec![
-            "vehicle".to_string(),
-            "tip_rel".to_string(),
-            "top1_rel".to_string(),
-        ];
-        names.extend(
-            self.contacts()
-                .map(|c| format!("xi_{}_{}", c.overlap, c.point)),
-        );
-        names.extend(
-            self.contacts()
-                .map(|c| format!("f_{}_{}", c.overlap, c.point)),
-        );
+        self.outputs(prescribed_motion)
+            .iter()
+            .map(Output::to_string)
+            .collect()
+    }
+
+    /// The outputs of a run of this layout, in the order of [`Layout::output_names`].
+    pub fn outputs(&self, prescribed_motion: bool) -> Vec<Output> {
+        let mut outputs = vec![Output::Vehicle, Output::TipRel, Output::TopRel(1)];
+        outputs.extend(self.contacts().map(|c| Output::Gap {
+            overlap: c.overlap,
+            point: c.point,
+        }));
+        outputs.extend(self.contacts().map(|c| Output::ContactForce {
+            overlap: c.overlap,
+            point: c.point,
+        }));
         if prescribed_motion {
-            names.push("drive_force".to_string());
+            outputs.push(Output::DriveForce);
         }
-        names
+        outputs
     }
 }
 

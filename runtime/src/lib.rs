@@ -36,6 +36,7 @@ pub mod layout;
 pub mod linear;
 mod mass_solve;
 pub mod model;
+pub mod output;
 pub mod params;
 pub mod profile;
 pub mod quadrature;
@@ -69,6 +70,7 @@ pub use model::{Model, mechanical_energy, rest_state};
 /// The linear-algebra crate of the [`Model`] interface, re-exported so that generated modules
 /// and downstream crates use the same version.
 pub use nalgebra;
+pub use output::{LinearInput, Output, Sensor};
 pub use params::{Basis, Drive, ForceFlow, ModelParams, SectionParams};
 pub use profile::{
     Phases, PositionSchedule, Profile, ReachedLimits, SCurve, ShapedProfile, ShapedSetpoint,

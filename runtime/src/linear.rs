@@ -31,6 +31,7 @@
 
 use crate::eigen::EigenError;
 use crate::model::Model;
+use crate::output::{LinearInput, Output};
 use crate::params::Drive;
 use crate::sensors::{SENSOR_OUTPUTS, Sensors};
 use nalgebra::DMatrix;
@@ -176,21 +177,20 @@ impl<'m> Lpv<'m> {
         let layout = model.layout();
         let rigid_rows = rigid_rows(model);
         let states = state_signals(layout.modes());
-        let inputs = vec![if motion.is_some() {
-            signal(
-                "a_vehicle".into(),
-                "m/s^2",
-                "prescribed vehicle acceleration".into(),
-            )
+        let inputs = vec![input_signal(if motion.is_some() {
+            LinearInput::VehicleAcceleration
         } else {
-            signal("F".into(), "N", "drive force on the vehicle".into())
-        }];
+            LinearInput::DriveForce
+        })];
         // the contact forces only with closed contacts, no drive_force (the input)
         let outputs = layout
             .output_names(false)
             .iter()
             .map(String::as_str)
-            .filter(|name| contacts == ContactMode::Closed || !name.starts_with("f_"))
+            .filter(|name| {
+                contacts == ContactMode::Closed
+                    || !Output::parse(name).is_some_and(|o| o.is_contact_force())
+            })
             .chain(SENSOR_OUTPUTS)
             .map(output_signal)
             .collect();
@@ -214,11 +214,7 @@ impl<'m> Lpv<'m> {
     pub fn with_disturbance(mut self) -> Self {
         if !self.disturbance {
             self.disturbance = true;
-            self.inputs.push(signal(
-                "F_load".into(),
-                "N",
-                "horizontal disturbance force on the load at the top of section n".into(),
-            ));
+            self.inputs.push(input_signal(LinearInput::LoadForce));
         }
         self
     }
@@ -481,43 +477,22 @@ fn rigid_rows(model: &dyn Model) -> DMatrix<f64> {
     rigid_rows
 }
 
+/// The signal of a linear model's input.
+fn input_signal(input: LinearInput) -> Signal {
+    signal(
+        input.name().into(),
+        input.unit(),
+        input.description().into(),
+    )
+}
+
 /// The unit and description of an output of a run or a linear model, by its name
-/// (docs/model.md section 5): `vehicle`, `tip_rel`, `top1_rel`, `xi_k_j`, `f_k_j`,
-/// `drive_force`, `kappa_1_0`, `acc_load`.
+/// ([`Output`]); a name that is no output has no unit and itself as description.
 pub fn output_signal(name: &str) -> Signal {
-    let contact = |kj: &str| match kj.split_once('_') {
-        Some((k, j)) => format!("contact {j} of overlap {k}"),
-        None => format!("contact {kj}"),
-    };
-    let (unit, description) = match name {
-        "vehicle" => ("m", "vehicle position w_1(0,t)".to_string()),
-        "tip_rel" => (
-            "m",
-            "load relative to the foot, w_n(l_n,t) - w_1(0,t)".to_string(),
-        ),
-        "top1_rel" => (
-            "m",
-            "top of section 1 relative to the foot, w_1(l_1,t) - w_1(0,t)".to_string(),
-        ),
-        "drive_force" => (
-            "N",
-            "force the prescribed motion takes (the drive's reaction)".into(),
-        ),
-        "kappa_1_0" => (
-            "1/m",
-            "bending curvature of section 1 at its foot, w_1''(0,t) (a strain gauge reads it \
-             times half the section's height)"
-                .to_string(),
-        ),
-        "acc_load" => (
-            "m/s^2",
-            "absolute horizontal acceleration of the load, d^2/dt^2 w_n(l_n,t)".to_string(),
-        ),
-        n if n.starts_with("xi_") => ("m", format!("gap at {}", contact(&n[3..]))),
-        n if n.starts_with("f_") => ("N", format!("force at {}", contact(&n[2..]))),
-        n => ("", n.to_string()),
-    };
-    signal(name.to_string(), unit, description)
+    match Output::parse(name) {
+        Some(output) => signal(name.to_string(), output.unit(), output.description()),
+        None => signal(name.to_string(), "", name.to_string()),
+    }
 }
 
 /// The name of generalized coordinate `i` of section `k` (both 1-based): `u` (the vehicle),

@@ -4,9 +4,13 @@
 //! tip accelerometer reads).
 
 use crate::model::Model;
+use crate::output::Sensor;
 
-/// Names of the sensor outputs appended to every run's outputs, in order.
-pub const SENSOR_OUTPUTS: [&str; 2] = ["kappa_1_0", "acc_load"];
+/// Names of the sensor outputs appended to every run's outputs, in order ([`Sensor::ALL`]).
+pub const SENSOR_OUTPUTS: [&str; 2] = [
+    Sensor::FootCurvature.name(),
+    Sensor::LoadAcceleration.name(),
+];
 
 /// The row `r` with `w_n(l_n) = r . z` (m per unit of each coordinate): the absolute
 /// transverse position of the load at the top of the last section. `model` may wrap the

@@ -457,3 +457,43 @@ fn derived_section_properties_must_exist_in_double_precision() {
         "= 0)",
     );
 }
+
+#[test]
+fn figures_name_outputs_each_once() {
+    let s = load(&[
+        "figures.panels=[\"tip_rel\", \"xi_2_1\"]",
+        "figures.paper={ tip_rel = \"Fig. 9\" }",
+    ])
+    .unwrap();
+    let panels = s.figures.panels.as_deref().unwrap();
+    assert_eq!(
+        panels,
+        [
+            telescopic_runtime::Output::TipRel,
+            telescopic_runtime::Output::Gap {
+                overlap: 2,
+                point: 1
+            }
+        ]
+    );
+    assert_eq!(
+        s.figures.paper_figure(telescopic_runtime::Output::TipRel),
+        Some("Fig. 9")
+    );
+    rejects(
+        &["figures.panels=[\"tip\"]"],
+        "figures.panels[0]",
+        "no output of a run",
+    );
+    rejects(
+        &["figures.panels=[\"vehicle\", \"vehicle\"]"],
+        "figures.panels[1]",
+        "names an output twice",
+    );
+    rejects(
+        &["figures.paper={ top9 = \"Fig. 1\" }"],
+        "figures.paper.top9",
+        "no output",
+    );
+    rejects(&["figures.colour=1"], "colour", "unknown field");
+}

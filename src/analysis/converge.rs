@@ -20,6 +20,7 @@ use crate::run::PreparedRun;
 use crate::run::models::ChosenModel;
 use crate::{Error, Result};
 use std::io::Write;
+use telescopic_runtime::Output;
 use telescopic_runtime::scene::limits::MAX_CONTACT_POINTS;
 use telescopic_runtime::{MAX_MODES, Scene, Settings, auto_method, modal_analysis};
 
@@ -152,7 +153,9 @@ fn trial(
         })
     })?;
     let traj = run.integrate(reporter).map_err(in_trial)?;
-    let tip = traj.column("tip_rel").expect("every model has tip_rel");
+    let tip = traj
+        .column_of(Output::TipRel)
+        .expect("every model has tip_rel");
     let (tip_peak, tip_rms) = peak_and_rms(&tip);
     Ok(Trial {
         modes,

@@ -2,6 +2,7 @@
 //! the convergence trials: peak and RMS, the drive's stop, the residual vibration after it.
 
 use crate::run::Trajectory;
+use telescopic_runtime::Output;
 use telescopic_runtime::Scene;
 
 /// Largest magnitude and root mean square of `values` (both 0 for none).
@@ -53,7 +54,7 @@ pub const SETTLING_BAND: f64 = 0.005;
 /// `drive_force` column when the run has one, else the scene's drive profile.
 pub fn metrics(scene: &Scene, trajectory: &Trajectory, window_start: f64) -> RunMetrics {
     let t = trajectory.column("t").expect("t");
-    let tip = trajectory.column("tip_rel").expect("tip_rel");
+    let tip = trajectory.column_of(Output::TipRel).expect("tip_rel");
     let window: Vec<f64> = t
         .iter()
         .zip(&tip)
@@ -62,7 +63,7 @@ pub fn metrics(scene: &Scene, trajectory: &Trajectory, window_start: f64) -> Run
         .collect();
     let mean = window.iter().sum::<f64>() / window.len().max(1) as f64;
     let var = window.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / window.len().max(1) as f64;
-    let peak_force = match trajectory.column("drive_force") {
+    let peak_force = match trajectory.column_of(Output::DriveForce) {
         Some(f) => f.iter().fold(0.0f64, |m, v| m.max(v.abs())),
         None => t
             .iter()
@@ -92,7 +93,7 @@ pub fn metrics(scene: &Scene, trajectory: &Trajectory, window_start: f64) -> Run
         window_switches: window_switches(scene, trajectory, window_start),
         peak_force,
         final_vehicle: trajectory
-            .column("vehicle")
+            .column_of(Output::Vehicle)
             .and_then(|v| v.last().copied())
             .unwrap_or(0.0),
     }

@@ -18,6 +18,7 @@ use crate::run::error_budget::{Window, WindowEnd, window};
 use crate::run::{MethodChoice, SimulationOptions, Trajectory};
 use crate::{Error, Result};
 use std::io::Write;
+use telescopic_runtime::Output;
 use telescopic_runtime::{Method, Scene};
 
 pub use crate::run::sized::ModelSize;
@@ -237,8 +238,8 @@ fn measure(
 /// `beams`.
 fn errors(run: &Trajectory, beams: &Trajectory, window: Window) -> (f64, f64) {
     let (a, b) = (
-        run.column("tip_rel").expect("tip_rel"),
-        beams.column("tip_rel").expect("tip_rel"),
+        run.column_of(Output::TipRel).expect("tip_rel"),
+        beams.column_of(Output::TipRel).expect("tip_rel"),
     );
     let t = run.column("t").expect("t");
     let inside = t.iter().take_while(|&&t| t <= window.end).count();

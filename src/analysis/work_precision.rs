@@ -14,6 +14,7 @@ use crate::run::Trajectory;
 use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, Result};
 use std::io::Write;
+use telescopic_runtime::Output;
 use telescopic_runtime::integrate::stability::stability_report;
 use telescopic_runtime::{Method, Model, Scene, Settings, auto_plan};
 
@@ -141,7 +142,7 @@ fn per_second(traj: &Trajectory, col: usize) -> Vec<(f64, f64)> {
 /// The predictability horizon `T_h` (s) of two reference runs: the first sample where their
 /// `tip_rel` differ by more than [`HORIZON_AGREEMENT`], or their last sample.
 pub fn predictability_horizon(a: &Trajectory, b: &Trajectory) -> f64 {
-    let tip = a.index("tip_rel").expect("every model has tip_rel");
+    let tip = a.index_of(Output::TipRel).expect("every model has tip_rel");
     let end = a.rows.last().map_or(0.0, |r| r[0]);
     a.rows
         .iter()
@@ -153,7 +154,9 @@ pub fn predictability_horizon(a: &Trajectory, b: &Trajectory) -> f64 {
 /// The largest relative difference of the per-second peak and RMS of `tip_rel` between `run`
 /// and `reference` (the `statistics_error_rel` of the work-precision table).
 pub fn statistics_error(run: &Trajectory, reference: &Trajectory) -> f64 {
-    let tip = reference.index("tip_rel").expect("every model has tip_rel");
+    let tip = reference
+        .index_of(Output::TipRel)
+        .expect("every model has tip_rel");
     per_second(run, tip)
         .iter()
         .zip(per_second(reference, tip))
@@ -164,7 +167,9 @@ pub fn statistics_error(run: &Trajectory, reference: &Trajectory) -> f64 {
 /// The largest `|tip_rel|` difference (m) of `run` from `reference` up to `horizon` (s): the
 /// `tip_error_horizon_m` of the work-precision table.
 pub fn tip_error_in_horizon(run: &Trajectory, reference: &Trajectory, horizon: f64) -> f64 {
-    let tip = reference.index("tip_rel").expect("every model has tip_rel");
+    let tip = reference
+        .index_of(Output::TipRel)
+        .expect("every model has tip_rel");
     run.rows
         .iter()
         .zip(&reference.rows)
@@ -190,12 +195,10 @@ struct RunErrors {
 
 /// Compares a run with the reference.
 fn measure(run: &Trajectory, reference: &Trajectory, horizon: f64) -> RunErrors {
-    let tip = reference.index("tip_rel").expect("every model has tip_rel");
-    let gap = reference
-        .names
-        .iter()
-        .position(|n| n.starts_with("xi_"))
-        .map(|i| i + 1);
+    let tip = reference
+        .index_of(Output::TipRel)
+        .expect("every model has tip_rel");
+    let gap = reference.gap_columns().first().copied();
     let tip_error = tip_error_in_horizon(run, reference, horizon);
     let mut gap_error = 0.0f64;
     let mut agrees_until = f64::NAN;

@@ -7,6 +7,7 @@ use super::options::AnimationOptions;
 use crate::run::Simulation;
 use crate::{Error, OptionName, Result};
 use serde::Serialize;
+use telescopic_runtime::Output;
 use telescopic_runtime::params::Drive;
 use telescopic_runtime::{Model, Scene};
 
@@ -272,7 +273,7 @@ fn charts(take: &Take) -> [Series; 3] {
             .expect("every run has tip_rel and the vehicle");
         traj.rows.iter().map(|r| (r[0], r[i])).collect::<Vec<_>>()
     };
-    let force = match (traj.index("drive_force"), &take.scene.params.drive) {
+    let force = match (traj.index_of(Output::DriveForce), &take.scene.params.drive) {
         (Some(i), _) => traj.rows.iter().map(|r| (r[0], r[i])).collect(),
         (None, Drive::Force(p)) => traj.rows.iter().map(|r| (r[0], p.value(r[0]))).collect(),
         // a prescribed motion always has its reaction as a column

@@ -29,7 +29,7 @@ use crate::{Error, Result};
 use std::fmt;
 use std::ops::AddAssign;
 use telescopic_runtime::nalgebra::DMatrix;
-use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, modal_analysis_with};
+use telescopic_runtime::{ContactMode, Lpv, ModalAnalysis, Model, Output, modal_analysis_with};
 use telescopic_runtime::{Drive, Profile, Scene, ShapedProfile, configuration_key, eigenvalues};
 
 /// Settings of [`design`]; the defaults are Bryson's rule with the scales below.
@@ -278,7 +278,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     let tip_row = lpv
         .outputs()
         .iter()
-        .position(|s| s.name == "tip_rel")
+        .position(|s| Output::parse(&s.name) == Some(Output::TipRel))
         .expect("tip_rel");
     let mut schedule = Vec::new();
     for (j, positions) in points.iter().enumerate() {

@@ -13,6 +13,7 @@ use super::sampled::SampledController;
 use super::schema::Controller;
 use super::small_dense::{exponential, invert_spd, multiply, multiply_transposed};
 use crate::{Error, Result};
+use telescopic_runtime::{Output, Sensor};
 
 /// Substeps of the prediction's RK4 per controller period: with 20 at 1 kHz the step is
 /// 50 us, `h omega` = 1.1 for the 3.6 kHz contact mode, inside RK4's stability limit of 2.8.
@@ -58,7 +59,12 @@ struct Scratch {
 /// sensors linear in the coordinates.
 pub(crate) fn sampled_of(file: &Controller) -> Result<&super::schema::SampledDesign> {
     let sampled = file.sampled_part()?;
-    if let Some(s) = sampled.sensors.iter().find(|s| s.as_str() == "acc_load") {
+    let load_acceleration = Output::Sensor(Sensor::LoadAcceleration);
+    if let Some(s) = sampled
+        .sensors
+        .iter()
+        .find(|s| Output::parse(s) == Some(load_acceleration))
+    {
         return Err(Error::input(
             "controller `sampled.sensors`",
             format!("the extended filter takes outputs linear in the coordinates, not `{s}`"),

@@ -21,17 +21,21 @@ use crate::OptionName;
 use crate::io::rows::{from_rows, to_rows};
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
-use telescopic_runtime::{ContactMode, Lpv, Model};
+use telescopic_runtime::{ContactMode, Lpv, Model, Output, Sensor};
 
 /// Default controller rate (Hz).
 pub const DEFAULT_RATE_HZ: f64 = 1000.0;
 
-/// Default measurement noise (standard deviation, in the output's unit) of a sensor.
+/// Default measurement noise (standard deviation, in the output's unit) of a sensor reading
+/// the output `sensor` (an output's name).
 pub fn default_noise(sensor: &str) -> f64 {
-    match sensor {
-        "kappa_1_0" => 1e-5, // 1/m: 1 microstrain on a 0.2 m section
-        "acc_load" => 0.01,  // m/s^2: an industrial accelerometer
-        _ => 1e-4,           // m: an incremental encoder, a laser distance sensor
+    match Output::parse(sensor) {
+        // 1/m: 1 microstrain on a 0.2 m section
+        Some(Output::Sensor(Sensor::FootCurvature)) => 1e-5,
+        // m/s^2: an industrial accelerometer
+        Some(Output::Sensor(Sensor::LoadAcceleration)) => 0.01,
+        // m: an incremental encoder, a laser distance sensor
+        _ => 1e-4,
     }
 }
 

@@ -22,7 +22,7 @@ use super::sampled::SampledController;
 use super::schema::{Controller, StrainRateLaw, StrainRatePoint};
 use crate::OptionName;
 use crate::{Error, Result};
-use telescopic_runtime::{ContactMode, Lpv, Model, modal_analysis_with};
+use telescopic_runtime::{ContactMode, Lpv, Model, Sensor, modal_analysis_with};
 
 /// Default damping ratio the strain-rate law adds to the first mode.
 pub const DEFAULT_ADDED_DAMPING: f64 = 0.15;
@@ -34,7 +34,7 @@ pub const VEHICLE_LOOP_DAMPING: f64 = 0.5;
 pub const VEHICLE_LOOP_FRACTION: f64 = 1.0 / 3.0;
 
 /// The sensors the strain-rate law reads.
-pub const STRAIN_RATE_SENSORS: [&str; 2] = ["vehicle", "kappa_1_0"];
+pub const STRAIN_RATE_SENSORS: [&str; 2] = ["vehicle", Sensor::FootCurvature.name()];
 
 /// `tip_rel` per `kappa_1_0` (m^2) in the first elastic mode of the closed-contact linear model
 /// `lpv` of `model` at `positions`, and that mode's frequency (Hz).

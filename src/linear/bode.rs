@@ -24,8 +24,8 @@ use crate::linear::export::LinearExport;
 use crate::linear::{LinearizeOptions, linearize};
 use crate::{Error, Result};
 use std::io::Write;
-use telescopic_runtime::eigenvalues;
 use telescopic_runtime::nalgebra::{Complex, DMatrix};
+use telescopic_runtime::{LinearInput, eigenvalues};
 
 /// Default number of frequencies.
 pub const DEFAULT_POINTS: usize = 400;
@@ -43,7 +43,7 @@ pub struct BodeOptions {
     pub outputs: Vec<String>,
     /// Inputs: the drive (`F`, or `a_vehicle` for a prescribed motion) and/or `F_load`;
     /// default the drive.
-    pub inputs: Vec<String>,
+    pub inputs: Vec<LinearInput>,
     /// Lowest frequency (Hz); default a tenth of the lowest natural frequency.
     pub from_hz: Option<f64>,
     /// Highest frequency (Hz); default 1.5 times the highest natural frequency.
@@ -115,10 +115,11 @@ pub fn frequency_response(
         ));
     }
     let mut linear = options.linear.clone();
-    linear.disturbance = options.inputs.iter().any(|i| i == "F_load");
+    linear.disturbance = options.inputs.contains(&LinearInput::LoadForce);
     let model = linearize(scene, &linear)?;
     let point = &model.points[0];
-    let inputs = pick(&model.inputs, &options.inputs, OptionName::BodeInputs, true)?;
+    let input_names: Vec<String> = options.inputs.iter().map(LinearInput::to_string).collect();
+    let inputs = pick(&model.inputs, &input_names, OptionName::BodeInputs, true)?;
     let outputs = pick(
         &model.outputs,
         &options.outputs,

@@ -16,6 +16,8 @@ use crate::run::Trajectory;
 use crate::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
+use telescopic_runtime::Output;
+use telescopic_runtime::scene::Figures;
 
 /// What a run is in a figure; each role has one colour in every figure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,95 +90,90 @@ struct Panel {
     scale: f64,
 }
 
-/// The scenes whose runs are the paper's figures: their panels name the figure.
-const PAPER_SCENES: [&str; 4] = [
-    "case-study",
-    "case-study-no-clearance",
-    "adams-linear",
-    "adams-clearance",
-];
+/// A panel's title for `output` (the two-section scenes' gaps say which contact).
+fn panel_title(output: Output, two_sections: bool) -> String {
+    match output {
+        Output::Vehicle => "vehicle position".into(),
+        Output::TipRel => "load relative to the foot".into(),
+        Output::TopRel(k) => format!("top of section {k} relative to the foot"),
+        Output::DriveForce => "force of the drive on the vehicle".into(),
+        Output::Gap { point: 0, .. } if two_sections => "gap at the lower contact".into(),
+        Output::Gap { .. } if two_sections => "gap at the upper contact".into(),
+        other => other.description(),
+    }
+}
 
-/// The panels for a scene: `tip_rel` alone for the adams scenes, else the vehicle, `tip_rel`,
-/// `top1_rel` (Figs. 8-10), the drive force when there is one, and the gaps: for two
-/// sections at the lower and the upper contact (Figs. 11, 12), for more a panel of gaps and
-/// one of contact forces per overlap. Titles name the paper's figure only for its scenes.
-fn panels(scene_name: &str, names: &[String]) -> Vec<Panel> {
-    let paper = PAPER_SCENES.contains(&scene_name);
-    let figure = |title: &str, fig: &str| {
-        if paper {
-            format!("{title} ({fig})")
-        } else {
-            title.to_string()
-        }
-    };
-    let panel = |columns: &[&String], axis: String, title: String, scale: f64| Panel {
-        columns: columns.iter().map(|c| c.to_string()).collect(),
-        axis,
-        title,
+/// One output's panel, titled with the paper's figure the scene says it reproduces; gaps in
+/// millimetres.
+fn output_panel(figures: &Figures, output: Output, two_sections: bool) -> Panel {
+    let title = panel_title(output, two_sections);
+    let scale = if output.is_gap() { 1e3 } else { 1.0 };
+    let unit = if output.is_gap() { "mm" } else { output.unit() };
+    Panel {
+        columns: vec![output.to_string()],
+        axis: format!("{output} [{unit}]"),
+        title: match figures.paper_figure(output) {
+            Some(figure) => format!("{title} ({figure})"),
+            None => title,
+        },
         scale,
-    };
-    let own = |name: &str| names.iter().find(|n| *n == name);
-    if scene_name.starts_with("adams") {
-        return own("tip_rel")
-            .map(|c| {
-                let title = figure("load relative to the foot of the telescope", "Figs. 14, 15");
-                panel(&[c], "tip_rel [m]".into(), title, 1.0)
-            })
-            .into_iter()
+    }
+}
+
+/// The panels of a run with outputs `names`: the scene's explicit set (`[figures] panels`,
+/// the outputs the run has), or the standard set: the vehicle, `tip_rel`, `top1_rel`, the
+/// drive force when there is one, and the gaps: for two sections at the lower and the upper
+/// contact, for more a panel of gaps and one of contact forces per overlap. A title names
+/// the paper's figure the scene says its panel reproduces (`[figures] paper`).
+fn panels(figures: &Figures, names: &[String]) -> Vec<Panel> {
+    let outputs: Vec<Output> = names.iter().filter_map(|n| Output::parse(n)).collect();
+    let overlaps: Vec<usize> = (2..)
+        .take_while(|&k| {
+            outputs
+                .iter()
+                .any(|o| matches!(o, Output::Gap { overlap, .. } if *overlap == k))
+        })
+        .collect();
+    let two_sections = overlaps.len() == 1;
+    if let Some(chosen) = &figures.panels {
+        return chosen
+            .iter()
+            .filter(|o| outputs.contains(o))
+            .map(|&o| output_panel(figures, o, two_sections))
             .collect();
     }
-    let mut out = Vec::new();
-    for (column, title, fig) in [
-        ("vehicle", "vehicle position", "Fig. 8"),
-        ("tip_rel", "load relative to the foot", "Fig. 9"),
-        (
-            "top1_rel",
-            "top of section 1 relative to the foot",
-            "Fig. 10",
-        ),
-    ] {
-        if let Some(c) = own(column) {
-            out.push(panel(
-                &[c],
-                format!("{column} [m]"),
-                figure(title, fig),
-                1.0,
-            ));
-        }
-    }
-    if let Some(c) = own("drive_force") {
-        out.push(panel(
-            &[c],
-            "drive_force [N]".into(),
-            "force of the drive on the vehicle".into(),
-            1.0,
-        ));
-    }
-    let overlaps: Vec<usize> = (2..)
-        .take_while(|k| names.iter().any(|n| n.starts_with(&format!("xi_{k}_"))))
-        .collect();
-    if overlaps.len() == 1 {
-        // two sections: the paper's two gap panels
-        let gaps = first_and_last(names, "xi", 2);
-        for (c, (title, fig)) in gaps.iter().zip([
-            ("gap at the lower contact", "Fig. 11"),
-            ("gap at the upper contact", "Fig. 12"),
-        ]) {
-            out.push(panel(&[c], format!("{c} [mm]"), figure(title, fig), 1e3));
-        }
+    let mut out: Vec<Panel> = [
+        Output::Vehicle,
+        Output::TipRel,
+        Output::TopRel(1),
+        Output::DriveForce,
+    ]
+    .into_iter()
+    .filter(|o| outputs.contains(o))
+    .map(|o| output_panel(figures, o, two_sections))
+    .collect();
+    if two_sections {
+        // two sections: a gap panel at the lower and at the upper contact
+        let gaps = first_and_last(&outputs, Output::is_gap, 2);
+        out.extend(gaps.iter().map(|&g| output_panel(figures, g, true)));
         return out;
     }
     for k in overlaps {
-        out.extend(overlap_panels(names, k));
+        out.extend(overlap_panels(&outputs, k));
     }
     out
 }
 
-/// The first and last of the columns `PREFIX_k_j` of overlap `k` (one if there is one).
-fn first_and_last<'a>(names: &'a [String], prefix: &str, k: usize) -> Vec<&'a String> {
-    let all: Vec<&String> = names
+/// The first and last of overlap `k`'s outputs that `which` picks (one if there is one).
+fn first_and_last(outputs: &[Output], which: fn(&Output) -> bool, k: usize) -> Vec<Output> {
+    let all: Vec<Output> = outputs
         .iter()
-        .filter(|n| n.starts_with(&format!("{prefix}_{k}_")))
+        .filter(|o| {
+            which(o)
+                && matches!(o, Output::Gap { overlap, .. } | Output::ContactForce { overlap, .. }
+                    if *overlap == k)
+        })
+        .copied()
         .collect();
     match (all.first(), all.last()) {
         (Some(a), Some(b)) if a != b => vec![*a, *b],
@@ -186,17 +183,17 @@ fn first_and_last<'a>(names: &'a [String], prefix: &str, k: usize) -> Vec<&'a St
 
 /// Overlap `k`'s two panels: the gaps, and the contact forces, at its lower (solid) and upper
 /// (dashed) contact.
-fn overlap_panels(names: &[String], k: usize) -> [Panel; 2] {
-    let gaps = first_and_last(names, "xi", k);
-    let forces = first_and_last(names, "f", k);
-    let listed = |c: &[&String]| {
+fn overlap_panels(outputs: &[Output], k: usize) -> [Panel; 2] {
+    let gaps = first_and_last(outputs, Output::is_gap, k);
+    let forces = first_and_last(outputs, Output::is_contact_force, k);
+    let listed = |c: &[Output]| {
         c.iter()
-            .map(|s| s.as_str())
+            .map(Output::to_string)
             .collect::<Vec<_>>()
             .join(" (solid), ")
     };
-    let panel = |columns: &[&String], axis: &str, title: String, scale: f64| Panel {
-        columns: columns.iter().map(|c| c.to_string()).collect(),
+    let panel = |columns: &[Output], axis: &str, title: String, scale: f64| Panel {
+        columns: columns.iter().map(Output::to_string).collect(),
         axis: axis.into(),
         title,
         scale,
@@ -309,11 +306,11 @@ impl Figure for PaperFigure<'_> {
     }
 }
 
-/// Draws the panels of `curves[0]`'s scene to an SVG or PNG file at `path` (by extension;
-/// written completely or not at all).
-pub fn plot(scene_name: &str, curves: &[Curve], marks: &Marks, path: &Path) -> Result<()> {
+/// Draws the panels `figures` chooses (a scene's `[figures]`) of `curves[0]`'s outputs to an
+/// SVG or PNG file at `path` (by extension; written completely or not at all).
+pub fn plot(figures: &Figures, curves: &[Curve], marks: &Marks, path: &Path) -> Result<()> {
     let figure = PaperFigure {
-        panels: panels(scene_name, &curves[0].traj.names),
+        panels: panels(figures, &curves[0].traj.names),
         curves,
         marks: *marks,
     };
@@ -690,7 +687,8 @@ fn draw_panel<DB: DrawingBackend>(
 ) -> Result<()> {
     let series = panel_series(panel, curves);
     let (t0, t1, mut y0, mut y1) = bounds(&series);
-    let is_gap = panel.columns[0].starts_with("xi_");
+    let first = Output::parse(&panel.columns[0]);
+    let is_gap = first.is_some_and(|o| o.is_gap());
     let band = panel.scale * curves[0].half_band;
     if is_gap {
         y0 = y0.min(-band);
@@ -698,7 +696,7 @@ fn draw_panel<DB: DrawingBackend>(
     }
     let limit = marks
         .force_limit
-        .filter(|_| panel.columns[0] == "drive_force");
+        .filter(|_| first == Some(Output::DriveForce));
     if let Some(l) = limit {
         y0 = y0.min(-l);
         y1 = y1.max(l);

@@ -22,6 +22,7 @@
 use crate::named::named_enum;
 use crate::run::Trajectory;
 use serde::Serialize;
+use telescopic_runtime::Output;
 use telescopic_runtime::{MAX_MODES, ModelParams};
 
 /// The estimate is the difference from the refined model times this factor: when the
@@ -348,7 +349,9 @@ pub fn truncation(
     refined_modes: Vec<usize>,
     window: Window,
 ) -> Truncation {
-    let tip = run.index("tip_rel").expect("every model has tip_rel");
+    let tip = run
+        .index_of(Output::TipRel)
+        .expect("every model has tip_rel");
     // the largest difference of a column up to the window's end; for the outputs other than
     // the tip and the moments strictly before it: the sample at a first switch has a contact
     // force in one run and not in the other, a jump that says when, not how far off
@@ -365,8 +368,10 @@ pub fn truncation(
             .fold(0.0, f64::max)
     };
     let largest_difference = |column: usize| largest_before(column, false);
-    let moments = (0..run.names.len())
-        .filter(|&i| run.names[i].starts_with("moment_"))
+    let moments = run
+        .columns_where(|o| matches!(o, Output::Moment { .. }))
+        .into_iter()
+        .map(|c| c - 1)
         .map(|i| {
             let peak = peak_of(companion, i + 1, |_| true);
             MomentError {
@@ -419,7 +424,9 @@ fn peak_of(run: &Trajectory, column: usize, keep: impl Fn(f64) -> bool) -> f64 {
 /// `companion`'s, times [`TRUNCATION_FACTOR`].
 fn statistics(run: &Trajectory, companion: &Trajectory, from: f64) -> Vec<StatisticError> {
     let after = |t: f64| t > from;
-    let tip = run.index("tip_rel").expect("every model has tip_rel");
+    let tip = run
+        .index_of(Output::TipRel)
+        .expect("every model has tip_rel");
     let rms = |traj: &Trajectory| {
         let (sum, count) = traj
             .rows

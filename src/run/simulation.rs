@@ -7,6 +7,7 @@ use super::trajectory::Trajectory;
 use crate::Result;
 use std::io::Write;
 use std::path::Path;
+use telescopic_runtime::Output;
 use telescopic_runtime::integrate::StepControl;
 
 /// A finished simulation: what ran and every sample.
@@ -70,9 +71,8 @@ impl Simulation {
             Some(envelope) => format!("\n{}", envelope.describe()),
             None if self
                 .trajectory
-                .names
-                .iter()
-                .any(|n| n.starts_with("moment_")) =>
+                .outputs()
+                .any(|(_, o)| matches!(o, Output::Moment { .. })) =>
             {
                 "\nstresses: none (the scene gives neither sections.section_modulus nor \
                  sections.height)"

@@ -19,7 +19,7 @@ use crate::OptionName;
 use crate::run::Trajectory;
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::DVector;
-use telescopic_runtime::{Model, Scene};
+use telescopic_runtime::{Model, Output, Scene};
 
 /// Where a moment is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,19 +57,22 @@ impl Station {
             .collect()
     }
 
-    /// The label `k_x` of the columns (`x` as given, shortest form).
-    fn label(&self) -> String {
-        format!("{}_{}", self.section, self.x)
-    }
-
-    /// The moment column's name, `moment_k_x`.
+    /// The moment column's name, `moment_k_x` (`x` as given, shortest form).
     pub fn moment_name(&self) -> String {
-        format!("moment_{}", self.label())
+        Output::Moment {
+            section: self.section,
+            x: self.x,
+        }
+        .to_string()
     }
 
     /// The stress column's name, `stress_k_x`.
     pub fn stress_name(&self) -> String {
-        format!("stress_{}", self.label())
+        Output::Stress {
+            section: self.section,
+            x: self.x,
+        }
+        .to_string()
     }
 }
 
@@ -344,15 +347,13 @@ impl StressEnvelope {
     /// The envelope of `trajectory`'s `stress_k_x` columns; `None` without them.
     pub fn of(trajectory: &Trajectory) -> Option<StressEnvelope> {
         let mut best: Option<StressEnvelope> = None;
-        for (c, name) in trajectory.names.iter().enumerate() {
-            let Some(label) = name.strip_prefix("stress_") else {
+        for (c, output) in trajectory.outputs() {
+            let Output::Stress { section, x } = output else {
                 continue;
             };
-            let station = Station::parse_list(&label.replacen('_', ":", 1))
-                .ok()?
-                .pop()?;
+            let station = Station { section, x };
             for row in &trajectory.rows {
-                let v = row[c + 1];
+                let v = row[c];
                 if best.is_none_or(|b| v.abs() > b.max_abs_stress) {
                     best = Some(StressEnvelope {
                         max_abs_stress: v.abs(),

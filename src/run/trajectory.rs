@@ -1,7 +1,7 @@
 //! The samples of one run: output names, rows `[t, outputs...]` and the run's statistics.
 
 use std::io::Write;
-use telescopic_runtime::{ContactLaw, RunStats};
+use telescopic_runtime::{ContactLaw, Output, RunStats};
 
 /// The samples of one run: output names and rows `[t, outputs...]`.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,12 +29,36 @@ impl Trajectory {
         Some(self.rows.iter().map(|r| r[i]).collect())
     }
 
-    /// The row indices of the gaps `xi_*`.
-    pub fn gap_columns(&self) -> Vec<usize> {
-        (0..self.names.len())
-            .filter(|&i| self.names[i].starts_with("xi_"))
-            .map(|i| i + 1)
+    /// Index in a row of `output`.
+    pub fn index_of(&self, output: Output) -> Option<usize> {
+        self.outputs().find(|(_, o)| *o == output).map(|(i, _)| i)
+    }
+
+    /// The samples of `output`, in time order.
+    pub fn column_of(&self, output: Output) -> Option<Vec<f64>> {
+        let i = self.index_of(output)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+
+    /// The columns that are outputs ([`Output`]), with their index in a row.
+    pub fn outputs(&self) -> impl Iterator<Item = (usize, Output)> + '_ {
+        self.names
+            .iter()
+            .enumerate()
+            .filter_map(|(i, name)| Output::parse(name).map(|o| (i + 1, o)))
+    }
+
+    /// The row indices of the outputs `which` picks.
+    pub fn columns_where(&self, which: impl Fn(&Output) -> bool) -> Vec<usize> {
+        self.outputs()
+            .filter(|(_, o)| which(o))
+            .map(|(i, _)| i)
             .collect()
+    }
+
+    /// The row indices of the gaps.
+    pub fn gap_columns(&self) -> Vec<usize> {
+        self.columns_where(Output::is_gap)
     }
 
     /// Contact switches between consecutive samples from time `from` (s) on: a gap that is

@@ -16,7 +16,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
-use telescopic_runtime::{SimError, modal_analysis};
+use telescopic_runtime::{Output, SimError, modal_analysis};
 
 use super::table::METRIC_COLUMNS;
 
@@ -183,13 +183,14 @@ fn row(sweep: &Sweep, run: &Run, gate: &MemoryGate) -> (String, bool) {
         let run = PreparedRun::new(&scene, &options, &Silent)?;
         let model = run.model();
         let traj = run.integrate(&Silent)?;
-        let (tip_max, tip_rms) = peak_and_rms(&traj.column("tip_rel").expect("tip_rel"));
+        let tip = traj
+            .column_of(Output::TipRel)
+            .expect("every run has tip_rel");
+        let (tip_max, tip_rms) = peak_and_rms(&tip);
         let force_max = traj
-            .names
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| n.starts_with("f_"))
-            .flat_map(|(i, _)| traj.rows.iter().map(move |r| r[i + 1].abs()))
+            .columns_where(Output::is_contact_force)
+            .into_iter()
+            .flat_map(|i| traj.rows.iter().map(move |r| r[i].abs()))
             .fold(0.0, f64::max);
         let residual = metrics(&scene, &traj, drive_stop(&scene)).residual_std;
         // f1 at the final position; a failure here leaves the run's other figures standing

@@ -7,6 +7,7 @@ use clap::Args;
 use std::path::PathBuf;
 use telescopic::linear::bode::{BodeOptions, DEFAULT_POINTS, frequency_response};
 use telescopic::run::models::ModelChoice;
+use telescopic::runtime::LinearInput;
 
 /// Options of `telescopic bode`.
 #[derive(Debug, Args)]
@@ -26,7 +27,7 @@ pub struct BodeArgs {
     /// Inputs: the drive (F, or a_vehicle for a prescribed motion) and/or F_load, the
     /// disturbance force at the load; default the drive.
     #[arg(long, value_name = "NAMES", value_delimiter = ',')]
-    pub inputs: Vec<String>,
+    pub inputs: Vec<LinearInput>,
     /// Lowest frequency (Hz); default a tenth of the lowest natural frequency.
     #[arg(long, value_name = "HZ")]
     pub from: Option<f64>,

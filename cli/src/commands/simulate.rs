@@ -281,7 +281,7 @@ fn plot_runs(
         },
         None => Marks::default(),
     };
-    plot(&scene.name, &curves, &marks, plot_path)?;
+    plot(&scene.figures, &curves, &marks, plot_path)?;
     eprintln!("wrote {}", plot_path.display());
     Ok(())
 }

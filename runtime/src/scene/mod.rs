@@ -14,6 +14,6 @@ mod validated;
 pub use error::{FieldError, SceneError};
 pub use keys::{KEYS, KeyField, SceneKey};
 pub use overrides::{SceneEdit, value_text};
-pub use schema::SceneFile;
+pub use schema::{FiguresSpec, SceneFile};
 pub use validate::profile_errors;
-pub use validated::{Scene, TimeSpan};
+pub use validated::{Figures, Scene, TimeSpan};

@@ -36,6 +36,23 @@ pub struct SceneFile {
     /// Published values to compare with (printed beside ours by `telescopic modes`).
     #[serde(default)]
     pub reference: Vec<ReferenceSpec>,
+    /// What a run's figure draws.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub figures: Option<FiguresSpec>,
+}
+
+/// `[figures]`: the panels of a run's figure and the paper's figures they reproduce.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FiguresSpec {
+    /// The outputs drawn, one panel each, in order (default: the vehicle, `tip_rel`,
+    /// `top1_rel`, the drive force and the gaps and contact forces).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub panels: Option<Vec<String>>,
+    /// The paper's figure each output's panel reproduces (`tip_rel = "Fig. 9"`), named in
+    /// the panel's title.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub paper: std::collections::BTreeMap<String, String>,
 }
 
 /// `[sections]`: per-section values are one number (shared) or a list (one per section,

@@ -5,8 +5,9 @@ use super::limits::{
     MAX_CONTACT_POINTS, MAX_OUTPUT_VALUES, MAX_SECTIONS, output_columns, sample_count,
 };
 use super::schema::{ContactSpec, DriveSpec, PerSection, SceneFile, SectionsSpec, TimeSpec};
-use super::validated::{Scene, TimeSpan};
+use super::validated::{Figures, Scene, TimeSpan};
 use crate::contact::ContactLaw;
+use crate::output::Output;
 use crate::params::StructuralDamping;
 use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile, ShapedSetpoint};
@@ -261,6 +262,7 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
     }
 
     reference_rules(&mut r, &file);
+    let figures = figure_rules(&mut r, &file);
 
     if !r.errors.is_empty() {
         return Err(SceneError::Invalid {
@@ -303,8 +305,57 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
             sample: t.sample,
         },
         references: file.reference.clone(),
+        figures,
         file,
     })
+}
+
+/// `[figures]` names outputs ([`Output`]), each once, and one-line figure labels.
+fn figure_rules(r: &mut Rules, file: &SceneFile) -> Figures {
+    let Some(spec) = &file.figures else {
+        return Figures::default();
+    };
+    let mut output = |field: String, name: &str| match Output::parse(name) {
+        Some(o) => Some(o),
+        None => {
+            r.fail(
+                &field,
+                format!("`{name}` is no output of a run (docs/scenes.md)"),
+            );
+            None
+        }
+    };
+    let panels = spec.panels.as_ref().map(|names| {
+        names
+            .iter()
+            .enumerate()
+            .filter_map(|(i, name)| output(format!("figures.panels[{i}]"), name))
+            .collect::<Vec<_>>()
+    });
+    let paper: Vec<(Output, String)> = spec
+        .paper
+        .iter()
+        .filter_map(|(name, label)| {
+            output(format!("figures.paper.{name}"), name).map(|o| (o, label.clone()))
+        })
+        .collect();
+    if let Some(panels) = &panels
+        && let Some(i) = (1..panels.len()).find(|&i| panels[..i].contains(&panels[i]))
+    {
+        r.fail(
+            format!("figures.panels[{i}]"),
+            "names an output twice".to_string(),
+        );
+    }
+    for (name, label) in &spec.paper {
+        if label.chars().any(char::is_control) {
+            r.fail(
+                format!("figures.paper.{name}"),
+                "must be one line of text without control characters".to_string(),
+            );
+        }
+    }
+    Figures { panels, paper }
 }
 
 /// A scene's per-section values, each checked (`None` where a rule failed).

@@ -1,6 +1,7 @@
 //! The validated scene: the model parameters, the time span and the file as read.
 
 use super::schema::{ReferenceSpec, SceneFile};
+use crate::output::Output;
 use crate::params::ModelParams;
 
 /// Time span and output sampling of a scene (s).
@@ -27,8 +28,29 @@ pub struct Scene {
     pub time: TimeSpan,
     /// Published frequency columns to compare with.
     pub references: Vec<ReferenceSpec>,
+    /// What a run's figure draws.
+    pub figures: Figures,
     /// The file as read, after overrides (for echoing into outputs).
     pub file: SceneFile,
+}
+
+/// The panels of a run's figure (`[figures]`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Figures {
+    /// The outputs drawn, one panel each; `None`: the standard set.
+    pub panels: Option<Vec<Output>>,
+    /// The paper's figure an output's panel reproduces.
+    pub paper: Vec<(Output, String)>,
+}
+
+impl Figures {
+    /// The paper's figure `output`'s panel reproduces, if any.
+    pub fn paper_figure(&self, output: Output) -> Option<&str> {
+        self.paper
+            .iter()
+            .find(|(o, _)| *o == output)
+            .map(|(_, f)| f.as_str())
+    }
 }
 
 impl Scene {

@@ -7,7 +7,9 @@ use crate::control::sampled::default_noise;
 use crate::control::strain::{STRAIN_RATE_SENSORS, VEHICLE_LOOP_FRACTION, tip_per_curvature};
 use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, OptionName, Result};
-use telescopic_runtime::{ContactMode, Drive, Lpv, Model, ModelParams, Scene, configuration_key};
+use telescopic_runtime::{
+    ContactMode, Drive, Lpv, Model, ModelParams, Output, Scene, Sensor, configuration_key,
+};
 
 /// The washout's time constant in periods of the lowest first mode.
 pub const WASHOUT_PERIODS: f64 = 1.0;
@@ -162,7 +164,7 @@ fn static_curvature(model: &dyn Model, lpv: &Lpv, positions: &[f64]) -> Result<f
     let row = lpv
         .outputs()
         .iter()
-        .position(|o| o.name == "kappa_1_0")
+        .position(|o| Output::parse(&o.name) == Some(Output::Sensor(Sensor::FootCurvature)))
         .ok_or_else(|| Error::Model("the linear model has no output `kappa_1_0`".into()))?;
     Ok((0..r).map(|j| full.c[(row, j + 1)] * p[j]).sum())
 }
