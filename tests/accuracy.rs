@@ -9,7 +9,7 @@ use common::references::{References, scene};
 use telescopic::Silent;
 use telescopic::run::{MethodChoice, MethodReason, SimulationOptions, Trajectory, simulate_scene};
 use telescopic::runtime::Method;
-use telescopic::runtime::accuracy::{MEASURED, SceneKind};
+use telescopic::runtime::analysis::accuracy::{MEASURED, SceneKind};
 
 #[test]
 fn the_defaults_keep_1e_6_m_on_every_shipped_scene() {

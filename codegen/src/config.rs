@@ -3,7 +3,7 @@
 //! cannot disagree.
 
 use serde::{Deserialize, Serialize};
-pub use telescopic_runtime::configuration::{DriveKind, ForceFlow, ModelConfig, Positions};
+pub use telescopic_runtime::model::configuration::{DriveKind, ForceFlow, ModelConfig, Positions};
 
 /// `generated/models.toml`: `[[model]]` tables.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -9,7 +9,7 @@ use telescopic::fmu::held::HeldDrive;
 use telescopic::fmu::{Causality, FmuVariables, SCENE_RESOURCE, scene_guid};
 use telescopic::run::models::{ModelChoice, ModelRegistry};
 use telescopic::run::{HeldInputStepper, SimulationOptions, plan};
-use telescopic::runtime::sensors::Sensors;
+use telescopic::runtime::model::sensors::Sensors;
 use telescopic::runtime::{Drive, Model, Profile, Scene, TimeSpan, rest_state};
 
 /// What an instance is for.

@@ -100,7 +100,7 @@ impl Rng {
 /// Agreement of tabulated and exact contact-vector rates between table nodes: the table's
 /// `GD_TOLERANCE` of its largest entry, with a factor 10 for a time whose own largest entry is
 /// smaller.
-const TABLE_REL: f64 = 10.0 * telescopic_runtime::contact_table::GD_TOLERANCE;
+const TABLE_REL: f64 = 10.0 * telescopic_runtime::contact::table::GD_TOLERANCE;
 
 fn assert_close(what: &str, a: &DMatrix<f64>, b: &DMatrix<f64>, rel: f64) {
     let scale = b.abs().max().max(a.abs().max());

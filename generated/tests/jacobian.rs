@@ -89,8 +89,13 @@ fn generated_jacobians_match_central_differences() {
             let (mut xi, mut xid) = (vec![0.0; nc], vec![0.0; nc]);
             model.contact_gaps(t, &y, &mut xi, &mut xid);
             let states: Vec<ContactState> = xi.iter().map(|&x| p.contact.state(x)).collect();
-            telescopic_runtime::check::jacobian_against_differences(model.as_ref(), t, &y, &states)
-                .unwrap_or_else(|e| panic!("{key}: {e}"));
+            telescopic_runtime::analysis::check::jacobian_against_differences(
+                model.as_ref(),
+                t,
+                &y,
+                &states,
+            )
+            .unwrap_or_else(|e| panic!("{key}: {e}"));
         }
     }
 }

@@ -6,7 +6,7 @@ mod common;
 
 use approx::assert_relative_eq;
 use nalgebra::DMatrix;
-use telescopic_runtime::quadrature::SectionQuadrature;
+use telescopic_runtime::model::quadrature::SectionQuadrature;
 use telescopic_runtime::{
     AssembledModel, Model, ModelParams, SectionKind, SectionParams, SectionShapes,
     paper_section_matrices,

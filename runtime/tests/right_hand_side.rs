@@ -97,8 +97,10 @@ fn jacobian_matches_central_differences() {
             let y = random_state(&model, &mut rng, 4e-3);
             // fix the branches: the law is then smooth and differences are meaningful
             let states = states_of(&model, t, &y);
-            telescopic_runtime::check::jacobian_against_differences(&model, t, &y, &states)
-                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            telescopic_runtime::analysis::check::jacobian_against_differences(
+                &model, t, &y, &states,
+            )
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         }
     }
 }

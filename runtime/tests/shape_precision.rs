@@ -1,8 +1,8 @@
 //! Shape functions in `f64` (cancellation-free forms) against the printed forms evaluated
-//! with 512-bit floats (`telescopic_runtime::shape_reference`), roots included.
+//! with 512-bit floats (`telescopic_runtime::shape::reference`), roots included.
 
+use telescopic_runtime::shape::reference::{Hp, scaled_error};
 use telescopic_runtime::shape::{MAX_MODES, SectionKind, ShapeFunction};
-use telescopic_runtime::shape_reference::{Hp, scaled_error};
 
 #[test]
 fn cancellation_free_forms_are_accurate_to_1e_12_up_to_mode_30() {

@@ -6,8 +6,8 @@
 use crate::OptionName;
 use crate::{Error, Result};
 use std::io::Write;
+use telescopic_runtime::shape::reference::{Hp, evaluation_errors};
 use telescopic_runtime::shape::{MAX_MODES, SectionKind};
-use telescopic_runtime::shape_reference::{Hp, evaluation_errors};
 
 /// Most evaluation points along a section: each point costs 512-bit evaluations of four
 /// derivatives of 57 shape functions (1000 points took 48 s on the project's machine, the

@@ -8,7 +8,7 @@ use crate::run::Simulation;
 use crate::{Error, OptionName, Result};
 use serde::Serialize;
 use telescopic_runtime::Output;
-use telescopic_runtime::params::Drive;
+use telescopic_runtime::model::params::Drive;
 use telescopic_runtime::{Model, Scene};
 
 /// A time series beside the view: `(t, value)` pairs, at most a few thousand (the smallest

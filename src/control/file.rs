@@ -6,9 +6,9 @@ use super::schema::{Controller, Estimator, SampledDesign, SchedulePoint};
 use crate::OptionName;
 use crate::{Error, Result};
 use std::path::Path;
+use telescopic_runtime::analysis::linear::state_names;
 use telescopic_runtime::input::{MAX_TEXT_INPUT_BYTES, read_text};
-use telescopic_runtime::linear::state_names;
-use telescopic_runtime::sensors::SENSOR_OUTPUTS;
+use telescopic_runtime::model::sensors::SENSOR_OUTPUTS;
 use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
 
 /// Largest gain entry a controller file may hold (N per SI unit of its state): far above any

@@ -11,7 +11,7 @@ use crate::run::PreparedRun;
 use crate::run::{HeldInputStepper, Simulation, Trajectory};
 use crate::{Error, Result};
 use rand::{Rng, SeedableRng};
-use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
+use telescopic_runtime::model::sensors::{SENSOR_OUTPUTS, Sensors};
 use telescopic_runtime::{Model, Scene, TimeSpan, rest_state};
 
 /// A sampled run: the simulation and the command the controller gave at every tick.

@@ -11,9 +11,9 @@
 //! | then | their derivatives `der(u)`, ... |
 
 use crate::Result;
-use telescopic_runtime::linear::{output_signal, state_names};
+use telescopic_runtime::analysis::linear::{output_signal, state_names};
+use telescopic_runtime::model::sensors::SENSOR_OUTPUTS;
 use telescopic_runtime::scene::SceneKey;
-use telescopic_runtime::sensors::SENSOR_OUTPUTS;
 use telescopic_runtime::{Drive, Layout, Scene};
 
 /// What a variable is to the importing tool.

@@ -1,7 +1,7 @@
 //! Linear models of a scene with stable names, at one operating point or over a grid of
 //! telescopic positions, and their export to the tools controls engineers use (JSON,
 //! MATLAB/Octave, NumPy, python-control, LaTeX). The states, inputs and outputs are those of
-//! [`telescopic_runtime::linear`]; docs/linear.md describes the formats.
+//! [`telescopic_runtime::analysis::linear`]; docs/linear.md describes the formats.
 //!
 //! ```
 //! use telescopic::linear::{LinearizeOptions, linearize};

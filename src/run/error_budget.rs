@@ -3,7 +3,7 @@
 //! discretizes.
 //!
 //! * **Integration**: the error of the measured run that `auto` or `--accuracy` picked the
-//!   method from ([`telescopic_runtime::accuracy`]), in `tip_rel` inside the scene kind's
+//!   method from ([`telescopic_runtime::analysis::accuracy`]), in `tip_rel` inside the scene kind's
 //!   predictability horizon; not estimated when the method was given.
 //! * **Truncation**: a companion run of the same scene with more modes per section
 //!   ([`refined_modes`]), same basis, method and settings. Its difference from the run,

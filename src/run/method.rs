@@ -3,8 +3,8 @@
 use super::options::{MethodChoice, SimulationOptions};
 use crate::OptionName;
 use crate::{Error, Result};
-use telescopic_runtime::accuracy::AccuracyPlan;
-use telescopic_runtime::accuracy::Resolve;
+use telescopic_runtime::analysis::accuracy::AccuracyPlan;
+use telescopic_runtime::analysis::accuracy::Resolve;
 use telescopic_runtime::integrate::StepControl;
 use telescopic_runtime::{Basis, DEFAULT_ACCURACY_M, Method, Scene, Settings, plan_for_accuracy};
 

@@ -59,7 +59,7 @@ pub struct SimulationOptions {
     pub models: ModelRegistry,
     /// The error asked for in `tip_rel` inside the predictability horizon (m): `auto` then
     /// picks the method and tolerance that reach it cheapest from the measured table
-    /// ([`telescopic_runtime::accuracy`]); `None`: the default accuracy, 1e-6 m, unless a
+    /// ([`telescopic_runtime::analysis::accuracy`]); `None`: the default accuracy, 1e-6 m, unless a
     /// method or tolerance is given.
     pub accuracy: Option<f64>,
     /// Stations whose bending moment (and stress) become output columns (default none).

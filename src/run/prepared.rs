@@ -23,7 +23,7 @@ use crate::run::simulation::Simulation;
 use crate::run::stress::StationRows;
 use crate::run::trajectory::Trajectory;
 use crate::{Error, Result};
-use telescopic_runtime::sensors::{SENSOR_OUTPUTS, Sensors};
+use telescopic_runtime::model::sensors::{SENSOR_OUTPUTS, Sensors};
 use telescopic_runtime::{
     Method, Model, Scene, Settings, model::rest_state, simulate, specializations,
 };

@@ -266,7 +266,7 @@ fn equilibrium_rows(model: &dyn Model, s: &Station) -> (Vec<f64>, Vec<f64>) {
     let dof = model.dof();
     let (mut z_row, mut a_row) = (vec![0.0; dof], vec![0.0; dof]);
     let (points, pieces) = STATION_RULE;
-    let piece = telescopic_runtime::quadrature::SectionQuadrature::with_points(
+    let piece = telescopic_runtime::model::quadrature::SectionQuadrature::with_points(
         (l - s.x) / pieces as f64,
         points,
     );

@@ -3,7 +3,7 @@
 //!
 //! The accuracy is split: a tenth ([`INTEGRATION_SHARE`]) goes to the integration, whose
 //! method and tolerance come from the table of measured runs
-//! ([`telescopic_runtime::accuracy`]); the rest to the truncation of the model's size. Each
+//! ([`telescopic_runtime::analysis::accuracy`]); the rest to the truncation of the model's size. Each
 //! basis (the paper's modes, and the modes with static correction shapes) has a ladder of
 //! sizes, the modes per section growing along [`refined_modes`] from a small start; a size is
 //! checked by its companion run, the next size of its ladder ([`crate::run::error_budget`]):
@@ -252,8 +252,8 @@ pub fn simulate_for_accuracy(
     let accuracy = options.accuracy.expect("called with an accuracy");
     check_options(accuracy, options)?;
     // the share, within the integration's own range (0.1 x the top 0.1 m rounds above 1e-2)
-    let integration_m =
-        (accuracy * INTEGRATION_SHARE).min(telescopic_runtime::accuracy::ACCURACY_RANGE.1);
+    let integration_m = (accuracy * INTEGRATION_SHARE)
+        .min(telescopic_runtime::analysis::accuracy::ACCURACY_RANGE.1);
     let integration = SimulationOptions {
         accuracy: Some(integration_m),
         modes_as_given: true,

@@ -1,7 +1,7 @@
 //! Why a run failed, diagnosed from the model rather than guessed: the causes the error
 //! messages of the driver and of exact stepping name.
 
-use crate::eigen::modal_analysis;
+use crate::analysis::eigen::modal_analysis;
 use crate::model::Model;
 use crate::scene::TimeSpan;
 

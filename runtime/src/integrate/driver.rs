@@ -7,7 +7,7 @@ use super::{
     ContactTracker, Method, Observer, Progress, RunStats, SampleGrid, Settings, SimError,
     StepControl, StepFailure, Stepper, System, make_stepper,
 };
-use crate::eigen::{fastest_rates, modal_analysis};
+use crate::analysis::eigen::{fastest_rates, modal_analysis};
 use crate::model::Model;
 use crate::scene::TimeSpan;
 

@@ -37,7 +37,7 @@ use super::fast_modes::{FastModes, StepEnd, SwitchFunction};
 use super::{ContactTracker, Observer, Progress, RunStats, SampleGrid, Settings, SimError};
 use crate::contact::ContactState;
 use crate::model::Model;
-use crate::params::{Drive, ModelParams};
+use crate::model::params::{Drive, ModelParams};
 use crate::profile::{Profile, ShapedProfile};
 use crate::scene::TimeSpan;
 use nalgebra::{Complex, DMatrix, DVector};
@@ -263,7 +263,7 @@ pub fn closed_contact_steps(
     tracker.press_all();
     let mut a = DMatrix::zeros(n2, n2);
     model.jacobian(t, &rest, tracker.fixed_states(), &mut a);
-    let eigen = crate::eigen::eigenvalues(a, "eigenvalues of the closed-contact system")?;
+    let eigen = crate::analysis::eigen::eigenvalues(a, "eigenvalues of the closed-contact system")?;
     let omega = eigen.iter().map(|l| l.norm()).fold(0.0, f64::max);
     let short = regular_step(omega, sample);
     let long = long_step_split(&eigen, model.layout().contact_count(), sample)
@@ -581,10 +581,11 @@ impl ExactRun<'_> {
                  contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"
             )));
         }
-        let eigen = crate::eigen::eigenvalues(a.clone(), "eigenvalues of a branch's Jacobian")
-            .map_err(|e| {
-                SimError::Settings(format!("method exact at t = {t} s: {e}; take dopri5"))
-            })?;
+        let eigen =
+            crate::analysis::eigen::eigenvalues(a.clone(), "eigenvalues of a branch's Jacobian")
+                .map_err(|e| {
+                    SimError::Settings(format!("method exact at t = {t} s: {e}; take dopri5"))
+                })?;
         let omega = eigen.iter().map(|l| l.norm()).fold(0.0, f64::max);
         // without switch functions (l_S = 0) the step is exact at any length: one per sample
         let h = if self.functionals.is_empty() {

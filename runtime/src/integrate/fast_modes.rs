@@ -227,12 +227,12 @@ mod tests {
         a[(3, 1)] = -1e6;
         a[(2, 2)] = -1.0;
         a[(3, 3)] = -1.0;
-        let eig = crate::eigen::eigenvalues(a.clone(), "test").unwrap();
+        let eig = crate::analysis::eigen::eigenvalues(a.clone(), "test").unwrap();
         let g = DMatrix::from_column_slice(2, 1, &[1.0, -1.0]);
         assert!(FastModes::new(&a, &DVector::zeros(4), &eig, &g).is_none());
         // split them by 10 %: four distinct modes
         a[(3, 1)] = -1.21e6;
-        let eig = crate::eigen::eigenvalues(a.clone(), "test").unwrap();
+        let eig = crate::analysis::eigen::eigenvalues(a.clone(), "test").unwrap();
         assert_eq!(
             FastModes::new(&a, &DVector::zeros(4), &eig, &g)
                 .unwrap()
@@ -258,7 +258,7 @@ mod tests {
         a[(2, 2)] = -d;
         a[(3, 3)] = -d;
         let e = DVector::from_vec(vec![0.0, 0.0, 0.5, 0.0]);
-        let eig = crate::eigen::eigenvalues(a.clone(), "test").unwrap();
+        let eig = crate::analysis::eigen::eigenvalues(a.clone(), "test").unwrap();
         let fast: Vec<C64> = eig.into_iter().filter(|l| l.norm() > 100.0).collect();
         assert_eq!(fast.len(), 2);
         let g = DMatrix::from_column_slice(2, 1, &[1.0, -1.0]);
@@ -367,7 +367,7 @@ mod tests {
         let mut e = DVector::zeros(n2);
         model.jacobian(t, &y, Some(&states), &mut a);
         model.rhs(t, &vec![0.0; n2], Some(&states), e.as_mut_slice());
-        let eig = crate::eigen::eigenvalues(a.clone(), "test").unwrap();
+        let eig = crate::analysis::eigen::eigenvalues(a.clone(), "test").unwrap();
         let (fast, h) = super::super::exact::long_step_split(&eig, closed, 1e-3).unwrap();
         let (mut g, mut gdot) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
         model.contact_vectors(t, &mut g, &mut gdot);

@@ -36,7 +36,7 @@
 use super::stiff_modes::StiffModes;
 use super::{Settings, StepFailure, Stepper, System, error_norm};
 use crate::contact::ContactState;
-use crate::params::Drive;
+use crate::model::params::Drive;
 use nalgebra::DMatrix;
 
 /// Diagonal coefficient `gamma` of the implicit part (stages 2 to 6).

@@ -13,7 +13,7 @@
 
 use super::events::ContactTracker;
 use super::{Method, RunStats, Settings, System, make_stepper};
-use crate::eigen::{EigenError, eigenvalues, modal_analysis};
+use crate::analysis::eigen::{EigenError, eigenvalues, modal_analysis};
 use crate::model::Model;
 use crate::scene::TimeSpan;
 use nalgebra::DMatrix;

@@ -21,7 +21,7 @@
 //! part of `M^-1 K z` is `W (S z)`, `W = Phi_h`, `S = Lambda_h Phi_h' M`, and `S W = Lambda_h`.
 
 use crate::model::Model;
-use crate::params::Drive;
+use crate::model::params::Drive;
 use nalgebra::DMatrix;
 
 /// A mode that turns more than this (rad) over the run's longest step is treated implicitly.
@@ -107,7 +107,7 @@ impl StiffModes {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::assembled::AssembledModel;
+    use crate::model::assembled::AssembledModel;
     use crate::scene::Scene;
 
     /// The modes solve `K Phi = M Phi Lambda` with `Phi' M Phi = I`, so `S W = Lambda`; they
@@ -118,7 +118,7 @@ mod tests {
         let mut scene = Scene::load("../scenes/adams-linear.toml".as_ref(), &[]).unwrap();
         let paper = AssembledModel::new(&scene.params).unwrap();
         assert!(StiffModes::of(&paper, 1e-7).is_none());
-        scene.params.basis = crate::params::Basis::ModesAndStatic;
+        scene.params.basis = crate::model::params::Basis::ModesAndStatic;
         for s in &mut scene.params.sections {
             s.modes = 2;
         }

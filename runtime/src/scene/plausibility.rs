@@ -9,7 +9,7 @@
 //! its digits, and a run whose predicted step count is absurd is refused before it starts.
 
 use super::error::FieldError;
-use crate::params::ModelParams;
+use crate::model::params::ModelParams;
 
 /// Largest ratio of two masses of the model (sections, vehicle, load).
 pub const MAX_MASS_RATIO: f64 = 1e12;
@@ -221,7 +221,7 @@ fn check_contact_law(params: &ModelParams, errors: &mut Vec<FieldError>) {
 /// rates outrun the model's frequencies by more than double precision keeps (and the eigen
 /// analyses cannot resolve them).
 fn check_rayleigh(params: &ModelParams, errors: &mut Vec<FieldError>) {
-    let crate::params::StructuralDamping::Rayleigh { alpha, beta } = params.damping else {
+    let crate::model::params::StructuralDamping::Rayleigh { alpha, beta } = params.damping else {
         return;
     };
     let frequencies = params

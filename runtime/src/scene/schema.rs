@@ -1,7 +1,7 @@
 //! The scene file format (TOML). Every table rejects unknown keys. See the README for a
 //! complete, commented example.
 
-use crate::params::ForceFlow;
+use crate::model::params::ForceFlow;
 use crate::profile::Profile;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -77,7 +77,7 @@ pub struct SectionsSpec {
     /// `"modes"` (default: the paper's shape functions) or `"modes+static"` (with each
     /// section's static correction shapes).
     #[serde(default, skip_serializing_if = "is_default_basis")]
-    pub basis: crate::params::Basis,
+    pub basis: crate::model::params::Basis,
     /// Modal structural damping ratio (1), in `[0, 1)`: one number for every elastic mode of the
     /// open-contact structure, or a list by mode in ascending frequency (modes beyond the
     /// list take its last value). Default: no structural damping.
@@ -98,8 +98,8 @@ pub struct SectionsSpec {
     pub height: Option<PerSection<f64>>,
 }
 
-fn is_default_basis(b: &crate::params::Basis) -> bool {
-    *b == crate::params::Basis::Modes
+fn is_default_basis(b: &crate::model::params::Basis) -> bool {
+    *b == crate::model::params::Basis::Modes
 }
 
 /// `[masses]`.

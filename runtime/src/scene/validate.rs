@@ -7,9 +7,9 @@ use super::limits::{
 use super::schema::{ContactSpec, DriveSpec, PerSection, SceneFile, SectionsSpec, TimeSpec};
 use super::validated::{Figures, Scene, TimeSpan};
 use crate::contact::ContactLaw;
-use crate::output::Output;
-use crate::params::StructuralDamping;
-use crate::params::{Drive, ForceFlow, ModelParams, SectionParams};
+use crate::model::output::Output;
+use crate::model::params::StructuralDamping;
+use crate::model::params::{Drive, ForceFlow, ModelParams, SectionParams};
 use crate::profile::{Profile, ShapedProfile, ShapedSetpoint};
 use crate::shape::MAX_MODES;
 
@@ -688,7 +688,7 @@ fn output_size_rules(r: &mut Rules, file: &SceneFile, n: usize) {
 
 /// The static correction shapes' count per section stays within what a section holds.
 fn basis_rules(params: &ModelParams) -> Vec<FieldError> {
-    use crate::section_basis::MAX_SECTION_COORDINATES;
+    use crate::shape::section_basis::MAX_SECTION_COORDINATES;
     let coordinates = params.coordinates();
     match coordinates
         .iter()

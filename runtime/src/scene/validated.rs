@@ -1,8 +1,8 @@
 //! The validated scene: the model parameters, the time span and the file as read.
 
 use super::schema::{ReferenceSpec, SceneFile};
-use crate::output::Output;
-use crate::params::ModelParams;
+use crate::model::output::Output;
+use crate::model::params::ModelParams;
 
 /// Time span and output sampling of a scene (s).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -25,9 +25,18 @@
 //! The first-order state is `y = [z, zd]` (length `2 dof`). Matrices are `nalgebra`
 //! column-major `DMatrix<f64>`.
 
+pub mod assembled;
+pub mod configuration;
+pub mod layout;
+pub(crate) mod mass_solve;
+pub mod output;
+pub mod params;
+pub mod quadrature;
+pub mod sensors;
+
 use crate::contact::{ContactForce, ContactState};
-use crate::layout::Layout;
-use crate::params::{Drive, ModelParams};
+use crate::model::layout::Layout;
+use crate::model::params::{Drive, ModelParams};
 use crate::shape::{SectionKind, SectionShapes};
 use nalgebra::{DMatrix, DVector};
 
@@ -46,7 +55,7 @@ pub trait Model {
     /// Stiffness matrix `K` (elastic minus prestress) in computing coordinates.
     fn stiffness_matrix(&self) -> &DMatrix<f64>;
 
-    /// Structural damping matrix `D_s` in computing coordinates ([`crate::damping`]); `None`
+    /// Structural damping matrix `D_s` in computing coordinates ([`crate::analysis::damping`]); `None`
     /// without structural damping (the contacts' damping is not part of it).
     fn damping_matrix(&self) -> Option<&DMatrix<f64>>;
 

@@ -1,23 +1,23 @@
 //! The quadrature-assembled model: docs/model.md section 4 for any number of sections and modes,
-//! integrated with Gauss-Legendre ([`crate::quadrature`]). The generic model, and the
+//! integrated with Gauss-Legendre ([`crate::model::quadrature`]). The generic model, and the
 //! reference the generated models are tested against.
 
+use crate::analysis::damping::structural_damping;
 use crate::contact::ContactState;
-use crate::contact_table::ContactTable;
-use crate::damping::structural_damping;
-use crate::layout::{ContactPoint, Layout};
-use crate::mass_solve::MassSolve;
+use crate::contact::table::ContactTable;
 use crate::model::Model;
-use crate::params::Basis;
-use crate::params::{Drive, ModelParams, SectionParams};
+use crate::model::layout::{ContactPoint, Layout};
+use crate::model::mass_solve::MassSolve;
+use crate::model::params::Basis;
+use crate::model::params::{Drive, ModelParams, SectionParams};
+use crate::model::quadrature::SectionQuadrature;
 use crate::profile::Profile;
-use crate::quadrature::SectionQuadrature;
-pub use crate::section_basis::MAX_SECTION_COORDINATES;
+pub use crate::shape::section_basis::MAX_SECTION_COORDINATES;
 
 /// The contact tables' tolerance on `g` for the static correction shapes (relative).
 pub const SPLINE_TABLE_TOLERANCE: f64 = 1e-9;
-use crate::params::correction_knots;
-use crate::section_basis::SectionBasis;
+use crate::model::params::correction_knots;
+use crate::shape::section_basis::SectionBasis;
 use crate::shape::{MAX_MODES, SectionKind, SectionShapes};
 use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut};
 
@@ -91,7 +91,7 @@ pub struct AssembledModel {
     bases: Vec<SectionBasis>,
     mass: DMatrix<f64>,
     stiffness: DMatrix<f64>,
-    /// Structural damping `D_s` ([`crate::damping`]), when the scene has any.
+    /// Structural damping `D_s` ([`crate::analysis::damping`]), when the scene has any.
     damping: Option<DMatrix<f64>>,
     drive: DVector<f64>,
     mass_solve: MassSolve,
@@ -238,7 +238,7 @@ impl AssembledModel {
         v
     }
 
-    /// Quadrature points used on each section (see [`crate::quadrature`] for the rule).
+    /// Quadrature points used on each section (see [`crate::model::quadrature`] for the rule).
     pub fn quadrature_points(&self) -> &[usize] {
         &self.quadrature_points
     }
@@ -270,8 +270,8 @@ impl AssembledModel {
     fn tabulate_contacts(&self) -> Option<Vec<ContactTable>> {
         let tolerances = match self.params.basis {
             Basis::Modes => (
-                crate::contact_table::G_TOLERANCE,
-                crate::contact_table::GD_TOLERANCE,
+                crate::contact::table::G_TOLERANCE,
+                crate::contact::table::GD_TOLERANCE,
             ),
             // the splines are C2 at their knots: a contact point crossing one makes g only
             // C2 in time; 1e-9 of g is a contact force error of about 1e-9 c |g| |z| (a

@@ -17,9 +17,9 @@
 //! The default is no structural damping, the paper's worst case for control; the contacts'
 //! own damping `d` is separate and always present.
 
-use crate::eigen::{EigenError, ModalAnalysis, modal_analysis_with};
+use crate::analysis::eigen::{EigenError, ModalAnalysis, modal_analysis_with};
 use crate::model::Model;
-pub use crate::params::StructuralDamping;
+pub use crate::model::params::StructuralDamping;
 use nalgebra::DMatrix;
 
 /// Share of a mode's strain energy in the contact springs above which it is a contact mode.

@@ -1,6 +1,6 @@
 //! The functions of one section in computing coordinates ([`crate::model`]): the unit
 //! translation (global index 0), the section's modes, and for [`Basis::ModesAndStatic`] its
-//! static correction shapes ([`crate::spline`]).
+//! static correction shapes ([`crate::shape::spline`]).
 //!
 //! The correction shapes are smooth between their knots, so as a section gets more modes
 //! they lie ever closer to the modes' span: raw B-splines beside 10 modes gave adams-linear a
@@ -11,11 +11,11 @@
 //! columns of `R^-1` say how each coordinate function combines the modes and B-splines. The
 //! span, and so the Ritz solution, is the same; the modes' own coordinates are untouched.
 
-use crate::params::correction_knots;
-use crate::params::{Basis, ModelParams, SectionParams};
-use crate::quadrature::SectionQuadrature;
+use crate::model::params::correction_knots;
+use crate::model::params::{Basis, ModelParams, SectionParams};
+use crate::model::quadrature::SectionQuadrature;
+use crate::shape::spline::{CubicBSpline, correction_shapes};
 use crate::shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction};
-use crate::spline::{CubicBSpline, correction_shapes};
 use nalgebra::DMatrix;
 
 /// Most coordinates of one section: [`MAX_MODES`] modes and up to 18 static correction shapes.

@@ -28,11 +28,11 @@
 //! ```
 
 use crate::contact::ContactState;
-use crate::layout::Layout;
-use crate::mass_solve::MassSolve;
 use crate::model::Model;
-use crate::params::StructuralDamping;
-use crate::params::{Drive, ModelParams, SectionParams};
+use crate::model::layout::Layout;
+use crate::model::mass_solve::MassSolve;
+use crate::model::params::StructuralDamping;
+use crate::model::params::{Drive, ModelParams, SectionParams};
 use crate::profile::Profile;
 use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut, SymmetricEigen};
 use std::f64::consts::PI;
@@ -301,11 +301,11 @@ impl ElementModel {
 
     /// The closed-contact problem in the relative coordinates `z[1..]`: stiffness and mass
     /// (with the free vehicle's translation condensed out of the mass, as in
-    /// [`crate::eigen`]).
+    /// [`crate::analysis::eigen`]).
     fn relative_problem(&self) -> (DMatrix<f64>, DMatrix<f64>) {
         let n = self.dof();
         let r = n - 1;
-        let k = crate::eigen::closed_contact_stiffness(self, 0.0);
+        let k = crate::analysis::eigen::closed_contact_stiffness(self, 0.0);
         let k_r = k.view((1, 1), (r, r)).into_owned();
         let mut m_r = self.mass.view((1, 1), (r, r)).into_owned();
         if matches!(self.params.drive, Drive::Force(_)) {

@@ -16,6 +16,11 @@
 //! term is rewritten with exponentials of non-positive argument only (derivation in the
 //! comments of [`ShapeFunction::eval`]), which is algebraically equal and loses nothing.
 
+#[cfg(feature = "reference")]
+pub mod reference;
+pub(crate) mod section_basis;
+pub mod spline;
+
 use std::f64::consts::PI;
 
 /// Highest mode index per section that the project supports (roots are computed for any

@@ -4,11 +4,11 @@
 //! contact damping), each matched to the undamped mode of [`crate::modal_analysis`] nearest
 //! in `|lambda| = omega`.
 
-use crate::eigen::{
+use crate::analysis::eigen::{
     EigenError, ModalAnalysis, closed_contact_damping, closed_contact_stiffness, eigenvalues,
 };
 use crate::model::Model;
-use crate::params::Drive;
+use crate::model::params::Drive;
 use nalgebra::DMatrix;
 use std::f64::consts::PI;
 

@@ -4,8 +4,8 @@
 //! generator (`telescopic-codegen`) generates a model per [`ModelConfig`]; the runtime finds
 //! a scene's model by [`configuration_key`]; both speak these words, defined only here.
 
-pub use crate::params::ForceFlow;
-use crate::params::{Drive, ModelParams};
+pub use crate::model::params::ForceFlow;
+use crate::model::params::{Drive, ModelParams};
 use crate::shape::MAX_MODES;
 use serde::{Deserialize, Serialize};
 use std::fmt;

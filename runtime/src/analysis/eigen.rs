@@ -18,7 +18,7 @@
 //! eigenvalues are unstable (buckled) modes, reported as growth rates.
 
 use crate::model::Model;
-use crate::params::Drive;
+use crate::model::params::Drive;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use std::f64::consts::PI;
 

@@ -2,11 +2,13 @@
 //! summary: constant contact vectors, the linear law without events, no prestress, exact
 //! stepping.
 
-use crate::accuracy::{DEFAULT_ACCURACY_M, Resolve, SceneKind, cheapest, plan_for_accuracy};
+use crate::analysis::accuracy::{
+    DEFAULT_ACCURACY_M, Resolve, SceneKind, cheapest, plan_for_accuracy,
+};
 use crate::integrate::Method;
 use crate::integrate::exact::{exact_tail_start, lti_obstacle};
 use crate::model::Model;
-use crate::params::{ForceFlow, ModelParams};
+use crate::model::params::{ForceFlow, ModelParams};
 use crate::scene::TimeSpan;
 
 /// A shortcut a run takes (or could take), named in its summary.
@@ -175,7 +177,7 @@ pub fn specializations(
 
 /// What method `auto` runs on `span`: the method, the time from which exact stepping takes
 /// over when the positions come to rest inside the span (`None`: one method throughout), and
-/// why; the plan of [`crate::accuracy::plan_for_accuracy`] at the default accuracy (1e-6 m),
+/// why; the plan of [`crate::analysis::accuracy::plan_for_accuracy`] at the default accuracy (1e-6 m),
 /// whose tolerance is the default one (rtol 1e-6).
 pub fn auto_plan(params: &ModelParams, span: &TimeSpan) -> (Method, Option<f64>, String) {
     let plan = plan_for_accuracy(params, span, DEFAULT_ACCURACY_M, Resolve::Displacements)

@@ -31,7 +31,7 @@ pub enum Basis {
     #[serde(rename = "modes")]
     Modes,
     /// The paper's modes plus each section's static correction shapes
-    /// ([`crate::spline`]): cubic B-splines with knots at its contact stations.
+    /// ([`crate::shape::spline`]): cubic B-splines with knots at its contact stations.
     #[serde(rename = "modes+static")]
     ModesAndStatic,
 }

@@ -11,7 +11,7 @@
 
 use crate::integrate::Method;
 use crate::integrate::exact::{exact_tail_start, lti_obstacle};
-use crate::params::{Drive, ModelParams};
+use crate::model::params::{Drive, ModelParams};
 use crate::scene::TimeSpan;
 
 /// The accuracy the defaults keep (m, in `tip_rel` inside the predictability horizon).

@@ -29,11 +29,11 @@
 //! contacts are left out, so each upper section floats free; its coordinates are then not
 //! controllable from the drive, nor is anything above it.
 
-use crate::eigen::EigenError;
+use crate::analysis::eigen::EigenError;
 use crate::model::Model;
-use crate::output::{LinearInput, Output};
-use crate::params::Drive;
-use crate::sensors::{SENSOR_OUTPUTS, Sensors};
+use crate::model::output::{LinearInput, Output};
+use crate::model::params::Drive;
+use crate::model::sensors::{SENSOR_OUTPUTS, Sensors};
 use nalgebra::DMatrix;
 
 /// How the contacts enter a linear model.

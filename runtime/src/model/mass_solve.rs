@@ -3,7 +3,7 @@
 //! with `M` for a force drive, and for a prescribed motion the solve on the relative
 //! coordinates with the vehicle's acceleration given and its reaction dropped.
 
-use crate::params::Drive;
+use crate::model::params::Drive;
 use nalgebra::{Cholesky, DMatrix, DVectorViewMut, Dyn};
 
 /// The factors of `M` a model's right-hand side and Jacobian solve with.

@@ -4,7 +4,7 @@
 //! `offset(k) + i - 1`. In the computing coordinates of [`crate::model`], index 0 is the
 //! vehicle position and the rest keep their place.
 
-use crate::output::Output;
+use crate::model::output::Output;
 /// One contact point: overlap `k` (the inner section, `2..=n`) and point `j` (`0..n_c`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactPoint {

@@ -51,7 +51,7 @@ impl SectionQuadrature {
     /// The rule of [`SectionQuadrature::for_modes`] on each piece of `[0, length]` cut at
     /// `breaks` (m, inside, ascending): exact to round-off for products of modes with
     /// functions that are polynomials of degree <= 3 between the breaks (the static
-    /// correction shapes of [`crate::spline`]). Without breaks, the plain rule.
+    /// correction shapes of [`crate::shape::spline`]). Without breaks, the plain rule.
     pub fn split_at(length: f64, beta_max: f64, breaks: &[f64]) -> Self {
         let mut edges = vec![0.0];
         edges.extend_from_slice(breaks);

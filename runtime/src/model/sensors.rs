@@ -4,7 +4,7 @@
 //! tip accelerometer reads).
 
 use crate::model::Model;
-use crate::output::Sensor;
+use crate::model::output::Sensor;
 
 /// Names of the sensor outputs appended to every run's outputs, in order ([`Sensor::ALL`]).
 pub const SENSOR_OUTPUTS: [&str; 2] = [

@@ -1,6 +1,8 @@
 //! The clearance contact law (docs/model.md section 3, the paper's eqs. 11-12): a dead zone of
 //! total width `l_S` with a one-sided spring `c` and damper `d` outside it.
 
+pub mod table;
+
 /// Where a contact gap `xi` lies relative to the free band `|xi| <= l_S/2`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ContactState {
