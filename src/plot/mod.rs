@@ -90,23 +90,24 @@ struct Panel {
     scale: f64,
 }
 
-/// A panel's title for `output` (the two-section scenes' gaps say which contact).
-fn panel_title(output: Output, two_sections: bool) -> String {
+/// A panel's title for `output`; `lower_and_upper`: a gap is the first or the last of its
+/// overlap and its title says which.
+fn panel_title(output: Output, lower_and_upper: bool) -> String {
     match output {
         Output::Vehicle => "vehicle position".into(),
         Output::TipRel => "load relative to the foot".into(),
         Output::TopRel(k) => format!("top of section {k} relative to the foot"),
         Output::DriveForce => "force of the drive on the vehicle".into(),
-        Output::Gap { point: 0, .. } if two_sections => "gap at the lower contact".into(),
-        Output::Gap { .. } if two_sections => "gap at the upper contact".into(),
+        Output::Gap { point: 0, .. } if lower_and_upper => "gap at the lower contact".into(),
+        Output::Gap { .. } if lower_and_upper => "gap at the upper contact".into(),
         other => other.description(),
     }
 }
 
 /// One output's panel, titled with the paper's figure the scene says it reproduces; gaps in
 /// millimetres.
-fn output_panel(figures: &Figures, output: Output, two_sections: bool) -> Panel {
-    let title = panel_title(output, two_sections);
+fn output_panel(figures: &Figures, output: Output, lower_and_upper: bool) -> Panel {
+    let title = panel_title(output, lower_and_upper);
     let scale = if output.is_gap() { 1e3 } else { 1.0 };
     let unit = if output.is_gap() { "mm" } else { output.unit() };
     Panel {
@@ -136,10 +137,11 @@ fn panels(figures: &Figures, names: &[String]) -> Vec<Panel> {
         .collect();
     let two_sections = overlaps.len() == 1;
     if let Some(chosen) = &figures.panels {
+        // a chosen gap is titled by its contact's number, which says where it is
         return chosen
             .iter()
             .filter(|o| outputs.contains(o))
-            .map(|&o| output_panel(figures, o, two_sections))
+            .map(|&o| output_panel(figures, o, false))
             .collect();
     }
     let mut out: Vec<Panel> = [
@@ -150,7 +152,7 @@ fn panels(figures: &Figures, names: &[String]) -> Vec<Panel> {
     ]
     .into_iter()
     .filter(|o| outputs.contains(o))
-    .map(|o| output_panel(figures, o, two_sections))
+    .map(|o| output_panel(figures, o, false))
     .collect();
     if two_sections {
         // two sections: a gap panel at the lower and at the upper contact
@@ -759,4 +761,66 @@ fn draw_panel<DB: DrawingBackend>(
         .map_err(plot_error)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A two-section run with three contact points.
+    fn names() -> Vec<String> {
+        [
+            "vehicle", "tip_rel", "top1_rel", "xi_2_0", "xi_2_1", "xi_2_2",
+        ]
+        .into_iter()
+        .chain(["f_2_0", "f_2_1", "f_2_2", "kappa_1_0"])
+        .map(String::from)
+        .collect()
+    }
+
+    #[test]
+    fn the_standard_panels_draw_the_lower_and_upper_gap_and_name_the_papers_figures() {
+        let figures = Figures {
+            panels: None,
+            paper: vec![(Output::TipRel, "Fig. 9".into())],
+        };
+        let panels = panels(&figures, &names());
+        let titles: Vec<&str> = panels.iter().map(|p| p.title.as_str()).collect();
+        assert_eq!(
+            titles,
+            [
+                "vehicle position",
+                "load relative to the foot (Fig. 9)",
+                "top of section 1 relative to the foot",
+                "gap at the lower contact",
+                "gap at the upper contact",
+            ]
+        );
+        assert_eq!(panels[4].columns, ["xi_2_2"]);
+        assert_eq!(
+            (panels[4].scale, panels[4].axis.as_str()),
+            (1e3, "xi_2_2 [mm]")
+        );
+    }
+
+    #[test]
+    fn a_chosen_set_draws_only_its_outputs_the_run_has_in_its_order() {
+        let figures = Figures {
+            panels: Some(vec![
+                Output::Gap {
+                    overlap: 2,
+                    point: 1,
+                },
+                Output::DriveForce,
+                Output::Sensor(telescopic_runtime::Sensor::FootCurvature),
+            ]),
+            paper: Vec::new(),
+        };
+        let panels = panels(&figures, &names());
+        let columns: Vec<&str> = panels.iter().map(|p| p.columns[0].as_str()).collect();
+        // no drive force in a force-driven run
+        assert_eq!(columns, ["xi_2_1", "kappa_1_0"]);
+        assert_eq!(panels[0].title, "gap at contact 1 of overlap 2");
+        assert_eq!(panels[1].axis, "kappa_1_0 [1/m]");
+    }
 }
