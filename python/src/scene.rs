@@ -186,11 +186,8 @@ impl PyScene {
     /// The scene of a pickle: its text, origin and overrides.
     #[staticmethod]
     fn _restore(text: String, origin: String, overrides: Vec<String>) -> PyResult<Self> {
-        let edits = overrides
-            .iter()
-            .map(|o| SceneEdit::parse(o))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| to_python(telescopic::Error::Scene(e)))?;
+        let edits =
+            SceneEdit::parse_all(&overrides).map_err(|e| to_python(telescopic::Error::Scene(e)))?;
         Self::build(text, PathBuf::from(origin), edits)
     }
 

@@ -444,8 +444,7 @@ def sweep(spec: str | os.PathLike | Mapping[str, Any], jobs: int | None = None,
     import pandas as pd
 
     # a dict goes to the library as values; the result file is a temporary one
-    if not isinstance(spec, Mapping):
-        spec = os.fspath(spec)
+    spec = dict(spec) if isinstance(spec, Mapping) else os.fspath(spec)
     with tempfile.TemporaryDirectory(prefix="telescopic-sweep-") as directory:
         out = os.path.join(directory, "result.csv")
         columns, rows = _telescopic.sweep(spec, out, jobs=jobs, progress=_progress(progress))

@@ -31,13 +31,12 @@ impl Trajectory {
 
     /// Index in a row of `output`.
     pub fn index_of(&self, output: Output) -> Option<usize> {
-        self.outputs().find(|(_, o)| *o == output).map(|(i, _)| i)
+        self.index(&output.to_string())
     }
 
     /// The samples of `output`, in time order.
     pub fn column_of(&self, output: Output) -> Option<Vec<f64>> {
-        let i = self.index_of(output)?;
-        Some(self.rows.iter().map(|r| r[i]).collect())
+        self.column(&output.to_string())
     }
 
     /// The columns that are outputs ([`Output`]), with their index in a row.

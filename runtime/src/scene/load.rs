@@ -36,10 +36,7 @@ impl Scene {
         path: &Path,
         overrides: &[String],
     ) -> Result<Self, SceneError> {
-        let edits = overrides
-            .iter()
-            .map(|o| SceneEdit::parse(o))
-            .collect::<Result<Vec<_>, _>>()?;
+        let edits = SceneEdit::parse_all(overrides)?;
         Self::from_toml_edited(text, path, &edits)
     }
 
@@ -80,10 +77,7 @@ impl Scene {
         path: &Path,
         overrides: &[String],
     ) -> Result<Self, SceneError> {
-        let edits = overrides
-            .iter()
-            .map(|o| SceneEdit::parse(o))
-            .collect::<Result<Vec<_>, _>>()?;
+        let edits = SceneEdit::parse_all(overrides)?;
         Self::from_table_edited(table, path, &edits)
     }
 

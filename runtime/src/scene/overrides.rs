@@ -43,6 +43,14 @@ impl SceneEdit {
         Ok(edit)
     }
 
+    /// Reads every `KEY=VALUE` argument of `arguments`, in order ([`SceneEdit::parse`]).
+    ///
+    /// # Errors
+    /// The first argument's [`SceneError::Override`].
+    pub fn parse_all(arguments: &[String]) -> Result<Vec<Self>, SceneError> {
+        arguments.iter().map(|a| SceneEdit::parse(a)).collect()
+    }
+
     /// The key's segments, none empty.
     fn segments(&self) -> Result<Vec<&str>, String> {
         let segments: Vec<&str> = self.key.split('.').map(str::trim).collect();
