@@ -94,6 +94,7 @@ fn auto_takes_dop853_imex_where_positions_move_with_clearance_and_says_why() {
     let out = telescopic(&[
         "simulate",
         "scenes/case-study.toml",
+        "--modes-as-given",
         "--set",
         "time.end=0.05",
     ]);
@@ -119,6 +120,7 @@ fn auto_takes_dop853_imex_where_positions_move_with_clearance_and_says_why() {
     let out = telescopic(&[
         "simulate",
         "scenes/case-study.toml",
+        "--modes-as-given",
         "--set",
         "time.end=0.05",
         "--set",
@@ -551,9 +553,10 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
             && err.contains("basis modes+static, 2 modes per section"),
         "{err}"
     );
-    // a line per size checked, best-first by counted work: the paper's 4 and 6 modes are
-    // rejected by their estimate, 2 modes with the static shapes pass, and the paper's 9
-    // (costlier than a passing size) get no companion run
+    // a line per size checked, the paper's first size first, then best-first by counted
+    // work: the paper's 4 and 6 modes are rejected by their estimate, 2 modes with the
+    // static shapes pass (checked after the paper's 6, which cost no more), and the paper's
+    // 9 (costlier than a passing size) get no companion run
     let search = search_verdicts(&err);
     assert_eq!(
         search,
@@ -562,11 +565,11 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
                 "size 1 of at most 11: modes 4",
                 "rejected: tip_rel estimate"
             ),
-            ("size 2 of at most 11: modes+static 2", "passes"),
             (
-                "size 3 of at most 11: modes 6",
+                "size 2 of at most 11: modes 6",
                 "rejected: tip_rel estimate"
             ),
+            ("size 3 of at most 11: modes+static 2", "passes"),
             (
                 "size 4 of at most 11: modes 9",
                 "rejected: costs more than a passing size, not checked"
@@ -608,7 +611,7 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
             .unwrap()
             .starts_with("t,vehicle")
     );
-    // a whole accuracy below what is certified, and the flags that need --accuracy
+    // a whole accuracy below what is certified
     fails_with(
         &[
             "simulate",
@@ -620,11 +623,99 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
         ],
         &["--accuracy", "1e-5 to 1e-1 m", "--modes-as-given"],
     );
-    let out = telescopic(&["simulate", "scenes/adams-linear.toml", "--modes-as-given"]);
+}
+
+#[test]
+fn a_size_costlier_than_a_passing_one_is_stopped_past_that_cost() {
+    // case-study states 1e-3 m: the paper's 4 modes pass first, so the static shapes' first
+    // run is stopped as soon as its counted work passes theirs
+    let out = telescopic(&[
+        "simulate",
+        "scenes/case-study.toml",
+        "--set",
+        "time.end=0.3",
+        "--out",
+        "/dev/null",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let verdicts = search_verdicts(&err);
     assert_eq!(
-        out.status.code(),
-        Some(2),
-        "clap refuses --modes-as-given without --accuracy"
+        verdicts,
+        [
+            ("size 1 of at most 11: modes 4", "passes"),
+            (
+                "size 2 of at most 11: modes+static 2",
+                "rejected: stopped once it cost more than a passing size (its operations so far), not checked"
+            ),
+        ]
+        .map(|(a, b)| (a.to_string(), b.to_string())),
+        "{err}"
+    );
+    // the stopped run's count is past the passing size's (the printed figures, 2 digits)
+    let operations = |line: &str| -> f64 {
+        let figures = line
+            .split_once(" m, ")
+            .or(line.split_once("estimated, "))
+            .unwrap()
+            .1;
+        figures
+            .split_once(" operations")
+            .unwrap()
+            .0
+            .parse()
+            .unwrap()
+    };
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("accuracy search"))
+        .collect();
+    assert!(operations(lines[1]) >= operations(lines[0]), "{err}");
+    assert!(err.contains("generated model s2_m4x4"), "{err}");
+}
+
+#[test]
+fn a_scene_that_states_an_accuracy_is_run_to_it_unless_its_modes_are_kept() {
+    let stated = |extra: &[&str]| {
+        let mut args = vec![
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--set",
+            "accuracy=1e-3",
+            "--out",
+            "/dev/null",
+        ];
+        args.extend_from_slice(extra);
+        let out = telescopic(&args);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{err}");
+        err
+    };
+    // by default the run picks the size that meets the scene's accuracy, as --accuracy does
+    let err = stated(&[]);
+    assert!(
+        err.contains("the scene states accuracy = 1e-3 m")
+            && err.contains("accuracy 1e-3 m in all")
+            && err.contains("basis modes+static, 2 modes per section"),
+        "{err}"
+    );
+    // the paper's N on request, and a method of the user's own keeps the scene's modes too
+    for extra in [&["--modes-as-given"][..], &["--method", "dop853"]] {
+        let err = stated(extra);
+        assert!(
+            err.contains("generated model s2_m5x5") && !err.contains("accuracy search"),
+            "{extra:?}: {err}"
+        );
+    }
+    // the key is checked like the flag, naming the field
+    fails_with(
+        &[
+            "simulate",
+            "scenes/adams-linear.toml",
+            "--set",
+            "accuracy=1e-7",
+        ],
+        &["`accuracy`", "1e-5 to 1e-1 m"],
     );
 }
 

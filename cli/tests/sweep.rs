@@ -109,9 +109,11 @@ fn metrics_equal_what_simulate_writes() {
     let out = dir.join("r.csv");
     run_sweep(&sweep, &options(&out, 1, Shard::whole()), &Silent).unwrap();
     let csv = dir.join("sim.csv");
+    // a sweep runs the scene's modes as written (the scene's accuracy is simulate's)
     succeeds(&[
         "simulate",
         "scenes/case-study.toml",
+        "--modes-as-given",
         "--set",
         "time.end=6.0",
         "--set",

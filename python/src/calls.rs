@@ -176,7 +176,7 @@ pub fn simulate<'py>(
     let scene = &scene.scene;
     let sim = run(py, progress, |reporter| match &controller {
         Some(c) => c.simulate(scene, &options, reporter),
-        None => simulate_scene(scene, &options, reporter),
+        None => simulate_scene(scene, &options.for_scene(scene), reporter),
     })?;
     simulation_data(py, &sim)
 }

@@ -290,9 +290,10 @@ def simulate(
     ``method`` is one of the CLI's (``auto``, ``exact``, ``dopri5``, ``dop853``, ``dop853-imex``,
     ``imex``, ...);
     ``accuracy`` (m) is the whole error of ``tip_rel`` against the beams: the run picks the
-    basis, the modes per section, the method and the tolerance that reach it cheapest (with
-    ``modes_as_given=True`` the scene's modes stay and ``accuracy`` bounds the integration
-    only; ``moment_tolerance`` and ``statistics_tolerance`` bound the moments and, with
+    basis, the modes per section, the method and the tolerance that reach it cheapest (a
+    scene that states an ``accuracy`` gets it by default when no method, tolerance or model
+    is given; with ``modes_as_given=True`` the scene's modes stay and ``accuracy`` bounds the
+    integration only; ``moment_tolerance`` and ``statistics_tolerance`` bound the moments and, with
     clearance, the statistics, defaults 0.02 and 0.05). ``summary["error"]`` holds the run's
     error in two parts (integration and truncation; ``error_estimate=False`` skips the
     companion run that estimates the truncation); ``controller`` drives the scene

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{exact_lti, rig, run, span, tip_rel};
+use common::{exact_lti, rig, run, run_counted, span, tip_rel};
 use nalgebra::{DMatrix, DVector};
 use telescopic_runtime::integrate::METHOD_NAMES;
 use telescopic_runtime::{
@@ -362,6 +362,33 @@ fn step_limit_reports_too_many_steps() {
         "{err}"
     );
     assert!(err.to_string().contains("method dopri5"), "{err}");
+}
+
+#[test]
+fn a_work_cap_stops_the_run_once_it_is_passed_and_not_before() {
+    let model = AssembledModel::new(&rig([3, 3])).unwrap();
+    let y0 = vec![0.0; 2 * model.dof()];
+    let capped = |max_operations: f64| {
+        let settings = Settings {
+            max_operations,
+            ..Settings::default()
+        };
+        run_counted(&model, &y0, &span(0.2, 1e-3), Method::Dopri5, &settings)
+    };
+    let whole = capped(f64::INFINITY).unwrap().1.operations();
+    // a cap equal to the run's own work lets it finish with the same count
+    assert_eq!(capped(whole).unwrap().1.operations(), whole);
+    // half of it stops the run past the cap, short of the whole run's work
+    let err = failure(capped(whole / 2.0));
+    match err {
+        SimError::OverBudget {
+            operations, budget, ..
+        } => assert!(
+            budget == whole / 2.0 && operations > budget && operations < whole,
+            "{operations} against {budget} of {whole}"
+        ),
+        other => panic!("{other}"),
+    }
 }
 
 /// A model whose Jacobian is zero: Newton's iteration matrix no longer describes the step.

@@ -109,3 +109,39 @@ impl Default for SimulationOptions {
         }
     }
 }
+
+impl SimulationOptions {
+    /// These options for a run of `scene`: when they ask for no accuracy, method, tolerance,
+    /// step or model of their own, keep the error estimate and do not keep the modes as
+    /// given, the scene's `accuracy` (m) becomes [`SimulationOptions::accuracy`], so that
+    /// the run picks the model size that meets it.
+    ///
+    /// ```
+    /// use telescopic::Scene;
+    /// use telescopic::run::SimulationOptions;
+    /// let path = std::path::Path::new("scenes/case-study.toml");
+    /// let scene = Scene::load(path, &["accuracy=1e-3".to_string()])?;
+    /// assert_eq!(SimulationOptions::default().for_scene(&scene).accuracy, Some(1e-3));
+    /// let given = SimulationOptions { modes_as_given: true, ..SimulationOptions::default() };
+    /// assert_eq!(given.for_scene(&scene).accuracy, None);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn for_scene(&self, scene: &telescopic_runtime::Scene) -> SimulationOptions {
+        let own_choice = self.accuracy.is_some()
+            || self.modes_as_given
+            || !self.error_estimate
+            || self.method != MethodChoice::Auto
+            || self.rtol.is_some()
+            || self.atol.is_some()
+            || self.dt.is_some()
+            || self.model != ModelChoice::Auto;
+        SimulationOptions {
+            accuracy: if own_choice {
+                self.accuracy
+            } else {
+                scene.accuracy
+            },
+            ..self.clone()
+        }
+    }
+}

@@ -19,7 +19,11 @@
 //! its first passing size, or at a size that costs more than a passing one (the costs grow
 //! along a ladder, so nothing above it could win). The passing size of least cost is kept;
 //! its companion run is the check the summary reports. No companion is run for a size that
-//! cannot win.
+//! cannot win, and a run is stopped as soon as it costs more than a passing size
+//! ([`telescopic_runtime::Settings::max_operations`]): the first ladder's first size is
+//! checked before the next ladder starts, so that when it passes, the other ladders' first
+//! runs stop early. The pick is the same as with every run completed: only sizes that cost
+//! more than a passing one are cut short.
 //!
 //! The search tells its reporter which size of how many it runs, and notes each size's
 //! verdict with the check that rejected it; the summary names every size tried, why it was
@@ -32,11 +36,12 @@ use crate::run::error_budget::{self, ErrorBudget, Statistic, refined_modes};
 use crate::run::{MethodReason, ModelSize, Simulation, SimulationOptions, plan};
 use crate::{Error, Result};
 use std::time::Instant;
-use telescopic_runtime::{Basis, Scene};
+use telescopic_runtime::{Basis, Scene, SimError};
 
 /// The whole errors that can be asked for (m): below, the truncation of the largest models
 /// that the shipped scenes afford cannot be certified; above, no longer an accuracy.
-pub const TOTAL_ACCURACY_RANGE: (f64, f64) = (1e-5, 1e-1);
+pub const TOTAL_ACCURACY_RANGE: (f64, f64) =
+    telescopic_runtime::analysis::accuracy::WHOLE_ACCURACY_RANGE;
 
 /// The share of the accuracy given to the integration.
 pub const INTEGRATION_SHARE: f64 = 0.1;
@@ -85,6 +90,9 @@ pub enum Rejection {
     Unaffordable,
     /// The size's run costs more than a passing size's: it cannot be the cheapest.
     CostlierThanPassing,
+    /// The size's run was stopped as soon as it cost more than a passing size's
+    /// ([`telescopic_runtime::Settings::max_operations`]).
+    StoppedCostlier,
     /// The size has the most modes there are: no companion can check it.
     NoCompanion,
 }
@@ -121,6 +129,11 @@ impl std::fmt::Display for Rejection {
             Rejection::CostlierThanPassing => {
                 write!(f, "costs more than a passing size, not checked")
             }
+            Rejection::StoppedCostlier => write!(
+                f,
+                "stopped once it cost more than a passing size (its operations so far), not \
+                 checked"
+            ),
             Rejection::NoCompanion => write!(f, "the most modes there are: no companion"),
         }
     }
@@ -333,16 +346,37 @@ fn check_options(accuracy: f64, options: &SimulationOptions) -> Result<()> {
     Ok(())
 }
 
-/// One run of `size` without an error estimate; `None` when the budget refuses it.
+/// What one run of the search gave.
+enum Outcome {
+    /// The run, complete.
+    Ran(Box<Simulation>),
+    /// The work budget refused it, with its error.
+    Unaffordable(Box<Error>),
+    /// It was stopped as soon as it cost more than the cap: the operations and the wall
+    /// time (s) so far.
+    OverCap(f64, f64),
+}
+
+/// One run without an error estimate, stopped once it costs more than `cap` operations.
 fn run(
     scene: &Scene,
     options: &SimulationOptions,
+    cap: f64,
     reporter: &dyn Reporter,
-) -> Result<Option<Simulation>> {
-    let prepared = PreparedRun::new(scene, options, &crate::Silent)?;
+) -> Result<Outcome> {
+    let started = Instant::now();
+    let mut prepared = PreparedRun::new(scene, options, &crate::Silent)?;
+    prepared.plan.settings.max_operations = cap;
     match prepared.integrate(reporter) {
-        Ok(trajectory) => Ok(Some(prepared.into_simulation(trajectory))),
-        Err(Error::Unaffordable { .. }) => Ok(None),
+        Ok(trajectory) => Ok(Outcome::Ran(Box::new(prepared.into_simulation(trajectory)))),
+        Err(e @ Error::Unaffordable { .. }) => Ok(Outcome::Unaffordable(Box::new(e))),
+        Err(Error::Simulation {
+            error: SimError::OverBudget { operations, .. },
+            ..
+        }) => Ok(Outcome::OverCap(
+            operations,
+            started.elapsed().as_secs_f64(),
+        )),
         Err(e) => Err(e),
     }
 }
@@ -380,54 +414,119 @@ fn search(
     attempts: &mut Vec<Attempt>,
     progress: &SearchProgress,
 ) -> Result<Option<Simulation>> {
-    let mut rungs = Vec::new();
-    for (basis, start) in STARTS {
+    let mut search = Search {
+        scene,
+        integration,
+        options,
+        progress,
+        rungs: Vec::new(),
+        best: None,
+        refused: None,
+    };
+    for (k, (basis, start)) in STARTS.into_iter().enumerate() {
         let ladder = ladder(basis, start);
         let step = progress.run_reporter(ladder[0], "running");
-        match run(&ladder[0].apply(scene), integration, &step)? {
-            Some(run) => rungs.push(Rung { ladder, at: 0, run }),
-            None => record(attempts, progress, unaffordable(ladder[0])),
+        match run(&ladder[0].apply(scene), integration, search.cap(), &step)? {
+            Outcome::Ran(run) => search.rungs.push(Rung {
+                ladder,
+                at: 0,
+                run: *run,
+            }),
+            Outcome::Unaffordable(e) => {
+                search.refused.get_or_insert(e);
+                record(attempts, progress, unaffordable(ladder[0]));
+            }
+            Outcome::OverCap(cost, wall) => {
+                record(attempts, progress, over_cap(ladder[0], cost, wall));
+            }
+        }
+        // the first ladder's first size is checked before the next ladder starts, so that
+        // a passing size caps the runs of the others
+        if k == 0 {
+            search.check_cheapest(attempts)?;
         }
     }
-    let mut best: Option<(Simulation, f64)> = None;
-    while let Some(i) = cheapest(&rungs) {
-        let rung = rungs.swap_remove(i);
-        if best.as_ref().is_some_and(|(_, cost)| rung.cost() > *cost) {
+    while search.check_cheapest(attempts)? {}
+    // when the work budget refuses every size, its refusal says why (the stable step)
+    let all_refused = attempts
+        .iter()
+        .all(|a| a.rejection == Some(Rejection::Unaffordable));
+    if let (None, true, Some(refusal)) = (&search.best, all_refused, search.refused) {
+        return Err(*refusal);
+    }
+    Ok(search.best.map(|(simulation, _)| simulation))
+}
+
+/// The state of the search: the ladders' sizes run but not yet checked, and the passing
+/// run of least cost with that cost (operations).
+struct Search<'a> {
+    scene: &'a Scene,
+    integration: &'a SimulationOptions,
+    options: &'a SimulationOptions,
+    progress: &'a SearchProgress<'a>,
+    rungs: Vec<Rung>,
+    best: Option<(Simulation, f64)>,
+    /// The work budget's first refusal of a run.
+    refused: Option<Box<Error>>,
+}
+
+impl Search<'_> {
+    /// The most a run may cost and still win: the passing size's cost.
+    fn cap(&self) -> f64 {
+        self.best.as_ref().map_or(f64::INFINITY, |(_, cost)| *cost)
+    }
+
+    /// Checks the cheapest size not yet checked by its companion; false when none is left.
+    fn check_cheapest(&mut self, attempts: &mut Vec<Attempt>) -> Result<bool> {
+        let Some(i) = cheapest(&self.rungs) else {
+            return Ok(false);
+        };
+        let (scene, progress) = (self.scene, self.progress);
+        let rung = self.rungs.swap_remove(i);
+        if rung.cost() > self.cap() {
             let attempt = rung.attempt(None, Some(Rejection::CostlierThanPassing));
             record(attempts, progress, attempt);
-            continue;
+            return Ok(true);
         }
         let Some(&refined) = rung.ladder.get(rung.at + 1) else {
             let attempt = rung.attempt(None, Some(Rejection::NoCompanion));
             record(attempts, progress, attempt);
-            continue;
+            return Ok(true);
         };
         let step = progress.run_reporter(refined, "its companion");
-        let Some(companion) = run(&refined.apply(scene), integration, &step)? else {
-            let attempt = rung.attempt(None, Some(Rejection::Unaffordable));
-            record(attempts, progress, attempt);
-            continue;
+        let companion = match run(
+            &refined.apply(scene),
+            self.integration,
+            f64::INFINITY,
+            &step,
+        )? {
+            Outcome::Ran(companion) => *companion,
+            Outcome::Unaffordable(_) | Outcome::OverCap(..) => {
+                let attempt = rung.attempt(None, Some(Rejection::Unaffordable));
+                record(attempts, progress, attempt);
+                return Ok(true);
+            }
         };
         let budget = companion_budget(scene, &rung.run, &companion, refined);
-        let rejection = rejection(&budget, options);
+        let rejection = rejection(&budget, self.options);
         let attempt = rung.attempt(budget.total_m(), rejection.clone());
         record(attempts, progress, attempt);
         if rejection.is_none() {
             let cost = rung.cost();
             let mut passing = rung.run;
             passing.error = Some(budget);
-            if best.as_ref().is_none_or(|(_, c)| cost < *c) {
-                best = Some((passing, cost));
+            if cost < self.cap() {
+                self.best = Some((passing, cost));
             }
         } else {
-            rungs.push(Rung {
+            self.rungs.push(Rung {
                 ladder: rung.ladder,
                 at: rung.at + 1,
                 run: companion,
             });
         }
+        Ok(true)
     }
-    Ok(best.map(|(simulation, _)| simulation))
 }
 
 /// Index of the rung of least cost (ties to the first).
@@ -443,6 +542,18 @@ fn unaffordable(size: ModelSize) -> Attempt {
         cost: 0.0,
         total: None,
         rejection: Some(Rejection::Unaffordable),
+    }
+}
+
+/// The verdict on a size whose own run was stopped once it cost `cost` operations, more
+/// than a passing size, after `wall` seconds.
+fn over_cap(size: ModelSize, cost: f64, wall: f64) -> Attempt {
+    Attempt {
+        size,
+        wall,
+        cost,
+        total: None,
+        rejection: Some(Rejection::StoppedCostlier),
     }
 }
 

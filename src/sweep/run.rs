@@ -97,6 +97,7 @@ fn status_of(e: &Error) -> &'static str {
             SimError::NewtonFailure { .. } => "newton",
             SimError::PositionOutOfRange { .. } => "position",
             SimError::TooManySteps { .. } => "step-limit",
+            SimError::OverBudget { .. } => "over-budget",
             SimError::Settings(_) => "settings",
             SimError::Stopped { .. } => "stopped",
         },

@@ -27,12 +27,15 @@ pub struct RunArgs {
     /// The whole error asked for in tip_rel against the beams (m, 1e-5 to 0.1): the basis,
     /// the modes per section, the method and the tolerance that reach it cheapest are picked
     /// and named in the summary (docs/numerics.md). With --modes-as-given: the integration
-    /// error alone (1e-11 to 1e-2 m). Default: the scene's modes, integrated to 1e-6 m.
+    /// error alone (1e-11 to 1e-2 m). Default: the scene's `accuracy` when it states one
+    /// and no method, tolerance or model is given; else the scene's modes, integrated to
+    /// 1e-6 m.
     #[arg(long, value_name = "METRES", conflicts_with_all = ["rtol", "atol"])]
     pub accuracy: Option<f64>,
-    /// Keep the scene's modes and basis: --accuracy then bounds the integration error only,
-    /// and the summary says whether the whole error meets it.
-    #[arg(long, requires = "accuracy")]
+    /// Keep the scene's modes and basis (the paper's N on the paper's scenes), whatever
+    /// accuracy the scene states: --accuracy then bounds the integration error only, and the
+    /// summary says whether the whole error meets it.
+    #[arg(long)]
     pub modes_as_given: bool,
     /// With --accuracy: the largest truncation error of a station's moment, as a fraction of
     /// its peak (default 0.02).
@@ -164,7 +167,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
             let summary = c.summary(&comparison);
             (comparison.controlled, Some((summary, comparison.open_loop)))
         }
-        None => (simulate_scene(&scene, &options, &progress)?, None),
+        None => (simulate_stated(&scene, &options, &progress)?, None),
     };
     write_csv(&run, args.out.as_deref())?;
     eprintln!("{}", run.summary());
@@ -191,6 +194,24 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         plot_runs(&runs, &options, &progress, plot_path)?;
     }
     Ok(())
+}
+
+/// Runs `scene` with `options`, to the accuracy the scene states when the options leave
+/// the choice to it (said on stderr).
+fn simulate_stated(
+    scene: &Scene,
+    options: &SimulationOptions,
+    progress: &Progress,
+) -> anyhow::Result<telescopic::run::Simulation> {
+    let stated = options.for_scene(scene);
+    if let (None, Some(accuracy)) = (options.accuracy, stated.accuracy) {
+        eprintln!(
+            "{}: the scene states accuracy = {accuracy:e} m; the run picks the model size \
+             that meets it (--modes-as-given keeps the scene's modes)",
+            scene.name
+        );
+    }
+    Ok(simulate_scene(scene, &stated, progress)?)
 }
 
 /// The controller file at `path`, checked to fit `scene`.
@@ -260,7 +281,7 @@ fn plot_runs(
     }
     let compared = match runs.other {
         Some(other) => {
-            let run = simulate_scene(other, options, progress)?;
+            let run = simulate_stated(other, options, progress)?;
             eprintln!("{}", run.summary());
             Some(run)
         }

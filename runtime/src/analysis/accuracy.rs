@@ -14,6 +14,11 @@ use crate::integrate::exact::{exact_tail_start, lti_obstacle};
 use crate::model::params::{Drive, ModelParams};
 use crate::scene::TimeSpan;
 
+/// The whole errors against the beams that can be asked for (m): below, the truncation of
+/// the largest models that the shipped scenes afford cannot be certified; above, no longer
+/// an accuracy.
+pub const WHOLE_ACCURACY_RANGE: (f64, f64) = (1e-5, 1e-1);
+
 /// The accuracy the defaults keep (m, in `tip_rel` inside the predictability horizon).
 pub const DEFAULT_ACCURACY_M: f64 = 1e-6;
 

@@ -559,9 +559,18 @@ impl<'m> Driver<'m> {
         })
     }
 
-    /// The run stops at the step limit, with the likely cause.
+    /// The run stops at the step limit, with the likely cause, or over its work budget.
     fn check_step_count(&self) -> Result<(), SimError> {
         let stats = &self.sys.stats;
+        let operations = stats.operations_over(self.y.len());
+        if operations > self.settings.max_operations {
+            return Err(SimError::OverBudget {
+                t: self.t,
+                method: self.method.name(),
+                operations,
+                budget: self.settings.max_operations,
+            });
+        }
         if stats.steps + stats.rejected < self.settings.max_steps {
             return Ok(());
         }

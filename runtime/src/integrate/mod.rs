@@ -301,6 +301,11 @@ pub struct Settings {
     pub dt: Option<f64>,
     /// Most steps (accepted and rejected) before giving up.
     pub max_steps: u64,
+    /// Most work ([`RunStats::operations`]) before the run stops with
+    /// [`SimError::OverBudget`]: a caller that only wants runs cheaper than one it has
+    /// stops a costlier one early (default infinite; checked by every method but `exact`,
+    /// whose tail after a hand-over is not counted against it).
+    pub max_operations: f64,
     /// From this time (s) on, step exactly ([`Method::Exact`]) whatever the method: for a
     /// scene whose positions come to rest (see [`exact::exact_tail_start`]). Must be a
     /// sample time inside the span.
@@ -320,6 +325,7 @@ impl Default for Settings {
             atol: 1e-9,
             dt: None,
             max_steps: 50_000_000,
+            max_operations: f64::INFINITY,
             exact_from: None,
             step_cap: true,
             long_steps: true,
@@ -363,8 +369,14 @@ impl RunStats {
     /// count, not a wall time: a choice ranked by it does not depend on how busy the machine
     /// is.
     pub fn operations(&self) -> f64 {
-        let n2 = (self.state_len * self.state_len) as f64;
-        let n3 = n2 * self.state_len as f64;
+        self.operations_over(self.state_len)
+    }
+
+    /// [`RunStats::operations`] over a state of `state_len` entries (for a run under way,
+    /// whose [`RunStats::state_len`] is set when it ends).
+    pub fn operations_over(&self, state_len: usize) -> f64 {
+        let n2 = (state_len * state_len) as f64;
+        let n3 = n2 * state_len as f64;
         (self.steps + self.rhs_evals) as f64 * n2
             + (self.jacobian_evals + self.factorizations + self.exponentials) as f64 * n3
     }
@@ -454,6 +466,22 @@ pub enum SimError {
         /// Valid values are below this (m).
         max: f64,
     },
+    /// The run cost more than [`Settings::max_operations`].
+    #[error(
+        "stopped at t = {t:.6} s (method {method}) after {operations:.2e} operations, above \
+         the budget of {budget:.2e} it was given; likely cause: a costlier run than the one \
+         the caller compares it with"
+    )]
+    OverBudget {
+        /// Time reached (s).
+        t: f64,
+        /// Method name.
+        method: String,
+        /// Operations counted so far.
+        operations: f64,
+        /// [`Settings::max_operations`].
+        budget: f64,
+    },
     /// Too many steps.
     #[error("gave up after {steps} steps at t = {t:.6} s (method {method}); likely cause: {cause}")]
     TooManySteps {
@@ -488,6 +516,7 @@ impl SimError {
             | SimError::NewtonFailure { t, method, .. }
             | SimError::PositionOutOfRange { t, method, .. }
             | SimError::TooManySteps { t, method, .. }
+            | SimError::OverBudget { t, method, .. }
             | SimError::Stopped { t, method } => Some((*t, method.as_str())),
             SimError::Settings(_) => None,
         }

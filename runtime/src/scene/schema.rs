@@ -17,6 +17,10 @@ pub struct SceneFile {
     /// One line on what the scene is.
     #[serde(default)]
     pub description: String,
+    /// The whole error in `tip_rel` against the beams that runs of this scene meet by
+    /// default (m); `None`: the scene's modes, integrated to 1e-6 m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<f64>,
     /// Geometry, materials and modes of the sections.
     pub sections: SectionsSpec,
     /// Vehicle and load masses.

@@ -263,6 +263,7 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
 
     reference_rules(&mut r, &file);
     let figures = figure_rules(&mut r, &file);
+    accuracy_rule(&mut r, file.accuracy);
 
     if !r.errors.is_empty() {
         return Err(SceneError::Invalid {
@@ -306,8 +307,22 @@ pub(super) fn build(file: SceneFile, origin: &str) -> Result<Scene, SceneError> 
         },
         references: file.reference.clone(),
         figures,
+        accuracy: file.accuracy,
         file,
     })
+}
+
+/// `accuracy`, when given, is a whole error that can be asked for.
+fn accuracy_rule(r: &mut Rules, accuracy: Option<f64>) {
+    let (low, high) = crate::analysis::accuracy::WHOLE_ACCURACY_RANGE;
+    if let Some(a) = accuracy
+        && !(a.is_finite() && (low..=high).contains(&a))
+    {
+        r.fail(
+            "accuracy",
+            format!("must be {low:e} to {high:e} m of tip_rel in all (holds {a:e})"),
+        );
+    }
 }
 
 /// `[figures]` names outputs ([`Output`]), each once, and one-line figure labels.

@@ -30,6 +30,9 @@ pub struct Scene {
     pub references: Vec<ReferenceSpec>,
     /// What a run's figure draws.
     pub figures: Figures,
+    /// The whole error in `tip_rel` against the beams that runs meet by default (m;
+    /// `accuracy`); `None`: the scene's modes, integrated to the default accuracy.
+    pub accuracy: Option<f64>,
     /// The file as read, after overrides (for echoing into outputs).
     pub file: SceneFile,
 }
