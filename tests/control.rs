@@ -6,7 +6,7 @@
 mod common;
 
 use telescopic::analysis::metrics::{drive_stop, metrics};
-use telescopic::control::riccati::care;
+use telescopic::control::design::riccati::care;
 use telescopic::control::{
     Controller, ControllerKind, DesignOptions, Estimator, SampledLaw, ShaperTiming,
     compare_with_open_loop, design, simulate_controlled,
@@ -343,7 +343,7 @@ fn controller_files_are_checked_field_by_field() {
 
 // ---- the sampled output-feedback controller ----
 
-use telescopic::control::sampled::kalman_gain;
+use telescopic::control::law::sampled::kalman_gain;
 use telescopic::linear::zero_order_hold;
 
 #[test]
@@ -540,9 +540,9 @@ fn the_emitted_c_controllers_reject_non_finite_ticks_under_sanitizers() {
 /// Designs, emits, compiles and loads the C controller, runs it and the library's in the loop
 /// on `plant`; returns the largest difference of their forces (N).
 fn emitted_c_in_the_loop(plant: &Scene, options: &DesignOptions) -> f64 {
+    use telescopic::control::closed_loop::sampled::{run_sampled, simulate_sampled};
     use telescopic::control::emit::{C_FILES, write_c};
-    use telescopic::control::sampled::SampledController;
-    use telescopic::control::sampled_run::{run_sampled, simulate_sampled};
+    use telescopic::control::law::sampled::SampledController;
     use telescopic::run::PreparedRun;
 
     let controller = design(plant, options).unwrap();
@@ -701,7 +701,7 @@ fn the_extended_filter_damps_case_study_with_clearance_from_the_machine_sensors(
     assert_eq!(sampled.estimator, Estimator::Extended);
     assert_eq!(
         sampled.process_noise_floor,
-        Some(telescopic::control::sampled::DEFAULT_PROCESS_NOISE_FLOOR)
+        Some(telescopic::control::law::sampled::DEFAULT_PROCESS_NOISE_FLOOR)
     );
     let sim = SimulationOptions::default();
     // (the controller tracks the rigid reference of the nominal mass: with the 30 kg load

@@ -4,8 +4,8 @@
 //! allocates nothing (counted by this binary's global allocator, on the test's own thread).
 
 use rand::{Rng, SeedableRng};
-use telescopic::control::estimator_model::{EstimatorModel, PreparedEstimatorModel};
-use telescopic::control::sampled_run::simulate_sampled;
+use telescopic::control::closed_loop::sampled::simulate_sampled;
+use telescopic::control::law::estimator_model::{EstimatorModel, PreparedEstimatorModel};
 use telescopic::control::{Controller, DesignOptions, design};
 use telescopic::run::PreparedRun;
 use telescopic::run::SimulationOptions;
@@ -236,8 +236,8 @@ fn the_controller_file_records_the_filter_model_and_a_changed_plant_does_not_rea
 
 #[test]
 fn the_filter_step_allocates_nothing() {
-    use telescopic::control::ekf::ExtendedKalman;
-    use telescopic::control::sampled::SampledController;
+    use telescopic::control::law::ekf::ExtendedKalman;
+    use telescopic::control::law::sampled::SampledController;
     let plant = scene("case-study", &[]);
     let controller = extended_design(&plant, DesignOptions::default().tip_scale);
     let mut filter = ExtendedKalman::new(&controller, 0.0, 16.0).unwrap();

@@ -139,7 +139,7 @@ fn strain_rate_designs_and_files_are_checked() {
         f(&mut c);
         c.check_fits(&plant).unwrap_err().to_string()
     };
-    fn law(c: &mut Controller) -> &mut telescopic::control::schema::StrainRateLaw {
+    fn law(c: &mut Controller) -> &mut telescopic::control::file::schema::StrainRateLaw {
         c.sampled.as_mut().unwrap().strain_rate.as_mut().unwrap()
     }
     let e = edit(&|c| law(c).points[2].gain = f64::NAN);

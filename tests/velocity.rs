@@ -5,10 +5,11 @@
 
 mod common;
 
-use telescopic::control::sampled::SampledController;
-use telescopic::control::velocity::{
-    VelocityController, VelocityDesign, VelocityFeedback, design_velocity_feedback,
-    simulate_velocity,
+use telescopic::control::law::sampled::SampledController;
+use telescopic::control::{
+    closed_loop::velocity::simulate_velocity, design::velocity::VelocityDesign,
+    design::velocity::design_velocity_feedback, file::velocity::VelocityFeedback,
+    law::velocity::VelocityController,
 };
 use telescopic::plan::candidates::unshaped;
 use telescopic::plan::moving_scene;

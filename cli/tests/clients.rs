@@ -356,9 +356,13 @@ fn the_riccati_solver_agrees_with_scipy_and_python_control() {
         DMatrix::from_row_iterator(rows.len(), rows[0].len(), rows.into_iter().flatten())
     };
     for (i, p) in problems.iter().enumerate() {
-        let ours =
-            telescopic::control::riccati::care(&m(&p["A"]), &m(&p["B"]), &m(&p["Q"]), &m(&p["R"]))
-                .unwrap();
+        let ours = telescopic::control::design::riccati::care(
+            &m(&p["A"]),
+            &m(&p["B"]),
+            &m(&p["Q"]),
+            &m(&p["R"]),
+        )
+        .unwrap();
         let x = m(&theirs[i]["X"]);
         let rel = (&ours.x - &x).norm() / x.norm();
         eprintln!(

@@ -7,7 +7,7 @@ use crate::errors::to_python;
 use crate::scene::PyScene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use telescopic::control::velocity::VelocityDesign;
+use telescopic::control::design::velocity::VelocityDesign;
 use telescopic::plan::{
     DEFAULT_A_MAX, DEFAULT_CHECKS, DEFAULT_J_MAX, DEFAULT_SETTLE_S, DEFAULT_TOLERANCE_M,
     DEFAULT_V_MAX,

@@ -1,7 +1,9 @@
 //! Controller design on the linear models and its test on the full nonlinear model with
-//! clearance: the Riccati solver ([`riccati`]), input shapers ([`shaper`]), the gain-scheduled
-//! LQR and its controller file ([`design`](mod@design)), the controlled model ([`controlled`]), and the
-//! figures a design is judged by ([`crate::analysis::metrics`]).
+//! clearance, a room per role: the designs ([`design`](mod@design): the gain-scheduled LQR,
+//! the Riccati solver, input shapers, the velocity feedback), the laws as they run
+//! ([`law`]), the files a design writes ([`file`](mod@file)), the laws in the loop with the plant
+//! ([`closed_loop`]) and the laws as C99 ([`emit`]). The figures a design is judged by are
+//! [`crate::analysis::metrics`].
 //!
 //! ```no_run
 //! use telescopic::control::{DesignOptions, compare_variants};
@@ -14,32 +16,20 @@
 //! # Ok::<(), telescopic::Error>(())
 //! ```
 
-pub mod comparison;
-pub mod controlled;
-pub mod controller_file;
+pub mod closed_loop;
 pub mod design;
-pub mod ekf;
 pub mod emit;
-pub mod estimator_model;
 pub mod file;
-pub mod riccati;
-pub mod sampled;
-pub mod sampled_run;
-pub mod schedule;
-pub mod schema;
-pub mod shaper;
-pub mod small_dense;
-pub mod strain;
-pub mod velocity;
+pub mod law;
 
-pub use comparison::{
+pub use closed_loop::comparison::{
     ControlComparison, VariantRow, compare_variants, compare_with_open_loop, comparison_options,
     simulate_controlled, variants_table,
 };
-pub use controlled::{ControlLaw, Controlled, Observed};
-pub use controller_file::{ControllerFile, compare_file_with_open_loop};
+pub use closed_loop::controller_file::{ControllerFile, compare_file_with_open_loop};
+pub use design::shaper::{ShaperKind, ShaperTiming};
 pub use design::{DesignOptions, design};
-pub use schema::{
+pub use file::schema::{
     CONTROLLER_FILE_VERSION, Controller, ControllerKind, Estimator, SampledLaw, SchedulePoint,
 };
-pub use shaper::{ShaperKind, ShaperTiming};
+pub use law::controlled::{ControlLaw, Controlled, Observed};

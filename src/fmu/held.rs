@@ -2,7 +2,7 @@
 //! `a_vehicle` for a prescribed motion) and a co-simulation master's held value are.
 
 use crate::Result;
-use crate::control::controlled::DriveResponse;
+use crate::control::law::controlled::DriveResponse;
 use crate::run::held::HeldValue;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{ContactState, Drive, Model, ModelParams, Profile};

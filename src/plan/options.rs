@@ -2,7 +2,7 @@
 //! feedback, with their defaults and checks.
 
 use super::robust::RobustRange;
-use crate::control::velocity::VelocityDesign;
+use crate::control::design::velocity::VelocityDesign;
 use crate::run::SimulationOptions;
 use crate::{Error, OptionName, Result};
 use telescopic_runtime::SCurve;

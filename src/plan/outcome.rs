@@ -5,7 +5,7 @@ use super::metrics::CycleMetrics;
 use super::moving;
 use super::options::PlanOptions;
 use super::shapers::Shaper;
-use crate::control::velocity::VelocityFeedback;
+use crate::control::file::velocity::VelocityFeedback;
 use crate::{Error, OptionName, Result};
 use std::fmt::Write as _;
 use telescopic_runtime::Scene;

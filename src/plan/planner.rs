@@ -11,7 +11,10 @@ use super::price::{OPTIMIZER_BUDGET, PlanPrice, SCHEDULE_PAST_ARRIVAL_S, SCHEDUL
 use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
 use crate::analysis::modes::{ModesOptions, compute_modes};
-use crate::control::velocity::{VelocityFeedback, design_velocity_feedback, simulate_velocity};
+use crate::control::{
+    closed_loop::velocity::simulate_velocity, design::velocity::design_velocity_feedback,
+    file::velocity::VelocityFeedback,
+};
 use crate::report::{Reporter, StopOnly};
 use crate::run::simulate_scene;
 use crate::{Error, OptionName, Result};

@@ -2,7 +2,7 @@
 //! amplitudes (summing to 1) at multiples of the mode's period, and their residual
 //! vibration against the frequency (the closed-form sensitivity curve).
 
-use crate::control::shaper::{ShaperKind, impulses};
+use crate::control::design::shaper::{ShaperKind, impulses};
 use serde::Serialize;
 use std::f64::consts::PI;
 

@@ -6,7 +6,7 @@ use super::simulate::RunArgs;
 use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::{Path, PathBuf};
-use telescopic::control::velocity::VelocityDesign;
+use telescopic::control::design::velocity::VelocityDesign;
 use telescopic::plan;
 use telescopic::plan::emit::{
     DEFAULT_FILTER_RATE_HZ, FILTER_FILES, check_filter_rate, write_filter_c,
@@ -213,7 +213,7 @@ fn remove_stale_feedback(beside: &Path) -> anyhow::Result<()> {
     let Ok(text) = std::fs::read_to_string(beside) else {
         return Ok(());
     };
-    if telescopic::control::velocity::VelocityFeedback::is_feedback_file(&text) {
+    if telescopic::control::file::velocity::VelocityFeedback::is_feedback_file(&text) {
         std::fs::remove_file(beside)
             .map_err(|e| anyhow::anyhow!("--out: removing the stale {}: {e}", beside.display()))?;
         eprintln!(

@@ -2,7 +2,7 @@
 //! source's start (period, force limit, schedule, feedforward and reference tables, and the
 //! helpers that read them).
 
-use crate::control::schema::Controller;
+use crate::control::file::schema::Controller;
 use crate::io::comment::comment_text;
 use std::fmt::Write as _;
 
@@ -146,7 +146,7 @@ pub(crate) fn source_start(file: &Controller, banner: &str, start: f64, end: f64
 /// The feedforward's and the rigid reference's tables over `[start, end]` s, then the shared
 /// helpers that read them.
 fn append_profiles(s: &mut String, file: &Controller, start: f64, end: f64) {
-    let reference = crate::control::schedule::reference(file, start, end);
+    let reference = crate::control::law::schedule::reference(file, start, end);
     let nodes: Vec<(f64, f64, f64, f64)> = reference.nodes().collect();
     let (ff_times, ff_values) = file.feedforward_steps().map_or(
         (vec![start], vec![file.feedforward.value(start)]),

@@ -1,11 +1,11 @@
 //! The extended Kalman filter ([`super::ekf`]) with its LQR law as self-contained C99: the
 //! recorded model (`M^-1`, `K`, `D_s`, the drive's response, the contact law and the contact
 //! vectors' table), the filter's matrices, and functions that compute what
-//! [`crate::control::ekf::ExtendedKalman`] computes, operation for operation.
+//! [`crate::control::law::ekf::ExtendedKalman`] computes, operation for operation.
 
 use super::common::{LQR_LAW, banner, header, list, lit, nested, source_start};
-use crate::control::estimator_model::EstimatorModel;
-use crate::control::schema::Controller;
+use crate::control::file::schema::Controller;
+use crate::control::law::estimator_model::EstimatorModel;
 use crate::{Error, Result};
 use std::fmt::Write as _;
 
@@ -15,7 +15,7 @@ use std::fmt::Write as _;
 /// [`Error::Input`] when the file does not record the filter's model or its sensors are not
 /// linear in the coordinates.
 pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(String, String)> {
-    let sampled = crate::control::ekf::sampled_of(file)?;
+    let sampled = crate::control::law::ekf::sampled_of(file)?;
     let model = sampled.model.as_ref().ok_or_else(|| {
         Error::input(
             "controller `sampled.model`",
@@ -27,7 +27,7 @@ pub(crate) fn emit_extended(file: &Controller, start: f64, end: f64) -> Result<(
     let w = 2 * n;
     // the tables below are fixed-size C arrays: a file whose sizes disagree is refused here
     // rather than emitted as C that does not compile
-    let c = crate::control::ekf::measurement_rows(sampled, w)?;
+    let c = crate::control::law::ekf::measurement_rows(sampled, w)?;
     if file
         .schedule
         .iter()
@@ -83,11 +83,11 @@ fn append_model(s: &mut String, model: &EstimatorModel) {
          static const double INITIAL_COVARIANCE = {};",
         u8::from(model.damping.is_some()),
         u8::from(model.geometry_table.is_some()),
-        crate::control::ekf::SUBSTEPS,
-        crate::control::small_dense::TAYLOR_DEGREE,
-        crate::control::small_dense::MAX_HALVINGS,
-        lit(crate::control::small_dense::SCALED_NORM),
-        lit(crate::control::ekf::INITIAL_COVARIANCE),
+        crate::control::law::ekf::SUBSTEPS,
+        crate::control::law::small_dense::TAYLOR_DEGREE,
+        crate::control::law::small_dense::MAX_HALVINGS,
+        lit(crate::control::law::small_dense::SCALED_NORM),
+        lit(crate::control::law::ekf::INITIAL_COVARIANCE),
     );
     let rows = |r: &Vec<Vec<f64>>| r.iter().flatten().copied().collect::<Vec<f64>>();
     let _ = writeln!(
@@ -127,7 +127,7 @@ fn append_model(s: &mut String, model: &EstimatorModel) {
 
 /// The contact vectors: their table in time (cubic Hermite, as the model's) or the fixed
 /// values.
-fn append_geometry(s: &mut String, model: &crate::control::estimator_model::EstimatorModel) {
+fn append_geometry(s: &mut String, model: &crate::control::law::estimator_model::EstimatorModel) {
     match (&model.geometry_table, &model.fixed_geometry) {
         (Some(t), _) => {
             let width = t.varying.len();
@@ -174,14 +174,14 @@ fn append_geometry(s: &mut String, model: &crate::control::estimator_model::Esti
 fn append_filter_tables(
     s: &mut String,
     file: &Controller,
-    model: &crate::control::estimator_model::EstimatorModel,
+    model: &crate::control::law::estimator_model::EstimatorModel,
     c: Vec<f64>,
     w: usize,
 ) {
     let sampled = file.sampled.as_ref().expect("checked by the caller");
     let m = sampled.sensors.len();
-    let r = crate::control::ekf::measurement_noise(sampled);
-    let q = crate::control::ekf::process_noise(sampled, &model.drive_response);
+    let r = crate::control::law::ekf::measurement_noise(sampled);
+    let q = crate::control::law::ekf::process_noise(sampled, &model.drive_response);
     let p = file.schedule.len();
     let gains: Vec<f64> = file
         .schedule

@@ -1,9 +1,9 @@
 //! The LQR on the discrete Kalman filter of the closed-contact model, as C: what
-//! [`crate::control::sampled::DiscreteController`] computes.
+//! [`crate::control::law::sampled::DiscreteController`] computes.
 
 use super::common::{LQR_LAW, banner, header, nested, source_start};
 use crate::Result;
-use crate::control::schema::{Controller, DiscretePoint};
+use crate::control::file::schema::{Controller, DiscretePoint};
 use std::fmt::Write as _;
 
 /// The header and the source of `file`'s LQR on its discrete Kalman filter.

@@ -15,7 +15,7 @@ mod ekf;
 mod lqr;
 mod strain;
 
-use super::schema::{Controller, Estimator};
+use crate::control::file::schema::{Controller, Estimator};
 use crate::{Error, Result};
 use std::path::Path;
 

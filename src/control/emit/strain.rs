@@ -1,10 +1,10 @@
 //! The strain-rate law ([`super::strain`]) as self-contained C99: the same header layout and
 //! entry points as the filter's ([`super::emit_c`]), computing what
-//! [`crate::control::strain::StrainRateController`] computes, operation for operation.
+//! [`crate::control::law::strain::StrainRateController`] computes, operation for operation.
 
 use super::common::{banner, header, list, lit, source_start};
-use crate::control::schema::Controller;
-use crate::control::schema::StrainRateLaw;
+use crate::control::file::schema::Controller;
+use crate::control::file::schema::StrainRateLaw;
 use std::fmt::Write as _;
 
 /// The header and the source of `file`'s strain-rate law over `[start, end]` s.

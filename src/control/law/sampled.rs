@@ -16,8 +16,8 @@
 //! interpolated linearly in the scheduled position between design points, as the continuous
 //! law's gains are.
 
-use super::schema::{Controller, DiscretePoint, SampledDesign};
 use crate::OptionName;
+use crate::control::file::schema::{Controller, DiscretePoint, SampledDesign};
 use crate::io::rows::{from_rows, to_rows};
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
@@ -160,7 +160,7 @@ pub fn design_sampled(
         noise: noise.to_vec(),
         force_noise,
         seed: 1,
-        estimator: super::schema::Estimator::Linear,
+        estimator: crate::control::file::schema::Estimator::Linear,
         process_noise_floor: None,
         points,
         strain_rate: None,
@@ -204,7 +204,7 @@ struct PointMatrices {
 pub struct DiscreteController {
     points: Vec<PointMatrices>,
     positions: Vec<f64>,
-    reference: super::schedule::Reference,
+    reference: crate::control::law::schedule::Reference,
     feedforward: telescopic_runtime::Profile,
     period: f64,
     limit: f64,
@@ -247,7 +247,7 @@ impl DiscreteController {
         Ok(DiscreteController {
             positions: file.schedule_positions(),
             points,
-            reference: super::schedule::reference(file, start, end),
+            reference: crate::control::law::schedule::reference(file, start, end),
             feedforward: file.feedforward.clone(),
             period: 1.0 / sampled.rate_hz,
             limit: file.force_limit_n,
@@ -260,7 +260,7 @@ impl DiscreteController {
 
     /// The two design points around `a` and the weight of the second.
     fn weights(&self, a: f64) -> (usize, usize, f64) {
-        super::schedule::bracket(&self.positions, a)
+        crate::control::law::schedule::bracket(&self.positions, a)
     }
 }
 

@@ -14,14 +14,18 @@
 //! telescope (`u_ref'' = F_ff / m_total`, every other coordinate zero) and `K` interpolated
 //! linearly in the moving position between the grid points.
 
-use super::riccati::care;
-use super::schedule::schedule_weights;
-use super::schema::{
+pub mod riccati;
+pub mod shaper;
+pub mod velocity;
+
+use crate::OptionName;
+use crate::control::design::riccati::care;
+use crate::control::design::shaper::{ShaperKind, ShaperTiming, jumps, shape, shape_within};
+use crate::control::file::schema::{
     CONTROLLER_FILE_VERSION, Controller, ControllerKind, Estimator, ObserverPoint, SampledLaw,
     SchedulePoint,
 };
-use super::shaper::{ShaperKind, ShaperTiming, jumps, shape, shape_within};
-use crate::OptionName;
+use crate::control::law::schedule::schedule_weights;
 use crate::io::rows::to_rows;
 use crate::linear::Grid;
 use crate::run::models::{ModelChoice, ModelRegistry};
@@ -72,20 +76,20 @@ pub struct DesignOptions {
     /// Kalman filter (empty: the continuous full-state controller).
     pub sensors: Vec<String>,
     /// Their measurement noise (standard deviation, each in its output's unit; empty: the
-    /// defaults of [`super::sampled::default_noise`]).
+    /// defaults of [`crate::control::law::sampled::default_noise`]).
     pub sensor_noises: Vec<f64>,
     /// The sampled controller's rate (Hz, default 1000).
     pub rate_hz: f64,
     /// The sampled controller's estimator: `linear` (default) or `extended`.
     pub estimator: Estimator,
     /// The extended filter's process-noise floor (variance per period added to every state,
-    /// state units squared; default [`super::sampled::DEFAULT_PROCESS_NOISE_FLOOR`]).
+    /// state units squared; default [`crate::control::law::sampled::DEFAULT_PROCESS_NOISE_FLOOR`]).
     pub process_noise_floor: f64,
     /// Seed of the simulated measurement noise (default 1): the same seed, the same run.
     pub noise_seed: u64,
     /// The sampled law: `auto` (default: `strain-rate` when the sensors include `vehicle`
     /// and `kappa_1_0`, else `lqr`), `lqr` (the LQR on the estimator's state) or
-    /// `strain-rate` ([`super::strain`]; the kind gives its feedforward, shaped or not).
+    /// `strain-rate` ([`crate::control::law::strain`]; the kind gives its feedforward, shaped or not).
     pub law: SampledLaw,
     /// The strain-rate law's damping ratio added to the first mode (default 0.15).
     pub added_damping: f64,
@@ -109,12 +113,12 @@ impl Default for DesignOptions {
             memory_budget: crate::run::memory::DEFAULT_MEMORY_BUDGET,
             sensors: Vec::new(),
             sensor_noises: Vec::new(),
-            rate_hz: super::sampled::DEFAULT_RATE_HZ,
+            rate_hz: crate::control::law::sampled::DEFAULT_RATE_HZ,
             estimator: Estimator::Linear,
-            process_noise_floor: super::sampled::DEFAULT_PROCESS_NOISE_FLOOR,
+            process_noise_floor: crate::control::law::sampled::DEFAULT_PROCESS_NOISE_FLOOR,
             noise_seed: 1,
             law: SampledLaw::Auto,
-            added_damping: super::strain::DEFAULT_ADDED_DAMPING,
+            added_damping: crate::control::law::strain::DEFAULT_ADDED_DAMPING,
         }
     }
 }
@@ -323,7 +327,7 @@ fn sampled_part(
     controller: &Controller,
     model: &dyn Model,
     options: &DesignOptions,
-) -> Result<super::schema::SampledDesign> {
+) -> Result<crate::control::file::schema::SampledDesign> {
     if !options.kind.has_lqr() || options.kind.has_observer() {
         return Err(Error::option(
             OptionName::Sensors,
@@ -335,7 +339,7 @@ fn sampled_part(
         options
             .sensors
             .iter()
-            .map(|s| super::sampled::default_noise(s))
+            .map(|s| crate::control::law::sampled::default_noise(s))
             .collect()
     } else if options.sensor_noises.len() == options.sensors.len() {
         options.sensor_noises.clone()
@@ -364,7 +368,7 @@ fn sampled_part(
     if sampled_law(options) == SampledLaw::StrainRate {
         return strain_rate_part(controller, model, options, noise);
     }
-    let mut sampled = super::sampled::design_sampled(
+    let mut sampled = crate::control::law::sampled::design_sampled(
         controller,
         model,
         &options.sensors,
@@ -376,7 +380,9 @@ fn sampled_part(
     sampled.seed = options.noise_seed;
     if options.estimator == Estimator::Extended {
         sampled.process_noise_floor = Some(options.process_noise_floor);
-        sampled.model = Some(super::estimator_model::EstimatorModel::of(model)?);
+        sampled.model = Some(crate::control::law::estimator_model::EstimatorModel::of(
+            model,
+        )?);
     }
     Ok(sampled)
 }
@@ -388,7 +394,9 @@ pub fn sampled_law(options: &DesignOptions) -> SampledLaw {
         return options.law;
     }
     let reads = |s: &str| options.sensors.iter().any(|o| o == s);
-    let strain = super::strain::STRAIN_RATE_SENSORS.iter().all(|s| reads(s));
+    let strain = crate::control::law::strain::STRAIN_RATE_SENSORS
+        .iter()
+        .all(|s| reads(s));
     if strain && options.estimator == Estimator::Linear {
         SampledLaw::StrainRate
     } else {
@@ -402,8 +410,8 @@ fn strain_rate_part(
     model: &dyn Model,
     options: &DesignOptions,
     noise: Vec<f64>,
-) -> Result<super::schema::SampledDesign> {
-    use super::strain::STRAIN_RATE_SENSORS;
+) -> Result<crate::control::file::schema::SampledDesign> {
+    use crate::control::law::strain::STRAIN_RATE_SENSORS;
     if let Some(missing) = STRAIN_RATE_SENSORS
         .iter()
         .find(|s| !options.sensors.iter().any(|o| o == *s))
@@ -422,9 +430,10 @@ fn strain_rate_part(
             "the strain-rate law has no estimator; leave the estimator at its default (linear)",
         ));
     }
-    super::sampled::check_rate(options.rate_hz)?;
-    let law = super::strain::design_strain_rate(controller, model, options.added_damping)?;
-    Ok(super::schema::SampledDesign {
+    crate::control::law::sampled::check_rate(options.rate_hz)?;
+    let law =
+        crate::control::law::strain::design_strain_rate(controller, model, options.added_damping)?;
+    Ok(crate::control::file::schema::SampledDesign {
         rate_hz: options.rate_hz,
         sensors: options.sensors.clone(),
         noise,
@@ -691,7 +700,7 @@ impl Controller {
     ///
     /// # Errors
     /// [`Error::Option`] when the controller has none (a continuous full-state design).
-    pub fn sampled_part(&self) -> Result<&super::schema::SampledDesign> {
+    pub fn sampled_part(&self) -> Result<&crate::control::file::schema::SampledDesign> {
         self.sampled.as_ref().ok_or_else(|| {
             Error::option(
                 OptionName::Controller,

@@ -3,9 +3,9 @@
 //! integrator, the contact events and the outputs work unchanged. The output gains a
 //! `drive_force` column: the total force the drive applies.
 
-use super::schedule::{Reference, schedule_weights};
-use super::schema::Controller;
 use crate::OptionName;
+use crate::control::file::schema::Controller;
+use crate::control::law::schedule::{Reference, schedule_weights};
 use crate::io::rows::from_rows;
 use crate::run::held::HeldValue;
 use crate::{Error, Result};

@@ -1,9 +1,9 @@
 //! A controller file checked like a scene: every field against its rule and against the
 //! scene it is applied to, each error naming the JSON field.
 
-use super::design::{FORCE_LIMIT_RANGE, SCALE_RANGE};
-use super::schema::{Controller, Estimator, SampledDesign, SchedulePoint};
 use crate::OptionName;
+use crate::control::design::{FORCE_LIMIT_RANGE, SCALE_RANGE};
+use crate::control::file::schema::{Controller, Estimator, SampledDesign, SchedulePoint};
 use crate::{Error, Result};
 use std::path::Path;
 use telescopic_runtime::analysis::linear::state_names;
@@ -218,7 +218,7 @@ impl Controller {
                 format!("must be finite numbers > 0 (got {v})"),
             ));
         }
-        let (low, high) = super::design::PROCESS_NOISE_FLOOR_RANGE;
+        let (low, high) = crate::control::design::PROCESS_NOISE_FLOOR_RANGE;
         if let Some(floor) = sampled.process_noise_floor {
             if sampled.estimator != Estimator::Extended {
                 return Err(field(
@@ -305,7 +305,7 @@ impl Controller {
     /// point, finite positive loop gains and filter.
     fn check_strain_rate(
         &self,
-        law: &super::schema::StrainRateLaw,
+        law: &crate::control::file::schema::StrainRateLaw,
         estimator: Estimator,
         sensors: &[String],
     ) -> Result<()> {
@@ -315,7 +315,7 @@ impl Controller {
                 format!("must be `none` with a strain-rate law (got `{estimator}`)"),
             ));
         }
-        if let Some(s) = super::strain::STRAIN_RATE_SENSORS
+        if let Some(s) = crate::control::law::strain::STRAIN_RATE_SENSORS
             .iter()
             .find(|s| !sensors.iter().any(|o| o == *s))
         {

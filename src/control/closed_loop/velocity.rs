@@ -1,12 +1,12 @@
 //! A run of a scene with its velocity feedback in the loop.
 
-use super::file::VelocityFeedback;
-use super::law::VelocityController;
-use super::servo::ServoCorrected;
 use crate::Result;
-use crate::control::sampled_run::{
+use crate::control::closed_loop::sampled::{
     SampledRun, TickSetup, check_tick_cost, finish, tick_grid, tick_loop,
 };
+use crate::control::file::velocity::VelocityFeedback;
+use crate::control::law::servo::ServoCorrected;
+use crate::control::law::velocity::VelocityController;
 use crate::report::Reporter;
 use crate::run::{PreparedRun, SimulationOptions};
 use telescopic_runtime::{Drive, Scene};

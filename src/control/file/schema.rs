@@ -1,8 +1,8 @@
 //! The controller file's layout: what `design` writes and a controlled run reads, every
-//! field serialized under its JSON name. [`super::file`] checks a file against its rules and
+//! field serialized under its JSON name. [`crate::control::file::check`] checks a file against its rules and
 //! its scene; [`CONTROLLER_FILE_VERSION`] changes whenever this layout does.
 
-use super::shaper::{ShaperKind, ShaperTiming};
+use crate::control::design::shaper::{ShaperKind, ShaperTiming};
 use serde::{Deserialize, Serialize};
 use telescopic_runtime::Profile;
 
@@ -61,7 +61,7 @@ pub enum Estimator {
     #[default]
     Linear,
     /// The extended Kalman filter on the nonlinear model with the contact law
-    /// ([`super::ekf::ExtendedKalman`]).
+    /// ([`crate::control::law::ekf::ExtendedKalman`]).
     Extended,
     /// No estimator: the strain-rate law reads its sensors directly.
     None,
@@ -239,7 +239,7 @@ pub struct SampledDesign {
     pub strain_rate: Option<StrainRateLaw>,
     /// The extended filter's model of the plant: the design scene's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub model: Option<super::estimator_model::EstimatorModel>,
+    pub model: Option<crate::control::law::estimator_model::EstimatorModel>,
 }
 
 /// The discrete model and Kalman gain of one design point.

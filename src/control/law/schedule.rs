@@ -2,7 +2,7 @@
 //! reference motion a controller tracks, shared by the continuous law, the sampled laws and
 //! (as the same arithmetic) the emitted C.
 
-use super::schema::Controller;
+use crate::control::file::schema::Controller;
 use telescopic_runtime::Profile;
 
 /// The rigid reference `u_ref(t)`, `u_ref'(t)`: piecewise quadratic between nodes, exact for

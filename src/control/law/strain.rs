@@ -18,9 +18,9 @@
 //! upper section moves freely in its clearance the law waits, and when a contact closes the
 //! impact bends section 1, which the gauge sees and the law damps.
 
-use super::sampled::SampledController;
-use super::schema::{Controller, StrainRateLaw, StrainRatePoint};
 use crate::OptionName;
+use crate::control::file::schema::{Controller, StrainRateLaw, StrainRatePoint};
+use crate::control::law::sampled::SampledController;
 use crate::{Error, Result};
 use telescopic_runtime::{ContactMode, Lpv, Model, Sensor, modal_analysis_with};
 
@@ -123,7 +123,7 @@ pub fn design_strain_rate(
 pub struct StrainRateController {
     law: StrainRateLaw,
     positions: Vec<f64>,
-    reference: super::schedule::Reference,
+    reference: crate::control::law::schedule::Reference,
     feedforward: telescopic_runtime::Profile,
     period: f64,
     /// The rate filters' weight per tick.
@@ -166,7 +166,7 @@ impl StrainRateController {
         };
         Ok(StrainRateController {
             positions: file.schedule_positions(),
-            reference: super::schedule::reference(file, start, end),
+            reference: crate::control::law::schedule::reference(file, start, end),
             feedforward: file.feedforward.clone(),
             period: 1.0 / sampled.rate_hz,
             alpha: law.filter_weight(sampled.rate_hz),
@@ -192,7 +192,7 @@ impl SampledController for StrainRateController {
         self.previous = Some((u, kappa));
         let next = t + self.period;
         let (u_ref, v_ref) = self.reference.at(next);
-        let (i, j, w) = super::schedule::bracket(&self.positions, a);
+        let (i, j, w) = crate::control::law::schedule::bracket(&self.positions, a);
         let (gi, gj) = (self.law.points[i].gain, self.law.points[j].gain);
         let gain = gi + w * (gj - gi);
         let vehicle = self.law.vehicle_stiffness_n_per_m * (u - u_ref)

@@ -6,7 +6,7 @@
 //! numbers.
 //!
 //! The right-hand side and the Jacobian are written as plain loops in one fixed order: the
-//! emitted C ([`super::emit::emit_c`]) repeats them operation for operation, so the two agree to
+//! emitted C ([`crate::control::emit::emit_c`]) repeats them operation for operation, so the two agree to
 //! the last bit. They equal the generated model's (derived by Symbolica) to rounding: a test
 //! compares the two.
 

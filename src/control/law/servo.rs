@@ -12,7 +12,7 @@ pub struct ServoCorrected<'m> {
     base: &'m dyn Model,
     /// Where the vehicle's acceleration goes (the vehicle follows it, the rest feels its
     /// inertia).
-    response: crate::control::controlled::DriveResponse,
+    response: crate::control::law::controlled::DriveResponse,
     /// The correction's acceleration over the current tick (m/s^2).
     acceleration: HeldValue,
     /// The correction reached at the end of the current tick (m/s).
@@ -28,7 +28,7 @@ impl<'m> ServoCorrected<'m> {
     pub fn new(base: &'m dyn Model, rate_hz: f64) -> Result<Self> {
         Ok(ServoCorrected {
             base,
-            response: crate::control::controlled::DriveResponse::of(base)?,
+            response: crate::control::law::controlled::DriveResponse::of(base)?,
             acceleration: HeldValue::new(0.0),
             velocity: HeldValue::new(0.0),
             period: 1.0 / rate_hz,

@@ -2,16 +2,16 @@
 //! the nonlinear model itself (contact law included) over each controller period, and whose
 //! covariance follows the exact Jacobian of the contact state the estimate is in. The model
 //! is the design scene's, recorded in the controller file
-//! ([`super::estimator_model::EstimatorModel`]), not the plant's. The measurements it takes
+//! ([`crate::control::law::estimator_model::EstimatorModel`]), not the plant's. The measurements it takes
 //! are linear in the coordinates (`vehicle`, `tip_rel`, `top1_rel`, `kappa_1_0`).
 //!
-//! Every step is a fixed sequence of plain loops ([`super::small_dense`]) that the emitted C
-//! ([`super::emit::emit_c`]) repeats operation for operation.
+//! Every step is a fixed sequence of plain loops ([`crate::control::law::small_dense`]) that the emitted C
+//! ([`crate::control::emit::emit_c`]) repeats operation for operation.
 
-use super::estimator_model::PreparedEstimatorModel;
-use super::sampled::SampledController;
-use super::schema::Controller;
-use super::small_dense::{exponential, invert_spd, multiply, multiply_transposed};
+use crate::control::file::schema::Controller;
+use crate::control::law::estimator_model::PreparedEstimatorModel;
+use crate::control::law::sampled::SampledController;
+use crate::control::law::small_dense::{exponential, invert_spd, multiply, multiply_transposed};
 use crate::{Error, Result};
 use telescopic_runtime::{Output, Sensor};
 
@@ -33,7 +33,7 @@ pub struct ExtendedKalman {
     q: Vec<f64>,
     x: Vec<f64>,
     p: Vec<f64>,
-    law: super::sampled::DiscreteController,
+    law: crate::control::law::sampled::DiscreteController,
     period: f64,
     u: f64,
     scratch: Scratch,
@@ -57,7 +57,9 @@ struct Scratch {
 
 /// The sampled part's checks shared by the filter and its C emission: the part itself and
 /// sensors linear in the coordinates.
-pub(crate) fn sampled_of(file: &Controller) -> Result<&super::schema::SampledDesign> {
+pub(crate) fn sampled_of(
+    file: &Controller,
+) -> Result<&crate::control::file::schema::SampledDesign> {
     let sampled = file.sampled_part()?;
     let load_acceleration = Output::Sensor(Sensor::LoadAcceleration);
     if let Some(s) = sampled
@@ -76,7 +78,7 @@ pub(crate) fn sampled_of(file: &Controller) -> Result<&super::schema::SampledDes
 /// The measurement rows (`sensors x w`, row-major) of the first design point: the filter's
 /// `C`, checked against the `w` states of its model.
 pub(crate) fn measurement_rows(
-    sampled: &super::schema::SampledDesign,
+    sampled: &crate::control::file::schema::SampledDesign,
     w: usize,
 ) -> Result<Vec<f64>> {
     let m = sampled.sensors.len();
@@ -93,7 +95,7 @@ pub(crate) fn measurement_rows(
 
 /// The measurement noise covariance (`sensors x sensors`, row-major): the noise levels
 /// squared on the diagonal.
-pub(crate) fn measurement_noise(sampled: &super::schema::SampledDesign) -> Vec<f64> {
+pub(crate) fn measurement_noise(sampled: &crate::control::file::schema::SampledDesign) -> Vec<f64> {
     let m = sampled.noise.len();
     let mut r = vec![0.0; m * m];
     for (i, s) in sampled.noise.iter().enumerate() {
@@ -104,7 +106,10 @@ pub(crate) fn measurement_noise(sampled: &super::schema::SampledDesign) -> Vec<f
 
 /// The process noise per period (`2 dof x 2 dof`, row-major): the force disturbance through
 /// the accelerations over one period, plus the floor on every state.
-pub(crate) fn process_noise(sampled: &super::schema::SampledDesign, response: &[f64]) -> Vec<f64> {
+pub(crate) fn process_noise(
+    sampled: &crate::control::file::schema::SampledDesign,
+    response: &[f64],
+) -> Vec<f64> {
     let n = response.len();
     let period = 1.0 / sampled.rate_hz;
     let mut bd = vec![0.0; 2 * n];
@@ -116,7 +121,7 @@ pub(crate) fn process_noise(sampled: &super::schema::SampledDesign, response: &[
     // upper section inside its band): without it the loop diverges with clearance
     let floor = sampled
         .process_noise_floor
-        .unwrap_or(super::sampled::DEFAULT_PROCESS_NOISE_FLOOR);
+        .unwrap_or(crate::control::law::sampled::DEFAULT_PROCESS_NOISE_FLOOR);
     let variance = sampled.force_noise * sampled.force_noise;
     let mut q = vec![0.0; 4 * n * n];
     for i in 0..2 * n {
@@ -156,7 +161,7 @@ impl ExtendedKalman {
             q: process_noise(sampled, model.drive_response()),
             x: vec![0.0; w],
             p,
-            law: super::sampled::DiscreteController::new(file, start, end)?,
+            law: crate::control::law::sampled::DiscreteController::new(file, start, end)?,
             period: 1.0 / sampled.rate_hz,
             u: 0.0,
             scratch: Scratch {

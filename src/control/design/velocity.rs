@@ -1,10 +1,10 @@
 //! The design of a velocity feedback on the scene's scheduled linear model.
 
-use super::file::{
+use crate::control::file::velocity::{
     VELOCITY_FEEDBACK_FORMAT, VELOCITY_FEEDBACK_VERSION, VelocityFeedback, VelocityPoint,
 };
-use crate::control::sampled::default_noise;
-use crate::control::strain::{STRAIN_RATE_SENSORS, VEHICLE_LOOP_FRACTION, tip_per_curvature};
+use crate::control::law::sampled::default_noise;
+use crate::control::law::strain::{STRAIN_RATE_SENSORS, VEHICLE_LOOP_FRACTION, tip_per_curvature};
 use crate::run::models::{ModelChoice, ModelRegistry};
 use crate::{Error, OptionName, Result};
 use telescopic_runtime::{
@@ -37,7 +37,7 @@ impl Default for VelocityDesign {
             added_damping: 0.3,
             velocity_limit: 0.25,
             acceleration_limit: 1.0,
-            rate_hz: crate::control::sampled::DEFAULT_RATE_HZ,
+            rate_hz: crate::control::law::sampled::DEFAULT_RATE_HZ,
             grid_points: 9,
             seed: 1,
         }
@@ -207,5 +207,5 @@ fn check_design(design: &VelocityDesign) -> Result<()> {
             design.grid_points
         ));
     }
-    crate::control::sampled::check_rate(design.rate_hz)
+    crate::control::law::sampled::check_rate(design.rate_hz)
 }

@@ -2,10 +2,10 @@
 //! from tick to tick with the force held, the sensors are read at each tick with seeded
 //! Gaussian noise, and the controller's force acts from the next tick on.
 
-use super::controlled::Controlled;
-use super::sampled::{DiscreteController, SampledController};
-use super::schema::{Controller, Estimator};
 use crate::OptionName;
+use crate::control::file::schema::{Controller, Estimator};
+use crate::control::law::controlled::Controlled;
+use crate::control::law::sampled::{DiscreteController, SampledController};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::{HeldInputStepper, Simulation, Trajectory};
@@ -312,10 +312,10 @@ pub fn simulate_sampled(
     let extended = file
         .sampled
         .as_ref()
-        .is_some_and(|s| s.estimator == super::schema::Estimator::Extended);
+        .is_some_and(|s| s.estimator == crate::control::file::schema::Estimator::Extended);
     if extended {
         // the filter predicts with the model its file records, not the plant's
-        let mut controller = super::ekf::ExtendedKalman::new(file, start, end)?;
+        let mut controller = crate::control::law::ekf::ExtendedKalman::new(file, start, end)?;
         return run_sampled(run, file, &mut controller, reporter);
     }
     if file
@@ -323,7 +323,8 @@ pub fn simulate_sampled(
         .as_ref()
         .is_some_and(|s| s.strain_rate.is_some())
     {
-        let mut controller = super::strain::StrainRateController::new(file, start, end)?;
+        let mut controller =
+            crate::control::law::strain::StrainRateController::new(file, start, end)?;
         return run_sampled(run, file, &mut controller, reporter);
     }
     let mut controller = DiscreteController::new(file, start, end)?;

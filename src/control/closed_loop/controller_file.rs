@@ -2,11 +2,14 @@
 //! controller that drives the force ([`Controller`]), or a plan's velocity feedback that
 //! corrects a prescribed motion ([`VelocityFeedback`]). The `format` field tells them apart.
 
-use super::comparison::{
+use crate::control::closed_loop::comparison::{
     ControlComparison, beside_open_loop, compare_with_open_loop, simulate_controlled,
 };
-use super::schema::Controller;
-use super::velocity::{VELOCITY_FEEDBACK_FORMAT, VelocityFeedback, simulate_velocity};
+use crate::control::file::schema::Controller;
+use crate::control::{
+    closed_loop::velocity::simulate_velocity, file::velocity::VELOCITY_FEEDBACK_FORMAT,
+    file::velocity::VelocityFeedback,
+};
 use crate::report::Reporter;
 use crate::run::{Simulation, SimulationOptions};
 use crate::{Error, Result};
@@ -47,7 +50,7 @@ impl ControllerFile {
     /// # Errors
     /// [`Error::Option`] naming the file and what is wrong.
     pub fn load(path: &Path) -> Result<Self> {
-        super::file::load_json(path, ControllerFile::from_json)
+        crate::control::file::check::load_json(path, ControllerFile::from_json)
     }
 
     /// Checks that the file fits `scene`.

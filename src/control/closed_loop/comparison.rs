@@ -1,12 +1,12 @@
 //! A controller judged on the nonlinear model: its run beside the open loop's, the figures
 //! of both, and the table of the design's variants.
 
-use super::controlled::{Controlled, Observed};
-use super::design::{self, DesignOptions};
-use super::sampled_run;
-use super::schema::{Controller, ControllerKind, SampledLaw};
 use crate::OptionName;
 use crate::analysis::metrics::{RunMetrics, drive_stop, metrics};
+use crate::control::closed_loop::sampled;
+use crate::control::design::{self, DesignOptions};
+use crate::control::file::schema::{Controller, ControllerKind, SampledLaw};
+use crate::control::law::controlled::{Controlled, Observed};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::{MethodChoice, Simulation, SimulationOptions, simulate_scene};
@@ -52,7 +52,7 @@ pub fn simulate_controlled(
     controller.check_fits(scene)?;
     if controller.sampled.is_some() {
         let run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
-        return Ok(sampled_run::simulate_sampled(run, controller, reporter)?.simulation);
+        return Ok(sampled::simulate_sampled(run, controller, reporter)?.simulation);
     }
     let mut run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
     let method = run.plan.method;

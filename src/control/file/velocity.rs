@@ -1,6 +1,6 @@
 //! The velocity-feedback file: its layout, its checks and what it tells a run.
 
-use crate::control::strain::STRAIN_RATE_SENSORS;
+use crate::control::law::strain::STRAIN_RATE_SENSORS;
 use crate::{Error, OptionName, Result};
 use serde::{Deserialize, Serialize};
 use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
@@ -67,7 +67,7 @@ pub struct VelocityPoint {
     pub curvature_per_acceleration: f64,
 }
 
-pub(super) fn field(name: &str, rule: impl std::fmt::Display) -> Error {
+pub(crate) fn field(name: &str, rule: impl std::fmt::Display) -> Error {
     Error::input(format!("velocity feedback `{name}`"), rule)
 }
 
@@ -160,7 +160,7 @@ impl VelocityFeedback {
                 ));
             }
         }
-        crate::control::sampled::check_rate(self.rate_hz).map_err(|_| {
+        crate::control::law::sampled::check_rate(self.rate_hz).map_err(|_| {
             field(
                 "rate_hz",
                 format!("must be 1 to 1e6 Hz (got {})", self.rate_hz),
@@ -245,7 +245,7 @@ impl VelocityFeedback {
     }
 
     /// Index (among `a_2..`) of the scheduled position.
-    pub(super) fn scheduled_index(&self) -> Option<usize> {
+    pub(crate) fn scheduled_index(&self) -> Option<usize> {
         self.schedule_parameter
             .as_deref()
             .and_then(|s| s.strip_prefix("a_"))
