@@ -25,10 +25,15 @@ pub enum Error {
         /// Another option that does what was likely meant, or gives what is missing.
         see: Option<OptionName>,
     },
-    /// An input file (a controller, a sweep file, a sweep's results) is unreadable or breaks
-    /// a rule: the message names the file, the field and the rule.
-    #[error("{0}")]
-    Input(String),
+    /// An input (a controller file, a sweep file, a sweep's results, a run handed over) is
+    /// unreadable or breaks a rule.
+    #[error("{subject}: {rule}")]
+    Input {
+        /// The file, or the field of one, or the run.
+        subject: String,
+        /// The rule it breaks, or why it cannot be read.
+        rule: String,
+    },
     /// An output path cannot be written (checked before any work).
     #[error("{}: {rule}", path.display())]
     Destination {
@@ -62,6 +67,15 @@ pub enum Error {
     /// No model could be prepared for the scene.
     #[error("{0}")]
     Model(String),
+    /// The quadrature-assembled model could not be built.
+    #[error(transparent)]
+    Assembly(#[from] telescopic_runtime::ModelError),
+    /// A linear model could not be had at an operating point.
+    #[error(transparent)]
+    Linear(#[from] telescopic_runtime::analysis::linear::LinearError),
+    /// The finite-element model of the beams could not be built or solved.
+    #[error(transparent)]
+    Elements(#[from] telescopic_runtime::analysis::elements::ElementError),
     /// The run would exceed a resource limit or take absurdly long: the estimate and the
     /// cause, before any work is done.
     #[error("scene {scene}: {reason}")]
@@ -164,7 +178,10 @@ impl Error {
 
     /// An [`Error::Input`] for `subject` (a file, or a field of one) breaking `rule`.
     pub fn input(subject: impl std::fmt::Display, rule: impl std::fmt::Display) -> Self {
-        Error::Input(format!("{subject}: {rule}"))
+        Error::Input {
+            subject: subject.to_string(),
+            rule: rule.to_string(),
+        }
     }
 
     /// An [`Error::Option`] for `option` breaking `rule`.

@@ -213,10 +213,14 @@ fn bad_input_is_refused_with_the_rule() {
         "{err}"
     );
     // a malformed controller file
-    let err = Controller::from_json("{\"format\": \"something else\"}")
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("controller file"), "{err}");
+    let err = Controller::from_json("{\"format\": \"something else\"}").unwrap_err();
+    match &err {
+        telescopic::Error::Input { subject, rule } => assert!(
+            subject == "controller file" && rule.contains("not a telescopic controller"),
+            "{err:?}"
+        ),
+        other => panic!("not an input error: {other:?}"),
+    }
 }
 
 #[test]

@@ -235,8 +235,19 @@ fn bad_operating_points_and_grids_are_refused_with_the_rule() {
             ..LinearizeOptions::default()
         },
     )
-    .unwrap_err()
-    .to_string();
+    .unwrap_err();
+    // the error names the option as data, not only in its text
+    assert!(
+        matches!(
+            err,
+            telescopic::Error::Option {
+                option: telescopic::OptionName::Positions,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    let err = err.to_string();
     assert!(
         err.contains("a2 = 1.5 m is outside the valid overlap") && err.contains("[0, 1.35)"),
         "{err}"

@@ -43,7 +43,7 @@ pub fn to_python(error: telescopic::Error) -> PyErr {
             let see = see.map_or(String::new(), |o| format!(" (see {})", argument_name(o)));
             option_error(py, format!("{argument}: {rule}{see}"), Some(argument))
         }
-        Error::Input(_) | Error::Destination { .. } => option_error(py, message, None),
+        Error::Input { .. } | Error::Destination { .. } => option_error(py, message, None),
         Error::Simulation { error: sim, .. } => solver_error(py, message, sim.at()),
         Error::NonFiniteOutput { t, method, .. } => {
             solver_error(py, message, Some((*t, method.as_str())))

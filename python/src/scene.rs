@@ -259,10 +259,5 @@ impl PyScene {
 #[pyfunction]
 pub fn read_input(path: PathBuf) -> PyResult<String> {
     telescopic::runtime::input::read_text(&path, telescopic::runtime::input::MAX_TEXT_INPUT_BYTES)
-        .map_err(|error| {
-            to_python(telescopic::Error::Input(format!(
-                "{}: {error}",
-                path.display()
-            )))
-        })
+        .map_err(|error| to_python(telescopic::Error::input(path.display(), error)))
 }

@@ -103,8 +103,7 @@ pub fn element_response(
     stations: &[Station],
     reporter: &dyn Reporter,
 ) -> Result<BeamResponse> {
-    let model =
-        ElementModel::new(&scene.params, elements).map_err(|e| Error::Model(e.to_string()))?;
+    let model = ElementModel::new(&scene.params, elements).map_err(Error::from)?;
     let mut names = model.output_names();
     names.extend(stations.iter().map(Station::moment_name));
     let mut rows = Vec::new();

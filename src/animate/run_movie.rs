@@ -185,10 +185,10 @@ fn track(take: &Take, options: &AnimationOptions) -> Result<RunTrack> {
     let traj = &take.run.trajectory;
     let dof = take.model.layout().dof();
     let Some(first) = traj.index("z_0") else {
-        return Err(Error::Input(format!(
-            "the run of {} has no coordinate columns z_0.. (simulate it with coordinates)",
-            take.scene.name
-        )));
+        return Err(Error::input(
+            format!("the run of {}", take.scene.name),
+            "has no coordinate columns z_0.. (simulate it with coordinates)",
+        ));
     };
     let sample = take.scene.time.sample;
     if options.fps * sample > 1.0 + 1e-9 {

@@ -167,9 +167,9 @@ impl LinearExport {
     /// Reads a JSON document written by [`LinearExport::to_json`].
     ///
     /// # Errors
-    /// [`Error::Analysis`] naming what is missing or malformed.
+    /// [`Error::Input`] naming what is missing or malformed.
     pub fn from_json(text: &str) -> Result<Self> {
-        let bad = |what: &str| Error::Analysis(format!("linear model JSON: {what}"));
+        let bad = |what: &str| Error::input("linear model JSON", what);
         let v: Value = serde_json::from_str(text).map_err(|e| bad(&e.to_string()))?;
         if v["format"] != "telescopic linear model" {
             return Err(bad("`format` is not \"telescopic linear model\""));

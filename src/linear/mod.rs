@@ -197,7 +197,7 @@ impl Default for LinearizeOptions {
 pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearExport> {
     let chosen = options.models.build(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
-    let mut lpv = Lpv::new(model, options.contacts).map_err(|e| Error::Model(e.to_string()))?;
+    let mut lpv = Lpv::new(model, options.contacts).map_err(Error::from)?;
     if options.disturbance {
         lpv = lpv.with_disturbance();
     }

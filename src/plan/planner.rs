@@ -47,10 +47,10 @@ pub fn first_period(
         };
         let report = compute_modes(held, &options)?;
         let f = report.frequencies_hz.first().copied().ok_or_else(|| {
-            Error::Input(format!(
-                "scene {} has no vibration mode to shape",
-                held.name
-            ))
+            Error::input(
+                format!("scene {}", held.name),
+                "has no vibration mode to shape",
+            )
         })?;
         Ok(1.0 / f)
     };

@@ -154,7 +154,7 @@ impl ChosenModel {
     /// [`Error::Model`] when the parameters do not make a model.
     pub fn assembled(params: &ModelParams) -> Result<Self> {
         Ok(ChosenModel {
-            model: Box::new(AssembledModel::new(params).map_err(|e| Error::Model(e.to_string()))?),
+            model: Box::new(AssembledModel::new(params).map_err(Error::from)?),
             description: match params.basis {
                 Basis::Modes => "quadrature-assembled model".to_string(),
                 basis => format!("quadrature-assembled model (basis {})", basis.word()),

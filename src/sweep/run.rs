@@ -88,8 +88,8 @@ pub(super) fn csv_text(s: &str) -> String {
 fn status_of(e: &Error) -> &'static str {
     match e {
         Error::Scene(_) => "invalid",
-        Error::Option { .. } | Error::Input(_) => "option",
-        Error::Model(_) => "model",
+        Error::Option { .. } | Error::Input { .. } => "option",
+        Error::Model(_) | Error::Assembly(_) | Error::Linear(_) | Error::Elements(_) => "model",
         Error::Unaffordable { .. } | Error::OverMemoryBudget { .. } => "unaffordable",
         Error::Simulation { error, .. } => match error {
             SimError::Diverged { .. } => "diverged",

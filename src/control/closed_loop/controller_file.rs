@@ -29,12 +29,12 @@ impl ControllerFile {
     /// Reads either kind from JSON, by its `format`.
     ///
     /// # Errors
-    /// [`Error::Analysis`] naming what is malformed.
+    /// [`Error::Input`] naming what is malformed.
     pub fn from_json(text: &str) -> Result<Self> {
         crate::io::unique_keys::check_unique_keys(text)
-            .map_err(|e| Error::Analysis(format!("controller file: {e}")))?;
-        let head: serde_json::Value = serde_json::from_str(text)
-            .map_err(|e| Error::Analysis(format!("controller file: {e}")))?;
+            .map_err(|e| Error::input("controller file", e))?;
+        let head: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| Error::input("controller file", e))?;
         if head.get("format").and_then(|f| f.as_str()) == Some(VELOCITY_FEEDBACK_FORMAT) {
             return Ok(ControllerFile::Velocity(Box::new(
                 VelocityFeedback::from_json(text)?,

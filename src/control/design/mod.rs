@@ -249,7 +249,7 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
     let (parameter, grid) = schedule_grid(scene, options)?;
     let chosen = options.models.build(&scene.params, options.model)?;
     let model = chosen.model.as_ref();
-    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(Error::from)?;
     let n = model.dof();
     if !(1..n).contains(&options.design_modes) {
         return Err(Error::option(
@@ -286,13 +286,11 @@ pub fn design(scene: &Scene, options: &DesignOptions) -> Result<Controller> {
         .expect("tip_rel");
     let mut schedule = Vec::new();
     for (j, positions) in points.iter().enumerate() {
-        let at = |e: &dyn fmt::Display| {
-            Error::Analysis(format!(
-                "grid point {} (positions {positions:?} m): {e}",
-                j + 1
-            ))
-        };
-        let point = design_point(model, &lpv, positions, tip_row, options).map_err(|e| at(&e))?;
+        let point =
+            design_point(model, &lpv, positions, tip_row, options).map_err(|e| Error::Trial {
+                what: format!("grid point {} (positions {positions:?} m)", j + 1),
+                error: Box::new(e),
+            })?;
         schedule.push(point);
     }
     let states: Vec<String> = lpv.states().iter().map(|s| s.name.clone()).collect();
@@ -601,11 +599,9 @@ fn design_point(
     let (n, npos) = (model.dof(), positions.len());
     // the caller names the grid point
     let at = |e: &dyn fmt::Display| Error::Analysis(e.to_string());
-    let full = lpv.at(positions, &vec![0.0; npos]).map_err(|e| at(&e))?;
+    let full = lpv.at(positions, &vec![0.0; npos])?;
     let (f1, zeta1) = first_mode(&full.a)?;
-    let (k_e, d) = lpv
-        .second_order_at(positions, &vec![0.0; npos])
-        .map_err(|e| at(&e))?;
+    let (k_e, d) = lpv.second_order_at(positions, &vec![0.0; npos])?;
     let modal = modal_analysis_with(model, &k_e).map_err(|e| at(&e))?;
     let design = modal_design(model, &modal, &k_e, &d, options.design_modes);
     let c_tip = full.c.view((tip_row, 0), (1, n)).into_owned() * &design.phi;
@@ -717,25 +713,28 @@ impl Controller {
     /// Reads a controller file.
     ///
     /// # Errors
-    /// [`Error::Analysis`] naming what is malformed.
+    /// [`Error::Input`] naming what is malformed.
     pub fn from_json(text: &str) -> Result<Self> {
-        let malformed = |e: serde_json::Error| Error::Analysis(format!("controller file: {e}"));
+        let malformed = |e: serde_json::Error| Error::input("controller file", e);
         // the format and version first: a file of another layout is refused as such, not
         // for the first field the layouts disagree on
         let head: serde_json::Value = serde_json::from_str(text).map_err(malformed)?;
         if head.get("format").and_then(|f| f.as_str()) != Some("telescopic controller") {
-            return Err(Error::Analysis(
-                "controller file: not a telescopic controller (`format` is not \"telescopic controller\")"
-                    .into(),
+            return Err(Error::input(
+                "controller file",
+                "not a telescopic controller (`format` is not \"telescopic controller\")",
             ));
         }
         let version = head.get("version").and_then(|v| v.as_u64());
         if version != Some(u64::from(CONTROLLER_FILE_VERSION)) {
             let found = version.map_or("none".to_string(), |v| v.to_string());
-            return Err(Error::Analysis(format!(
-                "controller file: layout version {found}, but this build reads version \
-                 {CONTROLLER_FILE_VERSION}; design the controller again with this build"
-            )));
+            return Err(Error::input(
+                "controller file",
+                format!(
+                    "layout version {found}, but this build reads version \
+                     {CONTROLLER_FILE_VERSION}; design the controller again with this build"
+                ),
+            ));
         }
         serde_json::from_value(head).map_err(malformed)
     }

@@ -87,7 +87,7 @@ pub fn design_velocity_feedback(
     check_design(design)?;
     let chosen = ModelRegistry::default().build(params, ModelChoice::Auto)?;
     let model = chosen.model.as_ref();
-    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(Error::from)?;
     let here: Vec<f64> = params
         .positions
         .iter()
@@ -153,7 +153,7 @@ fn static_curvature(model: &dyn Model, lpv: &Lpv, positions: &[f64]) -> Result<f
     let n = model.dof();
     let full = lpv
         .at(positions, &vec![0.0; positions.len()])
-        .map_err(|e| Error::Model(e.to_string()))?;
+        .map_err(Error::from)?;
     let r = n - 1;
     let a_pp = full.a.view((n + 1, 1), (r, r)).into_owned();
     let b_p = full.b.view((n + 1, 0), (r, 1)).into_owned();

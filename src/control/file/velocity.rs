@@ -87,24 +87,28 @@ impl VelocityFeedback {
     /// Reads a velocity-feedback file: its format and version first.
     ///
     /// # Errors
-    /// [`Error::Analysis`] naming what is malformed.
+    /// [`Error::Input`] naming what is malformed.
     pub fn from_json(text: &str) -> Result<Self> {
-        let malformed = |e: serde_json::Error| Error::Analysis(format!("velocity feedback: {e}"));
+        let malformed = |e: serde_json::Error| Error::input("velocity feedback", e);
         crate::io::unique_keys::check_unique_keys(text)
-            .map_err(|e| Error::Analysis(format!("velocity feedback: {e}")))?;
+            .map_err(|e| Error::input("velocity feedback", e))?;
         let head: serde_json::Value = serde_json::from_str(text).map_err(malformed)?;
         if feedback_format(&head) != Some(VELOCITY_FEEDBACK_FORMAT) {
-            return Err(Error::Analysis(format!(
-                "velocity feedback: `format` is not \"{VELOCITY_FEEDBACK_FORMAT}\""
-            )));
+            return Err(Error::input(
+                "velocity feedback",
+                format!("`format` is not \"{VELOCITY_FEEDBACK_FORMAT}\""),
+            ));
         }
         let version = head.get("version").and_then(|v| v.as_u64());
         if version != Some(u64::from(VELOCITY_FEEDBACK_VERSION)) {
-            return Err(Error::Analysis(format!(
-                "velocity feedback: layout version {}, but this build reads version \
-                 {VELOCITY_FEEDBACK_VERSION}; plan again with this build",
-                version.map_or("none".to_string(), |v| v.to_string())
-            )));
+            return Err(Error::input(
+                "velocity feedback",
+                format!(
+                    "layout version {}, but this build reads version \
+                     {VELOCITY_FEEDBACK_VERSION}; plan again with this build",
+                    version.map_or("none".to_string(), |v| v.to_string())
+                ),
+            ));
         }
         serde_json::from_value(head).map_err(malformed)
     }

@@ -110,7 +110,7 @@ pub fn design_sampled(
     rate_hz: f64,
 ) -> Result<SampledDesign> {
     check_rate(rate_hz)?;
-    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(Error::from)?;
     let rows: Vec<usize> = sensors
         .iter()
         .map(|s| {
@@ -139,7 +139,7 @@ pub fn design_sampled(
     for point in &controller.schedule {
         let linear = lpv
             .at(&point.positions, &vec![0.0; npos])
-            .map_err(|e| Error::Model(e.to_string()))?;
+            .map_err(Error::from)?;
         let (ad, bd) = crate::linear::zero_order_hold(&linear.a, &linear.b, period);
         let c = DMatrix::from_fn(rows.len(), linear.a.ncols(), |i, j| linear.c[(rows[i], j)]);
         // a measured output that feeds through the input (acc_load) is measured before the

@@ -40,14 +40,13 @@ pub const STRAIN_RATE_SENSORS: [&str; 2] = ["vehicle", Sensor::FootCurvature.nam
 /// `lpv` of `model` at `positions`, and that mode's frequency (Hz).
 ///
 /// # Errors
-/// [`Error::Model`] when the linear model or its modes cannot be formed.
+/// [`Error::Linear`] when the linear model cannot be formed, [`Error::Model`] when its modes
+/// cannot.
 pub fn tip_per_curvature(model: &dyn Model, lpv: &Lpv, positions: &[f64]) -> Result<(f64, f64)> {
     let model_error = |e: &dyn std::fmt::Display| Error::Model(e.to_string());
     let rates = vec![0.0; positions.len()];
-    let full = lpv.at(positions, &rates).map_err(|e| model_error(&e))?;
-    let (k_e, _) = lpv
-        .second_order_at(positions, &rates)
-        .map_err(|e| model_error(&e))?;
+    let full = lpv.at(positions, &rates)?;
+    let (k_e, _) = lpv.second_order_at(positions, &rates)?;
     let modal = modal_analysis_with(model, &k_e).map_err(|e| model_error(&e))?;
     let (Some(shape), Some(&f1)) = (modal.shapes.first(), modal.frequencies_hz.first()) else {
         return Err(Error::Model("the linear model has no elastic mode".into()));
@@ -92,7 +91,7 @@ pub fn design_strain_rate(
     }
     let mass = controller.total_mass_kg;
     let tau = std::f64::consts::TAU;
-    let lpv = Lpv::new(model, ContactMode::Closed).map_err(|e| Error::Model(e.to_string()))?;
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(Error::from)?;
     let mut points = Vec::with_capacity(controller.schedule.len());
     for p in &controller.schedule {
         let (ratio, f1) = tip_per_curvature(model, &lpv, &p.positions)?;
