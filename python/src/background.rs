@@ -100,8 +100,10 @@ pub fn run<T: Send>(
                 }
             }
             if let (Some(cb), None) = (callback, &callback_error) {
+                // the callable sees the fraction done grow, never go back (a new run's
+                // start reads 0 until its first progress)
                 let f = progress.overall();
-                if f != last {
+                if f > last {
                     last = f;
                     if let Err(error) = cb.call1((f,)) {
                         // a Ctrl-C while the callable runs arrives as its exception

@@ -194,6 +194,8 @@ struct SearchProgress<'a> {
     reporter: &'a dyn Reporter,
     /// Sizes with a companion over every basis's ladder.
     total: usize,
+    /// The most runs the search can make: every size of every ladder once.
+    max_runs: usize,
     /// Sizes checked so far.
     done: std::cell::Cell<usize>,
     /// Runs made so far (sizes and companions).
@@ -203,9 +205,12 @@ struct SearchProgress<'a> {
 impl SearchProgress<'_> {
     /// A reporter for the run of `size` (the size being checked, or its companion).
     fn run_reporter(&self, size: ModelSize, role: &str) -> SearchStep<'_> {
-        self.runs.set(self.runs.get() + 1);
+        let index = self.runs.get();
+        self.runs.set(index + 1);
         SearchStep {
             inner: self.reporter,
+            // the search's fraction done, counted against its most runs: it never goes back
+            done: (index as f64, self.max_runs as f64),
             label: format!(
                 "accuracy search, size {} of at most {}: {role} {size}",
                 self.done.get() + 1,
@@ -226,10 +231,13 @@ impl SearchProgress<'_> {
     }
 }
 
-/// A run's reporter inside the search: its start names the size.
+/// A run's reporter inside the search: its start names the size, its progress is the
+/// search's.
 struct SearchStep<'a> {
     inner: &'a dyn Reporter,
     label: String,
+    /// Runs before this one, and the most runs the search can make.
+    done: (f64, f64),
 }
 
 impl Reporter for SearchStep<'_> {
@@ -237,7 +245,9 @@ impl Reporter for SearchStep<'_> {
         self.inner.start(&self.label);
     }
     fn progress(&self, fraction: f64) {
-        self.inner.progress(fraction);
+        let (before, most) = self.done;
+        self.inner
+            .progress((before + fraction.clamp(0.0, 1.0)) / most);
     }
     fn finish(&self) {
         self.inner.finish();
@@ -280,6 +290,10 @@ pub fn simulate_for_accuracy(
         total: STARTS
             .iter()
             .map(|&(basis, start)| ladder(basis, start).len() - 1)
+            .sum(),
+        max_runs: STARTS
+            .iter()
+            .map(|&(basis, start)| ladder(basis, start).len())
             .sum(),
         done: std::cell::Cell::new(0),
         runs: std::cell::Cell::new(0),
