@@ -550,42 +550,21 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
     assert!(out.status.success(), "{err}");
     assert!(
         err.contains("accuracy 1e-3 m in all")
-            && err.contains("basis modes+static, 2 modes per section"),
+            && err.contains("basis modes+static, 2 modes per section")
+            && err.contains("accuracy search: predicted modes+static 2 (its modal surrogate")
+            && err.contains("confirmed by its companion"),
         "{err}"
     );
-    // a line per size checked, the paper's first size first, then best-first by counted
-    // work: the paper's 4 and 6 modes are rejected by their estimate, 2 modes with the
-    // static shapes pass (checked after the paper's 6, which cost no more), and the paper's
-    // 9 (costlier than a passing size) get no companion run
-    let search = search_verdicts(&err);
+    // without clearance the predicted size and its companion are the only runs
     assert_eq!(
-        search,
-        [
-            (
-                "size 1 of at most 11: modes 4",
-                "rejected: tip_rel estimate"
-            ),
-            (
-                "size 2 of at most 11: modes 6",
-                "rejected: tip_rel estimate"
-            ),
-            ("size 3 of at most 11: modes+static 2", "passes"),
-            (
-                "size 4 of at most 11: modes 9",
-                "rejected: costs more than a passing size, not checked"
-            ),
-        ]
-        .map(|(a, b)| (a.to_string(), b.to_string())),
+        search_verdicts(&err),
+        [(
+            "size 1 of at most 11: modes+static 2".to_string(),
+            "passes".to_string()
+        )],
         "{err}"
     );
-    assert!(err.contains("the search: 5 runs, "), "{err}");
-    // the pick ranks by counted work, not time: a second run checks the same sizes in the
-    // same order with the same verdicts
-    let again = at_a_millimetre();
-    assert_eq!(
-        search_verdicts(&String::from_utf8_lossy(&again.stderr)),
-        search
-    );
+    assert!(err.contains("the search: 2 runs, "), "{err}");
     assert!(
         std::fs::read_to_string(&csv)
             .unwrap()
@@ -622,6 +601,55 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
             "/dev/null",
         ],
         &["--accuracy", "1e-5 to 1e-1 m", "--modes-as-given"],
+    );
+}
+
+#[test]
+fn with_clearance_nothing_is_predicted_and_the_search_is_best_first_by_counted_work() {
+    // a line per size checked, the paper's first size
+    // first, then best-first by counted work: the paper's 4 modes are rejected by their
+    // estimate, 6 pass, and 2 with the static shapes (costlier than a passing size) get no
+    // companion run
+    let with_clearance = || {
+        telescopic(&[
+            "simulate",
+            "scenes/adams-clearance.toml",
+            "--accuracy",
+            "1e-4",
+            "--out",
+            "/dev/null",
+        ])
+    };
+    let out = with_clearance();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("no size predicted (clearance: impacts set the error)"),
+        "{err}"
+    );
+    let search = search_verdicts(&err);
+    assert_eq!(
+        search,
+        [
+            (
+                "size 1 of at most 11: modes 4",
+                "rejected: tip_rel estimate"
+            ),
+            ("size 2 of at most 11: modes 6", "passes"),
+            (
+                "size 3 of at most 11: modes+static 2",
+                "rejected: costs more than a passing size, not checked"
+            ),
+        ]
+        .map(|(a, b)| (a.to_string(), b.to_string())),
+        "{err}"
+    );
+    assert!(err.contains("the search: 4 runs, "), "{err}");
+    // the pick ranks by counted work, not time: a second run checks the same sizes in the
+    // same order with the same verdicts
+    assert_eq!(
+        search_verdicts(&String::from_utf8_lossy(&with_clearance().stderr)),
+        search
     );
 }
 
@@ -668,7 +696,7 @@ fn a_size_costlier_than_a_passing_one_is_stopped_past_that_cost() {
     };
     let lines: Vec<&str> = err
         .lines()
-        .filter(|l| l.starts_with("accuracy search"))
+        .filter(|l| l.starts_with("accuracy search, "))
         .collect();
     assert!(operations(lines[1]) >= operations(lines[0]), "{err}");
     assert!(err.contains("generated model s2_m4x4"), "{err}");

@@ -1,9 +1,9 @@
 //! The models file of the generator. The configuration's vocabulary ([`ModelConfig`] and
-//! its words) is the runtime's, so that the generator and the lookup of a scene's model
-//! cannot disagree.
+//! its words) is `telescopic-config`'s, which the runtime re-exports, so that the generator
+//! and the lookup of a scene's model cannot disagree.
 
 use serde::{Deserialize, Serialize};
-pub use telescopic_runtime::model::configuration::{DriveKind, ForceFlow, ModelConfig, Positions};
+pub use telescopic_config::{DriveKind, ForceFlow, ModelConfig, Positions};
 
 /// `generated/models.toml`: `[[model]]` tables.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

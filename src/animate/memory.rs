@@ -6,7 +6,7 @@
 use super::run_movie::CHART_BUCKETS;
 use crate::run::memory::check;
 use crate::{Error, OptionName, Result};
-use telescopic_runtime::{ModelConfig, Scene};
+use telescopic_runtime::{Scene, config_of};
 
 /// Bytes of a page's JSON per number: an `f32` printed shortest with its comma (measured
 /// 10.8 in case-study's frames, 9.2 in its charts).
@@ -34,7 +34,7 @@ pub fn page_bytes(scenes: &[&Scene], fps: f64) -> u64 {
     scenes
         .iter()
         .map(|scene| {
-            let config = ModelConfig::of(&scene.params);
+            let config = config_of(&scene.params);
             let per_frame =
                 (config.dof() + config.sections() + 2 + 2 * config.contact_count()) as u64;
             let samples = crate::run::budget::sample_count(&scene.time) as u64;

@@ -1,6 +1,7 @@
 //! The resolved method and settings of a run: `auto` chosen on the scene, tolerances checked.
 
 use super::options::{MethodChoice, SimulationOptions};
+use super::predicted_size::SizePrediction;
 use crate::OptionName;
 use crate::{Error, Result};
 use telescopic_runtime::analysis::accuracy::AccuracyPlan;
@@ -31,6 +32,10 @@ pub enum MethodReason {
         basis: Basis,
         /// Modes per section picked.
         modes: usize,
+        /// The size predicted before any run, or why none was.
+        prediction: SizePrediction,
+        /// Whether the pick is the predicted size, confirmed by its companion.
+        confirmed: bool,
         /// The sizes tried, described with their verdicts.
         tried: Vec<String>,
         /// Runs the search made (sizes and their companions).
@@ -58,18 +63,29 @@ impl std::fmt::Display for MethodReason {
                 estimated_m,
                 basis,
                 modes,
+                prediction,
+                confirmed,
                 tried,
                 search_runs,
                 search_s,
                 integration,
-            } => write!(
-                f,
-                "accuracy {accuracy_m:e} m in all (estimated {estimated_m:.1e} m): basis {}, \
-                 {modes} modes per section, the cheapest size within it of those tried ({}; \
-                 the search: {search_runs} runs, {search_s:.2} s); {integration}",
-                basis.word(),
-                tried.join(", "),
-            ),
+            } => {
+                let how = match (prediction, confirmed) {
+                    (SizePrediction::Predicted { .. }, true) => "confirmed by its companion",
+                    (SizePrediction::Predicted { .. }, false) => {
+                        "not confirmed: the cheapest size within it of those tried after it"
+                    }
+                    (SizePrediction::Skipped(_), _) => "the cheapest size within it of those tried",
+                };
+                write!(
+                    f,
+                    "accuracy {accuracy_m:e} m in all (estimated {estimated_m:.1e} m): basis {}, \
+                     {modes} modes per section; {prediction}; {how} ({}; the search: \
+                     {search_runs} runs, {search_s:.2} s); {integration}",
+                    basis.word(),
+                    tried.join(", "),
+                )
+            }
         }
     }
 }

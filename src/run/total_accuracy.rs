@@ -12,7 +12,12 @@
 //! [`SimulationOptions::moment_tolerance`] of its peak, and (with clearance) the statistics
 //! beyond the pointwise window within [`SimulationOptions::statistics_tolerance`].
 //!
-//! The search is best-first by cost: it runs each ladder's first size, then always checks
+//! Without clearance the size is predicted before any run ([`crate::run::predicted_size`]:
+//! the scene's modal surrogate against the largest size's), that size is run with its
+//! companion, and the ladder of its basis is refined from there only when the companion
+//! rejects it. When nothing is predicted (clearance, whose impacts the surrogate does not
+//! see), or the predicted ladder ends without a passing size, the search is best-first by
+//! cost: it runs each ladder's first size, then always checks
 //! the cheapest size not yet checked, counted in operations
 //! ([`telescopic_runtime::RunStats::operations`]: steps, right-hand sides, factorizations and
 //! matrix exponentials, so the pick does not depend on the machine's load). A ladder ends at
@@ -33,6 +38,7 @@ use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::error_budget::{self, ErrorBudget, Statistic, refined_modes};
+use crate::run::predicted_size::{SizePrediction, predict_size};
 use crate::run::{MethodReason, ModelSize, Simulation, SimulationOptions, plan};
 use crate::{Error, Result};
 use std::time::Instant;
@@ -298,8 +304,16 @@ pub fn simulate_for_accuracy(
         done: std::cell::Cell::new(0),
         runs: std::cell::Cell::new(0),
     };
+    let prediction = prediction(scene, accuracy);
+    reporter.note(&format!("accuracy search: {prediction}"));
     let mut attempts = Vec::new();
-    let best = search(scene, (&integration, options), &mut attempts, &progress)?;
+    let best = search(
+        scene,
+        (&integration, options),
+        &prediction,
+        &mut attempts,
+        &progress,
+    )?;
     let tried: Vec<String> = attempts.iter().map(Attempt::describe).collect();
     let Some(mut simulation) = best else {
         return Err(Error::option(
@@ -317,17 +331,38 @@ pub fn simulate_for_accuracy(
         .error
         .as_ref()
         .expect("a passing run has its budget");
+    let confirmed = matches!(prediction, SizePrediction::Predicted { size, .. }
+        if size.basis == simulation.basis && size.modes == simulation.modes[0]);
     simulation.plan.reason = MethodReason::TotalAccuracy {
         accuracy_m: accuracy,
         estimated_m: budget.total_m().unwrap_or(f64::NAN),
         basis: simulation.basis,
         modes: simulation.modes[0],
+        prediction,
+        confirmed,
         tried,
         search_runs: progress.runs.get(),
         search_s: started.elapsed().as_secs_f64(),
         integration: Box::new(simulation.plan.reason.clone()),
     };
     Ok(simulation)
+}
+
+/// The size predicted for `accuracy` (m) before any run ([`predict_size`]): among every
+/// size with a companion on the ladders, against the largest size of the static shapes'.
+fn prediction(scene: &Scene, accuracy: f64) -> SizePrediction {
+    let ladders: Vec<Vec<ModelSize>> = STARTS
+        .iter()
+        .map(|&(basis, start)| ladder(basis, start))
+        .collect();
+    let candidates: Vec<ModelSize> = ladders
+        .iter()
+        .flat_map(|l| l[..l.len() - 1].iter().copied())
+        .collect();
+    let reference = *ladders[ladders.len() - 1]
+        .last()
+        .expect("a ladder has a size");
+    predict_size(scene, accuracy / ESTIMATE_MARGIN, &candidates, reference)
 }
 
 /// Refuses an accuracy or tolerances out of range.
@@ -419,12 +454,14 @@ impl Rung {
     }
 }
 
-/// The best-first search of the module documentation: the passing run of least cost, with
-/// its budget; `None` when no size passes. Every size checked or dropped is pushed to
+/// The search of the module documentation: the predicted size when its ladder passes, else
+/// the best-first search's passing run of least cost, with its budget; `None` when no size
+/// passes. Every size checked or dropped is pushed to
 /// `attempts` with its verdict.
 fn search(
     scene: &Scene,
     (integration, options): (&SimulationOptions, &SimulationOptions),
+    prediction: &SizePrediction,
     attempts: &mut Vec<Attempt>,
     progress: &SearchProgress,
 ) -> Result<Option<Simulation>> {
@@ -437,23 +474,16 @@ fn search(
         best: None,
         refused: None,
     };
-    for (k, (basis, start)) in STARTS.into_iter().enumerate() {
-        let ladder = ladder(basis, start);
-        let step = progress.run_reporter(ladder[0], "running");
-        match run(&ladder[0].apply(scene), integration, search.cap(), &step)? {
-            Outcome::Ran(run) => search.rungs.push(Rung {
-                ladder,
-                at: 0,
-                run: *run,
-            }),
-            Outcome::Unaffordable(e) => {
-                search.refused.get_or_insert(e);
-                record(attempts, progress, unaffordable(ladder[0]));
-            }
-            Outcome::OverCap(cost, wall) => {
-                record(attempts, progress, over_cap(ladder[0], cost, wall));
-            }
+    if let SizePrediction::Predicted { size, .. } = prediction {
+        // the predicted size and its companion first; along its ladder only if that fails
+        search.start(ladder(size.basis, size.modes), attempts)?;
+        while search.check_cheapest(attempts)? {}
+        if let Some((simulation, _)) = search.best {
+            return Ok(Some(simulation));
         }
+    }
+    for (k, (basis, start)) in STARTS.into_iter().enumerate() {
+        search.start(ladder(basis, start), attempts)?;
         // the first ladder's first size is checked before the next ladder starts, so that
         // a passing size caps the runs of the others
         if k == 0 {
@@ -485,6 +515,39 @@ struct Search<'a> {
 }
 
 impl Search<'_> {
+    /// Runs the first size of `ladder` (stopped past [`Search::cap`]) and keeps it to be
+    /// checked, or records why it cannot be.
+    fn start(&mut self, ladder: Vec<ModelSize>, attempts: &mut Vec<Attempt>) -> Result<()> {
+        let (first, progress) = (ladder[0], self.progress);
+        let step = progress.run_reporter(first, "running");
+        match run(
+            &first.apply(self.scene),
+            self.integration,
+            self.cap(),
+            &step,
+        )? {
+            Outcome::Ran(run) => self.rungs.push(Rung {
+                ladder,
+                at: 0,
+                run: *run,
+            }),
+            Outcome::Unaffordable(e) => {
+                self.refused.get_or_insert(e);
+                record(
+                    attempts,
+                    progress,
+                    not_checked(first, Rejection::Unaffordable, (0.0, 0.0)),
+                );
+            }
+            Outcome::OverCap(cost, wall) => record(
+                attempts,
+                progress,
+                not_checked(first, Rejection::StoppedCostlier, (cost, wall)),
+            ),
+        }
+        Ok(())
+    }
+
     /// The most a run may cost and still win: the passing size's cost.
     fn cap(&self) -> f64 {
         self.best.as_ref().map_or(f64::INFINITY, |(_, cost)| *cost)
@@ -548,26 +611,16 @@ fn cheapest(rungs: &[Rung]) -> Option<usize> {
     (0..rungs.len()).min_by(|&a, &b| rungs[a].cost().total_cmp(&rungs[b].cost()))
 }
 
-/// The verdict on a size whose own run the work budget refuses.
-fn unaffordable(size: ModelSize) -> Attempt {
-    Attempt {
-        size,
-        wall: 0.0,
-        cost: 0.0,
-        total: None,
-        rejection: Some(Rejection::Unaffordable),
-    }
-}
-
-/// The verdict on a size whose own run was stopped once it cost `cost` operations, more
-/// than a passing size, after `wall` seconds.
-fn over_cap(size: ModelSize, cost: f64, wall: f64) -> Attempt {
+/// The verdict on a size whose own run was not checked for `rejection` (refused by the
+/// work budget, or stopped once it cost more than a passing size), with its operations
+/// and wall time (s) so far.
+fn not_checked(size: ModelSize, rejection: Rejection, (cost, wall): (f64, f64)) -> Attempt {
     Attempt {
         size,
         wall,
         cost,
         total: None,
-        rejection: Some(Rejection::StoppedCostlier),
+        rejection: Some(rejection),
     }
 }
 

@@ -562,7 +562,11 @@ impl<'m> Driver<'m> {
     /// The run stops at the step limit, with the likely cause, or over its work budget.
     fn check_step_count(&self) -> Result<(), SimError> {
         let stats = &self.sys.stats;
-        let operations = stats.operations_over(self.y.len());
+        // counted only under a finite budget (the default has none)
+        let operations = match self.settings.max_operations.is_finite() {
+            true => stats.operations_over(self.y.len()),
+            false => 0.0,
+        };
         if operations > self.settings.max_operations {
             return Err(SimError::OverBudget {
                 t: self.t,

@@ -4,22 +4,7 @@ use crate::contact::ContactLaw;
 use crate::profile::Profile;
 use serde::{Deserialize, Serialize};
 
-/// How gravity loads the sections axially (docs/model.md section 2).
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum ForceFlow {
-    /// Each section stands on its foot and carries the sections above (the paper's eq. 3):
-    /// `P_k(x) = g (rhoA_k (l_k - x) + sum_{j>k} rhoA_j l_j + m_L)`.
-    #[default]
-    Cable,
-    /// The upper sections are carried by an external system:
-    /// `P_k(x) = g (rhoA_k (l_k - x) + [k = n] m_L)`.
-    External,
-    /// No axial prestress (`P_k = 0`).
-    None,
-}
+pub use telescopic_config::ForceFlow;
 
 /// The functions that discretize the sections (docs/model.md section 4).
 #[derive(

@@ -23,9 +23,7 @@ pub mod spline;
 
 use std::f64::consts::PI;
 
-/// Highest mode index per section that the project supports (roots are computed for any
-/// index, but the scene schema limits modes to this).
-pub const MAX_MODES: usize = 30;
+pub use telescopic_config::MAX_MODES;
 
 /// Which boundary-value problem a section's shape functions come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
