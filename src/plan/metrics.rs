@@ -3,7 +3,7 @@
 
 use crate::run::Trajectory;
 use serde::Serialize;
-use telescopic_runtime::ContactLaw;
+use telescopic_runtime::{ContactLaw, Output};
 
 /// How long the rest is judged over at the end of a run (s): the load's final rest is its
 /// mean `tip_rel` there.
@@ -45,10 +45,9 @@ pub fn cycle_metrics(
     tolerance: f64,
     law: &ContactLaw,
 ) -> CycleMetrics {
-    let col = |name: &str| traj.index(name);
     let (tip, vehicle) = (
-        col("tip_rel").expect("tip_rel"),
-        col("vehicle").expect("vehicle"),
+        traj.index_of(Output::TipRel).expect("tip_rel"),
+        traj.index_of(Output::Vehicle).expect("vehicle"),
     );
     let end = traj.rows.last().map_or(0.0, |r| r[0]);
     let window: Vec<f64> = traj
@@ -76,23 +75,18 @@ pub fn cycle_metrics(
             .fold(0.0, f64::max)
     };
     let all = |_: f64| true;
-    // the row indices of the outputs whose names start with `prefix`
-    let columns = |prefix: &str| -> Vec<usize> {
-        (0..traj.names.len())
-            .filter(|&i| traj.names[i].starts_with(prefix))
-            .map(|i| i + 1)
-            .collect()
-    };
-    let forces = columns("f_");
+    let forces = traj.columns_where(Output::is_contact_force);
     let switches = traj.sampled_switches(law, move_time);
     CycleMetrics {
         move_time_s: move_time,
         settling_time_s: cycle.map(|c| (c - move_time).max(0.0)),
         cycle_time_s: cycle,
         peak_tip_move_m: max_abs(&[tip], &|t| t <= move_time),
-        peak_drive_force_n: col("drive_force").map_or(0.0, |c| max_abs(&[c], &all)),
+        peak_drive_force_n: traj
+            .index_of(Output::DriveForce)
+            .map_or(0.0, |c| max_abs(&[c], &all)),
         peak_contact_force_n: max_abs(&forces, &all),
-        peak_foot_stress_pa: Some(columns("stress_"))
+        peak_foot_stress_pa: Some(traj.columns_where(|o| matches!(o, Output::Stress { .. })))
             .filter(|c| !c.is_empty())
             .map(|c| max_abs(&c, &all)),
         switches_after_arrival: switches,

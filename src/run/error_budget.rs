@@ -387,18 +387,15 @@ pub fn truncation(
     } else {
         Vec::new()
     };
-    let outputs = (0..run.names.len())
-        .filter(|&i| i + 1 != tip)
-        .filter(|&i| {
-            !["moment_", "z_"]
-                .iter()
-                .any(|p| run.names[i].starts_with(p))
-        })
-        .filter(|&i| companion.names.get(i) == Some(&run.names[i]))
-        .map(|i| {
+    // every output but the tip and the moments (above), in both runs' same column
+    let outputs = run
+        .outputs()
+        .filter(|&(column, output)| column != tip && !matches!(output, Output::Moment { .. }))
+        .filter(|&(column, output)| companion.outputs().any(|c| c == (column, output)))
+        .map(|(column, output)| {
             (
-                run.names[i].clone(),
-                TRUNCATION_FACTOR * largest_before(i + 1, true),
+                output.to_string(),
+                TRUNCATION_FACTOR * largest_before(column, true),
             )
         })
         .collect();
@@ -435,14 +432,9 @@ fn statistics(run: &Trajectory, companion: &Trajectory, from: f64) -> Vec<Statis
             .fold((0.0, 0usize), |(s, n), r| (s + r[tip] * r[tip], n + 1));
         (sum / count.max(1) as f64).sqrt()
     };
-    let columns = |traj: &Trajectory, prefix: &str| -> Vec<usize> {
-        (0..traj.names.len())
-            .filter(|&i| traj.names[i].starts_with(prefix))
-            .map(|i| i + 1)
-            .collect()
-    };
-    let peak_over = |traj: &Trajectory, prefix: &str| {
-        columns(traj, prefix)
+    let is_moment = |o: &Output| matches!(o, Output::Moment { .. });
+    let peak_over = |traj: &Trajectory, which: &dyn Fn(&Output) -> bool| {
+        traj.columns_where(which)
             .into_iter()
             .map(|c| peak_of(traj, c, after))
             .fold(0.0, f64::max)
@@ -461,15 +453,15 @@ fn statistics(run: &Trajectory, companion: &Trajectory, from: f64) -> Vec<Statis
         ),
         (
             Statistic::ContactForcePeak,
-            peak_over(run, "f_"),
-            peak_over(companion, "f_"),
+            peak_over(run, &Output::is_contact_force),
+            peak_over(companion, &Output::is_contact_force),
         ),
     ];
-    if !columns(run, "moment_").is_empty() {
+    if !run.columns_where(is_moment).is_empty() {
         pairs.push((
             Statistic::MomentPeak,
-            peak_over(run, "moment_"),
-            peak_over(companion, "moment_"),
+            peak_over(run, &is_moment),
+            peak_over(companion, &is_moment),
         ));
     }
     pairs
