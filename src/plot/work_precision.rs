@@ -28,6 +28,15 @@ struct WorkPrecisionChart<'a> {
 
 type Pick = fn(&Point) -> f64;
 
+/// How a panel's y axis reads.
+#[derive(Clone, Copy, PartialEq)]
+enum Scale {
+    /// Errors, on a log axis.
+    Error,
+    /// Seconds of agreement, linear from 0 to the run's end, with the horizon marked.
+    AgreementTime,
+}
+
 impl Figure for WorkPrecisionChart<'_> {
     fn size(&self) -> (u32, u32) {
         (1500, 900)
@@ -42,13 +51,14 @@ impl Figure for WorkPrecisionChart<'_> {
             self.scene, self.horizon, self.end
         );
         let root = titled_page(root, &title)?;
-        let panels: [(&str, &str, Pick, &str, Pick); 6] = [
+        let panels: [(&str, &str, Pick, &str, Pick, Scale); 6] = [
             (
                 "tip_rel error on [0, T_h]",
                 "wall time [s]",
                 |p| p.wall,
                 "max |error| [m]",
                 |p| p.tip_error,
+                Scale::Error,
             ),
             (
                 "gap error on [0, T_h]",
@@ -56,6 +66,7 @@ impl Figure for WorkPrecisionChart<'_> {
                 |p| p.wall,
                 "max |error| [m]",
                 |p| p.gap_error,
+                Scale::Error,
             ),
             (
                 "statistics error (whole span)",
@@ -63,6 +74,7 @@ impl Figure for WorkPrecisionChart<'_> {
                 |p| p.wall,
                 "per-second peak/RMS, relative",
                 |p| p.statistics_error,
+                Scale::Error,
             ),
             (
                 "tip_rel error on [0, T_h]",
@@ -70,6 +82,7 @@ impl Figure for WorkPrecisionChart<'_> {
                 |p| p.rhs_evals as f64,
                 "max |error| [m]",
                 |p| p.tip_error,
+                Scale::Error,
             ),
             (
                 "gap error on [0, T_h]",
@@ -77,6 +90,7 @@ impl Figure for WorkPrecisionChart<'_> {
                 |p| p.rhs_evals as f64,
                 "max |error| [m]",
                 |p| p.gap_error,
+                Scale::Error,
             ),
             (
                 "agreement with the reference (1e-6 m)",
@@ -84,6 +98,7 @@ impl Figure for WorkPrecisionChart<'_> {
                 |p| p.wall,
                 "agrees until [s]",
                 |p| p.agrees_until,
+                Scale::AgreementTime,
             ),
         ];
         let areas = root.split_evenly((2, 3));
@@ -92,7 +107,7 @@ impl Figure for WorkPrecisionChart<'_> {
             m.dedup();
             m
         };
-        for ((title, xd, fx, yd, fy), area) in panels.iter().zip(&areas) {
+        for ((title, xd, fx, yd, fy, scale), area) in panels.iter().zip(&areas) {
             let series: Vec<LogSeries> = methods
                 .iter()
                 .map(|m| LogSeries {
@@ -107,7 +122,7 @@ impl Figure for WorkPrecisionChart<'_> {
                     marks: Vec::new(),
                 })
                 .collect();
-            if title.starts_with("agreement") {
+            if *scale == Scale::AgreementTime {
                 let axis = YAxis::Linear(0.0, self.end);
                 log_panel(
                     area,
