@@ -12,7 +12,8 @@
 //! every interval, `g` at the midpoint (where a cubic Hermite interpolant's error peaks) and
 //! `gd` at `1/2 - 1/(2 sqrt 3)` (where its derivative's error peaks) match the exact
 //! evaluation to [`G_TOLERANCE`] and [`GD_TOLERANCE`] of the largest entry; a failed check
-//! jumps to the grid the interpolants' orders predict. Hand-written: it is a few lines of Hermite
+//! jumps to the grid the interpolants' orders predict, and a halving of the step keeps the
+//! nodes and takes the check's exact midpoints as the new ones (no evaluation repeated). Hand-written: it is a few lines of Hermite
 //! interpolation of a vector-valued function with a known derivative plus this error check,
 //! which no interpolation crate provides.
 
@@ -36,6 +37,14 @@ pub const MAX_INTERVALS: usize = 1 << 18;
 /// at `1 - s` too, with the same size where the 4th derivative is nearly constant over an
 /// interval; one point keeps the check at two evaluations per interval).
 const DERIVATIVE_CHECK: f64 = 0.211_324_865_405_187_1;
+
+/// The exact `g` and `gd` at a table's intervals' midpoints, interval after interval: the
+/// nodes a halving adds.
+#[derive(Debug, Default)]
+struct Midpoints {
+    g: Vec<f64>,
+    gd: Vec<f64>,
+}
 
 /// What a [`ContactTable`] stores: its grid, the columns that vary, the constant ones' values,
 /// and the varying columns' `g` and `gd` node after node.
@@ -102,10 +111,10 @@ impl ContactTable {
         if end.partial_cmp(&start) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
-        let mut intervals = START_INTERVALS;
+        let mut table = ContactTable::sample(start, end, START_INTERVALS, width, &mut exact);
+        let mut midpoints = Midpoints::default();
         loop {
-            let mut table = ContactTable::sample(start, end, intervals, width, &mut exact);
-            let (error_g, error_gd) = table.check(&mut exact);
+            let (error_g, error_gd) = table.check(&mut exact, &mut midpoints);
             if error_g <= g_tolerance && error_gd <= gd_tolerance {
                 table.error_g = error_g;
                 table.error_gd = error_gd;
@@ -114,14 +123,20 @@ impl ContactTable {
             }
             // the errors go as step^4 (g) and step^3 (gd): jump to the grid they predict
             // (with 10 % to spare), at least one halving
+            let intervals = table.data.intervals;
             let factor = (error_g / g_tolerance)
                 .powf(0.25)
                 .max((error_gd / gd_tolerance).powf(1.0 / 3.0));
             let wanted = (1.1 * factor * intervals as f64).min(2.0 * MAX_INTERVALS as f64);
-            intervals = (wanted.ceil() as usize).max(2 * intervals);
-            if intervals > MAX_INTERVALS {
+            let next = (wanted.ceil() as usize).max(2 * intervals);
+            if next > MAX_INTERVALS {
                 return None;
             }
+            // a halving keeps every node and takes the check's midpoints as the new ones
+            table = match next == 2 * intervals {
+                true => table.halved(&midpoints),
+                false => ContactTable::sample(start, end, next, width, &mut exact),
+            };
         }
     }
 
@@ -157,21 +172,61 @@ impl ContactTable {
         table
     }
 
+    /// This table on half its step: its nodes, and between them the exact values at its
+    /// intervals' midpoints (from [`ContactTable::check`]).
+    fn halved(&self, midpoints: &Midpoints) -> Self {
+        let w = self.data.varying.len();
+        let intervals = 2 * self.data.intervals;
+        let mut g = Vec::with_capacity((intervals + 1) * w);
+        let mut gd = Vec::with_capacity((intervals + 1) * w);
+        for i in 0..self.data.intervals {
+            g.extend_from_slice(&self.data.g[i * w..(i + 1) * w]);
+            gd.extend_from_slice(&self.data.gd[i * w..(i + 1) * w]);
+            g.extend_from_slice(&midpoints.g[i * w..(i + 1) * w]);
+            gd.extend_from_slice(&midpoints.gd[i * w..(i + 1) * w]);
+        }
+        let last = self.data.intervals * w;
+        g.extend_from_slice(&self.data.g[last..last + w]);
+        gd.extend_from_slice(&self.data.gd[last..last + w]);
+        ContactTable {
+            data: ContactTableParts {
+                start: self.data.start,
+                step: 0.5 * self.data.step,
+                intervals,
+                varying: self.data.varying.clone(),
+                constant_g: self.data.constant_g.clone(),
+                g,
+                gd,
+            },
+            error_g: f64::NAN,
+            error_gd: f64::NAN,
+        }
+    }
+
     /// Largest errors of `g` at the intervals' midpoints and of `gd` where a cubic Hermite
-    /// interpolant's derivative error peaks, each relative to its largest node entry.
-    fn check(&self, exact: &mut impl FnMut(f64, &mut [f64], &mut [f64])) -> (f64, f64) {
+    /// interpolant's derivative error peaks, each relative to its largest node entry; the
+    /// exact values at the midpoints are kept in `midpoints`.
+    fn check(
+        &self,
+        exact: &mut impl FnMut(f64, &mut [f64], &mut [f64]),
+        midpoints: &mut Midpoints,
+    ) -> (f64, f64) {
         let w = self.data.varying.len();
         let g_scale = max_abs(&self.data.g).max(f64::MIN_POSITIVE);
         let gd_scale = max_abs(&self.data.gd).max(f64::MIN_POSITIVE);
         let (mut g_exact, mut gd_exact) = (vec![0.0; w], vec![0.0; w]);
         let (mut g_table, mut gd_table) = (vec![0.0; w], vec![0.0; w]);
         let (mut error_g, mut error_gd) = (0.0_f64, 0.0_f64);
+        midpoints.g.clear();
+        midpoints.gd.clear();
         for i in 0..self.data.intervals {
             let t0 = self.node_time(i);
             let t = t0 + 0.5 * self.data.step;
             exact(t, &mut g_exact, &mut gd_exact);
             self.interpolate(t, &mut g_table, &mut gd_table);
             error_g = error_g.max(max_difference(&g_exact, &g_table) / g_scale);
+            midpoints.g.extend_from_slice(&g_exact);
+            midpoints.gd.extend_from_slice(&gd_exact);
             let t = t0 + DERIVATIVE_CHECK * self.data.step;
             exact(t, &mut g_exact, &mut gd_exact);
             self.interpolate(t, &mut g_table, &mut gd_table);
@@ -452,6 +507,25 @@ mod tests {
             table.intervals() > START_INTERVALS,
             "the check refined the grid"
         );
+    }
+
+    #[test]
+    fn a_halved_table_is_the_table_sampled_on_the_finer_grid() {
+        let p = smoothstep(0.0, 12.0);
+        let mut exact = shapes_of(&p);
+        let coarse = ContactTable::sample(0.0, 12.0, 96, 4, &mut exact);
+        let mut midpoints = Midpoints::default();
+        coarse.check(&mut exact, &mut midpoints);
+        let halved = coarse.halved(&midpoints);
+        let fine = ContactTable::sample(0.0, 12.0, 192, 4, &mut exact);
+        assert_eq!(
+            (halved.data.intervals, halved.data.step),
+            (fine.data.intervals, fine.data.step)
+        );
+        // the midpoints' times may differ from the finer nodes' by a rounding of t
+        let scale = max_abs(&fine.data.g).max(max_abs(&fine.data.gd));
+        assert!(max_difference(&halved.data.g, &fine.data.g) <= 1e-13 * scale);
+        assert!(max_difference(&halved.data.gd, &fine.data.gd) <= 1e-13 * scale);
     }
 
     #[test]
