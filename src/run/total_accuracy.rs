@@ -252,8 +252,9 @@ impl Reporter for SearchStep<'_> {
     }
     fn progress(&self, fraction: f64) {
         let (before, most) = self.done;
+        // a prediction its companion rejects may add runs beyond the most counted: stay at 1
         self.inner
-            .progress((before + fraction.clamp(0.0, 1.0)) / most);
+            .progress(((before + fraction.clamp(0.0, 1.0)) / most).min(1.0));
     }
     fn finish(&self) {
         self.inner.finish();
