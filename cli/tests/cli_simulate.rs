@@ -559,7 +559,7 @@ fn accuracy_picks_the_model_size_and_no_error_estimate_leaves_the_header_out() {
     assert_eq!(
         search_verdicts(&err),
         [(
-            "size 1 of at most 11: modes+static 2".to_string(),
+            "size 1 of at most 17: modes+static 2".to_string(),
             "passes".to_string()
         )],
         "{err}"

@@ -99,7 +99,7 @@ pub fn predict_size(
         Err(why) => return SizePrediction::Skipped(NoPrediction::Analysis(why)),
     };
     let mut by_cost = candidates.to_vec();
-    by_cost.sort_by_key(|size| predicted_cost(scene, *size));
+    by_cost.sort_by_cached_key(|size| predicted_cost(scene, *size));
     let mut smallest = f64::INFINITY;
     for size in by_cost {
         let tip = match surrogate(scene, size) {

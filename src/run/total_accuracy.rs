@@ -292,20 +292,15 @@ pub fn simulate_for_accuracy(
     };
     // refuses bad tolerances and the like before any run
     plan(scene, &integration)?;
+    let prediction = prediction(scene, accuracy);
+    let (total, max_runs) = search_extent(&prediction);
     let progress = SearchProgress {
         reporter,
-        total: STARTS
-            .iter()
-            .map(|&(basis, start)| ladder(basis, start).len() - 1)
-            .sum(),
-        max_runs: STARTS
-            .iter()
-            .map(|&(basis, start)| ladder(basis, start).len())
-            .sum(),
+        total,
+        max_runs,
         done: std::cell::Cell::new(0),
         runs: std::cell::Cell::new(0),
     };
-    let prediction = prediction(scene, accuracy);
     reporter.note(&format!("accuracy search: {prediction}"));
     let mut attempts = Vec::new();
     let best = search(
@@ -364,6 +359,20 @@ fn prediction(scene: &Scene, accuracy: f64) -> SizePrediction {
         .last()
         .expect("a ladder has a size");
     predict_size(scene, accuracy / ESTIMATE_MARGIN, &candidates, reference)
+}
+
+/// The most sizes the search checks and the most runs it makes: every size of every
+/// ladder, and before them the predicted size's own ladder from that size on.
+fn search_extent(prediction: &SizePrediction) -> (usize, usize) {
+    let mut ladders: Vec<Vec<ModelSize>> = STARTS
+        .iter()
+        .map(|&(basis, start)| ladder(basis, start))
+        .collect();
+    if let SizePrediction::Predicted { size, .. } = prediction {
+        ladders.push(ladder(size.basis, size.modes));
+    }
+    let runs: usize = ladders.iter().map(Vec::len).sum();
+    (runs - ladders.len(), runs)
 }
 
 /// Refuses an accuracy or tolerances out of range.
