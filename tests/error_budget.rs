@@ -295,13 +295,30 @@ fn check_scene_accuracy(
     assert!(truth <= accuracy, "{name}: {truth} > {accuracy}");
     check_prediction(name, scene, &sim, truth);
     if b.window.reason == WindowEnd::FirstSwitch {
+        // beyond the first impacts the motion is chaotic: the reference's own statistics
+        // move when its mass moves by 1e-9 (measured 2.3 % of case-study's RMS), so the
+        // bound is the statistics tolerance plus that scatter of the reference; the nudged
+        // reference (a whole reference run) is made only when the tolerance alone is passed
         let (rms, peak) = tip_statistics(&sim.trajectory, b.window.end);
         let (rms_b, peak_b) = tip_statistics(&beams.trajectory, b.window.end);
-        for (got, want) in [(rms, rms_b), (peak, peak_b)] {
-            assert!(
-                (got - want).abs() <= 0.05 * want,
-                "{name}: {got} against {want}"
-            );
+        let within = |got: f64, want: f64| (got - want).abs() <= 0.05 * want;
+        if !(within(rms, rms_b) && within(peak, peak_b)) {
+            let mut nudged = scene.clone();
+            nudged.params.vehicle_mass *= 1.0 + 1e-9;
+            let again = beam_response(&nudged, &[], &Silent).unwrap();
+            let (rms_c, peak_c) = tip_statistics(&again.trajectory, b.window.end);
+            for (what, got, want, other) in
+                [("RMS", rms, rms_b, rms_c), ("peak", peak, peak_b, peak_c)]
+            {
+                let scatter = (want - other).abs();
+                eprintln!(
+                    "{name}: {what} of tip_rel {got:.4} against {want:.4} (the reference's scatter {scatter:.1e})"
+                );
+                assert!(
+                    (got - want).abs() <= 0.05 * want + scatter,
+                    "{name}: {what} {got} against {want} (the reference's scatter {scatter:e})"
+                );
+            }
         }
     }
     sim

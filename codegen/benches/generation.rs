@@ -18,6 +18,7 @@ fn config(sections: usize, modes: usize) -> ModelConfig {
         clearance: true,
         positions: Positions::Moving,
         drive: DriveKind::Force,
+        static_knots: None,
     }
 }
 

@@ -168,6 +168,7 @@ pub struct Written {
 ///             clearance: true,
 ///             positions: Positions::Fixed,
 ///             drive: DriveKind::Force,
+///             static_knots: None,
 ///         })
 ///         .compile()?;
 ///     Ok(())

@@ -3,7 +3,7 @@
 //! and the lookup of a scene's model cannot disagree.
 
 use serde::{Deserialize, Serialize};
-pub use telescopic_config::{DriveKind, ForceFlow, ModelConfig, Positions};
+pub use telescopic_config::{DriveKind, ForceFlow, ModelConfig, Positions, StaticKnots};
 
 /// `generated/models.toml`: `[[model]]` tables.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

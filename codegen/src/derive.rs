@@ -14,10 +14,11 @@
 //! `kc_c`, `dc_c`, `off_c` the slope, damping and offset of contact `c`'s law in its branch.
 
 use crate::CodegenError;
-use crate::config::{ForceFlow, ModelConfig};
+use crate::config::{ForceFlow, ModelConfig, StaticKnots};
 use crate::exact::{Func, RootTable, SectionIntegrals, Trig};
 use crate::expr::Expr;
 use crate::precise::{Kind, Real};
+use crate::spline::{self, Primitive, correction_splines, orthonormal_corrections};
 use crate::symbolic;
 use std::collections::BTreeMap;
 use symbolica::atom::{Atom, AtomCore};
@@ -61,6 +62,8 @@ pub struct Derivation {
     pub stiffness: Entries,
     /// Per section (index k - 1), its elastic basis functions (the translation excluded).
     pub bases: Vec<Vec<BasisFunction>>,
+    /// Per section, its static correction shapes (basis `modes+static`), after its modes.
+    pub corrections: Vec<Option<Corrections>>,
     /// Generalized forces `q_i` (right-hand side before `M^-1`).
     pub forces: Vec<Expr>,
     /// Nonzero `d q_i / d z_j`.
@@ -69,6 +72,20 @@ pub struct Derivation {
     pub jacobian_zd: Entries,
     /// Nonzero entries `j` of each contact vector (the same pattern for `g` and `gdot`).
     pub contact_pattern: Vec<Vec<usize>>,
+}
+
+/// A section's static correction shapes: combinations of its modes (as in
+/// [`Derivation::bases`], without `l_k^p`) and its cubic B-splines in `xi`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Corrections {
+    /// Global index of the first correction (the rest follow).
+    pub first_index: usize,
+    /// Interior knots of the B-splines, fractions of the section's length.
+    pub knots: Vec<f64>,
+    /// Row `e`: correction `e`'s coefficients of the modes, then of the B-splines.
+    pub combination: Vec<Vec<f64>>,
+    /// Each correction's value at the top (`xi = 1`), a constant's name.
+    pub tops: Vec<String>,
 }
 
 /// Nonzero entries of a matrix: `((i, j), expression)`, upper triangle.
@@ -186,6 +203,7 @@ struct Inputs {
     mass: BTreeMap<(usize, usize), Vec<String>>,
     stiffness: BTreeMap<(usize, usize), Vec<String>>,
     shapes: Vec<Vec<(usize, i32, String, String)>>,
+    corrections: Vec<Option<Corrections>>,
     forces: Vec<String>,
     contact_pattern: Vec<Vec<usize>>,
     dof: usize,
@@ -202,22 +220,20 @@ pub fn derive(config: &ModelConfig) -> Result<Derivation, CodegenError> {
     let mut consts = Constants(Vec::new());
     let mut mass: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
     let mut stiffness: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
-    let mut shapes = Vec::new();
+    let (mut shapes, mut corrections) = (Vec::new(), Vec::new());
     mass.entry((0, 0)).or_default().push("m_t".into());
     for k in 1..=n {
-        shapes.push(section_terms(
-            config,
-            k,
-            &mut consts,
-            &mut mass,
-            &mut stiffness,
-        ));
+        let (section_shapes, section_corrections) =
+            section_terms(config, k, &mut consts, &mut mass, &mut stiffness)?;
+        shapes.push(section_shapes);
+        corrections.push(section_corrections);
     }
     let (forces, contact_pattern) = force_terms(config, &stiffness);
     let inputs = Inputs {
         mass,
         stiffness,
         shapes,
+        corrections,
         forces,
         contact_pattern,
         dof,
@@ -230,16 +246,128 @@ pub fn derive(config: &ModelConfig) -> Result<Derivation, CodegenError> {
 /// Entries of `M` (and `K`) as sums of terms, by `(row, column)` of the upper triangle.
 type TermEntries = BTreeMap<(usize, usize), Vec<String>>;
 
+/// One coordinate function of a section: its global index, the power of `l_k` in front,
+/// and its label in constant names (a mode's number, or `s1`, `s2`, ... for corrections).
+struct Coordinate {
+    index: usize,
+    length_power: i32,
+    label: String,
+}
+
+/// A section's coordinate functions with their four Galerkin tables (see
+/// [`SectionIntegrals`]), their values at the top, and their corrections.
+struct SectionTables {
+    coordinates: Vec<Coordinate>,
+    tables: [Vec<Vec<Real>>; 4],
+    tops: Vec<Real>,
+    corrections: Option<(Vec<f64>, Vec<Vec<Real>>)>,
+}
+
+/// Section `k`'s coordinate functions and tables: the translation and the modes, and with
+/// static knots the correction shapes orthonormalized against them ([`crate::spline`]).
+fn section_tables(
+    config: &ModelConfig,
+    k: usize,
+    basis: &[(usize, Func, usize)],
+    roots: &RootTable,
+) -> Result<SectionTables, CodegenError> {
+    let mut coordinates: Vec<Coordinate> = basis
+        .iter()
+        .map(|(g, f, i)| Coordinate {
+            index: *g,
+            length_power: f.length_power,
+            label: i.to_string(),
+        })
+        .collect();
+    let mut tops: Vec<Real> = basis
+        .iter()
+        .map(|(_, f, _)| f.value_at_end(roots, true))
+        .collect();
+    let Some(StaticKnots(knots)) = &config.static_knots else {
+        let funcs: Vec<Func> = basis.iter().map(|(_, f, _)| f.clone()).collect();
+        let ints = SectionIntegrals::new(&funcs, roots);
+        return Ok(SectionTables {
+            coordinates,
+            tables: [ints.mass, ints.bending, ints.axial, ints.axial_x],
+            tops,
+            corrections: None,
+        });
+    };
+    let knots = knots[k - 1].clone();
+    let mut primitives: Vec<Primitive> = basis
+        .iter()
+        .map(|(_, f, _)| Primitive::Sum(f.clone()))
+        .collect();
+    primitives.extend(
+        correction_splines(&knots)
+            .into_iter()
+            .map(Primitive::Spline),
+    );
+    let raw = spline::tables(&primitives, roots);
+    // the Gram matrix of every function but the translation, the corrections after the modes
+    let gram: Vec<Vec<Real>> = raw[0][1..].iter().map(|row| row[1..].to_vec()).collect();
+    let combination = orthonormal_corrections(&gram, basis.len() - 1, k)
+        .map_err(|e| CodegenError::Config(format!("static_knots: {e}")))?;
+    // rows of the change of functions: the translation and modes as they are, then each
+    // correction over the functions after the translation
+    let mut rows: Vec<Vec<Real>> = (0..basis.len())
+        .map(|i| {
+            (0..primitives.len())
+                .map(|j| Real::int(i64::from(i == j)))
+                .collect()
+        })
+        .collect();
+    for (e, c) in combination.iter().enumerate() {
+        let mut row = vec![Real::zero()];
+        row.extend(c.iter().cloned());
+        rows.push(row);
+        coordinates.push(Coordinate {
+            index: config.offset(k) + config.modes[k - 1] + e,
+            length_power: 0,
+            label: format!("s{}", e + 1),
+        });
+        tops.push(
+            c.iter()
+                .zip(&primitives[1..])
+                .fold(Real::zero(), |acc, (a, p)| &acc + &(a * &p.top(roots))),
+        );
+    }
+    let transform = |t: &Vec<Vec<Real>>| -> Vec<Vec<Real>> {
+        let n = rows.len();
+        let mut out = vec![vec![Real::zero(); n]; n];
+        for a in 0..n {
+            for b in a..n {
+                let mut v = Real::zero();
+                for (i, ra) in rows[a].iter().enumerate().filter(|(_, x)| !x.is_zero()) {
+                    for (j, rb) in rows[b].iter().enumerate().filter(|(_, x)| !x.is_zero()) {
+                        v = &v + &(&(ra * rb) * &t[i][j]);
+                    }
+                }
+                out[b][a] = v.clone();
+                out[a][b] = v;
+            }
+        }
+        out
+    };
+    Ok(SectionTables {
+        coordinates,
+        tables: raw.each_ref().map(transform),
+        tops,
+        corrections: Some((knots, combination)),
+    })
+}
+
 /// Section `k`'s terms of `M` and `K` (closed-form integrals as named constants), the load's
 /// mass at the top of the last section, and the section's shapes `(global index, length
-/// power, text, top value)`.
+/// power, text, top value)` and corrections.
+#[allow(clippy::type_complexity)]
 fn section_terms(
     config: &ModelConfig,
     k: usize,
     consts: &mut Constants,
     mass: &mut TermEntries,
     stiffness: &mut TermEntries,
-) -> Vec<(usize, i32, String, String)> {
+) -> Result<(Vec<(usize, i32, String, String)>, Option<Corrections>), CodegenError> {
     let n = config.sections();
     let kind = if k == 1 {
         Kind::GuidedFree
@@ -257,8 +385,7 @@ fn section_terms(
         }
     }
     let basis = local_basis(config, k, &roots);
-    let funcs: Vec<Func> = basis.iter().map(|(_, f, _)| f.clone()).collect();
-    let ints = SectionIntegrals::new(&funcs, &roots);
+    let section = section_tables(config, k, &basis, &roots)?;
     // prestress P(x) = p0 + p1 x, p0 = g (rho_a_k l_k + above), p1 = -g rho_a_k
     let above = match config.force_flow {
         ForceFlow::Cable => {
@@ -270,13 +397,14 @@ fn section_terms(
         ForceFlow::External => Some("0".into()),
         ForceFlow::None => None,
     };
-    for a in 0..basis.len() {
-        for b in 0..basis.len() {
+    let coords = &section.coordinates;
+    for a in 0..coords.len() {
+        for b in 0..coords.len() {
             pair_terms(
                 k,
+                (&coords[a], &coords[b]),
                 (a, b),
-                &basis,
-                &ints,
+                &section.tables,
                 above.as_deref(),
                 consts,
                 mass,
@@ -284,27 +412,27 @@ fn section_terms(
             );
         }
     }
-    // every basis function's value at the top, registered once (index 0: the translation, 1)
-    let tops: Vec<String> = basis
+    // every coordinate function's value at the top, registered once (the translation: 1)
+    let tops: Vec<String> = coords
         .iter()
-        .map(|(g, f, i)| {
-            if *g == 0 {
+        .zip(&section.tops)
+        .map(|(c, v)| {
+            if c.index == 0 {
                 return "1".to_string();
             }
-            let v = f.value_at_end(&roots, true);
             consts.add(
-                format!("K_TOP_{k}_{i}"),
-                &v,
-                format!("psi_{k},{i} at the top (xi = 1)"),
+                format!("K_TOP_{k}_{}", c.label),
+                v,
+                format!("psi_{k},{} at the top (xi = 1)", c.label),
             )
         })
         .collect();
     // the load at the top of section n: m_L h h'
     if k == n {
-        let h: Vec<(usize, String)> = basis
+        let h: Vec<(usize, String)> = coords
             .iter()
             .zip(&tops)
-            .map(|((g, f, _), top)| (*g, format!("{}*{top}", length_pow(k, f.length_power))))
+            .map(|(c, top)| (c.index, format!("{}*{top}", length_pow(k, c.length_power))))
             .collect();
         for (ga, ha) in &h {
             for (gb, hb) in &h {
@@ -321,7 +449,16 @@ fn section_terms(
         let text = shape_text(f, &roots, k, *i, consts);
         section_shapes.push((*g, f.length_power, text, top.clone()));
     }
-    section_shapes
+    let corrections = section.corrections.map(|(knots, combination)| Corrections {
+        first_index: config.offset(k) + config.modes[k - 1],
+        knots,
+        combination: combination
+            .iter()
+            .map(|row| row.iter().map(Real::to_f64).collect())
+            .collect(),
+        tops: tops[basis.len()..].to_vec(),
+    });
+    Ok((section_shapes, corrections))
 }
 
 /// The terms of basis functions `a` and `b` of section `k` (every ordered pair of global
@@ -330,35 +467,35 @@ fn section_terms(
 #[allow(clippy::too_many_arguments)]
 fn pair_terms(
     k: usize,
+    (ca, cb): (&Coordinate, &Coordinate),
     (a, b): (usize, usize),
-    basis: &[(usize, Func, usize)],
-    ints: &SectionIntegrals,
+    [mass_table, bending, axial, axial_x]: &[Vec<Vec<Real>>; 4],
     above: Option<&str>,
     consts: &mut Constants,
     mass: &mut TermEntries,
     stiffness: &mut TermEntries,
 ) {
-    let ((ga, fa, ia), (gb, fb, ib)) = (&basis[a], &basis[b]);
+    let ((ga, ia), (gb, ib)) = ((&ca.index, &ca.label), (&cb.index, &cb.label));
     if ga > gb {
         return;
     }
-    let lp = fa.length_power + fb.length_power;
+    let lp = ca.length_power + cb.length_power;
     let key = (*ga, *gb);
     let tag = format!("{k}_{ia}_{ib}");
-    if !is_zero(&ints.mass[a][b]) {
+    if !is_zero(&mass_table[a][b]) {
         let c = consts.add(
             format!("K_M_{tag}"),
-            &ints.mass[a][b],
+            &mass_table[a][b],
             format!("int psi_{k},{ia} psi_{k},{ib} dxi"),
         );
         mass.entry(key)
             .or_default()
             .push(format!("rho_a_{k}*{}*{c}", length_pow(k, lp + 1)));
     }
-    if !is_zero(&ints.bending[a][b]) {
+    if !is_zero(&bending[a][b]) {
         let c = consts.add(
             format!("K_EI_{tag}"),
-            &ints.bending[a][b],
+            &bending[a][b],
             format!("int psi_{k},{ia}'' psi_{k},{ib}'' dxi"),
         );
         stiffness
@@ -367,10 +504,10 @@ fn pair_terms(
             .push(format!("ei_{k}*{}*{c}", length_pow(k, lp - 3)));
     }
     if let Some(above) = above {
-        if !is_zero(&ints.axial[a][b]) {
+        if !is_zero(&axial[a][b]) {
             let c = consts.add(
                 format!("K_AX_{tag}"),
-                &ints.axial[a][b],
+                &axial[a][b],
                 format!("int psi_{k},{ia}' psi_{k},{ib}' dxi"),
             );
             stiffness.entry(key).or_default().push(format!(
@@ -378,10 +515,10 @@ fn pair_terms(
                 length_pow(k, lp - 1)
             ));
         }
-        if !is_zero(&ints.axial_x[a][b]) {
+        if !is_zero(&axial_x[a][b]) {
             let c = consts.add(
                 format!("K_AXX_{tag}"),
-                &ints.axial_x[a][b],
+                &axial_x[a][b],
                 format!("int xi psi_{k},{ia}' psi_{k},{ib}' dxi"),
             );
             stiffness
@@ -400,7 +537,7 @@ fn force_terms(config: &ModelConfig, stiffness: &TermEntries) -> (Vec<String>, V
     let mut contact_pattern = Vec::new();
     for k in 2..=n {
         let mut pattern: Vec<usize> =
-            (config.offset(k - 1)..config.offset(k) + config.modes[k - 1]).collect();
+            (config.offset(k - 1)..config.offset(k) + config.coordinates(k)).collect();
         pattern.retain(|&j| j != 0);
         for _ in 0..config.contacts {
             contact_pattern.push(pattern.clone());
@@ -526,6 +663,7 @@ fn symbolic_part(
         mass,
         stiffness,
         bases,
+        corrections: inputs.corrections,
         forces,
         jacobian_z,
         jacobian_zd,

@@ -75,7 +75,7 @@ impl RootTable {
         }
     }
 
-    fn rate(&self, e: Option<(i8, usize)>) -> Real {
+    pub(crate) fn rate(&self, e: Option<(i8, usize)>) -> Real {
         match e {
             None => Real::zero(),
             Some((s, m)) if s > 0 => self.beta[m].clone(),
@@ -359,6 +359,46 @@ pub fn integrate_product(f: &Func, g: &Func, weight: u32, roots: &RootTable) -> 
         }
     }
     total
+}
+
+/// `int_a^b xi^p e^(z xi) dxi` (the recursion of [`j_integral`] between two bounds).
+fn j_between(p: u32, z: &Complex, (a, b): (&Real, &Real)) -> Complex {
+    let power = |x: &Real, n: u32| (0..n).fold(Real::int(1), |acc, _| &acc * x);
+    if z.re.is_zero() && z.im.is_zero() {
+        let n = Real::int(i64::from(p) + 1);
+        return Complex {
+            re: &(&power(b, p + 1) - &power(a, p + 1)) / &n,
+            im: Real::zero(),
+        };
+    }
+    let at = |x: &Real| {
+        let (grow, turn) = ((&z.re * x).exp(), &z.im * x);
+        Complex {
+            re: &grow * &turn.cos(),
+            im: &grow * &turn.sin(),
+        }
+    };
+    let (ea, eb) = (at(a), at(b));
+    let mut j = eb.sub(&ea).div(z);
+    for k in 1..=p {
+        let ends = eb.scale(&power(b, k)).sub(&ea.scale(&power(a, k)));
+        j = ends.sub(&j.scale(&Real::int(i64::from(k)))).div(z);
+    }
+    j
+}
+
+/// `int_a^b xi^power t(xi) dxi` of one term `t` (its coefficient and power included).
+pub(crate) fn term_moment(t: &Term, power: u32, (a, b): (&Real, &Real), roots: &RootTable) -> Real {
+    let z = Complex {
+        re: roots.rate(t.exp),
+        im: t.trig.map_or(Real::zero(), |(_, n)| roots.beta[n].clone()),
+    };
+    let j = j_between(power + t.power, &z, (a, b));
+    let part = match t.trig {
+        Some((Trig::Sin, _)) => j.im,
+        _ => j.re,
+    };
+    &t.coef * &part
 }
 
 /// The integrals of one section over its local basis (dimensionless; the symbolic layer adds

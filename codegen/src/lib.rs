@@ -23,6 +23,7 @@
 //!     clearance: true,
 //!     positions: Positions::Fixed,
 //!     drive: DriveKind::Force,
+//!     static_knots: None,
 //! };
 //! let model = generate(&config)?;
 //! assert_eq!(model.module, "s2_m2x2_c2_cable_clearance_fixed_force");
@@ -51,11 +52,12 @@ mod exact;
 mod expr;
 mod precise;
 mod render;
+mod spline;
 mod symbolic;
 
 pub use builder::{BuildError, Builder, GeneratedFile, Origin, Written};
-pub use config::{DriveKind, ForceFlow, ModelConfig, ModelList, Positions};
-pub use derive::{BasisFunction, Constant, Derivation, derive};
+pub use config::{DriveKind, ForceFlow, ModelConfig, ModelList, Positions, StaticKnots};
+pub use derive::{BasisFunction, Constant, Corrections, Derivation, derive};
 pub use expr::Expr;
 pub use symbolic::lock_path;
 

@@ -80,6 +80,11 @@ impl Real {
         self.unary(|x, c| x.sinh(PRECISION, RM, c))
     }
 
+    /// `sqrt x`.
+    pub fn sqrt(&self) -> Self {
+        Real(self.0.sqrt(PRECISION, RM))
+    }
+
     /// `|x|`.
     pub fn abs(&self) -> Self {
         Real(self.0.abs())

@@ -52,6 +52,40 @@ fn preamble(c: &ModelConfig) -> Vec<String> {
     lines
 }
 
+/// Each section's static correction shapes as lines of text: the knots, and each shape as
+/// its combination of the section's mode functions (`psi_k,i` of the basis functions above)
+/// and cubic B-splines `B_k,s` (empty for the paper's modes).
+fn correction_lines(d: &Derivation) -> Vec<String> {
+    let mut lines = Vec::new();
+    for (k0, c) in d.corrections.iter().enumerate() {
+        let (Some(c), k) = (c, k0 + 1) else { continue };
+        let modes: Vec<usize> = d.bases[k0].iter().map(|b| b.index).collect();
+        lines.push(format!(
+            "section {k}: B_{k},s (s = 1..{}) the clamped cubic B-splines on xi = 0, 0, 0, 0, \
+             {:?}, 1, 1, 1, 1 without the first two",
+            c.combination.len(),
+            c.knots
+        ));
+        for (e, row) in c.combination.iter().enumerate() {
+            let terms: Vec<String> = row
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| **v != 0.0)
+                .map(|(j, v)| match modes.get(j) {
+                    Some(i) => format!("{v:e} psi_{i}"),
+                    None => format!("{v:e} B_{k},{}", j - modes.len() + 1),
+                })
+                .collect();
+            lines.push(format!(
+                "  z_{} on section {k}: l_{k}^0 * ({})",
+                c.first_index + e,
+                terms.join(" + ")
+            ));
+        }
+    }
+    lines
+}
+
 /// The plain-text rendering.
 pub fn text(d: &Derivation) -> String {
     let c = &d.config;
@@ -96,6 +130,16 @@ pub fn text(d: &Derivation) -> String {
                 b.length_power,
                 b.value.to_text()
             );
+        }
+    }
+    let corrections = correction_lines(d);
+    if !corrections.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nStatic correction shapes (orthogonal to the modes, orthonormal in int_0^1 psi psi dxi):"
+        );
+        for l in corrections {
+            let _ = writeln!(s, "  {l}");
         }
     }
     let _ = writeln!(s, "\nContact vectors: nonzero entries of g_c (and gdot_c):");
@@ -272,6 +316,14 @@ pub fn latex_document(d: &Derivation) -> String {
             })
             .collect(),
     );
+    let corrections = correction_lines(d);
+    if !corrections.is_empty() {
+        let _ = writeln!(
+            s,
+            "\\subsection*{{Static correction shapes}}\n\\begin{{verbatim}}\n{}\n\\end{{verbatim}}",
+            corrections.join("\n")
+        );
+    }
     block(
         &mut s,
         "Generalized forces $q$",
@@ -335,9 +387,21 @@ pub fn json(d: &Derivation) -> String {
             })
         })
         .collect();
+    let corrections: Vec<String> = d
+        .corrections
+        .iter()
+        .enumerate()
+        .filter_map(|(k0, c)| c.as_ref().map(|c| (k0 + 1, c)))
+        .map(|(k, c)| {
+            format!(
+                "{{\"section\": {k}, \"first_index\": {}, \"knots\": {:?}, \"combination\": {:?}}}",
+                c.first_index, c.knots, c.combination
+            )
+        })
+        .collect();
     format!(
         "{{\"key\": {}, \"generator\": {}, \"modes\": {:?}, \"contacts\": {}, \"dof\": {}, \"drive_vector\": \"e_0\", \
-         \"coordinates\": {}, \"constants\": {{{}}}, \"mass\": {}, \"stiffness\": {}, \"basis\": [{}], \"forces\": [{}], \
+         \"coordinates\": {}, \"constants\": {{{}}}, \"mass\": {}, \"stiffness\": {}, \"basis\": [{}], \"static_corrections\": [{}], \"forces\": [{}], \
          \"jacobian_z\": {}, \"jacobian_zd\": {}}}\n",
         q(&c.key()),
         q(crate::GENERATOR_VERSION),
@@ -349,6 +413,7 @@ pub fn json(d: &Derivation) -> String {
         entries(&d.mass),
         entries(&d.stiffness),
         bases.join(", "),
+        corrections.join(", "),
         forces.join(", "),
         entries(&d.jacobian_z),
         entries(&d.jacobian_zd),

@@ -22,6 +22,7 @@ fn small(modes: Vec<usize>) -> ModelConfig {
         clearance: true,
         positions: Positions::Fixed,
         drive: DriveKind::Force,
+        static_knots: None,
     }
 }
 
@@ -232,6 +233,7 @@ fn the_debug_form_of_an_error_is_its_message() {
             clearance: true,
             positions: Positions::Fixed,
             drive: DriveKind::Force,
+            static_knots: None,
         })
         .configurations()
         .unwrap_err();

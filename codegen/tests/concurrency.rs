@@ -12,6 +12,7 @@ fn config(modes: Vec<usize>, clearance: bool) -> ModelConfig {
         clearance,
         positions: Positions::Moving,
         drive: DriveKind::Force,
+        static_knots: None,
     }
 }
 

@@ -12,6 +12,7 @@ fn small() -> ModelConfig {
         clearance: true,
         positions: Positions::Moving,
         drive: DriveKind::Force,
+        static_knots: None,
     }
 }
 

@@ -14,6 +14,7 @@
 //!     clearance: false,
 //!     positions: Positions::Fixed,
 //!     drive: DriveKind::Force,
+//!     static_knots: None,
 //! };
 //! assert_eq!(config.key(), "s2_m5x5_c3_cable_linear_fixed_force");
 //! assert!(config.validate().is_ok());
@@ -63,6 +64,59 @@ pub enum DriveKind {
     Motion,
 }
 
+/// The interior knots of each section's static correction shapes, as fractions `x / l_k` of
+/// its length (ascending, strictly inside `(0, 1)`), from the bottom up: the basis
+/// `modes+static` (cubic B-splines on these knots, orthogonalized against the modes). Compared
+/// bit for bit: a scene's knots are computed from its contact stations the same way each time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct StaticKnots(pub Vec<Vec<f64>>);
+
+impl StaticKnots {
+    fn bits(&self) -> impl Iterator<Item = u64> + '_ {
+        // a section's end marker (not a knot's bits: those lie in (0, 1)) keeps sections apart
+        self.0
+            .iter()
+            .flat_map(|k| k.iter().map(|x| x.to_bits()).chain([u64::MAX]))
+    }
+
+    /// Number of correction shapes of section `k` (1-based): its knots and two more.
+    pub fn shapes(&self, k: usize) -> usize {
+        self.0[k - 1].len() + 2
+    }
+
+    /// A short stable digest of the knots (FNV-1a over their bits), for the key.
+    fn digest(&self) -> u32 {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in self.bits() {
+            for byte in b.to_le_bytes() {
+                h = (h ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        }
+        (h ^ (h >> 32)) as u32
+    }
+}
+
+impl Eq for StaticKnots {}
+
+impl std::hash::Hash for StaticKnots {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.bits().for_each(|b| b.hash(state));
+    }
+}
+
+impl PartialOrd for StaticKnots {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for StaticKnots {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.bits().cmp(other.bits())
+    }
+}
+
 /// One model configuration, as listed in `generated/models.toml`.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize, PartialOrd, Ord)]
 #[serde(deny_unknown_fields)]
@@ -79,6 +133,9 @@ pub struct ModelConfig {
     pub positions: Positions,
     /// Force or prescribed-motion drive.
     pub drive: DriveKind,
+    /// The static correction shapes' knots (basis `modes+static`); `None`: the paper's modes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_knots: Option<StaticKnots>,
 }
 
 impl ModelConfig {
@@ -89,7 +146,12 @@ impl ModelConfig {
 
     /// Number of generalized coordinates.
     pub fn dof(&self) -> usize {
-        self.modes.iter().sum()
+        (1..=self.sections()).map(|k| self.coordinates(k)).sum()
+    }
+
+    /// Coordinates of section `k` (1-based): its modes and its correction shapes.
+    pub fn coordinates(&self, k: usize) -> usize {
+        self.modes[k - 1] + self.static_knots.as_ref().map_or(0, |s| s.shapes(k))
     }
 
     /// Number of contact points.
@@ -99,15 +161,19 @@ impl ModelConfig {
 
     /// Index of the first coordinate of section `k` (1-based).
     pub fn offset(&self, k: usize) -> usize {
-        self.modes[..k - 1].iter().sum()
+        (1..k).map(|j| self.coordinates(j)).sum()
     }
 
     /// A stable identifier, also the emitted module's name, e.g.
     /// `s2_m5x5_c3_cable_linear_fixed_force`.
     pub fn key(&self) -> String {
         let modes: Vec<String> = self.modes.iter().map(|m| m.to_string()).collect();
+        let basis = match &self.static_knots {
+            None => String::new(),
+            Some(knots) => format!("_static{:08x}", knots.digest()),
+        };
         format!(
-            "s{}_m{}_c{}_{}_{}_{}_{}",
+            "s{}_m{}{basis}_c{}_{}_{}_{}_{}",
             self.sections(),
             modes.join("x"),
             self.contacts,
@@ -146,6 +212,25 @@ impl ModelConfig {
         if self.sections() == 1 && self.positions == Positions::Moving {
             return Err("positions: a single section has no telescopic position to move".into());
         }
+        if let Some(StaticKnots(knots)) = &self.static_knots {
+            if knots.len() != self.sections() {
+                return Err(format!(
+                    "static_knots: one list per section ({} sections, got {})",
+                    self.sections(),
+                    knots.len()
+                ));
+            }
+            for (k, list) in knots.iter().enumerate() {
+                let inside = list.iter().all(|x| *x > 0.0 && *x < 1.0);
+                if !inside || list.windows(2).any(|w| w[0] >= w[1]) {
+                    return Err(format!(
+                        "static_knots: section {}'s fractions ascending and strictly inside \
+                         (0, 1) (got {list:?})",
+                        k + 1
+                    ));
+                }
+            }
+        }
         Ok(())
     }
 }
@@ -156,7 +241,11 @@ impl fmt::Display for ModelConfig {
             f,
             "modes = {:?}, contacts = {}, force_flow = {:?}, clearance = {}, positions = {:?}, drive = {:?}",
             self.modes, self.contacts, self.force_flow, self.clearance, self.positions, self.drive
-        )
+        )?;
+        match &self.static_knots {
+            None => Ok(()),
+            Some(StaticKnots(knots)) => write!(f, ", static_knots = {knots:?}"),
+        }
     }
 }
 
@@ -172,7 +261,11 @@ impl ModelConfig {
             self.clearance,
             self.positions.word(),
             self.drive.word(),
-        )
+        ) + &match &self.static_knots {
+            None => String::new(),
+            // `{:?}` writes the shortest decimal that reads back to the same bits
+            Some(StaticKnots(knots)) => format!("static_knots = {knots:?}\n"),
+        }
     }
 }
 
@@ -220,6 +313,7 @@ mod tests {
             clearance: true,
             positions: Positions::Moving,
             drive: DriveKind::Motion,
+            static_knots: None,
         };
         #[derive(Deserialize)]
         struct File {
@@ -234,6 +328,45 @@ mod tests {
     }
 
     #[test]
+    fn static_knots_read_back_bit_for_bit_and_name_the_key() {
+        let knots = StaticKnots(vec![vec![0.1 + 0.2, 0.7], vec![1.0 / 3.0]]);
+        let config = ModelConfig {
+            modes: vec![6, 6],
+            contacts: 2,
+            force_flow: ForceFlow::Cable,
+            clearance: false,
+            positions: Positions::Moving,
+            drive: DriveKind::Force,
+            static_knots: Some(knots.clone()),
+        };
+        #[derive(Deserialize)]
+        struct File {
+            model: Vec<ModelConfig>,
+        }
+        let file: File = toml::from_str(&config.models_toml_entry()).unwrap();
+        assert_eq!(file.model, std::slice::from_ref(&config));
+        // two corrections more than knots per section, after the modes
+        assert_eq!(
+            (config.coordinates(1), config.dof(), config.offset(2)),
+            (10, 19, 10)
+        );
+        let plain = ModelConfig {
+            static_knots: None,
+            ..config.clone()
+        };
+        let moved = ModelConfig {
+            static_knots: Some(StaticKnots(vec![vec![0.3, 0.7], vec![1.0 / 3.0]])),
+            ..config.clone()
+        };
+        // 0.1 + 0.2 is not 0.3: knots one rounding apart are other models
+        assert!(config.key().starts_with("s2_m6x6_static"));
+        assert_ne!(config.key(), moved.key());
+        assert_ne!(config.key(), plain.key());
+        assert_eq!(plain.key(), "s2_m6x6_c2_cable_linear_moving_force");
+        assert!(config.validate().is_ok());
+    }
+
+    #[test]
     fn configurations_breaking_a_rule_are_refused_naming_it() {
         let base = ModelConfig {
             modes: vec![5, 5],
@@ -242,6 +375,7 @@ mod tests {
             clearance: false,
             positions: Positions::Fixed,
             drive: DriveKind::Force,
+            static_knots: None,
         };
         for (config, rule) in [
             (
@@ -272,6 +406,27 @@ mod tests {
                     ..base.clone()
                 },
                 "no telescopic position to move",
+            ),
+            (
+                ModelConfig {
+                    static_knots: Some(StaticKnots(vec![vec![0.5]])),
+                    ..base.clone()
+                },
+                "one list per section",
+            ),
+            (
+                ModelConfig {
+                    static_knots: Some(StaticKnots(vec![vec![0.5, 0.4], vec![0.2]])),
+                    ..base.clone()
+                },
+                "section 1's fractions ascending",
+            ),
+            (
+                ModelConfig {
+                    static_knots: Some(StaticKnots(vec![vec![0.5], vec![1.0]])),
+                    ..base.clone()
+                },
+                "section 2's fractions ascending and strictly inside",
             ),
         ] {
             let e = config.validate().unwrap_err();

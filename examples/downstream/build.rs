@@ -14,6 +14,7 @@ fn main() -> Result<(), telescopic_codegen::BuildError> {
             clearance: true,
             positions: Positions::Fixed,
             drive: DriveKind::Force,
+            static_knots: None,
         })
         .compile()?;
     Ok(())

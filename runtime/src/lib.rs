@@ -50,7 +50,7 @@ pub use contact::{ContactForce, ContactLaw, ContactState};
 pub use integrate::{Method, RunStats, Settings, SimError, simulate};
 pub use model::assembled::{AssembledModel, ModelError, paper_section_matrices};
 pub use model::configuration::{
-    DriveKind, ModelConfig, Positions, config_of, configuration_key, models_toml_entry,
+    DriveKind, ModelConfig, Positions, StaticKnots, config_of, configuration_key, models_toml_entry,
 };
 pub use model::layout::{ContactPoint, Layout};
 pub use model::output::{LinearInput, Output, Sensor};

@@ -7,7 +7,7 @@
 mod common;
 
 use std::f64::consts::PI;
-use telescopic_runtime::model::assembled::SPLINE_TABLE_TOLERANCE;
+use telescopic_runtime::model::params::SPLINE_TABLE_TOLERANCE;
 use telescopic_runtime::nalgebra::DMatrix;
 use telescopic_runtime::{
     AssembledModel, Basis, ContactLaw, Drive, ElementModel, ForceFlow, Model, ModelParams, Profile,

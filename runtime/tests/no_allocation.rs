@@ -125,7 +125,7 @@ fn per_call_methods_do_not_allocate() {
             after - before
         );
         assert!(ydot.iter().all(|v| v.is_finite()));
-        steps_allocate_as_documented(&model, &y);
+        steps_allocate_as_documented(&model, &y, &rest_state(&model, 0.0));
         if matches!(model.params().drive, Drive::Force(_)) {
             exact_runs_allocate_per_branch_not_per_step(&model, &y);
         }
@@ -180,7 +180,7 @@ fn exact_runs_allocate_per_branch_not_per_step(model: &dyn Model, y: &[f64]) {
 
 /// Explicit steps allocate nothing; a generalized-alpha, ESDIRK or BDF step allocates only
 /// nalgebra's pivot record of its one LU factorization (the matrix storage is reused).
-fn steps_allocate_as_documented(model: &dyn Model, y: &[f64]) {
+fn steps_allocate_as_documented(model: &dyn Model, ringing: &[f64], rest: &[f64]) {
     let n = model.dof();
     let settings = Settings {
         dt: Some(1e-5),
@@ -218,6 +218,9 @@ fn steps_allocate_as_documented(model: &dyn Model, y: &[f64]) {
         ),
     ];
     for (name, mut stepper, per_step) in steppers {
+        // dop853-imex hands over to imex only once the closed contacts' modes have rung
+        // down (its dop853 error at the cap below QUIET_ERROR): it steps from rest
+        let y = if name == "dop853-imex" { rest } else { ringing };
         let mut sys = Rhs {
             model,
             tracker: ContactTracker::new(model, 0.0, y),

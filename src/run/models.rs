@@ -193,20 +193,6 @@ impl ModelRegistry {
     /// [`Error::Option`] naming [`OptionName::Model`] when `generated` is asked for a
     /// configuration that no set holds; [`Error::Model`] when a model rejects the parameters.
     pub fn build(&self, params: &ModelParams, choice: ModelChoice) -> Result<ChosenModel> {
-        if params.basis != Basis::Modes {
-            // the generator emits the paper's shape functions only
-            if choice == ModelChoice::Generated {
-                return Err(Error::option(
-                    OptionName::Model,
-                    format!(
-                        "`generated`: generated models have the basis `modes`; sections.basis = \
-                         \"{}\" runs on the quadrature-assembled model",
-                        params.basis.word()
-                    ),
-                ));
-            }
-            return ChosenModel::assembled(params);
-        }
         let key = configuration_key(params);
         let set = match choice {
             ModelChoice::Assembled => None,

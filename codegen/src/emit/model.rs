@@ -36,6 +36,7 @@ fn free_items(d: &Derivation) -> TokenStream {
     let c = &d.config;
     let (key, n, dof, nc) = (c.key(), c.sections(), c.dof(), c.contact_count());
     let modes = &c.modes;
+    let coordinates: Vec<usize> = (1..=n).map(|k| c.coordinates(k)).collect();
     let constants = constants(d);
     let mass_fn = matrix_fn(
         "mass_matrix",
@@ -65,6 +66,8 @@ fn free_items(d: &Derivation) -> TokenStream {
         pub const CONTACTS: usize = #nc;
         /// Modes per section.
         pub const MODES: [usize; #n] = [#(#modes),*];
+        /// Coordinates per section: its modes and its static correction shapes.
+        pub const COORDINATES: [usize; #n] = [#(#coordinates),*];
 
         #(#constants)*
 
@@ -111,6 +114,19 @@ fn prepare_fn(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
     let flow = force_flow(c);
     let clearance_check = clearance_check(c);
     let (drive_kind_check, positions_check) = (&drive.check, &positions.check);
+    let basis_check = match &c.static_knots {
+        None => quote!(params.basis == telescopic_runtime::Basis::Modes),
+        Some(_) => {
+            let lists = (1..=n).map(|k| {
+                let name = format_ident!("KNOTS_{}", k);
+                quote!(#name.to_vec())
+            });
+            quote! {
+                telescopic_runtime::config_of(params).static_knots
+                    == Some(telescopic_runtime::StaticKnots(vec![#(#lists),*]))
+            }
+        }
+    };
     let (minv_build, geometry_init, geometry_finish) =
         (&drive.minv_build, &positions.init, &positions.finish);
     let length_factors = (0..n).map(|k| {
@@ -131,6 +147,7 @@ fn prepare_fn(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
             let fits = params.modes() == MODES.to_vec()
                 && (SECTIONS == 1 || params.contact_points == #contacts)
                 && params.force_flow == #flow
+                && #basis_check
                 && #drive_kind_check
                 && #clearance_check
                 && #positions_check;
@@ -159,7 +176,7 @@ fn prepare_fn(d: &Derivation, positions: &PositionsCode, drive: &DriveCode) -> T
             #top1_sets
             let model = Self {
                 params: params.clone(),
-                layout: Layout::new(&MODES, params.contact_points),
+                layout: Layout::new(&COORDINATES, params.contact_points),
                 mass,
                 stiffness,
                 damping: None,

@@ -4,7 +4,7 @@
 
 use super::tokens::{call_symbol, float, line_comment, tokens};
 use crate::config::{DriveKind, ForceFlow, ModelConfig, Positions};
-use crate::derive::Derivation;
+use crate::derive::{Corrections, Derivation};
 use crate::expr::{Expr, eliminate_common};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
@@ -36,13 +36,15 @@ pub(super) fn constants(d: &Derivation) -> Vec<TokenStream> {
 }
 
 /// Per section: `shapes_k(xi)` (values and slopes) and its index, length-power and top
-/// constants.
+/// constants; with static correction shapes, their knots and combinations.
 pub(super) fn shape_functions(d: &Derivation) -> Vec<TokenStream> {
     let mut items = Vec::new();
     for (k0, basis) in d.bases.iter().enumerate() {
         let k = k0 + 1;
         let fname = format_ident!("shapes_{}", k);
-        let len = basis.len();
+        let modes = basis.len();
+        let corrections = d.corrections[k0].as_ref();
+        let len = modes + corrections.map_or(0, |c| c.combination.len());
         let exprs: Vec<Expr> = basis
             .iter()
             .flat_map(|b| [b.value.clone(), b.slope.clone()])
@@ -55,11 +57,17 @@ pub(super) fn shape_functions(d: &Derivation) -> Vec<TokenStream> {
             let note = line_comment(&doc);
             quote! { #note { value[#i] = #v; slope[#i] = #s; } }
         });
+        let (correction_items, correction_sets) = match corrections {
+            Some(c) => correction_code(k, modes, c),
+            None => (quote!(), quote!()),
+        };
         let doc = format!(
             " Basis functions of section {k} at `xi = x / l_{k}` (cancellation-free forms) and their `d/dxi`, \
              without the factor `l_{k}^p` (see `LENGTH_POWERS_{k}`)."
         );
         items.push(quote! {
+            #correction_items
+
             #[doc = #doc]
             #[inline]
             pub fn #fname(xi: f64) -> ([f64; #len], [f64; #len]) {
@@ -67,17 +75,24 @@ pub(super) fn shape_functions(d: &Derivation) -> Vec<TokenStream> {
                 let mut value = [0.0; #len];
                 let mut slope = [0.0; #len];
                 #(#sets)*
+                #correction_sets
                 (value, slope)
             }
         });
         let idx_name = format_ident!("INDICES_{}", k);
         let lp_name = format_ident!("LENGTH_POWERS_{}", k);
         let top_name = format_ident!("TOPS_{}", k);
-        let idx: Vec<usize> = basis.iter().map(|b| b.index).collect();
-        let lps: Vec<i32> = basis.iter().map(|b| b.length_power).collect();
-        let tops = basis
+        let mut idx: Vec<usize> = basis.iter().map(|b| b.index).collect();
+        let mut lps: Vec<i32> = basis.iter().map(|b| b.length_power).collect();
+        let mut top_names: Vec<&str> = basis.iter().map(|b| b.top.as_str()).collect();
+        if let Some(c) = corrections {
+            idx.extend((0..c.combination.len()).map(|e| c.first_index + e));
+            lps.extend(c.combination.iter().map(|_| 0));
+            top_names.extend(c.tops.iter().map(String::as_str));
+        }
+        let tops = top_names
             .iter()
-            .map(|b| format_ident!("{}", b.top.to_uppercase()));
+            .map(|t| format_ident!("{}", t.to_uppercase()));
         let doc_i = format!(" Global indices of section {k}'s basis functions.");
         let doc_l = format!(" Powers of `l_{k}` in front of section {k}'s basis functions.");
         let doc_t =
@@ -89,6 +104,57 @@ pub(super) fn shape_functions(d: &Derivation) -> Vec<TokenStream> {
         });
     }
     items
+}
+
+/// Section `k`'s correction constants (`KNOTS_k`, `CORRECTIONS_k`), and the statements of
+/// `shapes_k` that set the corrections after its `modes` mode values.
+fn correction_code(k: usize, modes: usize, c: &Corrections) -> (TokenStream, TokenStream) {
+    let (knots_name, combination_name) = (
+        format_ident!("KNOTS_{}", k),
+        format_ident!("CORRECTIONS_{}", k),
+    );
+    let (m, shapes) = (c.knots.len(), c.combination.len());
+    let width = modes + shapes;
+    let knots = c.knots.iter().map(|&x| float(x));
+    let rows = c.combination.iter().map(|row| {
+        let entries = row.iter().map(|&x| float(x));
+        quote!([#(#entries),*])
+    });
+    let doc_k = format!(
+        " Interior knots of section {k}'s cubic B-splines (fractions of `l_{k}`): the clamped \
+         B-splines on `0, 0, 0, 0, knots, 1, 1, 1, 1` without the first two."
+    );
+    let doc_c = format!(
+        " Section {k}'s static correction shapes: row `e` combines its {modes} mode functions \
+         (as `shapes_{k}` gives them) and then its {shapes} B-splines; orthogonal to the modes \
+         and orthonormal in `int_0^1 psi psi dxi`, derived exactly (512 bits)."
+    );
+    let items = quote! {
+        #[doc = #doc_k]
+        pub const #knots_name: [f64; #m] = [#(#knots),*];
+        #[doc = #doc_c]
+        pub const #combination_name: [[f64; #width]; #shapes] = [#(#rows),*];
+    };
+    let sets = quote! {
+        // the static correction shapes: combinations of the modes above and the B-splines
+        let mut spline = [0.0; #shapes];
+        let mut spline_slope = [0.0; #shapes];
+        telescopic_runtime::shape::spline::correction_values(&#knots_name, xi, &mut spline, &mut spline_slope);
+        for (e, row) in #combination_name.iter().enumerate() {
+            let (mut v, mut s) = (0.0, 0.0);
+            for j in 0..#modes {
+                v += row[j] * value[j];
+                s += row[j] * slope[j];
+            }
+            for j in 0..#shapes {
+                v += row[#modes + j] * spline[j];
+                s += row[#modes + j] * spline_slope[j];
+            }
+            value[#modes + e] = v;
+            slope[#modes + e] = s;
+        }
+    };
+    (items, sets)
 }
 
 /// `factor * x`, folded when the factor is 0 (`None`: the term vanishes), 1 or -1.
@@ -280,7 +346,8 @@ pub(super) fn positions_code(c: &ModelConfig) -> PositionsCode {
         init: quote!(contact_table: None,),
         finish: quote! {
             let mut model = model;
-            model.contact_table = telescopic_runtime::ContactTable::build(&model.params.positions, CONTACTS * DOF, |t, g, gd| {
+            let tolerances = model.params.basis.table_tolerances();
+            model.contact_table = telescopic_runtime::ContactTable::build_to(&model.params.positions, CONTACTS * DOF, tolerances, |t, g, gd| {
                 let geo = model.exact_geometry(t);
                 g.copy_from_slice(geo.g.as_flattened());
                 gd.copy_from_slice(geo.gd.as_flattened());

@@ -16,6 +16,8 @@ pub const DOF: usize = 12;
 pub const CONTACTS: usize = 2;
 /// Modes per section.
 pub const MODES: [usize; 2] = [6, 6];
+/// Coordinates per section: its modes and its static correction shapes.
+pub const COORDINATES: [usize; 2] = [6, 6];
 /// root beta of mode 2 of section 1
 pub const K_BETA_1_2: f64 = 2.365020372431352;
 /// root beta of mode 3 of section 1
@@ -957,6 +959,7 @@ impl GeneratedModel {
         let fits = params.modes() == MODES.to_vec()
             && (SECTIONS == 1 || params.contact_points == 2)
             && params.force_flow == ForceFlow::Cable
+            && params.basis == telescopic_runtime::Basis::Modes
             && matches!(params.drive, Drive::Force(_)) && params.contact.clearance == 0.0
             && true;
         if !fits {
@@ -1009,7 +1012,7 @@ impl GeneratedModel {
         }
         let model = Self {
             params: params.clone(),
-            layout: Layout::new(&MODES, params.contact_points),
+            layout: Layout::new(&COORDINATES, params.contact_points),
             mass,
             stiffness,
             damping: None,
@@ -1026,9 +1029,11 @@ impl GeneratedModel {
             top1,
         };
         let mut model = model;
-        model.contact_table = telescopic_runtime::ContactTable::build(
+        let tolerances = model.params.basis.table_tolerances();
+        model.contact_table = telescopic_runtime::ContactTable::build_to(
             &model.params.positions,
             CONTACTS * DOF,
+            tolerances,
             |t, g, gd| {
                 let geo = model.exact_geometry(t);
                 g.copy_from_slice(geo.g.as_flattened());

@@ -16,6 +16,8 @@ pub const DOF: usize = 18;
 pub const CONTACTS: usize = 4;
 /// Modes per section.
 pub const MODES: [usize; 3] = [6, 6, 6];
+/// Coordinates per section: its modes and its static correction shapes.
+pub const COORDINATES: [usize; 3] = [6, 6, 6];
 /// root beta of mode 2 of section 1
 pub const K_BETA_1_2: f64 = 2.365020372431352;
 /// root beta of mode 3 of section 1
@@ -1313,6 +1315,7 @@ impl GeneratedModel {
         let fits = params.modes() == MODES.to_vec()
             && (SECTIONS == 1 || params.contact_points == 2)
             && params.force_flow == ForceFlow::Cable
+            && params.basis == telescopic_runtime::Basis::Modes
             && matches!(params.drive, Drive::Force(_)) && params.contact.clearance > 0.0
             && params.positions.iter().all(|p| p.is_constant());
         if !fits {
@@ -1365,7 +1368,7 @@ impl GeneratedModel {
         }
         let model = Self {
             params: params.clone(),
-            layout: Layout::new(&MODES, params.contact_points),
+            layout: Layout::new(&COORDINATES, params.contact_points),
             mass,
             stiffness,
             damping: None,

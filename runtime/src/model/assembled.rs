@@ -14,8 +14,6 @@ use crate::model::quadrature::SectionQuadrature;
 use crate::profile::Profile;
 pub use crate::shape::section_basis::MAX_SECTION_COORDINATES;
 
-/// The contact tables' tolerance on `g` for the static correction shapes (relative).
-pub const SPLINE_TABLE_TOLERANCE: f64 = 1e-9;
 use crate::model::params::correction_knots;
 use crate::shape::section_basis::SectionBasis;
 use crate::shape::{MAX_MODES, SectionKind, SectionShapes};
@@ -268,16 +266,7 @@ impl AssembledModel {
     /// when a profile cannot be tabulated (a kink in its rate) or a table misses its
     /// tolerances.
     fn tabulate_contacts(&self) -> Option<Vec<ContactTable>> {
-        let tolerances = match self.params.basis {
-            Basis::Modes => (
-                crate::contact::table::G_TOLERANCE,
-                crate::contact::table::GD_TOLERANCE,
-            ),
-            // the splines are C2 at their knots: a contact point crossing one makes g only
-            // C2 in time; 1e-9 of g is a contact force error of about 1e-9 c |g| |z| (a
-            // millinewton on the shipped scenes), far below the model's truncation
-            Basis::ModesAndStatic => (SPLINE_TABLE_TOLERANCE, 1e3 * SPLINE_TABLE_TOLERANCE),
-        };
+        let tolerances = self.params.basis.table_tolerances();
         self.layout
             .contacts()
             .map(|c| {

@@ -5,9 +5,9 @@
 //! a scene's model by [`configuration_key`]; both speak the words of `telescopic-config`,
 //! re-exported here with the configuration of a set of parameters.
 
-pub use telescopic_config::{DriveKind, ForceFlow, ModelConfig, Positions};
+pub use telescopic_config::{DriveKind, ForceFlow, ModelConfig, Positions, StaticKnots};
 
-use crate::model::params::{Drive, ModelParams};
+use crate::model::params::{Basis, Drive, ModelParams, correction_knots};
 
 /// The configuration of a set of parameters.
 pub fn config_of(params: &ModelParams) -> ModelConfig {
@@ -24,6 +24,17 @@ pub fn config_of(params: &ModelParams) -> ModelConfig {
         drive: match params.drive {
             Drive::Force(_) => DriveKind::Force,
             Drive::Motion(_) => DriveKind::Motion,
+        },
+        static_knots: match params.basis {
+            Basis::Modes => None,
+            Basis::ModesAndStatic => Some(StaticKnots(
+                (1..=params.sections.len())
+                    .map(|k| {
+                        let l = params.sections[k - 1].length;
+                        correction_knots(params, k).iter().map(|x| x / l).collect()
+                    })
+                    .collect(),
+            )),
         },
     }
 }

@@ -21,7 +21,24 @@ pub enum Basis {
     ModesAndStatic,
 }
 
+/// The contact tables' tolerance on `g` for the static correction shapes (relative).
+pub const SPLINE_TABLE_TOLERANCE: f64 = 1e-9;
+
 impl Basis {
+    /// The contact tables' tolerances on `g` and its rate (relative) for this basis: the
+    /// splines are C2 at their knots, so a contact point crossing one makes `g` only C2 in
+    /// time; 1e-9 of `g` is a contact force error of about 1e-9 c |g| |z| (a millinewton on
+    /// the shipped scenes), far below the model's truncation.
+    pub fn table_tolerances(self) -> (f64, f64) {
+        match self {
+            Basis::Modes => (
+                crate::contact::table::G_TOLERANCE,
+                crate::contact::table::GD_TOLERANCE,
+            ),
+            Basis::ModesAndStatic => (SPLINE_TABLE_TOLERANCE, 1e3 * SPLINE_TABLE_TOLERANCE),
+        }
+    }
+
     /// The scene file's word for it.
     pub fn word(self) -> &'static str {
         match self {

@@ -6,9 +6,11 @@
 //! they lie ever closer to the modes' span: raw B-splines beside 10 modes gave adams-linear a
 //! mass matrix of condition 1e13, and eigenvalues and steps lost their digits. Each section
 //! therefore carries, instead of the B-splines, their parts orthogonal to its modes,
-//! orthonormal among themselves: the Householder QR of the functions' values at the
-//! quadrature points (weighted by the square roots of the weights) gives `R`, and the last
-//! columns of `R^-1` say how each coordinate function combines the modes and B-splines. The
+//! orthonormal among themselves in `int_0^1 f g dxi` (`xi = x / l`): the Householder QR of
+//! the functions' values at the quadrature points (weighted by the square roots of the
+//! weights over `l`) gives `R`, its rows signed for a positive diagonal (the Gram matrix's
+//! Cholesky factor), and the last columns of `R^-1` say how each coordinate function
+//! combines the modes and B-splines. The generator derives the same functions exactly. The
 //! span, and so the Ritz solution, is the same; the modes' own coordinates are untouched.
 
 use crate::model::params::correction_knots;
@@ -100,7 +102,7 @@ impl SectionBasis {
                 basis.indices.push(offset + sec.modes + e);
                 basis.primitives.push(LocalBasis::Spline(b));
             }
-            basis.corrections = Some(basis.orthogonalized(quad, k)?);
+            basis.corrections = Some(basis.orthogonalized(quad, k, sec.length)?);
         }
         Ok(basis)
     }
@@ -122,12 +124,26 @@ impl SectionBasis {
     }
 
     /// The corrections' combinations of `primitives[1..]` (see the module documentation).
-    fn orthogonalized(&self, quad: &SectionQuadrature, k: usize) -> Result<DMatrix<f64>, String> {
+    fn orthogonalized(
+        &self,
+        quad: &SectionQuadrature,
+        k: usize,
+        length: f64,
+    ) -> Result<DMatrix<f64>, String> {
         let own = self.primitives.len() - 1;
+        // the inner product of xi = x / l (weights over the length): the corrections are then
+        // functions of xi alone, as the generator derives them
         let values = DMatrix::from_fn(quad.nodes.len(), own, |q, j| {
-            quad.weights[q].sqrt() * self.primitives[j + 1].eval(quad.nodes[q], 0)
+            (quad.weights[q] / length).sqrt() * self.primitives[j + 1].eval(quad.nodes[q], 0)
         });
-        let r = values.qr().r();
+        // R with a positive diagonal (the Cholesky factor of the Gram matrix), so that each
+        // correction is the one the generator's Gram-Schmidt gives, sign included
+        let mut r = values.qr().r();
+        for (i, mut row) in r.row_iter_mut().enumerate() {
+            if row[i] < 0.0 {
+                row.neg_mut();
+            }
+        }
         let largest = r.diagonal().amax();
         let first = self.direct - 1;
         if let Some(e) = (first..own).find(|&e| r[(e, e)].abs() <= 1e-12 * largest) {

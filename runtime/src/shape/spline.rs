@@ -82,6 +82,27 @@ pub fn correction_shapes(length: f64, knots: &[f64]) -> Vec<CubicBSpline> {
         .collect()
 }
 
+/// The correction shapes of a section with interior knots `knots` (fractions of its length,
+/// as [`correction_shapes`] with length 1) at `xi`: their values into
+/// `value[..knots.len() + 2]` and their `d/dxi` into `slope`; allocation-free (the generated
+/// models of the basis `modes+static` call it).
+pub fn correction_values(knots: &[f64], xi: f64, value: &mut [f64], slope: &mut [f64]) {
+    let m = knots.len();
+    let knot = |i: usize| match i {
+        0..4 => 0.0,
+        _ if i < 4 + m => knots[i - 4],
+        _ => 1.0,
+    };
+    for (e, j) in (2..m + 4).enumerate() {
+        let b = CubicBSpline {
+            knots: std::array::from_fn(|r| knot(j + r)),
+            end: 1.0,
+        };
+        value[e] = b.eval(xi, 0);
+        slope[e] = b.eval(xi, 1);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
