@@ -2,6 +2,9 @@
 //! given by the caller, so the library prints nothing itself and the caller decides (the CLI
 //! draws a progress bar on a terminal and prints plain lines otherwise).
 
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+
 /// Receives progress and notes from long-running calls. Every method has a silent default.
 pub trait Reporter: Sync {
     /// A run of `what` starts (e.g. `simulating case-study`).
@@ -34,43 +37,6 @@ pub trait Reporter: Sync {
     }
 }
 
-/// One phase of a call made of consecutive runs (a run and its companion): its progress is
-/// the share `from..to` of the caller's, so the caller's fraction only grows; the caller
-/// sees the first phase's start and the last one's finish.
-pub struct Phase<'a> {
-    /// The caller's reporter.
-    pub inner: &'a dyn Reporter,
-    /// Where this phase's progress starts and ends in the caller's (0 to 1).
-    pub share: (f64, f64),
-}
-
-impl Reporter for Phase<'_> {
-    fn start(&self, what: &str) {
-        if self.share.0 == 0.0 {
-            self.inner.start(what);
-        }
-    }
-    fn progress(&self, fraction: f64) {
-        let (from, to) = self.share;
-        self.inner
-            .progress(from + (to - from) * fraction.clamp(0.0, 1.0));
-    }
-    fn finish(&self) {
-        if self.share.1 == 1.0 {
-            self.inner.finish();
-        }
-    }
-    fn runs(&self, done: usize, total: usize) {
-        self.inner.runs(done, total);
-    }
-    fn note(&self, line: &str) {
-        self.inner.note(line);
-    }
-    fn stop_requested(&self) -> bool {
-        self.inner.stop_requested()
-    }
-}
-
 /// A [`Reporter`] that drops everything.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Silent;
@@ -86,5 +52,216 @@ pub struct StopOnly<'a>(pub &'a dyn Reporter);
 impl Reporter for StopOnly<'_> {
     fn stop_requested(&self) -> bool {
         self.0.stop_requested()
+    }
+}
+
+/// A [`Reporter`] for one of several scenes run at once: its notes name the scene, so that
+/// interleaved lines stay readable; everything else passes through.
+pub struct Named<'a> {
+    /// The caller's reporter.
+    pub inner: &'a dyn Reporter,
+    /// The scene's name.
+    pub name: &'a str,
+}
+
+impl Reporter for Named<'_> {
+    fn start(&self, what: &str) {
+        self.inner.start(what);
+    }
+    fn progress(&self, fraction: f64) {
+        self.inner.progress(fraction);
+    }
+    fn finish(&self) {
+        self.inner.finish();
+    }
+    fn runs(&self, done: usize, total: usize) {
+        self.inner.runs(done, total);
+    }
+    fn note(&self, line: &str) {
+        self.inner.note(&format!("{}: {line}", self.name));
+    }
+    fn stop_requested(&self) -> bool {
+        self.inner.stop_requested()
+    }
+}
+
+/// Two runs made at once (a run and its companion): the caller sees their progress as one,
+/// the weighted sum of their fractions, so it only grows; the first run's start, the last
+/// finish, every note and the caller's stop request pass through. When the first run fails,
+/// [`Pair::abandon`] stops the second at its next progress report.
+pub struct Pair<'a> {
+    inner: &'a dyn Reporter,
+    /// Each run's share of the caller's progress (they sum to 1).
+    weights: [f64; 2],
+    /// Each run's fraction done, as bits of an `f64`.
+    fractions: [AtomicU64; 2],
+    /// The caller's fraction last reported: held while reporting, so that it only grows.
+    reported: Mutex<f64>,
+    /// Runs finished.
+    finished: AtomicUsize,
+    /// Set when the first run has failed: the second's result is not wanted.
+    abandoned: AtomicBool,
+}
+
+impl<'a> Pair<'a> {
+    /// Two runs reporting to `inner`, the first with the share `first` (0 to 1) of its
+    /// progress, the second with the rest.
+    pub fn new(inner: &'a dyn Reporter, first: f64) -> Self {
+        Self {
+            inner,
+            weights: [first, 1.0 - first],
+            fractions: [AtomicU64::new(0), AtomicU64::new(0)],
+            reported: Mutex::new(0.0),
+            finished: AtomicUsize::new(0),
+            abandoned: AtomicBool::new(false),
+        }
+    }
+
+    /// The reporter of run `index` (0 or 1).
+    pub fn side(&self, index: usize) -> PairSide<'_, 'a> {
+        PairSide { pair: self, index }
+    }
+
+    /// Asks the second run to stop: the first has failed.
+    pub fn abandon(&self) {
+        self.abandoned.store(true, Ordering::Relaxed);
+    }
+}
+
+/// One run's reporter in a [`Pair`].
+pub struct PairSide<'p, 'a> {
+    pair: &'p Pair<'a>,
+    index: usize,
+}
+
+impl Reporter for PairSide<'_, '_> {
+    fn start(&self, what: &str) {
+        if self.index == 0 {
+            self.pair.inner.start(what);
+        }
+    }
+    fn progress(&self, fraction: f64) {
+        let pair = self.pair;
+        pair.fractions[self.index].store(fraction.clamp(0.0, 1.0).to_bits(), Ordering::Relaxed);
+        let mut reported = pair.reported.lock().unwrap_or_else(|e| e.into_inner());
+        let done: f64 = (0..2)
+            .map(|k| pair.weights[k] * f64::from_bits(pair.fractions[k].load(Ordering::Relaxed)))
+            .sum();
+        if done > *reported {
+            *reported = done;
+            pair.inner.progress(done);
+        }
+    }
+    fn finish(&self) {
+        if self.pair.finished.fetch_add(1, Ordering::Relaxed) == 1 {
+            self.pair.inner.finish();
+        }
+    }
+    fn runs(&self, done: usize, total: usize) {
+        self.pair.inner.runs(done, total);
+    }
+    fn note(&self, line: &str) {
+        self.pair.inner.note(line);
+    }
+    fn stop_requested(&self) -> bool {
+        (self.index == 1 && self.pair.abandoned.load(Ordering::Relaxed))
+            || self.pair.inner.stop_requested()
+    }
+}
+
+/// Runs `first` and `second` at once where a core is free (rayon's `join`: in turn on a busy
+/// pool), each with its side of a [`Pair`] over `reporter`; `first` has the share
+/// `first_share` of the progress. When `first` fails, `second` is asked to stop.
+pub fn both<A: Send, B: Send, E: Send>(
+    reporter: &dyn Reporter,
+    first_share: f64,
+    first: impl FnOnce(&dyn Reporter) -> Result<A, E> + Send,
+    second: impl FnOnce(&dyn Reporter) -> B + Send,
+) -> (Result<A, E>, B) {
+    let pair = Pair::new(reporter, first_share);
+    rayon::join(
+        || {
+            let result = first(&pair.side(0));
+            if result.is_err() {
+                pair.abandon();
+            }
+            result
+        },
+        || second(&pair.side(1)),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Keeps what a pair reports.
+    #[derive(Default)]
+    struct Recorded {
+        fractions: Mutex<Vec<f64>>,
+        starts: AtomicUsize,
+        finishes: AtomicUsize,
+    }
+
+    impl Reporter for Recorded {
+        fn start(&self, _what: &str) {
+            self.starts.fetch_add(1, Ordering::Relaxed);
+        }
+        fn progress(&self, fraction: f64) {
+            self.fractions.lock().unwrap().push(fraction);
+        }
+        fn finish(&self) {
+            self.finishes.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    #[test]
+    fn a_pair_reports_one_growing_progress_one_start_and_one_finish() {
+        let recorded = Recorded::default();
+        let (a, b) = both(
+            &recorded,
+            0.25,
+            |r| {
+                r.start("first");
+                for k in 1..=100 {
+                    r.progress(k as f64 / 100.0);
+                }
+                r.finish();
+                Ok::<_, ()>(1)
+            },
+            |r| {
+                r.start("second");
+                for k in 1..=100 {
+                    r.progress(k as f64 / 100.0);
+                }
+                r.finish();
+                2
+            },
+        );
+        assert_eq!((a, b), (Ok(1), 2));
+        let fractions = recorded.fractions.lock().unwrap();
+        assert!(fractions.windows(2).all(|w| w[1] >= w[0]), "{fractions:?}");
+        assert!((fractions.last().unwrap() - 1.0).abs() < 1e-15);
+        assert_eq!(recorded.starts.load(Ordering::Relaxed), 1);
+        assert_eq!(recorded.finishes.load(Ordering::Relaxed), 1);
+    }
+
+    #[test]
+    fn when_the_first_run_fails_the_second_is_asked_to_stop() {
+        let (first, second_stopped) = both(
+            &Silent,
+            0.5,
+            |_| Err::<(), _>("failed"),
+            // runs until asked to stop: after the first's failure, at once or when it
+            // starts (rayon runs it after the first when no other thread takes it)
+            |r| {
+                while !r.stop_requested() {
+                    std::thread::yield_now();
+                }
+                true
+            },
+        );
+        assert_eq!(first, Err("failed"));
+        assert!(second_stopped);
     }
 }

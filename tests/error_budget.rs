@@ -9,7 +9,7 @@ use telescopic::run::error_budget::{ErrorBudget, Statistic, WindowEnd};
 use telescopic::run::stress::Station;
 use telescopic::run::{
     MethodReason, ModelSize, NoPrediction, Simulation, SimulationOptions, SizePrediction,
-    Trajectory, simulate_scene,
+    Trajectory, estimate_error, simulate_scene,
 };
 use telescopic::{Scene, Silent};
 use telescopic_runtime::{AssembledModel, Basis, ElementModel, modal_analysis};
@@ -464,4 +464,29 @@ fn modes_as_given_keeps_the_scenes_model_and_says_whether_the_whole_error_is_met
                 .contains("see SimulationOptions::modes_as_given"),
         "{e}"
     );
+}
+
+#[test]
+fn the_companion_made_beside_the_run_gives_the_budget_of_one_made_after_it() {
+    // simulate_scene makes the run and its companion at once (two threads where two cores
+    // are free); estimate_error makes the companion after the run: the same runs, the same
+    // budget to the last bit
+    for name in ["adams-clearance", "case-study-no-clearance"] {
+        let s = scene(name);
+        let options = SimulationOptions::default();
+        let together = simulate_scene(&s, &options, &Silent).unwrap();
+        let alone = SimulationOptions {
+            error_estimate: false,
+            ..options.clone()
+        };
+        let run = simulate_scene(&s, &alone, &Silent).unwrap();
+        assert!(run.error.is_none());
+        let after = estimate_error(&s, &options, &run, &Silent).unwrap();
+        assert!(after.truncation.is_some(), "{name}: no companion");
+        assert_eq!(
+            format!("{:?}", budget(&together)),
+            format!("{after:?}"),
+            "{name}"
+        );
+    }
 }

@@ -419,27 +419,48 @@ pub struct SectionIntegrals {
 impl SectionIntegrals {
     /// All four integrals for every pair of `basis` functions.
     pub fn new(basis: &[Func], roots: &RootTable) -> Self {
-        let d1: Vec<Func> = basis.iter().map(|f| f.derivative(roots)).collect();
-        let d2: Vec<Func> = d1.iter().map(|f| f.derivative(roots)).collect();
-        let table = |fs: &[Func], w: u32| -> Vec<Vec<Real>> {
-            let n = fs.len();
-            let mut m = vec![vec![Real::zero(); n]; n];
-            for a in 0..n {
-                for b in a..n {
-                    let v = integrate_product(&fs[a], &fs[b], w, roots);
-                    m[b][a] = v.clone();
-                    m[a][b] = v;
-                }
-            }
-            m
-        };
+        let [mass, bending, axial, axial_x] = galerkin_tables(
+            basis,
+            |f| f.derivative(roots),
+            |a, b, w| integrate_product(a, b, w, roots),
+        );
         Self {
-            mass: table(basis, 0),
-            bending: table(&d2, 0),
-            axial: table(&d1, 0),
-            axial_x: table(&d1, 1),
+            mass,
+            bending,
+            axial,
+            axial_x,
         }
     }
+}
+
+/// The four Galerkin tables of `functions` (`int f g`, `int f'' g''`, `int f' g'`,
+/// `int xi f' g'` over `xi` in `[0, 1]`), each symmetric, from how to differentiate a
+/// function and how to integrate a product weighted by `xi^w`.
+pub fn galerkin_tables<F>(
+    functions: &[F],
+    derivative: impl Fn(&F) -> F,
+    integrate: impl Fn(&F, &F, u32) -> Real,
+) -> [Vec<Vec<Real>>; 4] {
+    let d1: Vec<F> = functions.iter().map(&derivative).collect();
+    let d2: Vec<F> = d1.iter().map(&derivative).collect();
+    let table = |fs: &[F], w: u32| {
+        let n = fs.len();
+        let mut m = vec![vec![Real::zero(); n]; n];
+        for a in 0..n {
+            for b in a..n {
+                let v = integrate(&fs[a], &fs[b], w);
+                m[b][a] = v.clone();
+                m[a][b] = v;
+            }
+        }
+        m
+    };
+    [
+        table(functions, 0),
+        table(&d2, 0),
+        table(&d1, 0),
+        table(&d1, 1),
+    ]
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 //! exact (piecewise polynomials against the modes' exponential-trigonometric sums), so the
 //! emitted matrices carry no quadrature error.
 
-use crate::exact::{Func, RootTable, integrate_product, term_moment};
+use crate::exact::{Func, RootTable, galerkin_tables, integrate_product, term_moment};
 use crate::precise::Real;
 
 /// A polynomial in `xi`: the coefficients of `xi^0, xi^1, ...`.
@@ -208,26 +208,11 @@ fn inner(f: &Primitive, g: &Primitive, weight: u32, roots: &RootTable) -> Real {
 /// The four Galerkin tables (`int f g`, `int f'' g''`, `int f' g'`, `int xi f' g'`, with
 /// `' = d/dxi`) over `functions`.
 pub fn tables(functions: &[Primitive], roots: &RootTable) -> [Vec<Vec<Real>>; 4] {
-    let d1: Vec<Primitive> = functions.iter().map(|f| f.derivative(roots)).collect();
-    let d2: Vec<Primitive> = d1.iter().map(|f| f.derivative(roots)).collect();
-    let table = |fs: &[Primitive], w: u32| {
-        let n = fs.len();
-        let mut m = vec![vec![Real::zero(); n]; n];
-        for a in 0..n {
-            for b in a..n {
-                let v = inner(&fs[a], &fs[b], w, roots);
-                m[b][a] = v.clone();
-                m[a][b] = v;
-            }
-        }
-        m
-    };
-    [
-        table(functions, 0),
-        table(&d2, 0),
-        table(&d1, 0),
-        table(&d1, 1),
-    ]
+    galerkin_tables(
+        functions,
+        |f| f.derivative(roots),
+        |a, b, w| inner(a, b, w, roots),
+    )
 }
 
 /// The corrections as combinations of `gram`'s functions: row `e` holds correction `e`'s

@@ -1,12 +1,14 @@
 //! Simulating a scene: the prepared run, its integration, and the companion run of a
-//! refined model that estimates the truncation error; with a total accuracy, the search
-//! for the model size ([`super::total_accuracy`]).
+//! refined model that estimates the truncation error (beside the run, where a core is free:
+//! [`crate::report::both`]); with a total accuracy, the search for the model size
+//! ([`super::total_accuracy`]).
 
 use super::error_budget::{self, ErrorBudget};
 use super::options::SimulationOptions;
 use super::prepared::PreparedRun;
 use super::simulation::Simulation;
-use crate::report::{Phase, Reporter};
+use super::trajectory::Trajectory;
+use crate::report::Reporter;
 use crate::run::models::ModelChoice;
 use crate::{Error, Result};
 use telescopic_runtime::Scene;
@@ -28,31 +30,29 @@ pub fn simulate_scene(
     if options.accuracy.is_some() && !options.modes_as_given {
         return crate::run::total_accuracy::simulate_for_accuracy(scene, options, reporter);
     }
-    // with the companion run, the run is the first part of the progress
-    let main_share = if options.error_estimate {
-        COMPANION_SPLIT
-    } else {
-        1.0
-    };
-    let main = Phase {
-        inner: reporter,
-        share: (0.0, main_share),
-    };
-    let run = PreparedRun::new(scene, options, &main)?;
-    let trajectory = run.integrate(&main)?;
-    let mut simulation = run.into_simulation(trajectory);
-    if options.error_estimate {
-        let companion = Phase {
-            inner: reporter,
-            share: (main_share, 1.0),
-        };
-        simulation.error = Some(estimate_error(scene, options, &simulation, &companion)?);
+    if !options.error_estimate {
+        let run = PreparedRun::new(scene, options, reporter)?;
+        let trajectory = run.integrate(reporter)?;
+        return Ok(run.into_simulation(trajectory));
     }
+    // the run and its companion at once: the companion needs only the scene
+    let (simulation, companion) = crate::report::both(
+        reporter,
+        COMPANION_SPLIT,
+        |main| -> Result<Simulation> {
+            let run = PreparedRun::new(scene, options, main)?;
+            let trajectory = run.integrate(main)?;
+            Ok(run.into_simulation(trajectory))
+        },
+        |companion| companion_run(scene, options, companion),
+    );
+    let mut simulation = simulation?;
+    simulation.error = Some(budget_of(scene, &simulation, companion?));
     Ok(simulation)
 }
 
-/// The share of a run's progress before its companion run starts (the companion, with more
-/// modes, takes one to three times as long on the shipped scenes).
+/// The share of a run's progress beside its companion's (the companion, with more modes,
+/// takes one to three times as long on the shipped scenes).
 const COMPANION_SPLIT: f64 = 0.4;
 
 /// The error budget of `simulation`, a run of `scene` with `options`: its integration part
@@ -66,20 +66,35 @@ pub fn estimate_error(
     simulation: &Simulation,
     reporter: &dyn Reporter,
 ) -> Result<ErrorBudget> {
-    let window = error_budget::window(&scene.params, &simulation.trajectory);
-    let mut budget = ErrorBudget {
-        window,
-        integration_m: simulation.plan.integration_error_m,
-        integration_statistics: simulation.plan.integration_statistics_rel,
-        truncation: None,
-        missing: None,
-    };
+    Ok(budget_of(
+        scene,
+        simulation,
+        companion_run(scene, options, reporter)?,
+    ))
+}
+
+/// What became of a companion run: its trajectory, or why there is none.
+enum Companion {
+    /// The refined model's run, with its modes per section.
+    Ran(Trajectory, Vec<usize>),
+    /// No companion: why.
+    Missing(String),
+}
+
+/// The companion run of `scene` with `options`: the refined model, no estimate of its own.
+///
+/// # Errors
+/// A failed companion run (an unaffordable one is [`Companion::Missing`]).
+fn companion_run(
+    scene: &Scene,
+    options: &SimulationOptions,
+    reporter: &dyn Reporter,
+) -> Result<Companion> {
     let Some(refined) = error_budget::refined(&scene.params) else {
-        budget.missing = Some(format!(
+        return Ok(Companion::Missing(format!(
             "every section has {} modes, the most there are",
             telescopic_runtime::MAX_MODES
-        ));
-        return Ok(budget);
+        )));
     };
     let mut companion_scene = scene.clone();
     companion_scene.params = refined;
@@ -95,18 +110,34 @@ pub fn estimate_error(
     };
     let prepared = PreparedRun::new(&companion_scene, &companion_options, &crate::Silent)?;
     match prepared.integrate(reporter) {
-        Ok(companion) => {
+        Ok(companion) => Ok(Companion::Ran(companion, companion_scene.params.modes())),
+        Err(Error::Unaffordable { reason, .. }) => Ok(Companion::Missing(format!(
+            "the refined model's run is unaffordable: {reason}"
+        ))),
+        Err(e) => Err(e),
+    }
+}
+
+/// The error budget of `simulation` from its `companion`.
+fn budget_of(scene: &Scene, simulation: &Simulation, companion: Companion) -> ErrorBudget {
+    let window = error_budget::window(&scene.params, &simulation.trajectory);
+    let mut budget = ErrorBudget {
+        window,
+        integration_m: simulation.plan.integration_error_m,
+        integration_statistics: simulation.plan.integration_statistics_rel,
+        truncation: None,
+        missing: None,
+    };
+    match companion {
+        Companion::Ran(trajectory, modes) => {
             budget.truncation = Some(error_budget::truncation(
                 &simulation.trajectory,
-                &companion,
-                companion_scene.params.modes(),
+                &trajectory,
+                modes,
                 window,
             ));
         }
-        Err(Error::Unaffordable { reason, .. }) => {
-            budget.missing = Some(format!("the refined model's run is unaffordable: {reason}"));
-        }
-        Err(e) => return Err(e),
+        Companion::Missing(why) => budget.missing = Some(why),
     }
-    Ok(budget)
+    budget
 }

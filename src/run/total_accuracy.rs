@@ -30,6 +30,11 @@
 //! runs stop early. The pick is the same as with every run completed: only sizes that cost
 //! more than a passing one are cut short.
 //!
+//! The predicted size and the first ladder's first size run beside their companions (the
+//! check that follows at once; [`crate::report::both`]): where two cores are free the two
+//! runs take the time of the longer. Every run is deterministic, so the pick does not depend
+//! on which finishes first.
+//!
 //! The search tells its reporter which size of how many it runs, and notes each size's
 //! verdict with the check that rejected it; the summary names every size tried, why it was
 //! rejected, and the whole search's runs and wall time.
@@ -211,14 +216,25 @@ struct SearchProgress<'a> {
 impl SearchProgress<'_> {
     /// A reporter for the run of `size` (the size being checked, or its companion).
     fn run_reporter(&self, size: ModelSize, role: &str) -> SearchStep<'_> {
+        self.step(1, format!("{role} {size}"))
+    }
+
+    /// A reporter for the runs of `size` and its companion `refined` made at once.
+    fn pair_reporter(&self, size: ModelSize, refined: ModelSize) -> SearchStep<'_> {
+        self.step(2, format!("running {size} and its companion {refined}"))
+    }
+
+    /// A reporter for the next `span` runs, doing `what`.
+    fn step(&self, span: usize, what: String) -> SearchStep<'_> {
         let index = self.runs.get();
-        self.runs.set(index + 1);
+        self.runs.set(index + span);
         SearchStep {
             inner: self.reporter,
             // the search's fraction done, counted against its most runs: it never goes back
             done: (index as f64, self.max_runs as f64),
+            span: span as f64,
             label: format!(
-                "accuracy search, size {} of at most {}: {role} {size}",
+                "accuracy search, size {} of at most {}: {what}",
                 self.done.get() + 1,
                 self.total
             ),
@@ -244,6 +260,8 @@ struct SearchStep<'a> {
     label: String,
     /// Runs before this one, and the most runs the search can make.
     done: (f64, f64),
+    /// The runs this step makes (a size and its companion at once: 2).
+    span: f64,
 }
 
 impl Reporter for SearchStep<'_> {
@@ -254,7 +272,7 @@ impl Reporter for SearchStep<'_> {
         let (before, most) = self.done;
         // a prediction its companion rejects may add runs beyond the most counted: stay at 1
         self.inner
-            .progress(((before + fraction.clamp(0.0, 1.0)) / most).min(1.0));
+            .progress(((before + self.span * fraction.clamp(0.0, 1.0)) / most).min(1.0));
     }
     fn finish(&self) {
         self.inner.finish();
@@ -446,6 +464,8 @@ struct Rung {
     /// Index in `ladder` of the size whose run is `run`.
     at: usize,
     run: Simulation,
+    /// Its companion's run when it was made beside it.
+    companion: Option<Outcome>,
 }
 
 impl Rung {
@@ -486,18 +506,19 @@ fn search(
     };
     if let SizePrediction::Predicted { size, .. } = prediction {
         // the predicted size and its companion first; along its ladder only if that fails
-        search.start(ladder(size.basis, size.modes), attempts)?;
+        search.start_checked(ladder(size.basis, size.modes), attempts)?;
         while search.check_cheapest(attempts)? {}
         if let Some((simulation, _)) = search.best {
             return Ok(Some(simulation));
         }
     }
     for (k, (basis, start)) in STARTS.into_iter().enumerate() {
-        search.start(ladder(basis, start), attempts)?;
         // the first ladder's first size is checked before the next ladder starts, so that
         // a passing size caps the runs of the others
         if k == 0 {
-            search.check_cheapest(attempts)?;
+            search.start_checked(ladder(basis, start), attempts)?;
+        } else {
+            search.start(ladder(basis, start), attempts)?;
         }
     }
     while search.check_cheapest(attempts)? {}
@@ -528,18 +549,34 @@ impl Search<'_> {
     /// Runs the first size of `ladder` (stopped past [`Search::cap`]) and keeps it to be
     /// checked, or records why it cannot be.
     fn start(&mut self, ladder: Vec<ModelSize>, attempts: &mut Vec<Attempt>) -> Result<()> {
-        let (first, progress) = (ladder[0], self.progress);
-        let step = progress.run_reporter(first, "running");
-        match run(
+        let first = ladder[0];
+        let step = self.progress.run_reporter(first, "running");
+        let outcome = run(
             &first.apply(self.scene),
             self.integration,
             self.cap(),
             &step,
-        )? {
+        )?;
+        self.keep(ladder, outcome, None, attempts);
+        Ok(())
+    }
+
+    /// Keeps the run `outcome` of `ladder`'s first size (with its `companion`'s run when it
+    /// was made beside it) to be checked, or records why it cannot be.
+    fn keep(
+        &mut self,
+        ladder: Vec<ModelSize>,
+        outcome: Outcome,
+        companion: Option<Outcome>,
+        attempts: &mut Vec<Attempt>,
+    ) {
+        let (first, progress) = (ladder[0], self.progress);
+        match outcome {
             Outcome::Ran(run) => self.rungs.push(Rung {
                 ladder,
                 at: 0,
                 run: *run,
+                companion,
             }),
             Outcome::Unaffordable(e) => {
                 self.refused.get_or_insert(e);
@@ -555,7 +592,30 @@ impl Search<'_> {
                 not_checked(first, Rejection::StoppedCostlier, (cost, wall)),
             ),
         }
-        Ok(())
+    }
+
+    /// Runs the first size of `ladder` and its companion at once (the companion is the
+    /// size's check, made next), then checks it.
+    fn start_checked(&mut self, ladder: Vec<ModelSize>, attempts: &mut Vec<Attempt>) -> Result<()> {
+        let first = ladder[0];
+        let Some(&refined) = ladder.get(1) else {
+            self.start(ladder, attempts)?;
+            return self.check_cheapest(attempts).map(|_| ());
+        };
+        let (scene, integration, cap) = (self.scene, self.integration, self.cap());
+        let (size_run, companion) = crate::report::both(
+            &self.progress.pair_reporter(first, refined),
+            0.5,
+            |r| run(&first.apply(scene), integration, cap, r),
+            |r| run(&refined.apply(scene), integration, f64::INFINITY, r),
+        );
+        let size_run = size_run?;
+        let companion = match size_run {
+            Outcome::Ran(_) => Some(companion?),
+            _ => None,
+        };
+        self.keep(ladder, size_run, companion, attempts);
+        self.check_cheapest(attempts).map(|_| ())
     }
 
     /// The most a run may cost and still win: the passing size's cost.
@@ -569,7 +629,7 @@ impl Search<'_> {
             return Ok(false);
         };
         let (scene, progress) = (self.scene, self.progress);
-        let rung = self.rungs.swap_remove(i);
+        let mut rung = self.rungs.swap_remove(i);
         if rung.cost() > self.cap() {
             let attempt = rung.attempt(None, Some(Rejection::CostlierThanPassing));
             record(attempts, progress, attempt);
@@ -580,13 +640,19 @@ impl Search<'_> {
             record(attempts, progress, attempt);
             return Ok(true);
         };
-        let step = progress.run_reporter(refined, "its companion");
-        let companion = match run(
-            &refined.apply(scene),
-            self.integration,
-            f64::INFINITY,
-            &step,
-        )? {
+        let outcome = match rung.companion.take() {
+            Some(outcome) => outcome,
+            None => {
+                let step = progress.run_reporter(refined, "its companion");
+                run(
+                    &refined.apply(scene),
+                    self.integration,
+                    f64::INFINITY,
+                    &step,
+                )?
+            }
+        };
+        let companion = match outcome {
             Outcome::Ran(companion) => *companion,
             Outcome::Unaffordable(_) | Outcome::OverCap(..) => {
                 let attempt = rung.attempt(None, Some(Rejection::Unaffordable));
@@ -610,6 +676,7 @@ impl Search<'_> {
                 ladder: rung.ladder,
                 at: rung.at + 1,
                 run: companion,
+                companion: None,
             });
         }
         Ok(true)

@@ -10,6 +10,7 @@ use telescopic::analysis::metrics::drive_stop;
 use telescopic::control::{ControllerFile, compare_file_with_open_loop};
 use telescopic::io::output::write_to;
 use telescopic::plot::{Curve, Marks, Role, clearance_label, plot, with_stated_error};
+use telescopic::report::{Named, Reporter};
 use telescopic::run::models::ModelChoice;
 use telescopic::run::stress::Station;
 use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
@@ -161,13 +162,28 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     let controller = load_controller(args.controller.as_deref(), &scene)?;
     let options = simulation_options(args)?;
     let progress = Progress::new();
+    // the compared scene is drawn only: it runs beside the scene where a core is free
+    let compared_for_plot = other.as_ref().filter(|_| args.plot.is_some());
+    let mut compared = None;
     let (run, comparison) = match &controller {
         Some(c) => {
             let comparison = compare_file_with_open_loop(&scene, c, &options, &progress)?;
             let summary = c.summary(&comparison);
             (comparison.controlled, Some((summary, comparison.open_loop)))
         }
-        None => (simulate_stated(&scene, &options, &progress)?, None),
+        None => match compared_for_plot {
+            Some(other) => {
+                let (run, other_run) = telescopic::report::both(
+                    &progress,
+                    0.5,
+                    |r| simulate_stated(&scene, &options, &named(r, &scene)),
+                    |r| simulate_stated(other, &options, &named(r, other)),
+                );
+                compared = Some(other_run?);
+                (run?, None)
+            }
+            None => (simulate_stated(&scene, &options, &progress)?, None),
+        },
     };
     write_csv(&run, args.out.as_deref())?;
     eprintln!("{}", run.summary());
@@ -189,11 +205,20 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
             run: &run,
             open_loop: open_loop.as_ref(),
             other: other.as_ref(),
+            compared,
             controller: controller.as_ref(),
         };
-        plot_runs(&runs, &options, &progress, plot_path)?;
+        plot_runs(runs, &options, &progress, plot_path)?;
     }
     Ok(())
+}
+
+/// `reporter` for `scene` run beside another: its notes name it.
+fn named<'a>(reporter: &'a dyn Reporter, scene: &'a Scene) -> Named<'a> {
+    Named {
+        inner: reporter,
+        name: &scene.name,
+    }
 }
 
 /// Runs `scene` with `options`, to the accuracy the scene states when the options leave
@@ -201,7 +226,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
 fn simulate_stated(
     scene: &Scene,
     options: &SimulationOptions,
-    progress: &Progress,
+    progress: &dyn Reporter,
 ) -> anyhow::Result<telescopic::run::Simulation> {
     let stated = options.for_scene(scene);
     if let (None, Some(accuracy)) = (options.accuracy, stated.accuracy) {
@@ -239,18 +264,19 @@ fn simulation_options(args: &SimulateArgs) -> anyhow::Result<SimulationOptions> 
 }
 
 /// What a simulate command's figure shows: the run, the open loop beside a controlled run,
-/// and a compared scene (run here).
+/// and a compared scene (with its run when it ran beside the scene's; else run here).
 struct PlottedRuns<'a> {
     scene: &'a Scene,
     run: &'a telescopic::run::Simulation,
     open_loop: Option<&'a telescopic::run::Simulation>,
     other: Option<&'a Scene>,
+    compared: Option<telescopic::run::Simulation>,
     controller: Option<&'a ControllerFile>,
 }
 
 /// Draws the runs' figure to `plot_path`, running the compared scene with `options`.
 fn plot_runs(
-    runs: &PlottedRuns,
+    runs: PlottedRuns,
     options: &SimulationOptions,
     progress: &Progress,
     plot_path: &std::path::Path,
@@ -279,14 +305,13 @@ fn plot_runs(
             role: Role::Scene,
         });
     }
-    let compared = match runs.other {
-        Some(other) => {
-            let run = simulate_stated(other, options, progress)?;
-            eprintln!("{}", run.summary());
-            Some(run)
-        }
-        None => None,
+    let compared = match (runs.other, runs.compared) {
+        (Some(other), None) => Some(simulate_stated(other, options, progress)?),
+        (_, compared) => compared,
     };
+    if let Some(run) = &compared {
+        eprintln!("{}", run.summary());
+    }
     if let (Some(other), Some(run)) = (runs.other, &compared) {
         curves.push(Curve {
             label: with_stated_error(clearance_label(other), run),

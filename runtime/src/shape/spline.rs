@@ -34,35 +34,69 @@ impl CubicBSpline {
     /// The value (`deriv = 0`), slope (1) or curvature (2) at `x` (m), by the Cox-de Boor
     /// recursion on the five knots.
     pub fn eval(&self, x: f64, deriv: u8) -> f64 {
-        let t = &self.knots;
-        if x < t[0] || x > t[4] {
+        let Some((n1, n2)) = self.lower_degrees(x) else {
             return 0.0;
-        }
-        // degree 0: the interval [t_j, t_j+1) holding x; closed at the section's top
-        let mut n0 = [0.0; 4];
-        for j in 0..4 {
-            let inside = (t[j] <= x && x < t[j + 1])
-                || (x == self.end && t[j + 1] == self.end && t[j] < t[j + 1]);
-            n0[j] = f64::from(u8::from(inside));
-        }
-        let step = |lower: &[f64], p: usize, j: usize| {
-            ratio(x - t[j], t[j + p] - t[j]) * lower[j]
-                + ratio(t[j + p + 1] - x, t[j + p + 1] - t[j + 1]) * lower[j + 1]
-        };
-        let n1: [f64; 3] = std::array::from_fn(|j| step(&n0, 1, j));
-        let n2: [f64; 2] = std::array::from_fn(|j| step(&n1, 2, j));
-        // derivative of a degree-p spline from the two of degree p - 1 below it
-        let slope = |lower: &[f64], p: usize, j: usize| {
-            p as f64
-                * (ratio(lower[j], t[j + p] - t[j]) - ratio(lower[j + 1], t[j + p + 1] - t[j + 1]))
         };
         match deriv {
-            0 => step(&n2, 3, 0),
-            1 => slope(&n2, 3, 0),
+            0 => self.step(x, &n2, 3, 0),
+            1 => self.slope(&n2, 3, 0),
             _ => {
-                let d2: [f64; 2] = std::array::from_fn(|j| slope(&n1, 2, j));
-                slope(&d2, 3, 0)
+                let d2: [f64; 2] = std::array::from_fn(|j| self.slope(&n1, 2, j));
+                self.slope(&d2, 3, 0)
             }
+        }
+    }
+
+    /// The value and the slope at `x` (m), from one recursion.
+    pub fn value_and_slope(&self, x: f64) -> (f64, f64) {
+        match self.lower_degrees(x) {
+            Some((_, n2)) => (self.step(x, &n2, 3, 0), self.slope(&n2, 3, 0)),
+            None => (0.0, 0.0),
+        }
+    }
+
+    /// The B-splines of degrees 1 and 2 on the knots' sub-ranges at `x`; `None` outside the
+    /// support.
+    fn lower_degrees(&self, x: f64) -> Option<([f64; 3], [f64; 2])> {
+        let t = &self.knots;
+        if x < t[0] || x > t[4] {
+            return None;
+        }
+        // degree 0: the interval [t_j, t_j+1) holding x; closed at the section's top
+        let n0: [f64; 4] = std::array::from_fn(|j| {
+            let inside = (t[j] <= x && x < t[j + 1])
+                || (x == self.end && t[j + 1] == self.end && t[j] < t[j + 1]);
+            f64::from(u8::from(inside))
+        });
+        let n1: [f64; 3] = std::array::from_fn(|j| self.step(x, &n0, 1, j));
+        let n2: [f64; 2] = std::array::from_fn(|j| self.step(x, &n1, 2, j));
+        Some((n1, n2))
+    }
+
+    /// Degree `p` spline `j` at `x` from the two of degree `p - 1` below it.
+    fn step(&self, x: f64, lower: &[f64], p: usize, j: usize) -> f64 {
+        let t = &self.knots;
+        ratio(x - t[j], t[j + p] - t[j]) * lower[j]
+            + ratio(t[j + p + 1] - x, t[j + p + 1] - t[j + 1]) * lower[j + 1]
+    }
+
+    /// The derivative of degree `p` spline `j` from the two of degree `p - 1` below it.
+    fn slope(&self, lower: &[f64], p: usize, j: usize) -> f64 {
+        let t = &self.knots;
+        p as f64 * (ratio(lower[j], t[j + p] - t[j]) - ratio(lower[j + 1], t[j + p + 1] - t[j + 1]))
+    }
+
+    /// Clamped B-spline `j` on the interior `knots` of a section ending at `end` (m): the
+    /// knots `0, 0, 0, 0, knots.., end, end, end, end`, from index `j` on.
+    fn clamped(knots: &[f64], end: f64, j: usize) -> Self {
+        let knot = |i: usize| match i {
+            0..4 => 0.0,
+            _ if i < 4 + knots.len() => knots[i - 4],
+            _ => end,
+        };
+        Self {
+            knots: std::array::from_fn(|r| knot(j + r)),
+            end,
         }
     }
 }
@@ -70,15 +104,9 @@ impl CubicBSpline {
 /// The static correction shapes of a section of length `length` (m) with interior knots
 /// `knots` (m, strictly inside `(0, length)`, ascending, distinct).
 pub fn correction_shapes(length: f64, knots: &[f64]) -> Vec<CubicBSpline> {
-    let mut all = vec![0.0; 4];
-    all.extend_from_slice(knots);
-    all.extend_from_slice(&[length; 4]);
-    // B_j has knots all[j..j+5]; the first two carry the foot's value and slope
-    (2..all.len() - 4)
-        .map(|j| CubicBSpline {
-            knots: all[j..j + 5].try_into().expect("five knots"),
-            end: length,
-        })
+    // the first two clamped B-splines carry the foot's value and slope
+    (2..knots.len() + 4)
+        .map(|j| CubicBSpline::clamped(knots, length, j))
         .collect()
 }
 
@@ -87,19 +115,8 @@ pub fn correction_shapes(length: f64, knots: &[f64]) -> Vec<CubicBSpline> {
 /// `value[..knots.len() + 2]` and their `d/dxi` into `slope`; allocation-free (the generated
 /// models of the basis `modes+static` call it).
 pub fn correction_values(knots: &[f64], xi: f64, value: &mut [f64], slope: &mut [f64]) {
-    let m = knots.len();
-    let knot = |i: usize| match i {
-        0..4 => 0.0,
-        _ if i < 4 + m => knots[i - 4],
-        _ => 1.0,
-    };
-    for (e, j) in (2..m + 4).enumerate() {
-        let b = CubicBSpline {
-            knots: std::array::from_fn(|r| knot(j + r)),
-            end: 1.0,
-        };
-        value[e] = b.eval(xi, 0);
-        slope[e] = b.eval(xi, 1);
+    for (e, j) in (2..knots.len() + 4).enumerate() {
+        (value[e], slope[e]) = CubicBSpline::clamped(knots, 1.0, j).value_and_slope(xi);
     }
 }
 
@@ -111,14 +128,8 @@ mod tests {
     fn the_full_basis_is_a_partition_of_unity_and_derivatives_match_differences() {
         let l = 1.35;
         let knots = [0.1, 0.2, 1.15, 1.25];
-        let mut all = vec![0.0; 4];
-        all.extend_from_slice(&knots);
-        all.extend_from_slice(&[l; 4]);
-        let full: Vec<CubicBSpline> = (0..all.len() - 4)
-            .map(|j| CubicBSpline {
-                knots: all[j..j + 5].try_into().unwrap(),
-                end: l,
-            })
+        let full: Vec<CubicBSpline> = (0..knots.len() + 4)
+            .map(|j| CubicBSpline::clamped(&knots, l, j))
             .collect();
         for i in 0..=200 {
             let x = l * i as f64 / 200.0;
