@@ -179,8 +179,10 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
                     |r| simulate_stated(&scene, &options, &named(r, &scene)),
                     |r| simulate_stated(other, &options, &named(r, other)),
                 );
+                // the scene's own failure first: it stops the compared run
+                let run = run?;
                 compared = Some(other_run?);
-                (run?, None)
+                (run, None)
             }
             None => (simulate_stated(&scene, &options, &progress)?, None),
         },
