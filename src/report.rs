@@ -3,7 +3,7 @@
 //! draws a progress bar on a terminal and prints plain lines otherwise).
 
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// Receives progress and notes from long-running calls. Every method has a silent default.
 pub trait Reporter: Sync {
@@ -55,39 +55,10 @@ impl Reporter for StopOnly<'_> {
     }
 }
 
-/// A [`Reporter`] for one of several scenes run at once: its notes name the scene, so that
-/// interleaved lines stay readable; everything else passes through.
-pub struct Named<'a> {
-    /// The caller's reporter.
-    pub inner: &'a dyn Reporter,
-    /// The scene's name.
-    pub name: &'a str,
-}
-
-impl Reporter for Named<'_> {
-    fn start(&self, what: &str) {
-        self.inner.start(what);
-    }
-    fn progress(&self, fraction: f64) {
-        self.inner.progress(fraction);
-    }
-    fn finish(&self) {
-        self.inner.finish();
-    }
-    fn runs(&self, done: usize, total: usize) {
-        self.inner.runs(done, total);
-    }
-    fn note(&self, line: &str) {
-        self.inner.note(&format!("{}: {line}", self.name));
-    }
-    fn stop_requested(&self) -> bool {
-        self.inner.stop_requested()
-    }
-}
-
 /// Two runs made at once (a run and its companion): the caller sees their progress as one,
-/// the weighted sum of their fractions, so it only grows; the first run's start, the last
-/// finish, every note and the caller's stop request pass through. When the first run fails,
+/// the weighted sum of their fractions, so it only grows; the first run's start, one finish
+/// once both have returned (whether or not they reported theirs), every note (prefixed by the run's name where it has one) and the caller's stop
+/// request pass through. When the first run fails,
 /// [`Pair::abandon`] stops the second at its next progress report.
 pub struct Pair<'a> {
     inner: &'a dyn Reporter,
@@ -97,8 +68,8 @@ pub struct Pair<'a> {
     fractions: [AtomicU64; 2],
     /// The caller's fraction last reported: held while reporting, so that it only grows.
     reported: Mutex<f64>,
-    /// Runs finished.
-    finished: AtomicUsize,
+    /// Whether the first run's start was passed on: the caller is then owed one finish.
+    started: AtomicBool,
     /// Set when the first run has failed: the second's result is not wanted.
     abandoned: AtomicBool,
 }
@@ -112,14 +83,28 @@ impl<'a> Pair<'a> {
             weights: [first, 1.0 - first],
             fractions: [AtomicU64::new(0), AtomicU64::new(0)],
             reported: Mutex::new(0.0),
-            finished: AtomicUsize::new(0),
+            started: AtomicBool::new(false),
             abandoned: AtomicBool::new(false),
         }
     }
 
     /// The reporter of run `index` (0 or 1).
     pub fn side(&self, index: usize) -> PairSide<'_, 'a> {
-        PairSide { pair: self, index }
+        PairSide {
+            pair: self,
+            index,
+            name: None,
+        }
+    }
+
+    /// The reporter of run `index` (0 or 1), whose notes start with `name` (one of several
+    /// scenes run at once: interleaved lines stay readable).
+    pub fn named_side<'p>(&'p self, index: usize, name: &'p str) -> PairSide<'p, 'a> {
+        PairSide {
+            pair: self,
+            index,
+            name: Some(name),
+        }
     }
 
     /// Asks the second run to stop: the first has failed.
@@ -132,11 +117,13 @@ impl<'a> Pair<'a> {
 pub struct PairSide<'p, 'a> {
     pair: &'p Pair<'a>,
     index: usize,
+    /// The run's name, prefixed to its notes.
+    name: Option<&'p str>,
 }
 
 impl Reporter for PairSide<'_, '_> {
     fn start(&self, what: &str) {
-        if self.index == 0 {
+        if self.index == 0 && !self.pair.started.swap(true, Ordering::Relaxed) {
             self.pair.inner.start(what);
         }
     }
@@ -152,16 +139,16 @@ impl Reporter for PairSide<'_, '_> {
             pair.inner.progress(done);
         }
     }
-    fn finish(&self) {
-        if self.pair.finished.fetch_add(1, Ordering::Relaxed) == 1 {
-            self.pair.inner.finish();
-        }
-    }
+    /// A side's finish is the pair's only when both have returned: see [`both`].
+    fn finish(&self) {}
     fn runs(&self, done: usize, total: usize) {
         self.pair.inner.runs(done, total);
     }
     fn note(&self, line: &str) {
-        self.pair.inner.note(line);
+        match self.name {
+            Some(name) => self.pair.inner.note(&format!("{name}: {line}")),
+            None => self.pair.inner.note(line),
+        }
     }
     fn stop_requested(&self) -> bool {
         (self.index == 1 && self.pair.abandoned.load(Ordering::Relaxed))
@@ -179,21 +166,49 @@ pub fn both<A: Send, B: Send, E: Send>(
     second: impl FnOnce(&dyn Reporter) -> B + Send,
 ) -> (Result<A, E>, B) {
     let pair = Pair::new(reporter, first_share);
-    rayon::join(
+    join_sides(&pair, [pair.side(0), pair.side(1)], first, second)
+}
+
+/// [`both`] for two named runs (two scenes): each run's notes start with its name.
+pub fn both_named<A: Send, B: Send, E: Send>(
+    reporter: &dyn Reporter,
+    first_share: f64,
+    names: [&str; 2],
+    first: impl FnOnce(&dyn Reporter) -> Result<A, E> + Send,
+    second: impl FnOnce(&dyn Reporter) -> B + Send,
+) -> (Result<A, E>, B) {
+    let pair = Pair::new(reporter, first_share);
+    let sides = [pair.named_side(0, names[0]), pair.named_side(1, names[1])];
+    join_sides(&pair, sides, first, second)
+}
+
+/// Runs the two sides of `pair` at once; abandons the second when the first fails.
+fn join_sides<A: Send, B: Send, E: Send>(
+    pair: &Pair<'_>,
+    [side0, side1]: [PairSide<'_, '_>; 2],
+    first: impl FnOnce(&dyn Reporter) -> Result<A, E> + Send,
+    second: impl FnOnce(&dyn Reporter) -> B + Send,
+) -> (Result<A, E>, B) {
+    let results = rayon::join(
         || {
-            let result = first(&pair.side(0));
+            let result = first(&side0);
             if result.is_err() {
                 pair.abandon();
             }
             result
         },
-        || second(&pair.side(1)),
-    )
+        || second(&side1),
+    );
+    if pair.started.load(Ordering::Relaxed) {
+        pair.inner.finish();
+    }
+    results
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::atomic::AtomicUsize;
 
     /// Keeps what a pair reports.
     #[derive(Default)]
@@ -244,6 +259,53 @@ mod tests {
         assert!((fractions.last().unwrap() - 1.0).abs() < 1e-15);
         assert_eq!(recorded.starts.load(Ordering::Relaxed), 1);
         assert_eq!(recorded.finishes.load(Ordering::Relaxed), 1);
+    }
+
+    #[test]
+    fn a_pair_whose_runs_fail_before_their_finish_still_finishes_once() {
+        let recorded = Recorded::default();
+        let (first, second) = both(
+            &recorded,
+            0.5,
+            |r| {
+                r.start("first");
+                r.progress(0.5);
+                Err::<(), _>("failed half way")
+            },
+            |r| {
+                r.start("second");
+                r.finish();
+                2
+            },
+        );
+        assert_eq!((first, second), (Err("failed half way"), 2));
+        assert_eq!(recorded.starts.load(Ordering::Relaxed), 1);
+        assert_eq!(recorded.finishes.load(Ordering::Relaxed), 1);
+    }
+
+    #[test]
+    fn notes_of_named_runs_start_with_their_names() {
+        #[derive(Default)]
+        struct Notes(Mutex<Vec<String>>);
+        impl Reporter for Notes {
+            fn note(&self, line: &str) {
+                self.0.lock().unwrap().push(line.to_owned());
+            }
+        }
+        let notes = Notes::default();
+        let _ = both_named(
+            &notes,
+            0.5,
+            ["case-study", "twin"],
+            |r| {
+                r.note("picked 4x4");
+                Ok::<_, ()>(())
+            },
+            |r| r.note("picked 6x6"),
+        );
+        let mut lines = notes.0.into_inner().unwrap();
+        lines.sort();
+        assert_eq!(lines, ["case-study: picked 4x4", "twin: picked 6x6"]);
     }
 
     #[test]

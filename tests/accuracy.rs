@@ -223,7 +223,7 @@ fn a_run_ending_on_a_breakpoint_ends_on_the_left_limit() {
             .clone()
     };
     let (a, b) = (at_12(&short), at_12(&long));
-    for (name, (x, y)) in short.names.iter().zip(a[1..].iter().zip(&b[1..])) {
+    for (name, (x, y)) in short.names().iter().zip(a[1..].iter().zip(&b[1..])) {
         assert!(
             (x - y).abs() <= 1e-12 * y.abs().max(1.0),
             "{name} at 12 s: {x} (run ending there) vs {y}"

@@ -7,7 +7,8 @@ mod common;
 
 use telescopic::run::models::ModelChoice;
 use telescopic::run::stress::{Station, StressEnvelope};
-use telescopic::run::{SimulationOptions, simulate_scene};
+use telescopic::run::{Column, SimulationOptions, simulate_scene};
+use telescopic::runtime::{Output, Sensor};
 use telescopic::{Error, Scene, Silent};
 
 /// A single section on a vehicle pushed by a constant force; heavily damped (zeta = 0.5) so
@@ -51,7 +52,7 @@ fn static_moment_errors(
     let want = |x: f64| -a * (load * (l - x) + rho_a * (l - x).powi(2) / 2.0);
     let summed = stations
         .iter()
-        .map(|s| last[sim.trajectory.index(&s.moment_name()).unwrap()] / want(s.x) - 1.0)
+        .map(|s| last[sim.trajectory.index_of(s.moment()).unwrap()] / want(s.x) - 1.0)
         .collect();
     let ei = scene.params.sections[0].bending_stiffness;
     let curvature = ei * last[sim.trajectory.index("kappa_1_0").unwrap()] / want(0.0) - 1.0;
@@ -104,8 +105,8 @@ fn generated_and_assembled_moments_agree_and_stresses_are_moment_over_modulus() 
     assert!(generated.model.contains("generated"), "{}", generated.model);
     let w = 2.0 * 0.83e-8 / 0.04;
     for s in &stations {
-        let a = generated.trajectory.column(&s.moment_name()).unwrap();
-        let b = assembled.trajectory.column(&s.moment_name()).unwrap();
+        let a = generated.trajectory.column_of(s.moment()).unwrap();
+        let b = assembled.trajectory.column_of(s.moment()).unwrap();
         let scale = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let worst = a
             .iter()
@@ -121,7 +122,7 @@ fn generated_and_assembled_moments_agree_and_stresses_are_moment_over_modulus() 
             "{}: {worst} of {scale}",
             s.moment_name()
         );
-        let stress = generated.trajectory.column(&s.stress_name()).unwrap();
+        let stress = generated.trajectory.column_of(s.stress()).unwrap();
         for (m, sigma) in a.iter().zip(&stress) {
             assert!((sigma - m / w).abs() <= 1e-12 * (m / w).abs().max(1.0));
         }
@@ -130,13 +131,13 @@ fn generated_and_assembled_moments_agree_and_stresses_are_moment_over_modulus() 
     let envelope = StressEnvelope::of(&generated.trajectory).unwrap();
     let largest = stations
         .iter()
-        .flat_map(|s| generated.trajectory.column(&s.stress_name()).unwrap())
+        .flat_map(|s| generated.trajectory.column_of(s.stress()).unwrap())
         .fold(0.0_f64, |m, v| m.max(v.abs()));
     assert_eq!(envelope.max_abs_stress, largest);
     // and it names the station and the time where that stress stands
     let column = generated
         .trajectory
-        .index(&envelope.station.stress_name())
+        .index_of(envelope.station.stress())
         .unwrap();
     let row = generated
         .trajectory
@@ -224,4 +225,47 @@ fn stations_are_priced_before_the_run_and_capped() {
     assert!(e.to_string().contains("500 stations"), "{e}");
     let e = simulate_scene(&scene, &with(20_000), &Silent).unwrap_err();
     assert!(e.to_string().contains("at most 1000"), "{e}");
+}
+
+#[test]
+fn a_runs_csv_header_reads_back_as_its_typed_columns() {
+    let scene = pushed_cantilever(&["sections.section_modulus=2e-4".to_string()]);
+    let stations = Station::parse_list("1:0,1:0.5").unwrap();
+    let options = SimulationOptions {
+        stations: stations.clone(),
+        coordinates: true,
+        ..SimulationOptions::default()
+    };
+    let trajectory = simulate_scene(&scene, &options, &Silent)
+        .unwrap()
+        .trajectory;
+    let mut csv = Vec::new();
+    trajectory.write_csv(&mut csv).unwrap();
+    let csv = String::from_utf8(csv).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(header[0], "t");
+    let read: Vec<Column> = header[1..]
+        .iter()
+        .map(|name| Column::parse(name).unwrap_or_else(|| panic!("{name} is no column")))
+        .collect();
+    assert_eq!(read, trajectory.columns);
+    // the run knows what each column is: the model's, the sensors', the stations', the
+    // coordinates', in that order
+    let dof = read.iter().filter(|c| c.output().is_none()).count();
+    assert!(dof > 0);
+    assert_eq!(
+        &read[read.len() - dof..],
+        (0..dof).map(Column::Coordinate).collect::<Vec<_>>()
+    );
+    for station in &stations {
+        let moment = trajectory.index_of(station.moment()).unwrap();
+        let stress = trajectory.index_of(station.stress()).unwrap();
+        assert!(moment < stress && stress <= read.len() - dof);
+        assert_eq!(trajectory.index(&station.moment_name()), Some(moment));
+    }
+    let sensor = trajectory
+        .index_of(Output::Sensor(Sensor::FootCurvature))
+        .unwrap();
+    assert!(sensor < trajectory.index_of(stations[0].moment()).unwrap());
+    assert_eq!(trajectory.index_of(Output::TipRel), Some(2));
 }

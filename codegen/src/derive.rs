@@ -139,6 +139,11 @@ fn local_basis(config: &ModelConfig, k: usize, roots: &RootTable) -> Vec<(usize,
 }
 
 /// `l_k^p` as text.
+/// Global index of the first correction shape of section `k` (1-based): after its modes.
+fn first_correction(config: &ModelConfig, k: usize) -> usize {
+    config.offset(k) + config.modes[k - 1]
+}
+
 fn length_pow(k: usize, p: i32) -> String {
     match p {
         0 => "1".into(),
@@ -322,7 +327,7 @@ fn section_tables(
         row.extend(c.iter().cloned());
         rows.push(row);
         coordinates.push(Coordinate {
-            index: config.offset(k) + config.modes[k - 1] + e,
+            index: first_correction(config, k) + e,
             length_power: 0,
             label: format!("s{}", e + 1),
         });
@@ -450,7 +455,7 @@ fn section_terms(
         section_shapes.push((*g, f.length_power, text, top.clone()));
     }
     let corrections = section.corrections.map(|(knots, combination)| Corrections {
-        first_index: config.offset(k) + config.modes[k - 1],
+        first_index: first_correction(config, k),
         knots,
         combination: combination
             .iter()

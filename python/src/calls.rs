@@ -54,16 +54,12 @@ type SimulationData<'py> = (Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, P
 /// A simulation as `(columns, data, summary)`: `data` is samples x (1 + columns), `t` first.
 fn simulation_data<'py>(py: Python<'py>, sim: &Simulation) -> PyResult<SimulationData<'py>> {
     let traj = &sim.trajectory;
-    let width = traj.names.len() + 1;
+    let width = traj.columns.len() + 1;
     let flat: Vec<f64> = traj.rows.iter().flatten().copied().collect();
     let array = Array2::from_shape_vec((traj.rows.len(), width), flat)
         .map_err(|e| crate::errors::TelescopicError::new_err(e.to_string()))?;
     let summary = summary_dict(py, sim)?;
-    Ok((
-        traj.names.clone(),
-        PyArray2::from_owned_array(py, array),
-        summary,
-    ))
+    Ok((traj.names(), PyArray2::from_owned_array(py, array), summary))
 }
 
 /// The run's summary ([`telescopic::run::RunSummary`]) as a dict with the same keys; each

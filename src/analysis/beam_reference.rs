@@ -20,7 +20,7 @@ use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::models::ModelChoice;
 use crate::run::stress::Station;
-use crate::run::{SimulationOptions, Trajectory};
+use crate::run::{Column, SimulationOptions, Trajectory};
 use crate::{Error, Result};
 use telescopic_runtime::{
     Basis, ElementModel, Method, Model, Profile, Scene, Settings, model::rest_state, simulate,
@@ -104,14 +104,19 @@ pub fn element_response(
     reporter: &dyn Reporter,
 ) -> Result<BeamResponse> {
     let model = ElementModel::new(&scene.params, elements).map_err(Error::from)?;
-    let mut names = model.output_names();
-    names.extend(stations.iter().map(Station::moment_name));
+    let outputs = model.output_quantities();
+    let mut out = vec![0.0; outputs.len()];
+    let moments = stations.iter().map(Station::moment);
+    let columns: Vec<Column> = outputs
+        .into_iter()
+        .chain(moments)
+        .map(Column::Output)
+        .collect();
     let mut rows = Vec::new();
-    let mut out = vec![0.0; model.output_names().len()];
     let dof = model.dof();
     let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
         model.outputs(t, y, ydot, &mut out);
-        let mut row = Vec::with_capacity(names.len() + 1);
+        let mut row = Vec::with_capacity(columns.len() + 1);
         row.push(t);
         row.extend_from_slice(&out);
         row.extend(
@@ -139,7 +144,7 @@ pub fn element_response(
     reporter.finish();
     Ok(BeamResponse {
         reference: BeamReference::Elements(elements),
-        trajectory: Trajectory { names, rows, stats },
+        trajectory: Trajectory::new(columns, rows, stats),
     })
 }
 

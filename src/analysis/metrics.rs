@@ -108,7 +108,8 @@ fn window_switches(scene: &Scene, trajectory: &Trajectory, window_start: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use telescopic_runtime::RunStats;
+    use crate::run::Column;
+    use telescopic_runtime::{Output, RunStats};
 
     #[test]
     fn residual_figures_of_a_decaying_oscillation_and_a_rattling_gap() {
@@ -126,7 +127,9 @@ mod tests {
             })
             .collect();
         let trajectory = Trajectory {
-            names: vec!["vehicle".into(), "tip_rel".into(), "xi_2_0".into()],
+            columns: ["vehicle", "tip_rel", "xi_2_0"]
+                .map(|name| Column::Output(Output::parse(name).unwrap()))
+                .to_vec(),
             rows,
             stats: RunStats::default(),
         };

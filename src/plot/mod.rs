@@ -121,13 +121,12 @@ fn output_panel(figures: &Figures, output: Output, lower_and_upper: bool) -> Pan
     }
 }
 
-/// The panels of a run with outputs `names`: the scene's explicit set (`[figures] panels`,
+/// The panels of a run with `outputs`: the scene's explicit set (`[figures] panels`,
 /// the outputs the run has), or the standard set: the vehicle, `tip_rel`, `top1_rel`, the
 /// drive force when there is one, and the gaps: for two sections at the lower and the upper
 /// contact, for more a panel of gaps and one of contact forces per overlap. A title names
 /// the paper's figure the scene says its panel reproduces (`[figures] paper`).
-fn panels(figures: &Figures, names: &[String]) -> Vec<Panel> {
-    let outputs: Vec<Output> = names.iter().filter_map(|n| Output::parse(n)).collect();
+fn panels(figures: &Figures, outputs: &[Output]) -> Vec<Panel> {
     let overlaps: Vec<usize> = (2..)
         .take_while(|&k| {
             outputs
@@ -156,12 +155,12 @@ fn panels(figures: &Figures, names: &[String]) -> Vec<Panel> {
     .collect();
     if two_sections {
         // two sections: a gap panel at the lower and at the upper contact
-        let gaps = first_and_last(&outputs, Output::is_gap, 2);
+        let gaps = first_and_last(outputs, Output::is_gap, 2);
         out.extend(gaps.iter().map(|&g| output_panel(figures, g, true)));
         return out;
     }
     for k in overlaps {
-        out.extend(overlap_panels(&outputs, k));
+        out.extend(overlap_panels(outputs, k));
     }
     out
 }
@@ -312,7 +311,10 @@ impl Figure for PaperFigure<'_> {
 /// SVG or PNG file at `path` (by extension; written completely or not at all).
 pub fn plot(figures: &Figures, curves: &[Curve], marks: &Marks, path: &Path) -> Result<()> {
     let figure = PaperFigure {
-        panels: panels(figures, &curves[0].traj.names),
+        panels: panels(
+            figures,
+            &curves[0].traj.outputs().map(|(_, o)| o).collect::<Vec<_>>(),
+        ),
         curves,
         marks: *marks,
     };
@@ -767,14 +769,14 @@ fn draw_panel<DB: DrawingBackend>(
 mod tests {
     use super::*;
 
-    /// A two-section run with three contact points.
-    fn names() -> Vec<String> {
+    /// The outputs of a two-section run with three contact points.
+    fn outputs() -> Vec<Output> {
         [
             "vehicle", "tip_rel", "top1_rel", "xi_2_0", "xi_2_1", "xi_2_2",
         ]
         .into_iter()
         .chain(["f_2_0", "f_2_1", "f_2_2", "kappa_1_0"])
-        .map(String::from)
+        .map(|name| Output::parse(name).unwrap())
         .collect()
     }
 
@@ -784,7 +786,7 @@ mod tests {
             panels: None,
             paper: vec![(Output::TipRel, "Fig. 9".into())],
         };
-        let panels = panels(&figures, &names());
+        let panels = panels(&figures, &outputs());
         let titles: Vec<&str> = panels.iter().map(|p| p.title.as_str()).collect();
         assert_eq!(
             titles,
@@ -816,7 +818,7 @@ mod tests {
             ]),
             paper: Vec::new(),
         };
-        let panels = panels(&figures, &names());
+        let panels = panels(&figures, &outputs());
         let columns: Vec<&str> = panels.iter().map(|p| p.columns[0].as_str()).collect();
         // no drive force in a force-driven run
         assert_eq!(columns, ["xi_2_1", "kappa_1_0"]);

@@ -375,7 +375,7 @@ pub fn truncation(
         .map(|i| {
             let peak = peak_of(companion, i + 1, |_| true);
             MomentError {
-                column: run.names[i].clone(),
+                column: run.columns[i].to_string(),
                 peak,
                 relative: TRUNCATION_FACTOR * largest_difference(i + 1)
                     / peak.max(f64::MIN_POSITIVE),

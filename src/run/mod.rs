@@ -44,4 +44,4 @@ pub use simulate::{estimate_error, simulate_scene};
 pub use simulation::{Simulation, write_csv};
 pub use sized::ModelSize;
 pub use summary::{ErrorSummary, RunSummary};
-pub use trajectory::Trajectory;
+pub use trajectory::{Column, Trajectory};

@@ -21,9 +21,9 @@ use crate::run::models::ChosenModel;
 use crate::run::options::SimulationOptions;
 use crate::run::simulation::Simulation;
 use crate::run::stress::StationRows;
-use crate::run::trajectory::Trajectory;
+use crate::run::trajectory::{self, Trajectory};
 use crate::{Error, Result};
-use telescopic_runtime::model::sensors::{SENSOR_OUTPUTS, Sensors};
+use telescopic_runtime::model::sensors::Sensors;
 use telescopic_runtime::{
     Method, Model, Scene, Settings, model::rest_state, simulate, specializations,
 };
@@ -184,20 +184,19 @@ fn integrate_from_rest(
     reporter: &dyn Reporter,
 ) -> Result<Trajectory> {
     let stations = outputs.stations;
-    let mut names = model.output_names();
-    let own = names.len();
-    names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
-    let with_sensors = names.len();
-    names.extend(stations.names());
-    let with_stations = names.len();
-    names.extend((0..outputs.coordinates).map(|i| format!("z_{i}")));
+    let own = model.output_quantities().len();
+    let mut columns = trajectory::model_and_sensor_columns(model);
+    let with_sensors = columns.len();
+    columns.extend(stations.columns());
+    let with_stations = columns.len();
+    columns.extend(trajectory::coordinate_columns(outputs.coordinates));
     let sensors = Sensors::new(model);
     let dof = model.dof();
     // the contact forces f_k_j among the model's outputs (after vehicle, tip, top1 and gaps)
     let contacts = model.layout().contact_count();
     let forces = 3 + contacts..3 + 2 * contacts;
     let mut rows: Vec<Vec<f64>> = Vec::with_capacity(crate::run::budget::sample_count(&scene.time));
-    let mut out = vec![0.0; names.len()];
+    let mut out = vec![0.0; columns.len()];
     let mut bad_output: Option<(f64, String)> = None;
     let mut observe = |t: f64, y: &[f64], ydot: &[f64]| {
         let (model_outputs, rest) = out.split_at_mut(own);
@@ -216,7 +215,7 @@ fn integrate_from_rest(
         if bad_output.is_none()
             && let Some(i) = out.iter().position(|v| !v.is_finite())
         {
-            bad_output = Some((t, names[i].clone()));
+            bad_output = Some((t, columns[i].to_string()));
         }
         let mut row = Vec::with_capacity(out.len() + 1);
         row.push(t);
@@ -251,5 +250,5 @@ fn integrate_from_rest(
             method: method.name(),
         });
     }
-    Ok(Trajectory { names, rows, stats })
+    Ok(Trajectory::new(columns, rows, stats))
 }

@@ -16,7 +16,7 @@
 //! ```
 
 use crate::OptionName;
-use crate::run::Trajectory;
+use crate::run::{Column, Trajectory};
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::DVector;
 use telescopic_runtime::{Model, Output, Scene};
@@ -59,20 +59,23 @@ impl Station {
 
     /// The moment column's name, `moment_k_x` (`x` as given, shortest form).
     pub fn moment_name(&self) -> String {
+        self.moment().to_string()
+    }
+
+    /// The moment here (N m).
+    pub fn moment(&self) -> Output {
         Output::Moment {
             section: self.section,
             x: self.x,
         }
-        .to_string()
     }
 
-    /// The stress column's name, `stress_k_x`.
-    pub fn stress_name(&self) -> String {
+    /// The bending stress at the outer fibre here (Pa).
+    pub fn stress(&self) -> Output {
         Output::Stress {
             section: self.section,
             x: self.x,
         }
-        .to_string()
     }
 }
 
@@ -190,18 +193,20 @@ impl StationRows {
         self.moduli.is_some() && !self.is_empty()
     }
 
-    /// The column names: every `moment_k_x`, then every `stress_k_x` when known.
-    pub fn names(&self) -> Vec<String> {
-        let mut names: Vec<String> = self.stations.iter().map(Station::moment_name).collect();
+    /// The columns: every `moment_k_x`, then every `stress_k_x` when known.
+    pub fn columns(&self) -> Vec<Column> {
+        let moments = self.stations.iter().map(Station::moment);
+        let stresses = self.stations.iter().map(Station::stress);
+        let mut columns: Vec<Column> = moments.map(Column::Output).collect();
         if self.moduli.is_some() {
-            names.extend(self.stations.iter().map(Station::stress_name));
+            columns.extend(stresses.map(Column::Output));
         }
-        names
+        columns
     }
 
     /// The values at time `t` (s), state `y = [z, z']` with derivative `ydot = [z', z'']`
     /// and contact forces `forces` (N, the model's `f_k_j` in order) into `out` (in the order
-    /// of [`StationRows::names`]). `dof` is the number of coordinates of `y`: a controller or
+    /// of [`StationRows::columns`]). `dof` is the number of coordinates of `y`: a controller or
     /// observer may carry its own after the plant's.
     pub fn values(
         &self,

@@ -1,13 +1,67 @@
-//! The samples of one run: output names, rows `[t, outputs...]` and the run's statistics.
+//! The samples of one run: its columns (outputs and coordinates), rows `[t, columns...]`
+//! and the run's statistics.
 
+use std::fmt;
 use std::io::Write;
-use telescopic_runtime::{ContactLaw, Output, RunStats};
+use telescopic_runtime::{ContactLaw, Model, Output, RunStats, Sensor};
 
-/// The samples of one run: output names and rows `[t, outputs...]`.
+/// What a trajectory's column after `t` holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Column {
+    /// An output (the model's, a sensor's, a station's moment or stress).
+    Output(Output),
+    /// `z_i`: generalized coordinate `i` (0-based; m, or 1 for a mode's amplitude).
+    Coordinate(usize),
+}
+
+impl Column {
+    /// The column named `name` in a CSV header (an output's name or `z_i`), or `None`.
+    pub fn parse(name: &str) -> Option<Column> {
+        match name.strip_prefix("z_").map(str::parse::<usize>) {
+            Some(Ok(i)) => Some(Column::Coordinate(i)),
+            _ => Output::parse(name).map(Column::Output),
+        }
+    }
+
+    /// The output this column holds, if it is one.
+    pub fn output(&self) -> Option<Output> {
+        match self {
+            Column::Output(o) => Some(*o),
+            Column::Coordinate(_) => None,
+        }
+    }
+}
+
+/// The columns every run of `model` starts with: the model's outputs, then the sensors'
+/// ([`Sensor::ALL`]).
+pub(crate) fn model_and_sensor_columns(model: &dyn Model) -> Vec<Column> {
+    let outputs = model.output_quantities().into_iter();
+    outputs
+        .chain(Sensor::ALL.map(Output::Sensor))
+        .map(Column::Output)
+        .collect()
+}
+
+/// The columns of the first `count` generalized coordinates, `z_0` on.
+pub(crate) fn coordinate_columns(count: usize) -> impl Iterator<Item = Column> {
+    (0..count).map(Column::Coordinate)
+}
+
+impl fmt::Display for Column {
+    /// The column's name in a CSV header: the output's name, or `z_i`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Column::Output(o) => write!(f, "{o}"),
+            Column::Coordinate(i) => write!(f, "z_{i}"),
+        }
+    }
+}
+
+/// The samples of one run: its columns and rows `[t, columns...]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trajectory {
-    /// Output names, without `t` (the model documentation's section on outputs).
-    pub names: Vec<String>,
+    /// What each column after `t` holds (the model documentation's section on outputs).
+    pub columns: Vec<Column>,
     /// Rows `[t, outputs...]` (s, then SI units of each output).
     pub rows: Vec<Vec<f64>>,
     /// What the run did.
@@ -15,12 +69,29 @@ pub struct Trajectory {
 }
 
 impl Trajectory {
-    /// Index in a row of the output `name` (`t` is index 0).
+    /// The samples `rows` of `columns`, with the run's `stats`.
+    pub fn new(columns: Vec<Column>, rows: Vec<Vec<f64>>, stats: RunStats) -> Self {
+        Trajectory {
+            columns,
+            rows,
+            stats,
+        }
+    }
+
+    /// The columns' names after `t`, as in the CSV header.
+    pub fn names(&self) -> Vec<String> {
+        self.columns.iter().map(Column::to_string).collect()
+    }
+
+    /// Index in a row of the column named `name` (`t` is index 0).
     pub fn index(&self, name: &str) -> Option<usize> {
         if name == "t" {
             return Some(0);
         }
-        self.names.iter().position(|n| n == name).map(|i| i + 1)
+        self.columns
+            .iter()
+            .position(|c| c.to_string() == name)
+            .map(|i| i + 1)
     }
 
     /// The samples of one output (or `t`), in time order.
@@ -31,20 +102,24 @@ impl Trajectory {
 
     /// Index in a row of `output`.
     pub fn index_of(&self, output: Output) -> Option<usize> {
-        self.index(&output.to_string())
+        self.columns
+            .iter()
+            .position(|c| *c == Column::Output(output))
+            .map(|i| i + 1)
     }
 
     /// The samples of `output`, in time order.
     pub fn column_of(&self, output: Output) -> Option<Vec<f64>> {
-        self.column(&output.to_string())
+        let i = self.index_of(output)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
     }
 
     /// The columns that are outputs ([`Output`]), with their index in a row.
     pub fn outputs(&self) -> impl Iterator<Item = (usize, Output)> + '_ {
-        self.names
+        self.columns
             .iter()
             .enumerate()
-            .filter_map(|(i, name)| Output::parse(name).map(|o| (i + 1, o)))
+            .filter_map(|(i, c)| c.output().map(|o| (i + 1, o)))
     }
 
     /// The row indices of the outputs `which` picks.
@@ -77,12 +152,12 @@ impl Trajectory {
             .sum()
     }
 
-    /// Writes the CSV: a header `t,<names>` and one row per sample.
+    /// Writes the CSV: a header `t,<names>` ([`Trajectory::names`]) and one row per sample.
     ///
     /// # Errors
     /// The writer's error.
     pub fn write_csv(&self, w: &mut dyn Write) -> std::io::Result<()> {
-        writeln!(w, "t,{}", self.names.join(","))?;
+        writeln!(w, "t,{}", self.names().join(","))?;
         let mut line = String::new();
         for row in &self.rows {
             line.clear();

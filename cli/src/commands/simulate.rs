@@ -10,7 +10,7 @@ use telescopic::analysis::metrics::drive_stop;
 use telescopic::control::{ControllerFile, compare_file_with_open_loop};
 use telescopic::io::output::write_to;
 use telescopic::plot::{Curve, Marks, Role, clearance_label, plot, with_stated_error};
-use telescopic::report::{Named, Reporter};
+use telescopic::report::Reporter;
 use telescopic::run::models::ModelChoice;
 use telescopic::run::stress::Station;
 use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene, write_csv};
@@ -173,11 +173,12 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         }
         None => match compared_for_plot {
             Some(other) => {
-                let (run, other_run) = telescopic::report::both(
+                let (run, other_run) = telescopic::report::both_named(
                     &progress,
                     0.5,
-                    |r| simulate_stated(&scene, &options, &named(r, &scene)),
-                    |r| simulate_stated(other, &options, &named(r, other)),
+                    [&scene.name, &other.name],
+                    |r| simulate_stated(&scene, &options, r),
+                    |r| simulate_stated(other, &options, r),
                 );
                 // the scene's own failure first: it stops the compared run
                 let run = run?;
@@ -213,14 +214,6 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
         plot_runs(runs, &options, &progress, plot_path)?;
     }
     Ok(())
-}
-
-/// `reporter` for `scene` run beside another: its notes name it.
-fn named<'a>(reporter: &'a dyn Reporter, scene: &'a Scene) -> Named<'a> {
-    Named {
-        inner: reporter,
-        name: &scene.name,
-    }
 }
 
 /// Runs `scene` with `options`, to the accuracy the scene states when the options leave

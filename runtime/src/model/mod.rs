@@ -36,6 +36,7 @@ pub mod sensors;
 
 use crate::contact::{ContactForce, ContactState};
 use crate::model::layout::Layout;
+use crate::model::output::Output;
 use crate::model::params::{Drive, ModelParams};
 use crate::shape::{SectionKind, SectionShapes};
 use nalgebra::{DMatrix, DVector};
@@ -117,10 +118,18 @@ pub trait Model {
         self.layout().dof()
     }
 
-    /// Names of [`Model::outputs`].
-    fn output_names(&self) -> Vec<String> {
+    /// What [`Model::outputs`] computes, in order.
+    fn output_quantities(&self) -> Vec<Output> {
         self.layout()
-            .output_names(matches!(self.params().drive, Drive::Motion(_)))
+            .outputs(matches!(self.params().drive, Drive::Motion(_)))
+    }
+
+    /// Names of [`Model::outputs`] ([`Model::output_quantities`]' names).
+    fn output_names(&self) -> Vec<String> {
+        self.output_quantities()
+            .iter()
+            .map(Output::to_string)
+            .collect()
     }
 
     /// The contact force and partials at contact `c` for gap `xi`, rate `xi_dot`, in the branch

@@ -8,10 +8,11 @@ use crate::control::law::controlled::Controlled;
 use crate::control::law::sampled::{DiscreteController, SampledController};
 use crate::report::Reporter;
 use crate::run::PreparedRun;
+use crate::run::trajectory::{self, Column};
 use crate::run::{HeldInputStepper, Simulation, Trajectory};
 use crate::{Error, Result};
 use rand::{Rng, SeedableRng};
-use telescopic_runtime::model::sensors::{SENSOR_OUTPUTS, Sensors};
+use telescopic_runtime::model::sensors::Sensors;
 use telescopic_runtime::{Model, Scene, TimeSpan, rest_state};
 
 /// A sampled run: the simulation and the command the controller gave at every tick.
@@ -124,16 +125,15 @@ pub(crate) fn tick_loop(
         ));
     }
     let sensors = Sensors::new(model);
-    let mut names = model.output_names();
-    let own = names.len();
-    names.extend(SENSOR_OUTPUTS.iter().map(|s| s.to_string()));
-    let measured = measured_columns(&names, setup.sensors)?;
-    names.extend((0..coordinates).map(|i| format!("z_{i}")));
+    let own = model.output_quantities().len();
+    let mut columns = trajectory::model_and_sensor_columns(model);
+    let measured = measured_columns(&columns, setup.sensors)?;
+    columns.extend(trajectory::coordinate_columns(coordinates));
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(setup.seed);
     let ticks = ((span.end - span.start) / period).round() as usize;
     let n = model.dof();
     let mut ydot = vec![0.0; 2 * n];
-    let mut out = vec![0.0; names.len() - coordinates];
+    let mut out = vec![0.0; columns.len() - coordinates];
     let mut measurement = vec![0.0; measured.len()];
     let mut rows = Vec::with_capacity(ticks / every + 1);
     let mut forces = Vec::with_capacity(ticks);
@@ -197,7 +197,7 @@ pub(crate) fn tick_loop(
     reporter.finish();
     let mut stats = stepper.stats();
     stats.wall = started.elapsed();
-    Ok((Trajectory { names, rows, stats }, forces))
+    Ok((Trajectory::new(columns, rows, stats), forces))
 }
 
 /// The measured outputs (`out` at the columns `measured`) with Gaussian noise of standard
@@ -281,20 +281,23 @@ pub(crate) fn tick_grid(rate_hz: f64, span: &TimeSpan) -> Result<(f64, usize)> {
     Ok((period, ratio.round() as usize))
 }
 
-/// The output columns (in `names`) the sensors read.
+/// The output columns (in `columns`) the sensors read.
 ///
 /// # Errors
-/// [`Error::Option`] naming a sensor that is not an output.
-fn measured_columns(names: &[String], sensors: &[String]) -> Result<Vec<usize>> {
+/// [`Error::Input`] naming a sensor that is not an output.
+fn measured_columns(columns: &[Column], sensors: &[String]) -> Result<Vec<usize>> {
     sensors
         .iter()
         .map(|s| {
-            names.iter().position(|n| n == s).ok_or_else(|| {
-                Error::input(
-                    "controller `sampled.sensors`",
-                    format!("`{s}` is not an output of the scene"),
-                )
-            })
+            columns
+                .iter()
+                .position(|c| c.to_string() == *s)
+                .ok_or_else(|| {
+                    Error::input(
+                        "controller `sampled.sensors`",
+                        format!("`{s}` is not an output of the scene"),
+                    )
+                })
         })
         .collect()
 }

@@ -10,7 +10,9 @@ use crate::io::rows::from_rows;
 use crate::run::held::HeldValue;
 use crate::{Error, Result};
 use telescopic_runtime::nalgebra::{DMatrix, DVector};
-use telescopic_runtime::{ContactState, ContactTable, Drive, Layout, Model, ModelParams, Profile};
+use telescopic_runtime::{
+    ContactState, ContactTable, Drive, Layout, Model, ModelParams, Output, Profile,
+};
 
 /// The control law, ready to evaluate: allocation-free per call.
 pub struct ControlLaw {
@@ -279,10 +281,10 @@ impl Model for Controlled<'_> {
         self.base.outputs(t, y, ydot, &mut out[..last]);
         out[last] = self.law.force(t, y).0;
     }
-    fn output_names(&self) -> Vec<String> {
-        let mut names = self.base.output_names();
-        names.push("drive_force".into());
-        names
+    fn output_quantities(&self) -> Vec<Output> {
+        let mut outputs = self.base.output_quantities();
+        outputs.push(Output::DriveForce);
+        outputs
     }
 }
 
@@ -489,7 +491,7 @@ impl Model for Observed<'_> {
         }
         out[last] = self.inner.law.force(t, xhat).0;
     }
-    fn output_names(&self) -> Vec<String> {
-        self.inner.output_names()
+    fn output_quantities(&self) -> Vec<Output> {
+        self.inner.output_quantities()
     }
 }

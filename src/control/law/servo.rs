@@ -65,7 +65,7 @@ impl Model for ServoCorrected<'_> {
         // the reaction is read from `ydot`, which carries the correction
         self.base.outputs(t, y, ydot, out);
     }
-    fn output_names(&self) -> Vec<String> {
-        self.base.output_names()
+    fn output_quantities(&self) -> Vec<telescopic_runtime::Output> {
+        self.base.output_quantities()
     }
 }
