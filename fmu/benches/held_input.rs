@@ -97,10 +97,13 @@ fn held_input(c: &mut Criterion) {
     group.bench_function("case-study FMU co-simulation, 1 ms steps", |b| {
         b.iter(|| black_box(co_simulate(&scene, &uri, &guid, 1e-3)))
     });
-    group.bench_function("case-study open loop (the controlled runs' method)", |b| {
-        let options = telescopic::control::comparison_options(&plain).unwrap();
-        b.iter(|| black_box(simulate_scene(&scene, &options, &Silent).unwrap()))
-    });
+    group.bench_function(
+        "case-study open loop on dopri5 (a continuous law's method)",
+        |b| {
+            let options = telescopic::control::comparison_options(&plain).unwrap();
+            b.iter(|| black_box(simulate_scene(&scene, &options, &Silent).unwrap()))
+        },
+    );
     group.bench_function("case-study sampled controller, 1 kHz", |b| {
         b.iter(|| black_box(simulate_controlled(&scene, &sampled, &plain, &Silent).unwrap()))
     });

@@ -24,7 +24,7 @@ pub mod law;
 
 pub use closed_loop::comparison::{
     ControlComparison, VariantRow, compare_variants, compare_with_open_loop, comparison_options,
-    simulate_controlled, variants_table,
+    controlled_options, simulate_controlled, variants_table,
 };
 pub use closed_loop::controller_file::{ControllerFile, compare_file_with_open_loop};
 pub use design::shaper::{ShaperKind, ShaperTiming};

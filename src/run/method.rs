@@ -20,8 +20,14 @@ pub enum MethodReason {
     Accuracy(AccuracyPlan),
     /// A controlled run (its method is the controller's comparison method).
     Controller(crate::control::ControllerKind),
-    /// A sampled controller's run at its rate (Hz).
-    SampledController(f64),
+    /// A sampled controller's run.
+    SampledController {
+        /// Its rate (Hz).
+        rate_hz: f64,
+        /// Where its ticks step exactly from (s): the positions rest there and the held
+        /// force keeps each tick linear and time-invariant.
+        exact_from: Option<f64>,
+    },
     /// The size picked for a whole accuracy (m), and how its integration was planned.
     TotalAccuracy {
         /// The accuracy asked for (m of `tip_rel`).
@@ -55,8 +61,15 @@ impl std::fmt::Display for MethodReason {
             MethodReason::Auto(plan) => write!(f, "auto: {plan}; "),
             MethodReason::Accuracy(plan) => write!(f, "accuracy {:e} m: {plan}; ", plan.accuracy_m),
             MethodReason::Controller(kind) => write!(f, "controller {kind}; "),
-            MethodReason::SampledController(rate_hz) => {
-                write!(f, "sampled controller at {rate_hz} Hz; ")
+            MethodReason::SampledController {
+                rate_hz,
+                exact_from,
+            } => {
+                write!(f, "sampled controller at {rate_hz} Hz; ")?;
+                match exact_from {
+                    Some(t) => write!(f, "exact stepping of its ticks from t = {t} s on; "),
+                    None => Ok(()),
+                }
             }
             MethodReason::TotalAccuracy {
                 accuracy_m,

@@ -125,6 +125,11 @@ struct Branch {
     phi: DMatrix<f64>,
     /// `int_0^h exp(A s) ds e`.
     gamma: DVector<f64>,
+    /// `int_0^h exp(A s) ds` where the drive is a held input ([`ExactTicks`]): `gamma` for
+    /// each new `e`.
+    gamma_of: Option<DMatrix<f64>>,
+    /// The [`ExactRun::input_epoch`] whose input `e` and `gamma` hold.
+    input_epoch: u64,
     /// Spectral radius of `A` (rad/s).
     omega: f64,
     /// The step over the fast contact modes, where they stand apart.
@@ -313,6 +318,11 @@ struct ExactRun<'m> {
     /// The branch and time whose state `modal0` holds the coordinates of: the end of the
     /// last long step, so that consecutive long steps compute them once.
     modal0_at: Option<(usize, f64)>,
+    /// Whether the drive is a held input set between ticks ([`ExactTicks`]): a branch then
+    /// keeps `int exp(A s) ds` to take each new input's `e` by superposition.
+    held: bool,
+    /// Counts the held input's changes.
+    input_epoch: u64,
 }
 
 /// Gap `xi_c` (m) and rate `xi_dot_c` (m/s) of every contact.
@@ -350,52 +360,179 @@ pub(super) fn run(
              switches, but {why}; take dopri5 or another method"
         )));
     }
-    let n = model.dof();
-    let nc = model.layout().contact_count();
-    let (mut g, mut gdot) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
-    model.contact_vectors(span.start, &mut g, &mut gdot);
-    let mut breakpoints: Vec<f64> = params
+    let mut run = ExactRun::new(model, y0, span, settings);
+    run.breakpoints = params
         .drive_profile()
         .breakpoints()
         .into_iter()
         .filter(|&b| b > span.start && b < span.end)
         .collect();
-    breakpoints.sort_by(f64::total_cmp);
-    breakpoints.dedup();
-    let tracker = ContactTracker::new(model, span.start, y0);
-    let mut run = ExactRun {
-        model,
-        n,
-        span: *span,
-        samples: SampleGrid::new(span),
-        g,
-        tracker,
-        functionals: Vec::with_capacity(2 * nc),
-        breakpoints,
-        branches: Vec::new(),
-        index: HashMap::new(),
-        stats: RunStats::default(),
-        size_limit: 100.0 * params.sections.iter().map(|s| s.length).sum::<f64>(),
-        y: DVector::from_column_slice(y0),
-        y1: DVector::zeros(2 * n),
-        ydot: DVector::zeros(2 * n),
-        taylor: vec![DVector::zeros(2 * n); MAX_TAYLOR_TERMS],
-        taylor_len: 0,
-        coefficients: vec![0.0; MAX_TAYLOR_TERMS],
-        gaps0: Gaps::new(nc),
-        gaps1: Gaps::new(nc),
-        gaps0_current: false,
-        suspects: vec![false; 2 * nc],
-        long_steps: settings.long_steps,
-        modal0: vec![Complex::default(); 2 * n],
-        modal1: vec![Complex::default(); 2 * n],
-        modal0_at: None,
-    };
+    run.breakpoints.sort_by(f64::total_cmp);
+    run.breakpoints.dedup();
     run.integrate(settings, &mut observe, &mut progress)?;
     Ok(run.stats)
 }
 
-impl ExactRun<'_> {
+/// Exact stepping of a model whose drive force is an input held between ticks (a sampled
+/// controller's zero-order hold), advanced tick by tick: its branches' exponentials are
+/// built once, with `int_0^h exp(A s) ds`, so that a new input costs one evaluation of the
+/// right-hand side and one matrix-vector product (superposition) instead of a run of its
+/// own. The positions must rest from the start on and the model's right-hand side must not
+/// change in time at a fixed state (checked per branch). Regular steps only: the long steps'
+/// bound would need the fast modes anew at every tick.
+pub struct ExactTicks<'m> {
+    run: ExactRun<'m>,
+    settings: Settings,
+    /// The ticks' nominal interval (s): it sets the branches' regular steps.
+    tick: f64,
+    /// The time reached (s).
+    t: f64,
+}
+
+impl<'m> ExactTicks<'m> {
+    /// Ticks of `model` from `y0` at `t0` (s), `tick` (s) apart, with `settings`' step limit.
+    ///
+    /// # Errors
+    /// [`SimError::Settings`] for a state of the wrong length, a tick that is not positive
+    /// and finite, and where exact stepping does not apply: a position moving after `t0`, a
+    /// prescribed vehicle motion, too many contact points.
+    pub fn new(
+        model: &'m dyn Model,
+        t0: f64,
+        y0: &[f64],
+        tick: f64,
+        settings: &Settings,
+    ) -> Result<Self, SimError> {
+        super::check_state_len(model, y0)?;
+        if !(tick > 0.0 && tick.is_finite() && t0.is_finite()) {
+            return Err(SimError::Settings(format!(
+                "exact ticks need a finite start and a positive finite tick (got t0 = {t0} s, \
+                 tick = {tick} s)"
+            )));
+        }
+        let params = model.params();
+        let why = match &params.drive {
+            Drive::Motion(_) => Some("the vehicle motion is prescribed".to_owned()),
+            Drive::Force(_) => lti_obstacle_from(
+                &ModelParams {
+                    drive: Drive::Force(Profile::Constant(0.0)),
+                    ..params.clone()
+                },
+                t0,
+            ),
+        };
+        if let Some(why) = why {
+            return Err(SimError::Settings(format!(
+                "method exact with a held input needs a scene that is linear and                  time-invariant between contact switches from t = {t0} s on, but {why}"
+            )));
+        }
+        let span = TimeSpan {
+            start: t0,
+            end: t0 + tick,
+            sample: tick,
+        };
+        let mut run = ExactRun::new(model, y0, &span, settings);
+        run.held = true;
+        Ok(ExactTicks {
+            run,
+            settings: *settings,
+            tick,
+            t: t0,
+        })
+    }
+
+    /// The model's held input changed: each branch takes its new `e` when next used.
+    pub fn input_changed(&mut self) {
+        self.run.input_epoch += 1;
+    }
+
+    /// Advances to `t_end` (s) with the input held.
+    ///
+    /// # Errors
+    /// As [`super::simulate`] with method `exact`; the run cannot go on after one.
+    pub fn advance_to(&mut self, t_end: f64) -> Result<(), SimError> {
+        if !t_end.is_finite() {
+            return Err(SimError::Settings(format!(
+                "exact ticks advance to a finite time (got {t_end} s)"
+            )));
+        }
+        if t_end <= self.t {
+            return Ok(());
+        }
+        // a tick of any length: samples (unobserved) at the nominal interval, then its end
+        let span = TimeSpan {
+            start: self.t,
+            end: t_end,
+            sample: self.tick,
+        };
+        let run = &mut self.run;
+        run.span = span;
+        run.samples = SampleGrid::new(&span);
+        run.gaps0_current = false;
+        run.modal0_at = None;
+        let mut ignore = |_: f64, _: &[f64], _: &[f64]| {};
+        let mut observe: Observer = &mut ignore;
+        run.integrate(&self.settings, &mut observe, &mut None)?;
+        self.t = t_end;
+        Ok(())
+    }
+
+    /// The time reached (s).
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The state reached, `[z, zdot]`.
+    pub fn state(&self) -> &[f64] {
+        self.run.y.as_slice()
+    }
+
+    /// The counts so far.
+    pub fn stats(&self) -> RunStats {
+        self.run.stats.clone()
+    }
+}
+
+impl<'m> ExactRun<'m> {
+    /// A run of `model` from `y0` over `span` with `settings`, without drive steps.
+    fn new(model: &'m dyn Model, y0: &[f64], span: &TimeSpan, settings: &Settings) -> Self {
+        let n = model.dof();
+        let nc = model.layout().contact_count();
+        let (mut g, mut gdot) = (DMatrix::zeros(n, nc), DMatrix::zeros(n, nc));
+        model.contact_vectors(span.start, &mut g, &mut gdot);
+        let params = model.params();
+        ExactRun {
+            model,
+            n,
+            span: *span,
+            samples: SampleGrid::new(span),
+            g,
+            tracker: ContactTracker::new(model, span.start, y0),
+            functionals: Vec::with_capacity(2 * nc),
+            breakpoints: Vec::new(),
+            branches: Vec::new(),
+            index: HashMap::new(),
+            stats: RunStats::default(),
+            size_limit: 100.0 * params.sections.iter().map(|s| s.length).sum::<f64>(),
+            y: DVector::from_column_slice(y0),
+            y1: DVector::zeros(2 * n),
+            ydot: DVector::zeros(2 * n),
+            taylor: vec![DVector::zeros(2 * n); MAX_TAYLOR_TERMS],
+            taylor_len: 0,
+            coefficients: vec![0.0; MAX_TAYLOR_TERMS],
+            gaps0: Gaps::new(nc),
+            gaps1: Gaps::new(nc),
+            gaps0_current: false,
+            suspects: vec![false; 2 * nc],
+            long_steps: settings.long_steps,
+            modal0: vec![Complex::default(); 2 * n],
+            modal1: vec![Complex::default(); 2 * n],
+            modal0_at: None,
+            held: false,
+            input_epoch: 0,
+        }
+    }
+
     fn integrate(
         &mut self,
         settings: &Settings,
@@ -534,6 +671,9 @@ impl ExactRun<'_> {
         }
         let key = (segment, self.branch_code());
         if let Some(&i) = self.index.get(&key) {
+            if self.branches[i].input_epoch != self.input_epoch {
+                self.take_held_input(i, t);
+            }
             return Ok(i);
         }
         let branch = self.build_branch(t)?;
@@ -554,6 +694,40 @@ impl ExactRun<'_> {
                     ContactState::Upper => 2,
                 }
         })
+    }
+
+    /// The held input's `e` and `gamma` in `branch` at `t`, by superposition: one evaluation
+    /// of the right-hand side and one product with `int exp(A s) ds`.
+    fn take_held_input(&mut self, branch: usize, t: f64) {
+        let states = self.tracker.fixed_states();
+        let b = &mut self.branches[branch];
+        self.y1.fill(0.0);
+        self.model
+            .rhs(t, self.y1.as_slice(), states, b.e.as_mut_slice());
+        self.stats.rhs_evals += 1;
+        if let Some(gamma_of) = &b.gamma_of {
+            mat_vec(gamma_of, b.e.as_slice(), 1.0, b.gamma.as_mut_slice());
+        }
+        b.input_epoch = self.input_epoch;
+    }
+
+    /// Refuses a held-input model whose right-hand side changes in time at a fixed state
+    /// (`e` at `t` against `e` a tick later): its drive is more than the held input.
+    fn check_time_invariant(&mut self, t: f64, e: &DVector<f64>) -> Result<(), SimError> {
+        let mut later = DVector::zeros(e.len());
+        let states = self.tracker.fixed_states();
+        self.y1.fill(0.0);
+        let t_later = t + self.span.sample;
+        self.model
+            .rhs(t_later, self.y1.as_slice(), states, later.as_mut_slice());
+        self.stats.rhs_evals += 1;
+        let mismatch = (&later - e).amax();
+        if mismatch.is_nan() || mismatch > 1e-9 * e.amax().max(f64::MIN_POSITIVE) {
+            return Err(SimError::Settings(format!(
+                "method exact with a held input: at a fixed state the model's right-hand side                  changes between t = {t} s and {t_later} s (by {mismatch:.3e}), so its drive is                  more than the held input; take dopri5"
+            )));
+        }
+        Ok(())
     }
 
     /// `A`, `e`, the regular step and its exponential for the current branches at `t`.
@@ -593,9 +767,20 @@ impl ExactRun<'_> {
         } else {
             regular_step(omega, self.span.sample)
         };
-        let (phi, gamma) = balanced_flow(&a, &e, h, omega);
+        let (phi, gamma, gamma_of) = if self.held {
+            self.check_time_invariant(t, &e)?;
+            // the input at build as a run without ticks takes it; later ones through
+            // `gamma_of`
+            let (phi, gamma) = balanced_flow(&a, &e, h, omega);
+            let (_, gamma_of) = balanced_flow_of_inputs(&a, h, omega);
+            (phi, gamma, Some(gamma_of))
+        } else {
+            let (phi, gamma) = balanced_flow(&a, &e, h, omega);
+            (phi, gamma, None)
+        };
         self.stats.exponentials += 1;
-        let long = if self.long_steps {
+        // a held input's long steps would need the fast modes' bound anew at every tick
+        let long = if self.long_steps && !self.held {
             self.long_step_of(&eigen, h)
         } else {
             None
@@ -604,6 +789,8 @@ impl ExactRun<'_> {
         Ok(Branch {
             phi,
             gamma,
+            gamma_of,
+            input_epoch: self.input_epoch,
             a,
             e,
             h,
@@ -906,6 +1093,27 @@ pub(super) fn balanced_flow(
     let phi = DMatrix::from_fn(n2, n2, |i, j| flow[(i, j)] / scale(i) * scale(j));
     let gamma = DVector::from_fn(n2, |i, _| flow[(i, n2)] / scale(i));
     (phi, gamma)
+}
+
+/// `exp(A h)` and `int_0^h exp(A s) ds` from one exponential of `[[A, I], [0, 0]] h`,
+/// balanced as [`balanced_flow`] balances it: the flow of every constant input at once.
+fn balanced_flow_of_inputs(a: &DMatrix<f64>, h: f64, omega: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let n2 = a.nrows();
+    let n = n2 / 2;
+    let s = omega.max(1.0);
+    let scale = |i: usize| if i < n { 1.0 } else { 1.0 / s };
+    let mut aug = DMatrix::zeros(2 * n2, 2 * n2);
+    for j in 0..n2 {
+        for i in 0..n2 {
+            aug[(i, j)] = scale(i) * a[(i, j)] / scale(j) * h;
+        }
+        aug[(j, n2 + j)] = h;
+    }
+    let flow = aug.exp();
+    let unscaled = |i: usize, j: usize| scale(j) / scale(i);
+    let phi = DMatrix::from_fn(n2, n2, |i, j| flow[(i, j)] * unscaled(i, j));
+    let gamma_of = DMatrix::from_fn(n2, n2, |i, j| flow[(i, n2 + j)] * unscaled(i, j));
+    (phi, gamma_of)
 }
 
 /// `out = scale a x` for a column-major `a`, four columns per pass over `out`: the exact

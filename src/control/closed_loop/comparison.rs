@@ -36,9 +36,27 @@ pub fn comparison_options(options: &SimulationOptions) -> Result<SimulationOptio
     })
 }
 
-/// Simulates `scene` with `controller` driving it, on the full nonlinear model. `auto`
-/// (the default method) is dopri5 here: the feedback and the saturation make the scene
-/// neither linear nor time-invariant.
+/// The options a run with `controller` takes for `options`: a sampled controller holds its
+/// force over each tick, so the scene stays linear and time-invariant between ticks where
+/// it was and `auto` is the scene's own plan (its exact stepping once the positions rest,
+/// tick by tick); a continuous law makes the scene neither, so `auto` is dopri5 there
+/// ([`comparison_options`]).
+///
+/// # Errors
+/// [`Error::Option`] for method `exact` with a continuous law.
+pub fn controlled_options(
+    controller: &Controller,
+    options: &SimulationOptions,
+) -> Result<SimulationOptions> {
+    if controller.sampled.is_some() {
+        Ok(options.clone())
+    } else {
+        comparison_options(options)
+    }
+}
+
+/// Simulates `scene` with `controller` driving it, on the full nonlinear model, with
+/// [`controlled_options`].
 ///
 /// # Errors
 /// [`Error::Option`] when the controller does not fit the scene or the method is `exact`;
@@ -51,7 +69,7 @@ pub fn simulate_controlled(
 ) -> Result<Simulation> {
     controller.check_fits(scene)?;
     if controller.sampled.is_some() {
-        let run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
+        let run = PreparedRun::new(scene, &controlled_options(controller, options)?, reporter)?;
         return Ok(sampled::simulate_sampled(run, controller, reporter)?.simulation);
     }
     let mut run = PreparedRun::new(scene, &comparison_options(options)?, reporter)?;
@@ -154,11 +172,12 @@ pub fn compare_with_open_loop(
 ) -> Result<ControlComparison> {
     crate::run::memory::check_runs(&[scene, scene], options.memory_budget)?;
     let controlled = simulate_controlled(scene, controller, options, reporter)?;
-    beside_open_loop(scene, controlled, options, reporter)
+    let open_loop_options = controlled_options(controller, options)?;
+    beside_open_loop(scene, controlled, &open_loop_options, reporter)
 }
 
-/// The `controlled` run of `scene` beside its open loop (run here on the same method and
-/// settings), both measured over the window after the drive stops.
+/// The `controlled` run of `scene` beside its open loop, run here with `options` (those the
+/// controlled run took), both measured over the window after the drive stops.
 ///
 /// # Errors
 /// The errors of the open-loop simulation.
@@ -168,7 +187,7 @@ pub(crate) fn beside_open_loop(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<ControlComparison> {
-    let open_loop = simulate_scene(scene, &comparison_options(options)?, reporter)?;
+    let open_loop = simulate_scene(scene, options, reporter)?;
     let window = drive_stop(scene);
     Ok(ControlComparison {
         with: metrics(scene, &controlled.trajectory, window),

@@ -3,7 +3,8 @@
 //! corrects a prescribed motion ([`VelocityFeedback`]). The `format` field tells them apart.
 
 use crate::control::closed_loop::comparison::{
-    ControlComparison, beside_open_loop, compare_with_open_loop, simulate_controlled,
+    ControlComparison, beside_open_loop, compare_with_open_loop, comparison_options,
+    simulate_controlled,
 };
 use crate::control::file::schema::Controller;
 use crate::control::{
@@ -120,5 +121,5 @@ pub fn compare_file_with_open_loop(
     };
     crate::run::memory::check_runs(&[scene, scene], options.memory_budget)?;
     let controlled = simulate_velocity(scene, feedback, options, reporter)?.simulation;
-    beside_open_loop(scene, controlled, options, reporter)
+    beside_open_loop(scene, controlled, &comparison_options(options)?, reporter)
 }

@@ -2,7 +2,6 @@
 //! from tick to tick with the force held, the sensors are read at each tick with seeded
 //! Gaussian noise, and the controller's force acts from the next tick on.
 
-use crate::OptionName;
 use crate::control::file::schema::{Controller, Estimator};
 use crate::control::law::controlled::Controlled;
 use crate::control::law::sampled::{DiscreteController, SampledController};
@@ -77,7 +76,10 @@ pub(crate) fn finish(
     forces: Vec<(f64, f64)>,
 ) -> SampledRun {
     let mut plan = run.plan.clone();
-    plan.reason = crate::run::MethodReason::SampledController(rate_hz);
+    plan.reason = crate::run::MethodReason::SampledController {
+        rate_hz,
+        exact_from: plan.settings.exact_from,
+    };
     let simulation = run.into_simulation(trajectory);
     SampledRun {
         simulation: Simulation { plan, ..simulation },
@@ -116,14 +118,6 @@ pub(crate) fn tick_loop(
     let (period, every) = tick_grid(setup.rate_hz, &span)?;
     let coordinates = if run.coordinates { model.dof() } else { 0 };
     crate::run::memory::check_run(scene, (0, coordinates), run.memory_budget)?;
-    // a controlled scene is neither linear nor time-invariant: no exact stepping
-    if run.plan.method == telescopic_runtime::Method::Exact {
-        return Err(Error::option(
-            OptionName::Method,
-            "exact stepping needs a linear time-invariant scene; with a controller, take \
-             dopri5 or another integrator",
-        ));
-    }
     let sensors = Sensors::new(model);
     let own = model.output_quantities().len();
     let mut columns = trajectory::model_and_sensor_columns(model);

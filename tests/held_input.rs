@@ -1,0 +1,210 @@
+//! Exact stepping with a held input ([`ExactTicks`]): a force held over each tick and set
+//! anew between ticks, taken by superposition on exponentials built once, against two
+//! independent paths: one exact run over the whole span where the force does not change, and
+//! dopri5 at a tight tolerance, restarted at every tick, where it does.
+
+use std::path::Path;
+use telescopic::fmu::held::HeldDrive;
+use telescopic_runtime::integrate::Integrator;
+use telescopic_runtime::integrate::exact::ExactTicks;
+use telescopic_runtime::{Method, Model, Scene, Settings, rest_state, simulate};
+
+fn scene(name: &str, overrides: &[&str]) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(format!("{name}.toml"));
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scene::load(&path, &overrides).unwrap()
+}
+
+fn generated(scene: &Scene) -> Box<dyn Model> {
+    telescopic_generated::prepare(&scene.params)
+        .expect("every shipped scene has a generated model")
+        .unwrap()
+}
+
+/// The largest difference of two states, over the largest entry of the first.
+fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    diff / scale
+}
+
+#[test]
+fn ticks_with_the_force_set_anew_each_tick_follow_one_exact_run_of_the_span() {
+    // adams-clearance: a constant 100 N on a free vehicle, contacts closing and opening;
+    // up to 0.3 s, before an impact at about 0.4 s that turns differences of 1e-11 (two
+    // dopri5 runs at rtol 1e-11 and 1e-12) into 1e-3
+    let scene = scene("adams-clearance", &["time.end=0.3"]);
+    let base = generated(&scene);
+    let y0 = rest_state(base.as_ref(), scene.time.start);
+    let mut reference = Vec::new();
+    let whole = simulate(
+        base.as_ref(),
+        &y0,
+        &scene.time,
+        Method::Exact,
+        &Settings::default(),
+        &mut |t, y, _| reference.push((t, y.to_vec())),
+        None,
+    )
+    .unwrap();
+    assert!(whole.switches > 0, "the contacts switch in the span");
+    let held = HeldDrive::new(base, 100.0).unwrap();
+    let settings = Settings::default();
+    let mut ticks =
+        ExactTicks::new(&held, scene.time.start, &y0, scene.time.sample, &settings).unwrap();
+    let mut worst = 0.0f64;
+    for (t, y) in &reference[1..] {
+        // the same force, set anew: each branch takes it again by superposition
+        held.set_input(100.0);
+        ticks.input_changed();
+        ticks.advance_to(*t).unwrap();
+        worst = worst.max(relative_difference(y, ticks.state()));
+    }
+    assert!(worst < 1e-9, "largest relative difference {worst:e}");
+    let stats = ticks.stats();
+    assert!(stats.switches > 0);
+    // exponentials built once per branch, not per tick
+    assert!(
+        stats.exponentials < 100,
+        "{} exponentials",
+        stats.exponentials
+    );
+}
+
+#[test]
+fn ticks_with_a_changing_held_force_agree_with_dopri5_restarted_at_every_tick() {
+    let scene = scene("adams-clearance", &["time.end=0.3"]);
+    let base = generated(&scene);
+    let y0 = rest_state(base.as_ref(), scene.time.start);
+    let tick = scene.time.sample;
+    let force = |k: usize| 100.0 + 60.0 * (0.37 * k as f64).sin();
+    let exact_plant = HeldDrive::new(generated(&scene), force(0)).unwrap();
+    let dopri_plant = HeldDrive::new(base, force(0)).unwrap();
+    let mut exact = ExactTicks::new(
+        &exact_plant,
+        scene.time.start,
+        &y0,
+        tick,
+        &Settings::default(),
+    )
+    .unwrap();
+    let tight = Settings {
+        rtol: 1e-11,
+        atol: 1e-14,
+        ..Settings::default()
+    };
+    let span = scene.time;
+    let mut dopri = Integrator::new(&dopri_plant, &y0, &span, Method::Dopri5, &tight).unwrap();
+    let ticks = ((span.end - span.start) / tick).round() as usize;
+    let mut worst = 0.0f64;
+    for k in 0..ticks {
+        exact_plant.set_input(force(k));
+        dopri_plant.set_input(force(k));
+        exact.input_changed();
+        dopri.input_changed();
+        let t = span.start + (k + 1) as f64 * tick;
+        exact.advance_to(t).unwrap();
+        dopri.advance_to(t, &mut |_, _, _| {}).unwrap();
+        worst = worst.max(relative_difference(dopri.state(), exact.state()));
+    }
+    assert!(
+        exact.stats().switches > 0,
+        "the contacts switch in the span"
+    );
+    assert!(worst < 1e-7, "largest relative difference {worst:e}");
+}
+
+#[test]
+fn exact_ticks_refuse_moving_positions_naming_the_cause() {
+    let scene = scene("case-study", &[]);
+    let plant = HeldDrive::new(generated(&scene), 0.0).unwrap();
+    let y0 = rest_state(&plant, scene.time.start);
+    let err = ExactTicks::new(&plant, 0.0, &y0, 1e-3, &Settings::default())
+        .err()
+        .expect("the positions move until 12 s")
+        .to_string();
+    assert!(
+        err.contains("a_2 moves") && err.contains("held input"),
+        "{err}"
+    );
+    // from the positions' rest on it applies
+    assert!(ExactTicks::new(&plant, 12.0, &y0, 1e-3, &Settings::default()).is_ok());
+}
+
+#[test]
+fn exact_ticks_refuse_a_tick_or_a_time_that_is_not_finite() {
+    let scene = scene("adams-clearance", &[]);
+    let plant = HeldDrive::new(generated(&scene), 100.0).unwrap();
+    let y0 = rest_state(&plant, 0.0);
+    for tick in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+        let err = ExactTicks::new(&plant, 0.0, &y0, tick, &Settings::default())
+            .err()
+            .unwrap_or_else(|| panic!("tick {tick} accepted"))
+            .to_string();
+        assert!(err.contains("positive finite tick"), "{err}");
+    }
+    let mut ticks = ExactTicks::new(&plant, 0.0, &y0, 1e-3, &Settings::default()).unwrap();
+    let err = ticks.advance_to(f64::NAN).unwrap_err().to_string();
+    assert!(err.contains("finite time"), "{err}");
+    ticks.advance_to(2e-3).unwrap();
+    assert_eq!(ticks.time(), 2e-3);
+    assert!(ticks.state().iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn a_sampled_controller_steps_exactly_once_the_positions_rest_and_agrees_with_dop853_imex() {
+    use telescopic::Silent;
+    use telescopic::control::{DesignOptions, design, simulate_controlled};
+    use telescopic::run::{MethodChoice, MethodReason, SimulationOptions};
+    use telescopic_runtime::Output;
+    // without clearance the runs can be compared sample by sample
+    let scene = scene("case-study-no-clearance", &["accuracy=0.1"]);
+    let controller = design(
+        &scene,
+        &DesignOptions {
+            sensors: vec!["vehicle".into(), "kappa_1_0".into()],
+            ..DesignOptions::default()
+        },
+    )
+    .unwrap();
+    let plain = SimulationOptions {
+        error_estimate: false,
+        modes_as_given: true,
+        ..SimulationOptions::default()
+    };
+    let auto = simulate_controlled(&scene, &controller, &plain, &Silent).unwrap();
+    let MethodReason::SampledController { exact_from, .. } = auto.plan.reason else {
+        panic!("{:?}", auto.plan.reason)
+    };
+    assert_eq!(exact_from, Some(12.0));
+    let given = SimulationOptions {
+        method: MethodChoice::Method(Method::Dop853Imex),
+        ..plain
+    };
+    let throughout = simulate_controlled(&scene, &controller, &given, &Silent).unwrap();
+    let tip = |run: &telescopic::run::Simulation| run.trajectory.column_of(Output::TipRel).unwrap();
+    let (a, b) = (tip(&auto), tip(&throughout));
+    let peak = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = a
+        .iter()
+        .zip(&b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        worst < 1e-4 * peak,
+        "tip_rel differs by {worst:e} m (peak {peak:e} m)"
+    );
+    // the exact ticks cost fewer right-hand sides than dop853-imex's over the rest
+    let (sa, sb) = (&auto.trajectory.stats, &throughout.trajectory.stats);
+    assert!(
+        sa.rhs_evals < sb.rhs_evals,
+        "{} against {}",
+        sa.rhs_evals,
+        sb.rhs_evals
+    );
+    assert!(sa.exponentials > 0);
+}
