@@ -111,6 +111,10 @@ pub enum Error {
         /// What failed.
         error: telescopic_runtime::EigenError,
     },
+    /// The eigen analysis of a linear model failed (the caller names the scene or the grid
+    /// point where it knows it: [`Error::Eigen`], [`Error::Trial`]).
+    #[error(transparent)]
+    Modes(#[from] telescopic_runtime::EigenError),
     /// An analysis could not reach its goal (the message says why and what to change).
     #[error("{0}")]
     Analysis(String),

@@ -87,7 +87,10 @@ fn exact_steps(model: &dyn Model, scene: &Scene) -> Result<Option<ClosedContactS
     };
     closed_contact_steps(model, from, scene.time.sample)
         .map(Some)
-        .map_err(|e| Error::Analysis(format!("scene {}: {e}", scene.name)))
+        .map_err(|error| Error::Eigen {
+            scene: scene.name.clone(),
+            error,
+        })
 }
 
 impl Stability {

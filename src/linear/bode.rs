@@ -223,8 +223,7 @@ fn pick(
 
 /// `|lambda| / 2 pi` of the eigenvalues of `a` with positive imaginary part (Hz), ascending.
 fn natural_frequencies(a: &DMatrix<f64>) -> Result<Vec<f64>> {
-    let lambdas = eigenvalues(a.clone(), "eigenvalues of the linear model's A")
-        .map_err(|e| Error::Analysis(e.to_string()))?;
+    let lambdas = eigenvalues(a.clone(), "eigenvalues of the linear model's A")?;
     let mut f: Vec<f64> = lambdas
         .iter()
         .filter(|l| l.im > 0.0)

@@ -102,7 +102,7 @@ fn status_of(e: &Error) -> &'static str {
             SimError::Stopped { .. } => "stopped",
         },
         Error::NonFiniteOutput { .. } => "non-finite",
-        Error::Eigen { .. } => "eigen",
+        Error::Eigen { .. } | Error::Modes(_) => "eigen",
         Error::Panicked(_) => "panic",
         _ => "error",
     }

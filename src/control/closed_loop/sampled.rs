@@ -5,6 +5,7 @@
 use crate::control::file::schema::{Controller, Estimator};
 use crate::control::law::controlled::Controlled;
 use crate::control::law::sampled::{DiscreteController, SampledController};
+use crate::control::law::servo::ServoCorrected;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::trajectory::{self, Column};
@@ -57,14 +58,8 @@ pub fn run_sampled(
         seed: sampled.seed,
         scheduled: file.scheduled_section(),
     };
-    let (trajectory, forces) = tick_loop(
-        &run,
-        &model,
-        &|force| model.law().hold(force),
-        &setup,
-        controller,
-        reporter,
-    )?;
+    let (trajectory, forces) =
+        tick_loop(&run, HeldPlant::Force(&model), &setup, controller, reporter)?;
     Ok(finish(run, setup.rate_hz, trajectory, forces))
 }
 
@@ -87,6 +82,33 @@ pub(crate) fn finish(
     }
 }
 
+/// The plant of a sampled loop and what its command holds over a tick.
+#[derive(Clone, Copy)]
+pub(crate) enum HeldPlant<'a> {
+    /// The drive force (N), replacing the scene's.
+    Force(&'a Controlled<'a>),
+    /// The velocity servo's correction (m/s) on the scene's prescribed motion.
+    ServoCorrection(&'a ServoCorrected<'a>),
+}
+
+impl HeldPlant<'_> {
+    /// The model integrated.
+    fn model(&self) -> &dyn Model {
+        match self {
+            HeldPlant::Force(m) => *m,
+            HeldPlant::ServoCorrection(m) => *m,
+        }
+    }
+
+    /// Holds `command` from now on.
+    fn hold(&self, command: f64) {
+        match self {
+            HeldPlant::Force(m) => m.law().hold(command),
+            HeldPlant::ServoCorrection(m) => m.hold(command),
+        }
+    }
+}
+
 /// What a sampled loop reads from its controller file.
 pub(crate) struct TickSetup<'a> {
     /// Controller rate (Hz).
@@ -102,17 +124,17 @@ pub(crate) struct TickSetup<'a> {
 }
 
 /// The tick loop of a sampled run: at each tick the outputs and the noisy measurements of
-/// `model`, the command of `controller`, which `hold` sets for the next tick on (one sample
-/// of computation delay); the plant integrated from tick to tick. Returns the trajectory
-/// and each tick's command.
+/// `plant`, the command of `controller`, which the plant holds for the next tick on (one
+/// sample of computation delay); the plant integrated from tick to tick. Returns the
+/// trajectory and each tick's command.
 pub(crate) fn tick_loop(
     run: &PreparedRun<'_>,
-    model: &dyn Model,
-    hold: &dyn Fn(f64),
+    plant: HeldPlant<'_>,
     setup: &TickSetup<'_>,
     controller: &mut dyn SampledController,
     reporter: &dyn Reporter,
 ) -> Result<(Trajectory, Vec<(f64, f64)>)> {
+    let model = plant.model();
     let scene: &Scene = run.scene;
     let span = scene.time;
     let (period, every) = tick_grid(setup.rate_hz, &span)?;
@@ -175,7 +197,7 @@ pub(crate) fn tick_loop(
         stepper
             .advance_to(span.start + (k + 1) as f64 * period)
             .map_err(simulation_error)?;
-        hold(command);
+        plant.hold(command);
         stepper.input_changed();
         reporter.progress((k + 1) as f64 / ticks as f64);
         if reporter.stop_requested() {

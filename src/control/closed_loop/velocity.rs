@@ -2,7 +2,7 @@
 
 use crate::Result;
 use crate::control::closed_loop::sampled::{
-    SampledRun, TickSetup, check_tick_cost, finish, tick_grid, tick_loop,
+    HeldPlant, SampledRun, TickSetup, check_tick_cost, finish, tick_grid, tick_loop,
 };
 use crate::control::file::velocity::VelocityFeedback;
 use crate::control::law::servo::ServoCorrected;
@@ -45,8 +45,7 @@ pub fn simulate_velocity(
     };
     let (trajectory, commands) = tick_loop(
         &run,
-        &model,
-        &|v| model.hold(v),
+        HeldPlant::ServoCorrection(&model),
         &setup,
         &mut controller,
         reporter,

@@ -129,8 +129,7 @@ pub const MAX_GRID_POINTS: usize = 200;
 /// The first elastic mode of `A`: frequency (Hz) and damping ratio, from the eigenvalue pair
 /// of least magnitude with a non-zero imaginary part.
 fn first_mode(a: &DMatrix<f64>) -> Result<(f64, f64)> {
-    let ev = eigenvalues(a.clone(), "eigenvalues of the closed-contact linear model")
-        .map_err(|e| Error::Analysis(e.to_string()))?;
+    let ev = eigenvalues(a.clone(), "eigenvalues of the closed-contact linear model")?;
     let l = ev
         .iter()
         .filter(|l| l.im > 1e-9 * l.norm().max(1e-300))
@@ -602,7 +601,7 @@ fn design_point(
     let full = lpv.at(positions, &vec![0.0; npos])?;
     let (f1, zeta1) = first_mode(&full.a)?;
     let (k_e, d) = lpv.second_order_at(positions, &vec![0.0; npos])?;
-    let modal = modal_analysis_with(model, &k_e).map_err(|e| at(&e))?;
+    let modal = modal_analysis_with(model, &k_e)?;
     let design = modal_design(model, &modal, &k_e, &d, options.design_modes);
     let c_tip = full.c.view((tip_row, 0), (1, n)).into_owned() * &design.phi;
     let m2 = design.a.nrows();

@@ -40,14 +40,13 @@ pub const STRAIN_RATE_SENSORS: [&str; 2] = ["vehicle", Sensor::FootCurvature.nam
 /// `lpv` of `model` at `positions`, and that mode's frequency (Hz).
 ///
 /// # Errors
-/// [`Error::Linear`] when the linear model cannot be formed, [`Error::Model`] when its modes
-/// cannot.
+/// [`Error::Linear`] when the linear model cannot be formed, [`Error::Modes`] when its modes
+/// cannot, [`Error::Model`] when no mode a strain gauge at the foot sees.
 pub fn tip_per_curvature(model: &dyn Model, lpv: &Lpv, positions: &[f64]) -> Result<(f64, f64)> {
-    let model_error = |e: &dyn std::fmt::Display| Error::Model(e.to_string());
     let rates = vec![0.0; positions.len()];
     let full = lpv.at(positions, &rates)?;
     let (k_e, _) = lpv.second_order_at(positions, &rates)?;
-    let modal = modal_analysis_with(model, &k_e).map_err(|e| model_error(&e))?;
+    let modal = modal_analysis_with(model, &k_e)?;
     let (Some(shape), Some(&f1)) = (modal.shapes.first(), modal.frequencies_hz.first()) else {
         return Err(Error::Model("the linear model has no elastic mode".into()));
     };
