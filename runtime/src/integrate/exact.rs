@@ -423,7 +423,8 @@ impl<'m> ExactTicks<'m> {
         };
         if let Some(why) = why {
             return Err(SimError::Settings(format!(
-                "method exact with a held input needs a scene that is linear and                  time-invariant between contact switches from t = {t0} s on, but {why}"
+                "method exact with a held input needs a scene that is linear and \
+                 time-invariant between contact switches from t = {t0} s on, but {why}"
             )));
         }
         let span = TimeSpan {
@@ -724,7 +725,9 @@ impl<'m> ExactRun<'m> {
         let mismatch = (&later - e).amax();
         if mismatch.is_nan() || mismatch > 1e-9 * e.amax().max(f64::MIN_POSITIVE) {
             return Err(SimError::Settings(format!(
-                "method exact with a held input: at a fixed state the model's right-hand side                  changes between t = {t} s and {t_later} s (by {mismatch:.3e}), so its drive is                  more than the held input; take dopri5"
+                "method exact with a held input: at a fixed state the model's right-hand side \
+                 changes between t = {t} s and {t_later} s (by {mismatch:.3e}), so its drive is \
+                 more than the held input; take dopri5"
             )));
         }
         Ok(())
@@ -769,16 +772,15 @@ impl<'m> ExactRun<'m> {
         };
         let (phi, gamma, gamma_of) = if self.held {
             self.check_time_invariant(t, &e)?;
-            // the input at build as a run without ticks takes it; later ones through
-            // `gamma_of`
+            // the input at build as a run without ticks takes it (the same flow to the
+            // last bit while the input stays), later ones through `gamma_of`
             let (phi, gamma) = balanced_flow(&a, &e, h, omega);
-            let (_, gamma_of) = balanced_flow_of_inputs(&a, h, omega);
-            (phi, gamma, Some(gamma_of))
+            (phi, gamma, Some(balanced_input_flow(&a, h, omega)))
         } else {
             let (phi, gamma) = balanced_flow(&a, &e, h, omega);
             (phi, gamma, None)
         };
-        self.stats.exponentials += 1;
+        self.stats.exponentials += 1 + u64::from(self.held);
         // a held input's long steps would need the fast modes' bound anew at every tick
         let long = if self.long_steps && !self.held {
             self.long_step_of(&eigen, h)
@@ -1095,9 +1097,9 @@ pub(super) fn balanced_flow(
     (phi, gamma)
 }
 
-/// `exp(A h)` and `int_0^h exp(A s) ds` from one exponential of `[[A, I], [0, 0]] h`,
-/// balanced as [`balanced_flow`] balances it: the flow of every constant input at once.
-fn balanced_flow_of_inputs(a: &DMatrix<f64>, h: f64, omega: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+/// `int_0^h exp(A s) ds`, the flow of every constant input at once, from the exponential of
+/// `[[A, I], [0, 0]] h` balanced as [`balanced_flow`] balances its own.
+fn balanced_input_flow(a: &DMatrix<f64>, h: f64, omega: f64) -> DMatrix<f64> {
     let n2 = a.nrows();
     let n = n2 / 2;
     let s = omega.max(1.0);
@@ -1110,10 +1112,7 @@ fn balanced_flow_of_inputs(a: &DMatrix<f64>, h: f64, omega: f64) -> (DMatrix<f64
         aug[(j, n2 + j)] = h;
     }
     let flow = aug.exp();
-    let unscaled = |i: usize, j: usize| scale(j) / scale(i);
-    let phi = DMatrix::from_fn(n2, n2, |i, j| flow[(i, j)] * unscaled(i, j));
-    let gamma_of = DMatrix::from_fn(n2, n2, |i, j| flow[(i, n2 + j)] * unscaled(i, j));
-    (phi, gamma_of)
+    DMatrix::from_fn(n2, n2, |i, j| flow[(i, n2 + j)] * scale(j) / scale(i))
 }
 
 /// `out = scale a x` for a column-major `a`, four columns per pass over `out`: the exact

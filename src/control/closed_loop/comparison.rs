@@ -59,8 +59,9 @@ pub fn controlled_options(
 /// [`controlled_options`].
 ///
 /// # Errors
-/// [`Error::Option`] when the controller does not fit the scene or the method is `exact`;
-/// the errors of a simulation.
+/// [`Error::Option`] when the controller does not fit the scene, or the method is `exact`
+/// with a continuous law; the errors of a simulation (a sampled controller on method `exact`
+/// where the positions move among them).
 pub fn simulate_controlled(
     scene: &Scene,
     controller: &Controller,
