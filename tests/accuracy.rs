@@ -5,7 +5,8 @@
 
 mod common;
 
-use common::references::{References, scene};
+use common::references::References;
+use common::scene;
 use telescopic::Silent;
 use telescopic::run::{MethodChoice, MethodReason, SimulationOptions, Trajectory, simulate_scene};
 use telescopic::runtime::Method;

@@ -1,16 +1,13 @@
 //! The work budget: its step prediction against the steps real runs take on the shipped
 //! scenes, and the refusal, before any work, of runs whose predicted work is absurd.
+mod common;
+use common::scene;
 
 use telescopic::run::budget::estimate_steps;
 use telescopic::run::models::{ModelChoice, ModelRegistry};
 use telescopic::run::{MethodChoice, SimulationOptions, plan, simulate_scene};
 use telescopic::{Error, Scene, Silent};
 use telescopic_runtime::Method;
-
-fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(format!("scenes/{name}.toml").as_ref(), &o).unwrap()
-}
 
 #[test]
 fn the_predicted_steps_are_within_a_factor_3_of_real_runs() {

@@ -4,6 +4,7 @@
 //! travel; the controller file carries a design anyone can check; bad input is refused.
 
 mod common;
+use common::scene;
 
 use telescopic::analysis::metrics::{drive_stop, metrics};
 use telescopic::control::design::riccati::care;
@@ -15,11 +16,6 @@ use telescopic::run::{MethodChoice, SimulationOptions, simulate_scene};
 use telescopic::runtime::Method;
 use telescopic::runtime::nalgebra::DMatrix;
 use telescopic::{Scene, Silent};
-
-fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(format!("scenes/{name}.toml").as_ref(), &o).unwrap()
-}
 
 fn matrix(rows: &[Vec<f64>]) -> DMatrix<f64> {
     DMatrix::from_row_iterator(rows.len(), rows[0].len(), rows.iter().flatten().copied())

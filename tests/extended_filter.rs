@@ -2,6 +2,8 @@
 //! (derived by Symbolica) to rounding, it is recorded in the controller file and checked
 //! there, a run on a changed plant predicts with it, not with the plant, and its step
 //! allocates nothing (counted by this binary's global allocator, on the test's own thread).
+mod common;
+use common::scene;
 
 use rand::{Rng, SeedableRng};
 use telescopic::control::closed_loop::sampled::simulate_sampled;
@@ -37,12 +39,6 @@ static GLOBAL: Counting = Counting;
 
 fn allocations() -> usize {
     THREAD_ALLOCATIONS.with(|c| c.get())
-}
-
-fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(path.as_ref(), &overrides).unwrap()
 }
 
 /// The LQR on the extended filter from the encoder and the strain gauge, tip scale `tip` (m).

@@ -1,27 +1,15 @@
 //! Exact stepping with a held input ([`ExactTicks`]): a force held over each tick and set
 //! anew between ticks, taken by superposition on exponentials built once, against two
 //! independent paths: one exact run over the whole span where the force does not change, and
-//! dopri5 at a tight tolerance, restarted at every tick, where it does.
+//! dopri5 at a tight tolerance, restarted at every tick, where it does; and the run that goes on
+//! with its method where a hand-over is refused.
+mod common;
+use common::{generated, scene};
 
-use std::path::Path;
 use telescopic::fmu::held::HeldDrive;
 use telescopic_runtime::integrate::Integrator;
 use telescopic_runtime::integrate::exact::ExactTicks;
-use telescopic_runtime::{Method, Model, Scene, Settings, rest_state, simulate};
-
-fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(format!("{name}.toml"));
-    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(&path, &overrides).unwrap()
-}
-
-fn generated(scene: &Scene) -> Box<dyn Model> {
-    telescopic_generated::prepare(&scene.params)
-        .expect("every shipped scene has a generated model")
-        .unwrap()
-}
+use telescopic_runtime::{Method, Settings, rest_state, simulate};
 
 /// The largest difference of two states, over the largest entry of the first.
 fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
@@ -207,4 +195,36 @@ fn a_sampled_controller_steps_exactly_once_the_positions_rest_and_agrees_with_do
         sb.rhs_evals
     );
     assert!(sa.exponentials > 0);
+}
+
+#[test]
+fn a_hand_over_the_model_refuses_goes_on_with_the_plans_method() {
+    use telescopic::run::{HeldInputStepper, SimulationOptions, plan};
+    use telescopic_runtime::TimeSpan;
+    // case-study's positions move until 12 s: a hand-over asked for at 0.1 s is refused
+    let scene = scene("case-study", &[]);
+    let plant = HeldDrive::new(generated(&scene), 0.0).unwrap();
+    let y0 = rest_state(&plant, 0.0);
+    let span = TimeSpan {
+        start: 0.0,
+        end: 0.3,
+        sample: 1e-3,
+    };
+    let mut given = plan(&scene, &SimulationOptions::default()).unwrap();
+    given.method = Method::Dopri5;
+    given.settings.exact_from = None;
+    let mut asked = given.clone();
+    asked.settings.exact_from = Some(0.1);
+    let mut plain = HeldInputStepper::new(&given, &plant, &span, &y0).unwrap();
+    let mut handing = HeldInputStepper::new(&asked, &plant, &span, &y0).unwrap();
+    for k in 1..=300 {
+        let t = k as f64 * 1e-3;
+        plain.advance_to(t).unwrap();
+        handing.advance_to(t).unwrap();
+    }
+    assert!(!handing.is_exact(), "exact stepping took moving positions");
+    // the refused hand-over left the run as it was: the same steps to the last bit
+    assert_eq!(plain.state(), handing.state());
+    assert_eq!(plain.stats().steps, handing.stats().steps);
+    assert!(plain.stats().steps > 0);
 }

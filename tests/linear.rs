@@ -1,6 +1,8 @@
 //! Linear models: their eigenvalues against the modal analysis, their response against a
 //! simulation, the state order that is part of the format, and the round trips of the
 //! formats that need no outside tool (the clients' tests are in `tests/clients.rs`).
+mod common;
+use common::scene;
 
 use telescopic::analysis::modes::{ModesOptions, compute_modes};
 use telescopic::linear::{Format, Grid, LinearExport, LinearizeOptions, linearize};
@@ -8,11 +10,6 @@ use telescopic::run::{SimulationOptions, simulate_scene};
 use telescopic::runtime::nalgebra::{DMatrix, DVector};
 use telescopic::runtime::{ContactMode, eigenvalues};
 use telescopic::{Scene, Silent};
-
-fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(format!("scenes/{name}.toml").as_ref(), &o).unwrap()
-}
 
 /// Natural frequencies (Hz) of an undamped `A`: the positive imaginary parts over 2 pi.
 fn frequencies(a: &DMatrix<f64>) -> Vec<f64> {

@@ -8,7 +8,8 @@
 
 mod common;
 
-use common::references::{References, scene};
+use common::references::References;
+use common::scene;
 use telescopic::Silent;
 use telescopic::analysis::work_precision::statistics_error;
 use telescopic::run::{MethodChoice, SimulationOptions, Trajectory, simulate_scene};

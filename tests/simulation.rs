@@ -1,29 +1,16 @@
 //! End-to-end simulation of the shipped scenes on their generated models: every method
 //! against every other, the case-study's wedged upper section and free flight, the
 //! three-section telescope.
+mod common;
+use common::{generated, scene};
 
 use nalgebra::{Complex, DMatrix};
-use std::path::Path;
 use telescopic_runtime::integrate::stability::{
     STEP_CAP_SAFETY, closed_contact_stable_step, closed_contact_step_cap, stability_report,
 };
 use telescopic_runtime::{
     ContactState, Method, Model, RunStats, Scene, Settings, SimError, model::rest_state, simulate,
 };
-
-fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(format!("{name}.toml"));
-    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(&path, &overrides).unwrap()
-}
-
-fn generated(scene: &Scene) -> Box<dyn Model> {
-    telescopic_generated::prepare(&scene.params)
-        .expect("every shipped scene has a generated model")
-        .unwrap()
-}
 
 /// Output columns of a run: `(names, rows [t, outputs...])`.
 fn outputs(

@@ -130,21 +130,32 @@ impl<'m> HeldInputStepper<'m> {
         }
     }
 
-    /// Continues by exact stepping from the state reached.
+    /// Continues by exact stepping from the state reached; where exact stepping refuses the
+    /// model there (its right-hand side still changes in time, [`ExactTicks::new`]), the
+    /// plan's method goes on: the hand-over saves work and is never worth failing a run.
     fn hand_over(&mut self) -> Result<(), SimError> {
         self.exact_from = None;
         if let Ticks::Advancing(run) = &self.ticks {
-            let exact = ExactTicks::new(
+            let exact = match ExactTicks::new(
                 self.model,
                 run.time(),
                 run.state(),
                 self.tick,
                 &self.settings,
-            )?;
+            ) {
+                Ok(exact) => exact,
+                Err(SimError::Settings(_)) => return Ok(()),
+                Err(e) => return Err(e),
+            };
             self.before = run.stats();
             self.ticks = Ticks::Exact(Box::new(exact));
         }
         Ok(())
+    }
+
+    /// Whether the ticks are stepped exactly now.
+    pub fn is_exact(&self) -> bool {
+        matches!(self.ticks, Ticks::Exact(_))
     }
 
     /// The time reached (s).

@@ -1,5 +1,5 @@
-//! What several test files share: a single section of the test rig's data on its vehicle, the C
-//! compiler call of the emitted code's tests;
+//! What several test files share: the shipped scenes and their generated models, a single
+//! section of the test rig's data on its vehicle, the C compiler call of the emitted code's tests;
 //! reference runs and the predictability horizon ([`references`]).
 // each test binary uses its own part of this module
 #![allow(dead_code)]
@@ -8,6 +8,23 @@ pub mod references;
 
 use std::path::Path;
 use telescopic::Scene;
+use telescopic::runtime::Model;
+
+/// A shipped scene (`scenes/<name>.toml`) with `--set` overrides.
+pub fn scene(name: &str, overrides: &[&str]) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(format!("{name}.toml"));
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Scene::load(&path, &overrides).unwrap()
+}
+
+/// The committed generated model of a shipped scene.
+pub fn generated(scene: &Scene) -> Box<dyn Model> {
+    telescopic_generated::prepare(&scene.params)
+        .expect("every shipped scene has a generated model")
+        .unwrap()
+}
 
 /// One section of the test rig (1.35 m steel, A = 0.001 m^2, I = 0.83e-8 m^4) on a 100 kg
 /// vehicle with a 5 kg load, gravity off; `drive` is the `[drive]` table's body, `end` and

@@ -8,12 +8,6 @@ use telescopic::run::{MethodChoice, SimulationOptions, Trajectory, simulate_scen
 use telescopic::runtime::Method;
 use telescopic::{Scene, Silent};
 
-/// A shipped scene (`scenes/<name>.toml`) with `--set` overrides.
-pub fn scene(name: &str, overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Scene::load(format!("scenes/{name}.toml").as_ref(), &o).unwrap()
-}
-
 /// `method` at `rtol` (and `atol = 1e-3 rtol`).
 pub fn tight(method: Method, rtol: f64) -> SimulationOptions {
     SimulationOptions {
