@@ -139,6 +139,8 @@ pub enum OptionName {
     MoveLimits,
     /// `PlanOptions::tolerance` (m).
     MoveTolerance,
+    /// `PlanOptions::margin`: the share of the tolerance a pick keeps in reserve.
+    MoveMargin,
     /// `PlanOptions::settle_s` (s).
     Settle,
     /// `PlanOptions::robust`.
@@ -224,6 +226,7 @@ crate::named::named_enum!(OptionName, "an option", {
     Distance => "MoveLimits::distance",
     MoveLimits => "MoveLimits::v_max/a_max/j_max",
     MoveTolerance => "PlanOptions::tolerance",
+    MoveMargin => "PlanOptions::margin",
     Settle => "PlanOptions::settle_s",
     Robust => "PlanOptions::robust",
     Checks => "PlanOptions::checks",

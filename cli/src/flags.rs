@@ -71,6 +71,7 @@ pub fn flag(option: OptionName) -> &'static str {
         O::Distance => "--distance",
         O::MoveLimits => "--v-max/--a-max/--j-max",
         O::MoveTolerance => "--tolerance",
+        O::MoveMargin => "--margin",
         O::Settle => "--settle",
         O::Robust => "--robust",
         O::Checks => "--checks",

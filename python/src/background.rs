@@ -27,6 +27,10 @@ pub struct Progress {
     what: Mutex<String>,
     /// This call's stop request (a Ctrl-C, or an exception of the progress callable).
     pub cancel: telescopic::Cancel,
+    /// The work's notes not yet written to `sys.stderr`, when the call shows them.
+    notes: Mutex<Vec<String>>,
+    /// Whether the call shows the work's notes.
+    shows_notes: bool,
 }
 
 impl Reporter for Progress {
@@ -39,6 +43,12 @@ impl Reporter for Progress {
     }
     fn runs(&self, done: usize, total: usize) {
         *self.runs.lock().unwrap_or_else(|e| e.into_inner()) = (done, total);
+    }
+    fn note(&self, line: &str) {
+        if self.shows_notes {
+            let mut notes = self.notes.lock().unwrap_or_else(|e| e.into_inner());
+            notes.push(line.to_string());
+        }
     }
     fn stop_requested(&self) -> bool {
         self.cancel.requested()
@@ -56,6 +66,23 @@ impl Progress {
             current
         }
     }
+
+    /// Writes the notes that came since the last call to `sys.stderr` (where a notebook shows
+    /// them), each with the fraction done, as the command line's log lines do.
+    fn write_notes(&self, py: Python<'_>) -> PyResult<()> {
+        let notes: Vec<String> =
+            std::mem::take(&mut *self.notes.lock().unwrap_or_else(|e| e.into_inner()));
+        if notes.is_empty() {
+            return Ok(());
+        }
+        let stderr = py.import("sys")?.getattr("stderr")?;
+        let done = 100.0 * self.overall();
+        for line in notes {
+            stderr.call_method1("write", (format!("[{done:3.0} %] {line}\n"),))?;
+        }
+        stderr.call_method0("flush")?;
+        Ok(())
+    }
 }
 
 /// Runs `work` (given the reporter) off the GIL, passing progress to `callback(fraction)`
@@ -65,7 +92,21 @@ pub fn run<T: Send>(
     callback: Option<&Bound<'_, PyAny>>,
     work: impl FnOnce(&Progress) -> Result<T, telescopic::Error> + Send,
 ) -> PyResult<T> {
-    let progress = Progress::default();
+    run_showing(py, callback, false, work)
+}
+
+/// [`run`], writing the work's notes (what it does now, e.g. a plan's "evaluating ZVD on
+/// 10 plants") to `sys.stderr` as they come when `shows_notes`.
+pub fn run_showing<T: Send>(
+    py: Python<'_>,
+    callback: Option<&Bound<'_, PyAny>>,
+    shows_notes: bool,
+    work: impl FnOnce(&Progress) -> Result<T, telescopic::Error> + Send,
+) -> PyResult<T> {
+    let progress = Progress {
+        shows_notes,
+        ..Progress::default()
+    };
     let mut interrupted = false;
     // an exception of the progress callable: the work is asked to stop, then it is raised
     let mut callback_error: Option<PyErr> = None;
@@ -99,6 +140,7 @@ pub fn run<T: Send>(
                     return Err(error);
                 }
             }
+            progress.write_notes(py)?;
             if let (Some(cb), None) = (callback, &callback_error) {
                 // the callable sees the fraction done grow, never go back (a new run's
                 // start reads 0 until its first progress)
@@ -126,6 +168,7 @@ pub fn run<T: Send>(
             "interrupted (the call stopped; nothing was written)",
         ));
     }
+    progress.write_notes(py)?;
     match outcome {
         Ok(Ok(value)) => {
             if let Some(cb) = callback {

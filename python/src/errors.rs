@@ -169,6 +169,7 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::Distance => "distance",
         O::MoveLimits => "v_max/a_max/j_max",
         O::MoveTolerance => "tolerance",
+        O::MoveMargin => "margin",
         O::Settle => "settle",
         O::Robust => "robust",
         O::Checks => "checks",

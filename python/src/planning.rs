@@ -2,15 +2,15 @@
 //! the best plan as scene text, which `telescopic/__init__.py` turns into a DataFrame and a
 //! `Scene`.
 
-use crate::background::run;
+use crate::background::run_showing;
 use crate::errors::to_python;
 use crate::scene::PyScene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use telescopic::control::design::velocity::VelocityDesign;
 use telescopic::plan::{
-    DEFAULT_A_MAX, DEFAULT_CHECKS, DEFAULT_J_MAX, DEFAULT_SETTLE_S, DEFAULT_TOLERANCE_M,
-    DEFAULT_V_MAX,
+    DEFAULT_A_MAX, DEFAULT_CHECKS, DEFAULT_J_MAX, DEFAULT_MARGIN, DEFAULT_SETTLE_S,
+    DEFAULT_TOLERANCE_M, DEFAULT_V_MAX,
 };
 use telescopic::plan::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 
@@ -29,6 +29,7 @@ fn rows<'py>(py: Python<'py>, plan: &MovePlan) -> PyResult<Vec<Bound<'py, PyDict
             row.set_item("move_time_s", m.move_time_s)?;
             row.set_item("settling_time_s", m.settling_time_s)?;
             row.set_item("cycle_time_s", m.cycle_time_s)?;
+            row.set_item("pick_cycle_time_s", m.pick_cycle_time_s)?;
             row.set_item("peak_tip_move_m", m.peak_tip_move_m)?;
             row.set_item("residual_m", m.residual_m)?;
             row.set_item("peak_drive_force_n", m.peak_drive_force_n)?;
@@ -44,10 +45,10 @@ fn rows<'py>(py: Python<'py>, plan: &MovePlan) -> PyResult<Vec<Bound<'py, PyDict
 /// scene TOML, summary)`.
 #[pyfunction]
 #[pyo3(signature = (scene, distance, v_max = DEFAULT_V_MAX, a_max = DEFAULT_A_MAX,
-    j_max = DEFAULT_J_MAX, tolerance = DEFAULT_TOLERANCE_M, robust = None,
+    j_max = DEFAULT_J_MAX, tolerance = DEFAULT_TOLERANCE_M, margin = DEFAULT_MARGIN, robust = None,
     settle = DEFAULT_SETTLE_S, optimize = true, checks = None, force_limit = None,
     feedback = None,
-    options = None, progress = None))]
+    options = None, progress = None, notes = true))]
 #[allow(clippy::too_many_arguments)]
 pub fn plan<'py>(
     py: Python<'py>,
@@ -57,6 +58,7 @@ pub fn plan<'py>(
     a_max: f64,
     j_max: f64,
     tolerance: f64,
+    margin: f64,
     robust: Option<Vec<(String, f64, f64)>>,
     settle: f64,
     optimize: bool,
@@ -65,6 +67,7 @@ pub fn plan<'py>(
     feedback: Option<f64>,
     options: Option<crate::calls::RunArguments>,
     progress: Option<&Bound<'py, PyAny>>,
+    notes: bool,
 ) -> PyResult<(Vec<Bound<'py, PyDict>>, String, Bound<'py, PyDict>)> {
     let simulation = match options {
         Some(o) => o.into_options()?,
@@ -75,6 +78,7 @@ pub fn plan<'py>(
     };
     let options = PlanOptions {
         tolerance,
+        margin,
         robust: match &robust {
             Some(entries) => RobustRange::list(entries).map_err(to_python)?,
             None => Vec::new(),
@@ -99,7 +103,7 @@ pub fn plan<'py>(
         })
     };
     let scene = &scene.scene;
-    let plan = run(py, progress, |reporter| {
+    let plan = run_showing(py, progress, notes, |reporter| {
         plan_move(scene, &options, reporter)
     })?;
     let summary = PyDict::new(py);

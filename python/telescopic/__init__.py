@@ -490,28 +490,33 @@ class Plan:
 
 def plan(scene: Scene, distance: float, v_max: float | None = None,
          a_max: float | None = None, j_max: float | None = None,
-         tolerance: float | None = None,
+         tolerance: float | None = None, margin: float | None = None,
          robust: Mapping[str, tuple[float, float]] | None = None, settle: float | None = None,
          optimize: bool = True, checks: int | None = None, force_limit: float | None = None,
          feedback: float | None = None, method: str = "auto", progress: Any = None) -> Plan:
     """The shortest move over ``distance`` (m) that brings the load to rest within
-    ``tolerance`` (m) (``telescopic plan``): the time-optimal S-curve within ``v_max``,
+    ``tolerance`` (m) (``telescopic plan``), picked with ``margin`` (a share of the tolerance,
+    default 0.2) in reserve: the time-optimal S-curve within ``v_max``,
     ``a_max``, ``j_max``, shaped by ZV/ZVD/EI/2EI (fixed and scheduled on the first mode) and
     optimized, each on the nonlinear model and every plant of ``robust`` (``{"masses.load":
     (10, 30)}``: its corners and centre). ``feedback`` (a damping ratio, e.g. 0.3) adds the
     velocity feedback on top of the S-curve and of the best open-loop move. A limit left at
     ``None`` takes the library's default (``telescopic plan``'s). Returns a ``Plan``: the
-    table as a DataFrame and the best plan as a Scene."""
+    table as a DataFrame and the best plan as a Scene. What the planner does (``[ 40 %]
+    evaluating ZVD on 10 plants``) goes to ``sys.stderr`` as it starts; ``progress=False``
+    keeps it quiet."""
     ranges = None
     if robust is not None:
         ranges = [(k, *bounds) for k, bounds in robust.items()]
     options = dict(method=method, rtol=None, atol=None, dt=None, accuracy=None, model="auto",
                    modes_as_given=False)
-    defaulted = dict(v_max=v_max, a_max=a_max, j_max=j_max, tolerance=tolerance, settle=settle,
+    defaulted = dict(v_max=v_max, a_max=a_max, j_max=j_max, tolerance=tolerance, margin=margin,
+                     settle=settle,
                      checks=checks)
     rows, scene_text, summary = _telescopic.plan(
         scene, distance, robust=ranges, optimize=optimize, force_limit=force_limit,
         feedback=feedback, options=options, progress=_progress(progress),
+        notes=progress is not False,
         **{k: v for k, v in defaulted.items() if v is not None})
     return Plan(rows, scene_text, summary)
 

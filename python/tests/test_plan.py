@@ -6,10 +6,14 @@ import numpy as np
 import telescopic
 
 
-def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli):
+def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli, capsys):
     scene = telescopic.Scene.load("scenes/adams-linear.toml")
     plan = telescopic.plan(scene, 2.0, v_max=1.0, a_max=1.0, j_max=5.0, tolerance=0.002,
                            settle=4.0, optimize=False)
+    # what the planner does is on stderr as it goes, with the share done, as the CLI's log
+    said = capsys.readouterr().err
+    assert "evaluating s-curve on 1 plants" in said and "evaluating 2ei" in said, said
+    assert "%]" in said
     assert abs(plan.rigid_limit_s - 3.2) < 1e-12
     assert set(plan.table["candidate"]) >= {"s-curve", "zv", "zvd", "ei", "2ei"}
     best = plan.table[(plan.table["candidate"] == plan.best) & (plan.table["plant"] == "nominal")]
@@ -19,7 +23,9 @@ def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli):
     rest = sim["tip_rel"][sim.t >= sim.t[-1] - 1.0].mean()
     outside = (np.abs(sim["tip_rel"] - rest) > 0.002) | (np.abs(sim["vehicle"] - 2.0) > 1e-3)
     last = np.nonzero(outside)[0][-1]
-    assert abs(sim.t[last + 1] - cycle) < 1e-9
+    move = float(best["move_time_s"].iloc[0])
+    assert abs(max(sim.t[last + 1], move) - cycle) < 1e-9
+    assert float(best["settling_time_s"].iloc[0]) >= 0.0
     printed = cli("plan", "scenes/adams-linear.toml", "--distance", "2", "--v-max", "1",
                   "--a-max", "1", "--j-max", "5", "--tolerance", "0.002", "--settle", "4",
                   "--no-optimize").stdout
@@ -80,3 +86,11 @@ def test_an_exception_of_the_progress_callable_ends_the_plan_with_it():
                                              "sections.youngs_modulus": (1.9e11, 2.3e11)},
                         progress=progress)
     assert len(calls) == 1
+
+
+def test_a_bad_margin_is_refused_naming_it():
+    import pytest
+
+    scene = telescopic.Scene.load("scenes/adams-linear.toml")
+    with pytest.raises(telescopic.OptionError, match="margin.*0 to 0.9"):
+        telescopic.plan(scene, 2.0, margin=1.5)

@@ -17,11 +17,15 @@ pub const VEHICLE_TOLERANCE_M: f64 = 1e-3;
 pub struct CycleMetrics {
     /// When the setpoint reaches the target (s from the start).
     pub move_time_s: f64,
-    /// Cycle time minus move time (s); `None` when the load does not settle in the run.
+    /// Cycle time minus move time (s, never negative); `None` when the load does not settle
+    /// in the run.
     pub settling_time_s: Option<f64>,
-    /// From the start until `tip_rel` stays within the tolerance of its final rest and the
-    /// vehicle within 1 mm of its target (s); `None` when that does not happen in the run.
+    /// From the start until the setpoint has arrived, `tip_rel` stays within the tolerance
+    /// of its final rest and the vehicle within 1 mm of its target (s): a drive's "in
+    /// position"; `None` when that does not happen in the run.
     pub cycle_time_s: Option<f64>,
+    /// The same with the tolerance less the plan's margin (s): what the pick ranks on.
+    pub pick_cycle_time_s: Option<f64>,
     /// Largest `|tip_rel|` before arrival (m).
     pub peak_tip_move_m: f64,
     /// Largest `|drive_force|`, the prescribed motion's reaction (N).
@@ -38,11 +42,12 @@ pub struct CycleMetrics {
 }
 
 /// The figures of `traj`, a run of a move to `target` (m) that arrives at `move_time` (s),
-/// with `tolerance` (m) on `tip_rel` and the contact `law` of its scene.
+/// with the `tolerance` and the pick's tolerance (m) on `tip_rel`
+/// ([`super::PlanOptions::pick_tolerance`]) and the contact `law` of its scene.
 pub fn cycle_metrics(
     traj: &Trajectory,
     (target, move_time): (f64, f64),
-    tolerance: f64,
+    (tolerance, pick_tolerance): (f64, f64),
     law: &ContactLaw,
 ) -> CycleMetrics {
     let (tip, vehicle) = (
@@ -57,16 +62,20 @@ pub fn cycle_metrics(
         .map(|r| r[tip])
         .collect();
     let rest = window.iter().sum::<f64>() / window.len().max(1) as f64;
-    let outside = |r: &Vec<f64>| {
-        (r[tip] - rest).abs() > tolerance || (r[vehicle] - target).abs() > VEHICLE_TOLERANCE_M
+    let cycle_within = |tolerance: f64| {
+        let outside = |r: &Vec<f64>| {
+            (r[tip] - rest).abs() > tolerance || (r[vehicle] - target).abs() > VEHICLE_TOLERANCE_M
+        };
+        let inside_from = match traj.rows.iter().rposition(outside) {
+            None => traj.rows.first().map(|r| r[0]),
+            // still outside in the rest window: the run never settles
+            Some(i) if traj.rows[i][0] >= end - REST_WINDOW_S => None,
+            Some(i) => traj.rows.get(i + 1).map(|r| r[0]),
+        };
+        // in position only once the setpoint has arrived
+        inside_from.map(|t| t.max(move_time))
     };
-    let last_outside = traj.rows.iter().rposition(outside);
-    let cycle = match last_outside {
-        None => Some(traj.rows.first().map_or(0.0, |r| r[0])),
-        // still outside in the rest window: the run never settles
-        Some(i) if traj.rows[i][0] >= end - REST_WINDOW_S => None,
-        Some(i) => traj.rows.get(i + 1).map(|r| r[0]),
-    };
+    let cycle = cycle_within(tolerance);
     let max_abs = |cols: &[usize], during: &dyn Fn(f64) -> bool| {
         traj.rows
             .iter()
@@ -79,8 +88,9 @@ pub fn cycle_metrics(
     let switches = traj.sampled_switches(law, move_time);
     CycleMetrics {
         move_time_s: move_time,
-        settling_time_s: cycle.map(|c| (c - move_time).max(0.0)),
+        settling_time_s: cycle.map(|c| c - move_time),
         cycle_time_s: cycle,
+        pick_cycle_time_s: cycle_within(pick_tolerance),
         peak_tip_move_m: max_abs(&[tip], &|t| t <= move_time),
         peak_drive_force_n: traj
             .index_of(Output::DriveForce)
@@ -96,5 +106,82 @@ pub fn cycle_metrics(
             .filter(|r| r[0] >= move_time)
             .map(|r| (r[tip] - rest).abs())
             .fold(0.0, f64::max),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run::Column;
+    use telescopic_runtime::RunStats;
+
+    /// A run of 5 s at 1 ms: the vehicle at its target 1 m from 0.9 s on, `tip_rel` a 1 Hz
+    /// swing of `amplitude` (m) until 3 s, then at rest at 0.
+    fn run(amplitude: f64) -> Trajectory {
+        let rows = (0..=5000)
+            .map(|k| {
+                let t = k as f64 * 1e-3;
+                let vehicle = if t >= 0.9 { 1.0 } else { t / 0.9 };
+                let tip = if t < 3.0 {
+                    amplitude * (2.0 * std::f64::consts::PI * t).sin()
+                } else {
+                    0.0
+                };
+                vec![t, vehicle, tip]
+            })
+            .collect();
+        let columns = vec![
+            Column::Output(Output::Vehicle),
+            Column::Output(Output::TipRel),
+        ];
+        Trajectory::new(columns, rows, RunStats::default())
+    }
+
+    const LAW: ContactLaw = ContactLaw {
+        stiffness: 1e6,
+        damping: 1e3,
+        clearance: 0.0,
+    };
+
+    #[test]
+    fn the_cycle_waits_for_the_setpoint_and_the_pick_keeps_its_margin() {
+        // 4.9 mm of swing against 5 mm: in position when the setpoint arrives at 1 s, not
+        // before (the vehicle is there at 0.9 s), and the pick's 4 mm only after the swing
+        let close = cycle_metrics(&run(0.0049), (1.0, 1.0), (0.005, 0.004), &LAW);
+        assert_eq!(close.cycle_time_s, Some(1.0));
+        assert_eq!(close.settling_time_s, Some(0.0));
+        let pick = close.pick_cycle_time_s.unwrap();
+        assert!((2.75..=3.001).contains(&pick), "{pick}");
+        // 2.1 mm: in position at 1 s within either tolerance
+        let still = cycle_metrics(&run(0.0021), (1.0, 1.0), (0.005, 0.004), &LAW);
+        assert_eq!(still.pick_cycle_time_s, Some(1.0));
+        // a swing that arrives late settles after the move: settle is the difference
+        let late = cycle_metrics(&run(0.0049), (1.0, 1.0), (0.003, 0.002), &LAW);
+        let cycle = late.cycle_time_s.unwrap();
+        assert!(cycle > 2.5 && (late.settling_time_s.unwrap() - (cycle - 1.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_objective_prefers_the_plan_with_its_margin_to_one_just_inside_the_tolerance() {
+        let penalty = (5.0, 0.004);
+        let close = [cycle_metrics(
+            &run(0.0049),
+            (1.0, 1.0),
+            (0.005, 0.004),
+            &LAW,
+        )];
+        let still = [cycle_metrics(
+            &run(0.0021),
+            (1.0, 1.02),
+            (0.005, 0.004),
+            &LAW,
+        )];
+        // the close one is in position first at the tolerance, the still one wins the pick
+        assert!(close[0].cycle_time_s < still[0].cycle_time_s);
+        let (c, s) = (
+            super::super::planner::objective(&close, penalty),
+            super::super::planner::objective(&still, penalty),
+        );
+        assert!(s < c, "still {s} against close {c}");
     }
 }

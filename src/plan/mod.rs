@@ -33,8 +33,8 @@ pub mod shapers;
 
 pub use moving::moving_scene;
 pub use options::{
-    DEFAULT_A_MAX, DEFAULT_CHECKS, DEFAULT_J_MAX, DEFAULT_SETTLE_S, DEFAULT_TOLERANCE_M,
-    DEFAULT_V_MAX, MAX_CHECKS, MoveLimits, PlanOptions,
+    DEFAULT_A_MAX, DEFAULT_CHECKS, DEFAULT_J_MAX, DEFAULT_MARGIN, DEFAULT_SETTLE_S,
+    DEFAULT_TOLERANCE_M, DEFAULT_V_MAX, MAX_CHECKS, MoveLimits, PlanOptions,
 };
 pub use outcome::{MovePlan, PlanRow};
 pub use planner::{first_period, plan as plan_move};

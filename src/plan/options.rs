@@ -44,6 +44,8 @@ impl MoveLimits {
 
 /// The default tolerance on `tip_rel` (m).
 pub const DEFAULT_TOLERANCE_M: f64 = 0.005;
+/// The default share of the tolerance a pick keeps in reserve.
+pub const DEFAULT_MARGIN: f64 = 0.2;
 /// The default time simulated after the longest candidate arrives (s).
 pub const DEFAULT_SETTLE_S: f64 = 10.0;
 /// The default number of check plants.
@@ -58,6 +60,10 @@ pub struct PlanOptions {
     pub limits: MoveLimits,
     /// How still the load must be: `tip_rel` within this of its final rest (m, default 0.005).
     pub tolerance: f64,
+    /// The share of the tolerance the pick keeps in reserve (0 to 0.9, default 0.2): the
+    /// best candidate is the one with the shortest worst cycle within `(1 - margin)
+    /// tolerance`, so that a residual just under the tolerance does not win.
+    pub margin: f64,
     /// The robust set: scene values and their ranges (default none: the nominal plant).
     pub robust: Vec<RobustRange>,
     /// Time simulated after the longest candidate arrives (s, default 10).
@@ -77,11 +83,17 @@ pub struct PlanOptions {
 }
 
 impl PlanOptions {
+    /// The tolerance the pick ranks on (m): `(1 - margin) tolerance`.
+    pub fn pick_tolerance(&self) -> f64 {
+        (1.0 - self.margin) * self.tolerance
+    }
+
     /// The defaults for `limits`.
     pub fn new(limits: MoveLimits) -> Self {
         PlanOptions {
             limits,
             tolerance: DEFAULT_TOLERANCE_M,
+            margin: DEFAULT_MARGIN,
             robust: Vec::new(),
             settle_s: DEFAULT_SETTLE_S,
             optimize: true,
@@ -121,6 +133,15 @@ impl PlanOptions {
         positive(l.a_max, OptionName::MoveLimits, "the acceleration limit")?;
         positive(l.j_max, OptionName::MoveLimits, "the jerk limit")?;
         positive(self.tolerance, OptionName::MoveTolerance, "the tolerance")?;
+        if !(self.margin.is_finite() && (0.0..=0.9).contains(&self.margin)) {
+            return Err(Error::option(
+                OptionName::MoveMargin,
+                format!(
+                    "{}: the margin is a share of the tolerance, 0 to 0.9",
+                    self.margin
+                ),
+            ));
+        }
         if !(self.settle_s.is_finite() && self.settle_s >= 1.0 && self.settle_s <= 1000.0) {
             return Err(Error::option(
                 OptionName::Settle,

@@ -32,6 +32,8 @@ pub struct MovePlan {
     pub first_period_s: f64,
     /// The end of every run (s).
     pub end_s: f64,
+    /// The tolerance on `tip_rel` (m) and the share of it the pick keeps in reserve.
+    pub tolerance: (f64, f64),
     /// The candidates, in the table's order.
     pub candidates: Vec<candidates::Candidate>,
     /// Each candidate on each evaluated plant.
@@ -151,9 +153,11 @@ impl MovePlan {
         Ok(())
     }
 
-    /// The table: every candidate on every plant, the rigid limit, the best and its checks.
+    /// The table: every candidate on every plant, the rigid limit, the best and its checks,
+    /// and a legend that defines each column.
     pub fn table(&self) -> String {
         let mut out = String::new();
+        let (tolerance, margin) = self.tolerance;
         let _ = writeln!(
             out,
             "rigid limit (time-optimal move of a rigid telescope): {:.2} s; first mode at the \
@@ -163,12 +167,13 @@ impl MovePlan {
         );
         let _ = writeln!(
             out,
-            "{:<52} {:<10} {:>7} {:>8} {:>7} {:>8} {:>8} {:>8} {:>9} {:>10} {:>8}",
+            "{:<52} {:<10} {:>7} {:>8} {:>7} {:>7} {:>8} {:>8} {:>8} {:>9} {:>10} {:>8}",
             "candidate",
             "plant",
             "move s",
             "settle s",
             "cycle s",
+            "pick s",
             "tip mm",
             "resid mm",
             "drive N",
@@ -183,12 +188,14 @@ impl MovePlan {
             let m = &r.metrics;
             let _ = writeln!(
                 out,
-                "{:<52} {:<10} {:>7.2} {:>8} {:>7} {:>8.1} {:>8.1} {:>8.0} {:>9.0} {:>10} {:>8}",
+                "{:<52} {:<10} {:>7.2} {:>8} {:>7} {:>7} {:>8.1} {:>8.1} {:>8.0} {:>9.0} {:>10} \
+                 {:>8}",
                 self.candidates[r.candidate].name,
                 r.plant,
                 m.move_time_s,
                 cell(m.settling_time_s, 2),
                 cell(m.cycle_time_s, 2),
+                cell(m.pick_cycle_time_s, 2),
                 1e3 * m.peak_tip_move_m,
                 1e3 * m.residual_m,
                 m.peak_drive_force_n,
@@ -198,6 +205,7 @@ impl MovePlan {
                 m.switches_after_arrival
             );
         }
+        out.push_str(&legend(tolerance, margin, self.end_s));
         let best = &self.candidates[self.best];
         let worst = Self::worst_cycle(&self.rows, self.best);
         let verdict = match worst {
@@ -211,7 +219,65 @@ impl MovePlan {
                 self.end_s
             ),
         };
-        let _ = writeln!(out, "best: {} ({verdict})", best.name);
+        let _ = writeln!(
+            out,
+            "best: {} ({verdict}; picked on the pick column: the tolerance less its {:.0} % \
+             margin)",
+            best.name,
+            100.0 * margin
+        );
         out
     }
+}
+
+/// What each column of [`MovePlan::table`] means, one line each, with the plan's
+/// `tolerance` (m), its `margin` and the runs' `end` (s).
+fn legend(tolerance: f64, margin: f64, end: f64) -> String {
+    let vehicle_mm = 1e3 * super::metrics::VEHICLE_TOLERANCE_M;
+    let lines = [
+        ("move s", "when the setpoint reaches the target".to_string()),
+        (
+            "cycle s",
+            format!(
+                "from the start until the setpoint has arrived, tip_rel stays within {:.1} mm \
+                 of its final rest and the vehicle within {vehicle_mm:.0} mm of its target (in \
+                 position)",
+                1e3 * tolerance
+            ),
+        ),
+        ("settle s", "cycle - move".into()),
+        (
+            "pick s",
+            format!(
+                "the cycle within {:.1} mm, the tolerance less the {:.0} % margin: the best \
+                 has the shortest worst pick",
+                1e3 * (1.0 - margin) * tolerance,
+                100.0 * margin
+            ),
+        ),
+        ("never", format!("not within the run ({end:.1} s)")),
+        ("tip mm", "the peak |tip_rel| before arrival".into()),
+        (
+            "resid mm",
+            "the largest |tip_rel - rest| after arrival".into(),
+        ),
+        (
+            "drive N",
+            "the peak drive reaction (correction included)".into(),
+        ),
+        ("contact N", "the peak contact force".into()),
+        (
+            "stress MPa",
+            "the peak bending stress at the stations".into(),
+        ),
+        (
+            "switches",
+            "contact openings and closings after arrival: the rattling in the clearance".into(),
+        ),
+    ];
+    let mut out = String::from("columns:\n");
+    for (name, meaning) in lines {
+        let _ = writeln!(out, "  {name:<10} {meaning}");
+    }
+    out
 }

@@ -114,7 +114,7 @@ pub fn evaluate(
             Ok(cycle_metrics(
                 &trajectory,
                 (target, candidate.arrival_s),
-                options.tolerance,
+                (options.tolerance, options.pick_tolerance()),
                 &s.params.contact,
             ))
         })
@@ -134,13 +134,16 @@ fn stop_point(reporter: &dyn Reporter, at: &str) -> Result<()> {
     Ok(())
 }
 
-/// What the planner minimizes: the worst cycle time (s) of `metrics`, where a plant that
-/// never settles counts as `end` (s) plus its residual in tolerances, so that the optimizer
-/// sees how far it is from settling.
-pub fn objective(metrics: &[CycleMetrics], (end, tolerance): (f64, f64)) -> f64 {
+/// What the planner minimizes: the worst cycle time within the pick's tolerance (s) of
+/// `metrics`, where a plant that never settles within it counts as `end` (s) plus its
+/// residual in pick tolerances, so that the optimizer sees how far it is from settling.
+pub fn objective(metrics: &[CycleMetrics], (end, pick_tolerance): (f64, f64)) -> f64 {
     metrics
         .iter()
-        .map(|m| m.cycle_time_s.unwrap_or(end + m.residual_m / tolerance))
+        .map(|m| {
+            m.pick_cycle_time_s
+                .unwrap_or(end + m.residual_m / pick_tolerance)
+        })
         .fold(0.0, f64::max)
 }
 
@@ -183,7 +186,7 @@ impl Setting<'_> {
 
     /// How a plant that never settles counts in the worst cycle time.
     fn penalty(&self) -> (f64, f64) {
-        (self.end, self.options.tolerance)
+        (self.end, self.options.pick_tolerance())
     }
 
     /// The worst cycle time of candidate `i` in `rows`, with the penalty.
@@ -388,6 +391,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         rigid_limit_s: s.curve.phases().duration(),
         first_period_s: period,
         end_s: s.end,
+        tolerance: (options.tolerance, options.margin),
         candidates: list,
         rows,
         checks: check_rows,

@@ -38,6 +38,10 @@ pub struct PlanArgs {
     /// must be within 1 mm of its target.
     #[arg(long, value_name = "METRES", default_value_t = plan::DEFAULT_TOLERANCE_M)]
     tolerance: f64,
+    /// The share of the tolerance the pick keeps in reserve (0 to 0.9): the best plan is the
+    /// one with the shortest worst cycle within (1 - MARGIN) times the tolerance.
+    #[arg(long, value_name = "SHARE", default_value_t = plan::DEFAULT_MARGIN)]
+    margin: f64,
     /// The robust set: scene values and their ranges, e.g.
     /// masses.load=10:30,contact.clearance=0.005:0.02; its corners and centre are evaluated.
     #[arg(long, value_name = "KEY=LOW:HIGH,...")]
@@ -121,6 +125,7 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
     let scene = args.scene.load()?;
     let options = PlanOptions {
         tolerance: args.tolerance,
+        margin: args.margin,
         robust: match &args.robust {
             Some(text) => RobustRange::parse_list(text)?,
             None => Vec::new(),
