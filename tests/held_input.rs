@@ -228,3 +228,37 @@ fn a_hand_over_the_model_refuses_goes_on_with_the_plans_method() {
     assert_eq!(plain.stats().steps, handing.stats().steps);
     assert!(plain.stats().steps > 0);
 }
+
+#[test]
+fn a_sampled_run_whose_hand_over_is_refused_does_not_claim_exact_ticks() {
+    use telescopic::Silent;
+    use telescopic::control::closed_loop::sampled::simulate_sampled;
+    use telescopic::control::{DesignOptions, design};
+    use telescopic::run::{MethodReason, PreparedRun, SimulationOptions};
+    // the positions move until 12 s: a hand-over asked for at 0.1 s is refused
+    let scene = scene("case-study-no-clearance", &["time.end=0.3"]);
+    let sensors = vec!["vehicle".into(), "kappa_1_0".into()];
+    let controller = design(
+        &scene,
+        &DesignOptions {
+            sensors,
+            ..DesignOptions::default()
+        },
+    )
+    .unwrap();
+    let options = SimulationOptions {
+        error_estimate: false,
+        modes_as_given: true,
+        ..SimulationOptions::default()
+    };
+    let mut run = PreparedRun::new(&scene, &options, &Silent).unwrap();
+    run.plan.settings.exact_from = Some(0.1);
+    let sampled = simulate_sampled(run, &controller, &Silent).unwrap();
+    let reason = &sampled.simulation.plan.reason;
+    let MethodReason::SampledController { exact_from, .. } = reason else {
+        panic!("{reason:?}")
+    };
+    assert_eq!(*exact_from, None, "{reason}");
+    assert!(!reason.to_string().contains("exact stepping"), "{reason}");
+    assert_eq!(sampled.simulation.trajectory.stats.exponentials, 0);
+}

@@ -85,6 +85,15 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
         "cycle {reported} s, move {move_time} s, settle {settle} s"
     );
     let reported_stress: f64 = cells[9].parse().expect("the stress at the foot (MPa)");
+    // the best line states what the best was ranked on: its pick, never before its cycle
+    let pick: f64 = cells[4].parse().expect("the best gets within the margin");
+    let stated = best
+        .split("worst pick ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .expect("the best line names the worst pick");
+    assert_eq!(stated, format!("{pick:.2}"), "{best}");
+    assert!(pick >= reported, "{best}");
     succeeds(&[
         "simulate",
         plan.to_str().unwrap(),

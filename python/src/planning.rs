@@ -114,6 +114,7 @@ pub fn plan<'py>(
         "worst_cycle_s",
         MovePlan::worst_cycle(&plan.rows, plan.best),
     )?;
+    summary.set_item("worst_pick_s", MovePlan::worst_pick(&plan.rows, plan.best))?;
     summary.set_item("table", plan.table())?;
     summary.set_item("feedback", plan.feedback_json())?;
     Ok((rows(py, &plan)?, plan.scene_toml(), summary))

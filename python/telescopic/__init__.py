@@ -462,7 +462,9 @@ class Plan:
     """A planned move (``telescopic plan``): ``table`` a DataFrame with a row per candidate
     and plant, ``scene`` the best plan as a Scene (its setpoint as ``drive.motion``),
     ``best`` its name, ``rigid_limit_s`` the time-optimal move of a rigid telescope,
-    ``controller`` the best plan's velocity feedback (a Controller) when it uses one, else
+    ``worst_cycle_s`` and ``worst_pick_s`` the best's worst cycle and worst pick (what it was
+    ranked on: within the tolerance less the margin) over the evaluated plants, None if
+    never, ``controller`` the best plan's velocity feedback (a Controller) when it uses one, else
     None: ``simulate(plan.scene, controller=plan.controller)`` runs the plan."""
 
     def __init__(self, rows: list[dict[str, Any]], scene_text: str, summary: dict[str, Any]):
@@ -475,6 +477,7 @@ class Plan:
         self.rigid_limit_s: float = summary["rigid_limit_s"]
         self.first_mode_hz: float = summary["first_mode_hz"]
         self.worst_cycle_s: float | None = summary["worst_cycle_s"]
+        self.worst_pick_s: float | None = summary["worst_pick_s"]
         self._text: str = summary["table"]
         feedback = summary["feedback"]
         self.controller: Controller | None = None if feedback is None else Controller(feedback)

@@ -19,6 +19,8 @@ def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli, capsys):
     best = plan.table[(plan.table["candidate"] == plan.best) & (plan.table["plant"] == "nominal")]
     cycle = float(best["cycle_time_s"].iloc[0])
     assert cycle == plan.worst_cycle_s
+    # the best is ranked on its pick: within the tolerance less the margin, never earlier
+    assert float(best["pick_cycle_time_s"].iloc[0]) == plan.worst_pick_s >= cycle
     sim = telescopic.simulate(plan.scene, error_estimate=False)
     rest = sim["tip_rel"][sim.t >= sim.t[-1] - 1.0].mean()
     outside = (np.abs(sim["tip_rel"] - rest) > 0.002) | (np.abs(sim["vehicle"] - 2.0) > 1e-3)

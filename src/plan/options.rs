@@ -82,10 +82,15 @@ pub struct PlanOptions {
     pub simulation: SimulationOptions,
 }
 
+/// The tolerance a pick ranks on (m): `tolerance` (m) less its share `margin`.
+pub fn pick_tolerance(tolerance: f64, margin: f64) -> f64 {
+    (1.0 - margin) * tolerance
+}
+
 impl PlanOptions {
-    /// The tolerance the pick ranks on (m): `(1 - margin) tolerance`.
+    /// The tolerance the pick ranks on (m): [`pick_tolerance`] of the options'.
     pub fn pick_tolerance(&self) -> f64 {
-        (1.0 - self.margin) * self.tolerance
+        pick_tolerance(self.tolerance, self.margin)
     }
 
     /// The defaults for `limits`.

@@ -50,9 +50,24 @@ pub struct MovePlan {
 impl MovePlan {
     /// The worst cycle time (s) of candidate `i` over `rows`; `None` if a plant never settles.
     pub fn worst_cycle(rows: &[PlanRow], i: usize) -> Option<f64> {
+        Self::worst_of(rows, i, |m| m.cycle_time_s)
+    }
+
+    /// The worst pick cycle time (s, [`CycleMetrics::pick_cycle_time_s`]) of candidate `i`
+    /// over `rows`: what the best is ranked on; `None` if a plant never gets within.
+    pub fn worst_pick(rows: &[PlanRow], i: usize) -> Option<f64> {
+        Self::worst_of(rows, i, |m| m.pick_cycle_time_s)
+    }
+
+    /// The largest `time` (s) of candidate `i` over `rows`; `None` if one is `None`.
+    fn worst_of(
+        rows: &[PlanRow],
+        i: usize,
+        time: impl Fn(&CycleMetrics) -> Option<f64>,
+    ) -> Option<f64> {
         rows.iter()
             .filter(|r| r.candidate == i)
-            .map(|r| r.metrics.cycle_time_s)
+            .map(|r| time(&r.metrics))
             .try_fold(0.0_f64, |w, c| c.map(|c| w.max(c)))
     }
 
@@ -207,11 +222,16 @@ impl MovePlan {
         }
         out.push_str(&legend(tolerance, margin, self.end_s));
         let best = &self.candidates[self.best];
+        let percent = |w: f64| 100.0 * (w / self.rigid_limit_s - 1.0);
         let worst = Self::worst_cycle(&self.rows, self.best);
+        let pick = Self::worst_pick(&self.rows, self.best).map_or("never".into(), |p| {
+            format!("{p:.2} s, {:+.1} %", percent(p))
+        });
         let verdict = match worst {
             Some(w) => format!(
-                "worst cycle over the evaluated plants {w:.2} s, {:+.1} % of the rigid limit",
-                100.0 * (w / self.rigid_limit_s - 1.0)
+                "worst cycle over the evaluated plants {w:.2} s, {:+.1} % of the rigid limit; \
+                 worst pick {pick}",
+                percent(w)
             ),
             None => format!(
                 "the load does not settle on every evaluated plant within {:.1} s; the \
@@ -251,7 +271,7 @@ fn legend(tolerance: f64, margin: f64, end: f64) -> String {
             format!(
                 "the cycle within {:.1} mm, the tolerance less the {:.0} % margin: the best \
                  has the shortest worst pick",
-                1e3 * (1.0 - margin) * tolerance,
+                1e3 * super::options::pick_tolerance(tolerance, margin),
                 100.0 * margin
             ),
         ),

@@ -58,27 +58,33 @@ pub fn run_sampled(
         seed: sampled.seed,
         scheduled: file.scheduled_section(),
     };
-    let (trajectory, forces) =
-        tick_loop(&run, HeldPlant::Force(&model), &setup, controller, reporter)?;
-    Ok(finish(run, setup.rate_hz, trajectory, forces))
+    let ticked = tick_loop(&run, HeldPlant::Force(&model), &setup, controller, reporter)?;
+    Ok(finish(run, setup.rate_hz, ticked))
 }
 
-/// The sampled run of `run` from the loop's trajectory and commands.
-pub(crate) fn finish(
-    run: PreparedRun<'_>,
-    rate_hz: f64,
-    trajectory: Trajectory,
-    forces: Vec<(f64, f64)>,
-) -> SampledRun {
+/// What a tick loop ran: its trajectory, each tick's command and where its ticks stepped
+/// exactly from.
+pub(crate) struct TickedRun {
+    /// The run's trajectory.
+    pub trajectory: Trajectory,
+    /// Each tick's time (s) and command.
+    pub commands: Vec<(f64, f64)>,
+    /// Where the ticks were stepped exactly from (s); `None` when the plan's method stepped
+    /// them all (no hand-over planned, or the model refused it).
+    pub exact_from: Option<f64>,
+}
+
+/// The sampled run of `run` from its tick loop's result.
+pub(crate) fn finish(run: PreparedRun<'_>, rate_hz: f64, ticked: TickedRun) -> SampledRun {
     let mut plan = run.plan.clone();
     plan.reason = crate::run::MethodReason::SampledController {
         rate_hz,
-        exact_from: plan.settings.exact_from,
+        exact_from: ticked.exact_from,
     };
-    let simulation = run.into_simulation(trajectory);
+    let simulation = run.into_simulation(ticked.trajectory);
     SampledRun {
         simulation: Simulation { plan, ..simulation },
-        forces,
+        forces: ticked.commands,
     }
 }
 
@@ -125,15 +131,14 @@ pub(crate) struct TickSetup<'a> {
 
 /// The tick loop of a sampled run: at each tick the outputs and the noisy measurements of
 /// `plant`, the command of `controller`, which the plant holds for the next tick on (one
-/// sample of computation delay); the plant integrated from tick to tick. Returns the
-/// trajectory and each tick's command.
+/// sample of computation delay); the plant integrated from tick to tick.
 pub(crate) fn tick_loop(
     run: &PreparedRun<'_>,
     plant: HeldPlant<'_>,
     setup: &TickSetup<'_>,
     controller: &mut dyn SampledController,
     reporter: &dyn Reporter,
-) -> Result<(Trajectory, Vec<(f64, f64)>)> {
+) -> Result<TickedRun> {
     let model = plant.model();
     let scene: &Scene = run.scene;
     let span = scene.time;
@@ -213,7 +218,11 @@ pub(crate) fn tick_loop(
     reporter.finish();
     let mut stats = stepper.stats();
     stats.wall = started.elapsed();
-    Ok((Trajectory::new(columns, rows, stats), forces))
+    Ok(TickedRun {
+        trajectory: Trajectory::new(columns, rows, stats),
+        commands: forces,
+        exact_from: run.plan.settings.exact_from.filter(|_| stepper.is_exact()),
+    })
 }
 
 /// The measured outputs (`out` at the columns `measured`) with Gaussian noise of standard

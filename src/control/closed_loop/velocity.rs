@@ -43,12 +43,12 @@ pub fn simulate_velocity(
         seed: file.seed,
         scheduled: file.scheduled_index().map(|i| i + 2),
     };
-    let (trajectory, commands) = tick_loop(
+    let ticked = tick_loop(
         &run,
         HeldPlant::ServoCorrection(&model),
         &setup,
         &mut controller,
         reporter,
     )?;
-    Ok(finish(run, file.rate_hz, trajectory, commands))
+    Ok(finish(run, file.rate_hz, ticked))
 }
