@@ -6,7 +6,7 @@
 //! at `r = 1` it is zero for ZV and ZVD and the 5 % tolerance for EI.
 
 use telescopic::analysis::modes::{ModesOptions, compute_modes};
-use telescopic::plan::candidates::{shaped, unshaped};
+use telescopic::plan::candidates::{matched, shaped, unshaped};
 use telescopic::plan::moving_scene;
 use telescopic::plan::shapers::Shaper;
 use telescopic::run::{SimulationOptions, simulate_scene};
@@ -94,6 +94,99 @@ fn shaped_moves_leave_the_closed_form_residual_on_an_undamped_mode() {
                 "{shaper} at {ratio}: residual {measured:.5} of the unshaped, closed form {expected:.5}"
             );
         }
+    }
+}
+
+#[test]
+fn the_matched_move_leaves_an_undamped_mode_at_rest_and_a_detuned_one_does_not() {
+    let scene = Scene::from_toml_str(MAST, "mast".as_ref(), &[]).unwrap();
+    let curve = SCurve {
+        start: 0.0,
+        from: 0.0,
+        distance: 2.0,
+        v_max: 1.0,
+        a_max: 2.0,
+        j_max: 40.0,
+    };
+    let held = moving_scene(&scene, &unshaped(&curve).profile, 1.0).unwrap();
+    let period = 1.0
+        / compute_modes(&held, &ModesOptions::default())
+            .unwrap()
+            .frequencies_hz[0];
+    let plain = unshaped(&curve);
+    let end = plain.arrival_s + 3.0;
+    let reference = residual(&scene, &plain.profile, plain.arrival_s, end);
+    let design = Profile::Constant(period);
+    let (tuned, periods) = matched("m", &curve, &design, (1.0, 1.0)).unwrap();
+    // each box v/a spans the fewest whole periods the acceleration limit allows
+    assert_eq!(periods.0, (curve.v_max / (period * curve.a_max)).ceil());
+    assert_eq!(periods.0, periods.1);
+    let at_rest = residual(&scene, &tuned.profile, tuned.arrival_s, end) / reference;
+    // each pulse is a jerk ramp convolved with a box of whole periods, whose spectrum is
+    // zero at the mode: the linear mode ends at rest (to the integration's error)
+    assert!(
+        at_rest < 1e-6,
+        "the matched move leaves {at_rest} of the S-curve's"
+    );
+    for (stretch, what) in [((1.15, 1.15), "both"), ((1.0, 0.85), "the braking")] {
+        let (detuned, _) = matched("m", &curve, &design, stretch).unwrap();
+        let left = residual(&scene, &detuned.profile, detuned.arrival_s, end) / reference;
+        assert!(
+            left > 10.0 * at_rest.max(1e-3),
+            "{what} detuned leaves {left} against {at_rest} of the S-curve's"
+        );
+    }
+    // within the limits: the same cruise velocity, and never faster than the rigid move
+    assert!(tuned.arrival_s >= plain.arrival_s - 1e-12);
+    let h = 1e-4;
+    for k in 0..2000 {
+        let t = tuned.arrival_s * f64::from(k) / 2000.0;
+        let (_, v, a) = tuned.profile.state(t);
+        assert!(
+            v.abs() <= curve.v_max + 1e-12 && a.abs() <= curve.a_max + 1e-12,
+            "t {t}"
+        );
+        let jerk = (tuned.profile.state(t + h).2 - a) / h;
+        assert!(
+            jerk.abs() <= curve.j_max * (1.0 + 1e-6),
+            "t {t}: jerk {jerk}"
+        );
+    }
+}
+
+#[test]
+fn a_jerk_segments_motion_runs_as_written_and_one_that_does_not_end_at_rest_is_refused() {
+    let with = |segments: &str| {
+        let motion =
+            format!("motion = {{ kind = \"jerk-segments\", start = 0.1, segments = {segments} }}");
+        Scene::from_toml_str(&MAST.replace("motion = 0.0", &motion), "mast".as_ref(), &[])
+    };
+    // +j for 0.2 s, -j for 0.4 s, +j for 0.2 s: rest to rest, over by 0.9 s
+    let scene = with("[[0.2, 0.5], [0.4, -0.5], [0.2, 0.5]]").unwrap();
+    let options = SimulationOptions {
+        error_estimate: false,
+        ..SimulationOptions::default()
+    };
+    let run = simulate_scene(&scene, &options, &Silent).unwrap();
+    let vehicle = run.trajectory.index("vehicle").unwrap();
+    let last = run.trajectory.rows.last().unwrap();
+    // the travel of a jerk j over T/4, -j over T/2, +j over T/4 (T = 0.8 s) is j T^3 / 32
+    let travel = 0.5 * 0.8_f64.powi(3) / 32.0;
+    assert!(
+        (last[vehicle] - travel).abs() < 1e-12,
+        "{} m",
+        last[vehicle]
+    );
+    for (segments, rule) in [
+        ("[[0.2, 0.5], [0.4, -0.5]]", "must end at rest"),
+        ("[[-0.2, 0.5]]", "durations must be >= 0"),
+        ("[]", "at least one"),
+    ] {
+        let error = with(segments).unwrap_err().to_string();
+        assert!(
+            error.contains("drive.motion.segments") && error.contains(rule),
+            "{segments}: {error}"
+        );
     }
 }
 

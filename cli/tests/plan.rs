@@ -122,6 +122,59 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
 }
 
 #[test]
+fn the_matched_move_is_written_as_jerk_segments_that_simulate_reproduces() {
+    let dir = scratch("plan-matched");
+    let plan = dir.join("plan.toml");
+    let csv = dir.join("plan.csv");
+    let name = "matched s-curve";
+    let flags = ["4", "--pick", name, "--out", plan.to_str().unwrap()];
+    let out = succeeds(&[&SHORT_MOVE[..], &flags].concat());
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains("the matched s-curve accelerates over"),
+        "{said}"
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    let cells = nominal_row(&table, name);
+    let move_time: f64 = cells[1].parse().expect("the move time");
+    let residual_mm: f64 = cells[6].parse().expect("the residual");
+    let text = std::fs::read_to_string(&plan).unwrap();
+    assert!(text.contains("kind = \"jerk-segments\""), "{text}");
+    succeeds(&[
+        "simulate",
+        plan.to_str().unwrap(),
+        "--no-error-estimate",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let run = Csv::read(&csv);
+    let (tip, vehicle) = (run.column("tip_rel"), run.column("vehicle"));
+    // the setpoint arrives at the target when the table says, and not before
+    let arrived = run
+        .rows
+        .iter()
+        .find(|r| (r[vehicle] - 2.0).abs() < 1e-9)
+        .map(|r| r[0])
+        .expect("the vehicle reaches the target");
+    assert!(
+        (arrived - move_time).abs() < 0.011 && move_time >= 3.2 - 1e-9,
+        "arrives at {arrived} s, the table says {move_time} s"
+    );
+    let rest = run.rows.last().unwrap()[tip];
+    let measured = run
+        .rows
+        .iter()
+        .filter(|r| r[0] >= move_time)
+        .map(|r| (r[tip] - rest).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        (1e3 * measured - residual_mm).abs() < 0.051 + 0.02 * residual_mm,
+        "the plan says {residual_mm} mm, simulate gives {} mm",
+        1e3 * measured
+    );
+}
+
+#[test]
 fn a_plan_with_feedback_writes_its_file_and_simulate_reproduces_its_row() {
     let dir = scratch("plan-feedback");
     let plan = dir.join("plan.toml");
@@ -206,6 +259,7 @@ static REFUSED_PLAN_OPTIONS: &[(&[&str], &[&str])] = &[
             "--pick",
             "no candidate of this plan can be named \"zw scheduled\"",
             "zvd",
+            "matched s-curve",
         ],
     ),
     (
@@ -215,6 +269,17 @@ static REFUSED_PLAN_OPTIONS: &[(&[&str], &[&str])] = &[
     (
         &["--distance", "2", "--pick", "s-curve", "--emit-c", "."],
         &["--emit-c", "no shaper to emit"],
+    ),
+    (
+        &[
+            "--distance",
+            "2",
+            "--pick",
+            "matched s-curve",
+            "--emit-c",
+            ".",
+        ],
+        &["--emit-c", "\"matched s-curve\" has no shaper to emit"],
     ),
     (
         &[

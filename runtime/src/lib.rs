@@ -60,7 +60,8 @@ pub use model::{Model, mechanical_energy, rest_state};
 /// and downstream crates use the same version.
 pub use nalgebra;
 pub use profile::{
-    Phases, PositionSchedule, Profile, ReachedLimits, SCurve, ShapedProfile, ShapedSetpoint,
+    JerkSegments, Phases, PositionSchedule, Profile, ReachedLimits, SCurve, ShapedProfile,
+    ShapedSetpoint,
 };
 pub use scene::{FieldError, Scene, SceneError, SceneFile, TimeSpan};
 pub use shape::{MAX_MODES, SectionKind, SectionShapes, ShapeFunction, mode_root};

@@ -1,10 +1,23 @@
 //! The moves a plan compares: the time-optimal S-curve, the S-curve through each shaper with
 //! a fixed period (the first mode's at the target), and through each shaper with the period
-//! following the first mode along the move (scheduled).
+//! following the first mode along the move (scheduled), and the matched move whose
+//! acceleration and deceleration each span whole periods of the first mode.
 
 use super::shapers::Shaper;
 use serde::Serialize;
-use telescopic_runtime::{PositionSchedule, Profile, SCurve, ShapedProfile, ShapedSetpoint};
+use telescopic_runtime::{
+    JerkSegments, PositionSchedule, Profile, SCurve, ShapedProfile, ShapedSetpoint,
+};
+
+/// The name of the matched move ([`matched`]) in a plan.
+pub const MATCHED_NAME: &str = "matched s-curve";
+
+/// Passes that match the acceleration and the deceleration to the mean period where each
+/// lies (each pass moves the deceleration, which moves its period).
+const MATCHING_PASSES: usize = 8;
+
+/// Points of the midpoint rule of a pulse's mean frequency.
+const MEAN_FREQUENCY_POINTS: usize = 32;
 
 /// One candidate move.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -64,6 +77,65 @@ pub fn shaped(
         arrival_s,
         feedback: false,
     }
+}
+
+/// The matched move: the S-curve's cruise velocity and jerk, with an acceleration of its own
+/// for each half. A half's pulse of acceleration is the convolution of a box `a/j` long
+/// with a box `v/a` long; a box of whole periods of the first mode has a zero of its
+/// spectrum at the mode, so a linear mode of that period is left at rest by construction,
+/// without the delay a shaper adds. The box `v/a` spans as few periods as the acceleration
+/// limit allows. Where the period (`period`, s, a number or a schedule) changes along a
+/// pulse, the box spans whole periods of the pulse's mean frequency. `stretch` scales the
+/// boxes of the two halves for the optimizer; the acceleration never exceeds the limit.
+/// Returns the move named `name` and the periods the two boxes span; `None` where the limits
+/// leave the move no cruise.
+pub fn matched(
+    name: &str,
+    curve: &SCurve,
+    period: &Profile,
+    stretch: (f64, f64),
+) -> Option<(Candidate, (f64, f64))> {
+    let v = curve.v_max;
+    let limits = (curve.a_max.min((v * curve.j_max).sqrt()), curve.j_max);
+    let place = (curve.start, curve.from, curve.distance);
+    let mut halves = [limits; 2];
+    let mut periods: Option<[f64; 2]> = None;
+    let mut segments = JerkSegments::trapezoidal(place, v, halves)?;
+    for _ in 0..MATCHING_PASSES {
+        let end = curve.start + segments.duration();
+        let pulse = |(a, j): (f64, f64)| v / a + a / j;
+        let frequencies = [
+            mean_frequency(period, (curve.start, curve.start + pulse(halves[0]))),
+            mean_frequency(period, (end - pulse(halves[1]), end)),
+        ];
+        // the fewest whole periods within the limits, counted once
+        let counts =
+            *periods.get_or_insert(frequencies.map(|f| (v * f / limits.0).ceil().max(1.0)));
+        let stretches = [stretch.0, stretch.1];
+        for (i, half) in halves.iter_mut().enumerate() {
+            let a = v * frequencies[i] / (counts[i] * stretches[i]);
+            *half = (a.min(limits.0), limits.1);
+        }
+        segments = JerkSegments::trapezoidal(place, v, halves)?;
+    }
+    let counts = periods?;
+    let candidate = Candidate {
+        name: name.to_string(),
+        arrival_s: curve.start + segments.duration(),
+        profile: Profile::Shaped(ShapedProfile::JerkSegments(segments)),
+        feedback: false,
+    };
+    Some((candidate, (counts[0], counts[1])))
+}
+
+/// The mean frequency (Hz) of `period` (s) over `(from, to)` (s).
+fn mean_frequency(period: &Profile, (from, to): (f64, f64)) -> f64 {
+    let n = MEAN_FREQUENCY_POINTS;
+    let h = (to - from) / n as f64;
+    (0..n)
+        .map(|i| 1.0 / period.value(from + (i as f64 + 0.5) * h))
+        .sum::<f64>()
+        / n as f64
 }
 
 /// `period` times a factor that goes from `early` at `start` to `late` at `end` (s) along a

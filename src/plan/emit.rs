@@ -38,7 +38,11 @@ fn shaped_parts<'c>(
     let Profile::Shaped(ShapedProfile::Shaped(shaped)) = &candidate.profile else {
         return Err(Error::option(
             OptionName::EmitC,
-            format!("candidate {} has no shaper to emit", candidate.name),
+            format!(
+                "candidate {} has no shaper to emit: it is the setpoint a drive makes from its \
+                 limits (the written scene's drive.motion); --pick a shaper to have a filter",
+                candidate.name
+            ),
         ));
     };
     let (schedule, section) = match shaped.period.as_ref() {

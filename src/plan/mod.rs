@@ -4,7 +4,9 @@
 //! move ([`telescopic_runtime::SCurve`]), that move filtered by each shaper of the ZV/ZVD/EI
 //! family ([`shapers`]) designed on the first mode at the target, the same shapers with
 //! their spacing following the first mode as the telescopic positions move (scheduled),
-//! and an optimized scheduled shaper ([`optimize`]). Every candidate runs on the nonlinear
+//! an optimized scheduled shaper ([`optimize`]), and the matched S-curve whose acceleration
+//! and braking each span whole periods of the first mode ([`candidates::matched`]), also
+//! optimized. Every candidate runs on the nonlinear
 //! model with clearance on every plant of the robust set ([`robust`]); [`metrics`] reads
 //! its cycle time.
 //!

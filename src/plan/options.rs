@@ -88,7 +88,7 @@ pub fn pick_tolerance(tolerance: f64, margin: f64) -> f64 {
 }
 
 impl PlanOptions {
-    /// The tolerance the pick ranks on (m): [`pick_tolerance`] of the options'.
+    /// The tolerance the pick ranks on (m): the options' tolerance less its margin.
     pub fn pick_tolerance(&self) -> f64 {
         pick_tolerance(self.tolerance, self.margin)
     }

@@ -133,13 +133,17 @@ impl MovePlan {
             None => (name, false),
         };
         let shaper_named = |n: &str| n.parse::<Shaper>().is_ok();
-        let known = base == "s-curve"
+        let unshaped = base == "s-curve"
+            || base == candidates::MATCHED_NAME
+            || base.starts_with(&format!("optimized {}", candidates::MATCHED_NAME));
+        let known = unshaped
             || shaper_named(base)
             || base.strip_suffix(" scheduled").is_some_and(shaper_named)
             || (options.optimize && base.starts_with("optimized "));
         if !known || (with_feedback && options.feedback.is_none()) {
             let mut forms = vec![
                 "s-curve".to_string(),
+                candidates::MATCHED_NAME.into(),
                 "SHAPER".into(),
                 "SHAPER scheduled".into(),
             ];
@@ -159,10 +163,14 @@ impl MovePlan {
                 ),
             ));
         }
-        if emit_c && base == "s-curve" {
+        if emit_c && unshaped {
             return Err(Error::option(
                 OptionName::EmitC,
-                format!("the candidate {name:?} has no shaper to emit as a setpoint filter"),
+                format!(
+                    "the candidate {name:?} has no shaper to emit as a setpoint filter: it is \
+                     the setpoint a drive makes from its limits (the written scene's \
+                     drive.motion)"
+                ),
             ));
         }
         Ok(())

@@ -1,13 +1,15 @@
 //! The planner: the first mode along the move, the candidates on every evaluated plant, the
 //! optimized shaper, the best plan on the plants it did not see, and the plan as a scene.
 
-use super::candidates::{self, Candidate};
+use super::candidates::{self, Candidate, MATCHED_NAME};
 use super::metrics::{CycleMetrics, cycle_metrics};
 use super::moving::moving_scene;
 use super::optimize::nelder_mead;
 use super::options::PlanOptions;
 use super::outcome::{MovePlan, PlanRow};
-use super::price::{OPTIMIZER_BUDGET, PlanPrice, SCHEDULE_PAST_ARRIVAL_S, SCHEDULE_STEP_S};
+use super::price::{
+    MATCHED_BUDGET, OPTIMIZER_BUDGET, PlanPrice, SCHEDULE_PAST_ARRIVAL_S, SCHEDULE_STEP_S,
+};
 use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
 use crate::analysis::modes::{ModesOptions, compute_modes};
@@ -24,6 +26,10 @@ use telescopic_runtime::{PositionSchedule, Profile, SCurve, Scene, ShapedProfile
 /// The range of the stretches of the spacing the optimizer tries (at the start and at the
 /// end of the move).
 const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
+
+/// The range of the stretches of the matched move's acceleration and deceleration boxes
+/// the optimizer tries.
+const MATCHED_STRETCH_RANGE: (f64, f64) = (0.85, 1.15);
 
 /// The first mode's period (s) along the move, with the vehicle held, scheduled on the
 /// moving telescopic position (a monotone cubic through its values at the positions reached
@@ -199,6 +205,36 @@ impl Setting<'_> {
         objective(&metrics, self.penalty())
     }
 
+    /// The worst penalized cycle (s) of `candidate` on the evaluated plants; infinite when
+    /// it cannot be run.
+    fn cost(&self, candidate: Option<&Candidate>) -> f64 {
+        let Some(c) = candidate else {
+            return f64::INFINITY;
+        };
+        evaluate(
+            self.scene,
+            (c, None),
+            &self.plants,
+            self.options,
+            self.end,
+            self.reporter,
+        )
+        .map(|m| objective(&m, self.penalty()))
+        .unwrap_or(f64::INFINITY)
+    }
+
+    /// Nelder-Mead over `dims` parameters in `range` from 1 each, of the candidates `build`
+    /// makes, within `budget` evaluations; the parameters found.
+    fn search(
+        &self,
+        (dims, range): (usize, (f64, f64)),
+        build: &dyn Fn(&[f64]) -> Option<Candidate>,
+        budget: usize,
+    ) -> Vec<f64> {
+        let mut objective = |x: &[f64]| self.cost(build(x).as_ref());
+        nelder_mead(&mut objective, &vec![1.0; dims], &vec![range; dims], budget).x
+    }
+
     /// Nelder-Mead over the two stretches of `shaper`'s scheduled period (at the start and
     /// at the end of the move).
     fn optimized(&self, shaper: Shaper) -> Candidate {
@@ -206,38 +242,44 @@ impl Setting<'_> {
         let scheduled = self.is_scheduled();
         let dims = if scheduled { 2 } else { 1 };
         let stretches = |x: &[f64]| (x[0], x[dims - 1]);
-        let mut objective = |x: &[f64]| {
+        let build = |x: &[f64]| {
             let (early, late) = stretches(x);
-            let c = candidates::shaped(
+            let period = (&self.schedule, early, late);
+            Some(candidates::shaped(
                 String::new(),
                 &self.curve,
                 shaper,
-                (&self.schedule, early, late),
-            );
-            evaluate(
-                self.scene,
-                (&c, None),
-                &self.plants,
-                self.options,
-                self.end,
-                self.reporter,
-            )
-            .map(|m| objective(&m, self.penalty()))
-            .unwrap_or(f64::INFINITY)
+                period,
+            ))
         };
-        let found = nelder_mead(
-            &mut objective,
-            &vec![1.0; dims],
-            &vec![STRETCH_RANGE; dims],
-            OPTIMIZER_BUDGET,
-        );
-        let (early, late) = stretches(&found.x);
+        let found = self.search((dims, STRETCH_RANGE), &build, OPTIMIZER_BUDGET);
+        let (early, late) = stretches(&found);
         let name = if scheduled {
             format!("optimized {shaper} scheduled x {early:.3}/{late:.3}")
         } else {
             format!("optimized {shaper} x {early:.3}")
         };
         candidates::shaped(name, &self.curve, shaper, (&self.schedule, early, late))
+    }
+
+    /// Nelder-Mead over the stretches of the matched move's acceleration and deceleration;
+    /// `None` when the limits leave no matched move.
+    fn optimized_matched(&self) -> Option<Candidate> {
+        let period = &self.schedule;
+        let build = |x: &[f64]| candidates::matched("", &self.curve, period, (x[0], x[1]));
+        build(&[1.0, 1.0])?;
+        let x = self.search(
+            (2, MATCHED_STRETCH_RANGE),
+            &|x| build(x).map(|m| m.0),
+            MATCHED_BUDGET,
+        );
+        let (mut found, _) = candidates::matched("", &self.curve, period, (x[0], x[1]))?;
+        // named by what a drive is set to: its acceleration and braking limits (m/s^2)
+        if let Profile::Shaped(ShapedProfile::JerkSegments(m)) = &found.profile {
+            let peak = |i: usize| m.segments[i][0] * m.segments[i][1].abs();
+            found.name = format!("optimized {MATCHED_NAME} a {:.3}/{:.3}", peak(0), peak(4));
+        }
+        Some(found)
     }
 
     /// Whether the period follows a moving position (else it is fixed).
@@ -286,6 +328,16 @@ fn setting<'a>(
 /// start from (the scheduled one, else the fixed one).
 fn candidate_list(s: &Setting, period: f64) -> (Vec<Candidate>, Vec<(Shaper, usize)>) {
     let mut list = vec![candidates::unshaped(&s.curve)];
+    if let Some((matched, periods)) =
+        candidates::matched(MATCHED_NAME, &s.curve, &s.schedule, (1.0, 1.0))
+    {
+        s.reporter.note(&format!(
+            "the {MATCHED_NAME} accelerates over {:.0} and brakes over {:.0} periods of the \
+             first mode",
+            periods.0, periods.1
+        ));
+        list.push(matched);
+    }
     let mut starts = Vec::with_capacity(Shaper::ALL.len());
     for shaper in Shaper::ALL {
         let fixed = (&Profile::Constant(period), 1.0, 1.0);
@@ -354,10 +406,16 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
             .copied()
             .min_by(|a, b| s.worst(&rows, a.1).total_cmp(&s.worst(&rows, b.1)))
             .expect("there are shapers");
-        reporter.note("optimizing the shaper's spacing");
-        let c = s.optimized(shaper);
-        rows.extend(s.rows(list.len(), &c)?);
-        list.push(c);
+        reporter.note(&format!(
+            "optimizing the shaper's spacing and the {MATCHED_NAME}'s acceleration and \
+             braking, side by side"
+        ));
+        // two sequential searches: side by side they keep both cores busy on one plant
+        let (shaped, matched) = rayon::join(|| s.optimized(shaper), || s.optimized_matched());
+        for c in std::iter::once(shaped).chain(matched) {
+            rows.extend(s.rows(list.len(), &c)?);
+            list.push(c);
+        }
     }
     if s.feedback.is_some() {
         // on top of the S-curve and of the best open-loop move

@@ -17,6 +17,10 @@ pub const SCHEDULE_PAST_ARRIVAL_S: f64 = 8.0;
 /// Evaluations the optimizer may make (each runs every evaluated plant).
 pub const OPTIMIZER_BUDGET: usize = 24;
 
+/// Evaluations the matched move's optimizer may make: its residual is sharply tuned in its
+/// two stretches, so it gets more than the shaper's.
+pub const MATCHED_BUDGET: usize = 48;
+
 /// Most eigen analyses of a first-mode schedule: a move of about 490 s.
 pub const MAX_SCHEDULE_POINTS: usize = 2000;
 
@@ -46,10 +50,11 @@ impl PlanPrice {
         let move_s = options.limits.curve(scene.time.start).phases().duration();
         let schedule_s = move_s + SCHEDULE_PAST_ARRIVAL_S;
         let schedule_points = (schedule_s / SCHEDULE_STEP_S).ceil().min(1e12) as usize + 1;
-        let candidates = 1 + 2 * Shaper::ALL.len();
+        // the S-curve, the matched move, each shaper fixed and scheduled
+        let candidates = 2 + 2 * Shaper::ALL.len();
         let evaluations = candidates
             + if options.optimize {
-                OPTIMIZER_BUDGET
+                OPTIMIZER_BUDGET + MATCHED_BUDGET
             } else {
                 0
             }

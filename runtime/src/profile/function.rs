@@ -3,7 +3,7 @@
 //! (one family: a schedule holds the position profile it follows).
 
 use super::curves::{monotone_cubic, smoothstep, stretch_factor};
-use super::setpoint::SCurve;
+use super::setpoint::{JerkSegments, SCurve};
 use serde::{Deserialize, Serialize};
 
 /// A scalar function of time.
@@ -63,6 +63,8 @@ pub enum ShapedProfile {
     },
     /// The time-optimal jerk-limited move.
     SCurve(SCurve),
+    /// A rest-to-rest move of constant-jerk segments.
+    JerkSegments(JerkSegments),
     /// A setpoint filtered by an input shaper.
     Shaped(ShapedSetpoint),
     /// A value scheduled on a telescopic position (a shaper's period).
@@ -150,6 +152,9 @@ impl Profile {
             }
             Profile::Shaped(ShapedProfile::Smoothstep { from, to, .. }) => from == to,
             Profile::Shaped(ShapedProfile::SCurve(c)) => c.distance == 0.0,
+            Profile::Shaped(ShapedProfile::JerkSegments(m)) => {
+                m.segments.iter().all(|s| s[0] == 0.0 || s[1] == 0.0)
+            }
             Profile::Shaped(ShapedProfile::Shaped(s)) => s.base.is_constant(),
             Profile::Shaped(ShapedProfile::PositionSchedule(s)) => {
                 s.values.windows(2).all(|w| w[0] == w[1]) && s.stretch[0] == s.stretch[1]
@@ -166,7 +171,8 @@ impl Profile {
                 ShapedProfile::Constant { .. }
                 | ShapedProfile::Smoothstep { .. }
                 | ShapedProfile::PiecewiseCubic { .. }
-                | ShapedProfile::SCurve(_),
+                | ShapedProfile::SCurve(_)
+                | ShapedProfile::JerkSegments(_),
             ) => true,
             Profile::Shaped(ShapedProfile::PositionSchedule(s)) => s.position.has_continuous_rate(),
             Profile::Shaped(ShapedProfile::Shaped(s)) => {
@@ -187,6 +193,7 @@ impl Profile {
             | Profile::Shaped(ShapedProfile::PiecewiseCubic { times, .. }) => times.clone(),
             Profile::Shaped(ShapedProfile::Smoothstep { start, end, .. }) => vec![*start, *end],
             Profile::Shaped(ShapedProfile::SCurve(c)) => c.switches(),
+            Profile::Shaped(ShapedProfile::JerkSegments(m)) => m.switches(),
             Profile::Shaped(ShapedProfile::Shaped(s)) => s.breakpoints(),
             Profile::Shaped(ShapedProfile::PositionSchedule(s)) => s.breakpoints(),
         }
@@ -252,6 +259,12 @@ impl Profile {
                 ("a_max", c.a_max),
                 ("j_max", c.j_max),
             ],
+            Profile::Shaped(ShapedProfile::JerkSegments(m)) => {
+                [("start", m.start), ("from", m.from)]
+                    .into_iter()
+                    .chain(m.segments.iter().flatten().map(|&v| ("segments", v)))
+                    .collect()
+            }
             Profile::Shaped(ShapedProfile::Shaped(s)) => s
                 .base
                 .numbers()
@@ -268,6 +281,7 @@ impl Profile {
     fn eval(&self, t: f64) -> (f64, f64, f64) {
         match self {
             Profile::Shaped(ShapedProfile::SCurve(c)) => c.state(t),
+            Profile::Shaped(ShapedProfile::JerkSegments(m)) => m.state(t),
             Profile::Shaped(ShapedProfile::Shaped(s)) => s.state(t),
             Profile::Shaped(ShapedProfile::PositionSchedule(s)) => s.state(t),
             Profile::Shaped(ShapedProfile::PiecewiseCubic { times, values }) => {

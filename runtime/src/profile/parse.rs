@@ -13,8 +13,8 @@ impl<'de> Deserialize<'de> for Profile {
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
                 f.write_str(
                     "a number, or a table with kind = \"constant\", \"piecewise-constant\", \
-                     \"piecewise-linear\", \"piecewise-cubic\", \"smoothstep\", \"s-curve\", \"shaped\" \
-                     or \"position-schedule\"",
+                     \"piecewise-linear\", \"piecewise-cubic\", \"smoothstep\", \"s-curve\", \
+                     \"jerk-segments\", \"shaped\" or \"position-schedule\"",
                 )
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<Profile, E> {

@@ -128,24 +128,11 @@ impl SCurve {
     /// `(position, velocity, acceleration)` at `t` (s).
     pub fn state(&self, t: f64) -> (f64, f64, f64) {
         let sign = self.distance.signum();
-        let phases = self.jerk_phases();
-        let (mut x, mut v, mut a) = (0.0, 0.0, 0.0);
-        let mut left = t - self.start;
-        if left <= 0.0 {
-            return (self.from, 0.0, 0.0);
+        match segments_state(self.jerk_phases(), t - self.start) {
+            Some((x, v, a)) => (self.from + sign * x, sign * v, sign * a),
+            // at rest after the move: exactly the target
+            None => (self.from + self.distance, 0.0, 0.0),
         }
-        for (duration, jerk) in phases {
-            let tau = left.min(duration);
-            x += v * tau + a * tau * tau / 2.0 + jerk * tau * tau * tau / 6.0;
-            v += a * tau + jerk * tau * tau / 2.0;
-            a += jerk * tau;
-            left -= tau;
-            if left <= 0.0 {
-                return (self.from + sign * x, sign * v, sign * a);
-            }
-        }
-        // at rest after the move: exactly the target
-        (self.from + self.distance, 0.0, 0.0)
     }
 
     /// The jerk (m/s^3) on `[t, t + dt)` for small `dt`: the phase `t` starts or lies in
@@ -171,6 +158,127 @@ impl SCurve {
         for (d, _) in self.jerk_phases() {
             if d > 0.0 {
                 t += d;
+                out.push(t);
+            }
+        }
+        out
+    }
+}
+
+/// `(position, velocity, acceleration)` from rest at the origin after `elapsed` (s) of
+/// `segments` of `(duration, jerk)` (s, m/s^3); `None` once they are all over.
+fn segments_state(
+    segments: impl IntoIterator<Item = (f64, f64)>,
+    elapsed: f64,
+) -> Option<(f64, f64, f64)> {
+    let (mut x, mut v, mut a) = (0.0, 0.0, 0.0);
+    let mut left = elapsed;
+    if left <= 0.0 {
+        return Some((0.0, 0.0, 0.0));
+    }
+    for (duration, jerk) in segments {
+        let tau = left.min(duration);
+        x += v * tau + a * tau * tau / 2.0 + jerk * tau * tau * tau / 6.0;
+        v += a * tau + jerk * tau * tau / 2.0;
+        a += jerk * tau;
+        left -= tau;
+        if left <= 0.0 {
+            return Some((x, v, a));
+        }
+    }
+    None
+}
+
+/// A rest-to-rest move of segments of constant jerk, as a drive's setpoint generator runs
+/// them: `{ kind = "jerk-segments", start = 0, from = 0, segments = [[duration, jerk], ..] }`
+/// (s, m/s^3). The S-curve is the time-optimal seven of them; a planned move may have
+/// others (an acceleration and a deceleration of their own lengths). It must end at rest.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JerkSegments {
+    /// Start time (s).
+    pub start: f64,
+    /// Position before the move (m).
+    #[serde(default)]
+    pub from: f64,
+    /// `[duration (s), jerk (m/s^3)]` per segment, in order.
+    pub segments: Vec<[f64; 2]>,
+}
+
+impl JerkSegments {
+    /// The seven segments `+j, 0, -j, cruise, -j, 0, +j` of a move at the cruise velocity
+    /// `v` (m/s) over `distance` (m, either sign) from `from` at `start`, that accelerates
+    /// and then brakes each with its own `(acceleration (m/s^2), jerk (m/s^3))`. `None` when
+    /// they leave no cruise (the ramps alone overshoot `distance`) or a jerk ramp is longer
+    /// than its acceleration phase (`a^2 > v j`).
+    pub fn trapezoidal(
+        (start, from, distance): (f64, f64, f64),
+        v: f64,
+        halves: [(f64, f64); 2],
+    ) -> Option<JerkSegments> {
+        if halves
+            .iter()
+            .any(|&(a, j)| !(a > 0.0 && j > 0.0 && a * a <= v * j))
+        {
+            return None;
+        }
+        // each ramp from 0 to v lasts v/a + a/j; at mean velocity v/2 it covers v/2 of that
+        let covered: f64 = halves.iter().map(|&(a, j)| 0.5 * v * (v / a + a / j)).sum();
+        let cruise = (distance.abs() - covered) / v;
+        // a NaN cruise (a limit of NaN) is no cruise either
+        if cruise.is_nan() || cruise < 0.0 {
+            return None;
+        }
+        let sign = distance.signum();
+        let ramp = |(a, j): (f64, f64), first: f64| {
+            [
+                [a / j, first * sign * j],
+                [v / a - a / j, 0.0],
+                [a / j, -first * sign * j],
+            ]
+        };
+        let mut segments = ramp(halves[0], 1.0).to_vec();
+        segments.push([cruise, 0.0]);
+        segments.extend(ramp(halves[1], -1.0));
+        Some(JerkSegments {
+            start,
+            from,
+            segments,
+        })
+    }
+
+    /// The move's duration (s).
+    pub fn duration(&self) -> f64 {
+        self.segments.iter().map(|s| s[0]).sum()
+    }
+
+    /// `(position, velocity, acceleration)` at `t` (s); after the last segment, where it
+    /// ended.
+    pub fn state(&self, t: f64) -> (f64, f64, f64) {
+        let segments = self.segments.iter().map(|s| (s[0], s[1]));
+        let (x, v, a) = segments_state(segments, t - self.start).unwrap_or_else(|| {
+            let (x, _, _) = self.end();
+            (x, 0.0, 0.0)
+        });
+        (self.from + x, v, a)
+    }
+
+    /// Travel, velocity and acceleration at the end of the last segment (m, m/s, m/s^2).
+    pub fn end(&self) -> (f64, f64, f64) {
+        // a last segment without end, so that rounding in the sum of durations never leaves
+        // the end past every segment
+        let segments = self.segments.iter().map(|s| (s[0], s[1]));
+        segments_state(segments.chain([(f64::INFINITY, 0.0)]), self.duration())
+            .unwrap_or((0.0, 0.0, 0.0))
+    }
+
+    /// Times (s) where the jerk switches.
+    pub fn switches(&self) -> Vec<f64> {
+        let mut t = self.start;
+        let mut out = vec![t];
+        for s in &self.segments {
+            if s[0] > 0.0 {
+                t += s[0];
                 out.push(t);
             }
         }
@@ -269,5 +377,60 @@ mod tests {
         assert_eq!(c.phases().reached, ReachedLimits::Neither);
         assert!((c.phases().duration() - 4.0 * (0.1_f64 / 4.0).cbrt()).abs() < 1e-12);
         check_derivatives_and_limits(&c);
+    }
+
+    #[test]
+    fn jerk_segments_of_equal_ramps_are_the_s_curve_and_unequal_ones_end_at_rest_on_target() {
+        let c = curve(23.0, 2.5, 0.7, 2.0);
+        let same = JerkSegments::trapezoidal((1.0, 2.0, 23.0), 2.5, [(0.7, 2.0); 2]).unwrap();
+        assert!((same.duration() - c.phases().duration()).abs() < 1e-12);
+        for k in 0..=1500 {
+            let t = 0.5 + 15.0 * f64::from(k) / 1500.0;
+            let ((x, v, a), (y, w, b)) = (c.state(t), same.state(t));
+            assert!(
+                (x - y).abs() < 1e-9 && (v - w).abs() < 1e-12 && (a - b).abs() < 1e-12,
+                "t {t}: ({x}, {v}, {a}) against ({y}, {w}, {b})"
+            );
+        }
+        // backwards, accelerating at 0.6 m/s^2 with jerk 1 and braking at 0.4 with jerk 0.5
+        let halves = [(0.6, 1.0), (0.4, 0.5)];
+        let m = JerkSegments::trapezoidal((0.0, 5.0, -20.0), 2.0, halves).unwrap();
+        // each ramp covers v/2 (v/a + a/j); the cruise the rest at v
+        let ramps = 0.5 * 2.0 * (2.0 / 0.6 + 0.6) + 0.5 * 2.0 * (2.0 / 0.4 + 0.8);
+        let expected = (2.0 / 0.6 + 0.6) + (2.0 / 0.4 + 0.8) + (20.0 - ramps) / 2.0;
+        assert!((m.duration() - expected).abs() < 1e-12, "{}", m.duration());
+        let (x, v, a) = m.state(m.duration());
+        assert!((x + 15.0).abs() < 1e-9 && v.abs() < 1e-12 && a.abs() < 1e-12);
+        assert_eq!(m.state(m.duration() + 3.0), (x, 0.0, 0.0));
+        let h = 1e-5;
+        let mut peak = (0.0f64, 0.0f64, 0.0f64);
+        for k in 1..4000 {
+            let t = m.duration() * f64::from(k) / 4000.0;
+            let ((x0, v0, _), (x1, v1, _), (_, v, a)) =
+                (m.state(t - h), m.state(t + h), m.state(t));
+            assert!((v - (x1 - x0) / (2.0 * h)).abs() < 1e-8, "t {t}: v");
+            assert!((a - (v1 - v0) / (2.0 * h)).abs() < 1e-6, "t {t}: a");
+            let half = if t < 0.5 * m.duration() { 1 } else { 2 };
+            peak.0 = peak.0.max(v.abs());
+            if half == 1 {
+                peak.1 = peak.1.max(a.abs());
+            } else {
+                peak.2 = peak.2.max(a.abs());
+            }
+        }
+        assert!((peak.0 - 2.0).abs() < 1e-12, "{peak:?}");
+        assert!(
+            (peak.1 - 0.6).abs() < 1e-12 && (peak.2 - 0.4).abs() < 1e-12,
+            "{peak:?}"
+        );
+        // no cruise left, or a ramp longer than its acceleration phase
+        assert_eq!(
+            JerkSegments::trapezoidal((0.0, 0.0, 3.0), 2.5, [(0.7, 2.0); 2]),
+            None
+        );
+        assert_eq!(
+            JerkSegments::trapezoidal((0.0, 0.0, 30.0), 1.0, [(2.0, 2.0), (0.7, 2.0)]),
+            None
+        );
     }
 }

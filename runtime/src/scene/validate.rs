@@ -132,11 +132,39 @@ impl Rules {
                 self.positive(&format!("{field}.a_max"), c.a_max);
                 self.positive(&format!("{field}.j_max"), c.j_max);
             }
+            Profile::Shaped(ShapedProfile::JerkSegments(m)) => self.jerk_segments(field, m),
             Profile::Shaped(ShapedProfile::Shaped(s)) => self.shaped(field, s),
             Profile::Shaped(ShapedProfile::PositionSchedule(s)) => {
                 self.position_schedule(field, s);
             }
             _ => {}
+        }
+    }
+
+    /// Jerk segments: at least one, none of negative duration, ending at rest (velocity and
+    /// acceleration zero to rounding, else the motion would jump at the end).
+    fn jerk_segments(&mut self, field: &str, m: &crate::JerkSegments) {
+        let segments = format!("{field}.segments");
+        if m.segments.is_empty() {
+            self.fail(segments.clone(), "must have at least one [duration, jerk]");
+        }
+        if let Some(i) = m.segments.iter().position(|s| s[0] < 0.0) {
+            self.fail(
+                segments.clone(),
+                format!("durations must be >= 0 (segment {i}: {})", m.segments[i][0]),
+            );
+            return;
+        }
+        let (travel, v, a) = m.end();
+        let scale = m.segments.iter().map(|s| s[1].abs()).fold(0.0, f64::max) * m.duration();
+        if v.abs() > 1e-9 * scale * m.duration() || a.abs() > 1e-9 * scale {
+            self.fail(
+                segments,
+                format!(
+                    "must end at rest: they end at {v:.3e} m/s and {a:.3e} m/s^2 after \
+                     {travel:.6} m"
+                ),
+            );
         }
     }
 
@@ -629,7 +657,7 @@ fn drive_rules(r: &mut Rules, d: &DriveSpec) -> Option<Drive> {
             if !m.has_continuous_rate() {
                 r.fail(
                     "drive.motion",
-                    "a prescribed motion needs a continuous velocity: use a number or kind = \"smoothstep\", \"s-curve\" or \"shaped\"",
+                    "a prescribed motion needs a continuous velocity: use a number or kind = \"smoothstep\", \"s-curve\", \"jerk-segments\" or \"shaped\"",
                 );
             }
             Some(Drive::Motion(m.clone()))
