@@ -117,10 +117,14 @@ fn the_matched_move_leaves_an_undamped_mode_at_rest_and_a_detuned_one_does_not()
     let end = plain.arrival_s + 3.0;
     let reference = residual(&scene, &plain.profile, plain.arrival_s, end);
     let design = Profile::Constant(period);
-    let (tuned, periods) = matched("m", &curve, &design, (1.0, 1.0)).unwrap();
+    let found = matched("m", &curve, &design, (1.0, 1.0)).unwrap();
     // each box v/a spans the fewest whole periods the acceleration limit allows
-    assert_eq!(periods.0, (curve.v_max / (period * curve.a_max)).ceil());
-    assert_eq!(periods.0, periods.1);
+    let k = (curve.v_max / (period * curve.a_max)).ceil();
+    assert_eq!(found.periods, [k, k]);
+    for a in found.accelerations {
+        assert!((curve.v_max / a - k * period).abs() < 1e-12 * period, "{a}");
+    }
+    let tuned = found.candidate;
     let at_rest = residual(&scene, &tuned.profile, tuned.arrival_s, end) / reference;
     // each pulse is a jerk ramp convolved with a box of whole periods, whose spectrum is
     // zero at the mode: the linear mode ends at rest (to the integration's error)
@@ -129,7 +133,7 @@ fn the_matched_move_leaves_an_undamped_mode_at_rest_and_a_detuned_one_does_not()
         "the matched move leaves {at_rest} of the S-curve's"
     );
     for (stretch, what) in [((1.15, 1.15), "both"), ((1.0, 0.85), "the braking")] {
-        let (detuned, _) = matched("m", &curve, &design, stretch).unwrap();
+        let detuned = matched("m", &curve, &design, stretch).unwrap().candidate;
         let left = residual(&scene, &detuned.profile, detuned.arrival_s, end) / reference;
         assert!(
             left > 10.0 * at_rest.max(1e-3),

@@ -131,7 +131,7 @@ fn the_matched_move_is_written_as_jerk_segments_that_simulate_reproduces() {
     let out = succeeds(&[&SHORT_MOVE[..], &flags].concat());
     let said = String::from_utf8_lossy(&out.stderr);
     assert!(
-        said.contains("the matched s-curve accelerates over"),
+        said.contains("the matched s-curve accelerates at"),
         "{said}"
     );
     let table = String::from_utf8_lossy(&out.stdout);

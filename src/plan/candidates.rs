@@ -79,6 +79,17 @@ pub fn shaped(
     }
 }
 
+/// A matched move ([`matched`]) and how it was matched.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Matched {
+    /// The move.
+    pub candidate: Candidate,
+    /// The periods of the first mode the boxes of the acceleration and of the braking span.
+    pub periods: [f64; 2],
+    /// The acceleration and the braking (m/s^2): what a drive is set to.
+    pub accelerations: [f64; 2],
+}
+
 /// The matched move: the S-curve's cruise velocity and jerk, with an acceleration of its own
 /// for each half. A half's pulse of acceleration is the convolution of a box `a/j` long
 /// with a box `v/a` long; a box of whole periods of the first mode has a zero of its
@@ -87,14 +98,13 @@ pub fn shaped(
 /// limit allows. Where the period (`period`, s, a number or a schedule) changes along a
 /// pulse, the box spans whole periods of the pulse's mean frequency. `stretch` scales the
 /// boxes of the two halves for the optimizer; the acceleration never exceeds the limit.
-/// Returns the move named `name` and the periods the two boxes span; `None` where the limits
-/// leave the move no cruise.
+/// Returns the move named `name`; `None` where the limits leave the move no cruise.
 pub fn matched(
     name: &str,
     curve: &SCurve,
     period: &Profile,
     stretch: (f64, f64),
-) -> Option<(Candidate, (f64, f64))> {
+) -> Option<Matched> {
     let v = curve.v_max;
     let limits = (curve.a_max.min((v * curve.j_max).sqrt()), curve.j_max);
     let place = (curve.start, curve.from, curve.distance);
@@ -118,14 +128,17 @@ pub fn matched(
         }
         segments = JerkSegments::trapezoidal(place, v, halves)?;
     }
-    let counts = periods?;
     let candidate = Candidate {
         name: name.to_string(),
         arrival_s: curve.start + segments.duration(),
         profile: Profile::Shaped(ShapedProfile::JerkSegments(segments)),
         feedback: false,
     };
-    Some((candidate, (counts[0], counts[1])))
+    Some(Matched {
+        candidate,
+        periods: periods?,
+        accelerations: halves.map(|h| h.0),
+    })
 }
 
 /// The mean frequency (Hz) of `period` (s) over `(from, to)` (s).

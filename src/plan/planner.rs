@@ -270,16 +270,16 @@ impl Setting<'_> {
         build(&[1.0, 1.0])?;
         let x = self.search(
             (2, MATCHED_STRETCH_RANGE),
-            &|x| build(x).map(|m| m.0),
+            &|x| build(x).map(|m| m.candidate),
             MATCHED_BUDGET,
         );
-        let (mut found, _) = candidates::matched("", &self.curve, period, (x[0], x[1]))?;
+        let found = build(&x)?;
         // named by what a drive is set to: its acceleration and braking limits (m/s^2)
-        if let Profile::Shaped(ShapedProfile::JerkSegments(m)) = &found.profile {
-            let peak = |i: usize| m.segments[i][0] * m.segments[i][1].abs();
-            found.name = format!("optimized {MATCHED_NAME} a {:.3}/{:.3}", peak(0), peak(4));
-        }
-        Some(found)
+        let [accelerate, brake] = found.accelerations;
+        Some(Candidate {
+            name: format!("optimized {MATCHED_NAME} a {accelerate:.3}/{brake:.3}"),
+            ..found.candidate
+        })
     }
 
     /// Whether the period follows a moving position (else it is fixed).
@@ -328,15 +328,14 @@ fn setting<'a>(
 /// start from (the scheduled one, else the fixed one).
 fn candidate_list(s: &Setting, period: f64) -> (Vec<Candidate>, Vec<(Shaper, usize)>) {
     let mut list = vec![candidates::unshaped(&s.curve)];
-    if let Some((matched, periods)) =
-        candidates::matched(MATCHED_NAME, &s.curve, &s.schedule, (1.0, 1.0))
-    {
+    if let Some(matched) = candidates::matched(MATCHED_NAME, &s.curve, &s.schedule, (1.0, 1.0)) {
+        let ([k_accelerate, k_brake], [accelerate, brake]) =
+            (matched.periods, matched.accelerations);
         s.reporter.note(&format!(
-            "the {MATCHED_NAME} accelerates over {:.0} and brakes over {:.0} periods of the \
-             first mode",
-            periods.0, periods.1
+            "the {MATCHED_NAME} accelerates at {accelerate:.3} m/s^2 over {k_accelerate:.0} \
+             periods of the first mode and brakes at {brake:.3} m/s^2 over {k_brake:.0}"
         ));
-        list.push(matched);
+        list.push(matched.candidate);
     }
     let mut starts = Vec::with_capacity(Shaper::ALL.len());
     for shaper in Shaper::ALL {
