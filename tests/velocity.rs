@@ -276,3 +276,99 @@ fn the_quasi_static_curvature_of_a_slow_move_is_the_designed_one() {
         "designed {c:e}, fitted {fitted:e} 1/m per m/s^2"
     );
 }
+
+/// The emitted C law, built with AddressSanitizer and UBSan, fed case-study's designed
+/// feedback tick by tick (the scheduled position swept below, across and above its table,
+/// NaN and infinite inputs among them), gives the library's corrections bit for bit and
+/// rejects exactly the non-finite ticks.
+#[test]
+#[ignore = "needs a C compiler (cc) with sanitizers; the test command installs gcc"]
+fn the_emitted_feedback_law_is_the_library_law_tick_by_tick_under_sanitizers() {
+    use telescopic::control::emit::velocity::{FEEDBACK_FILES, write_velocity_c};
+    use telescopic_runtime::Profile;
+    let scene = common::scene("case-study", &[]);
+    let curve = SCurve {
+        start: 0.0,
+        from: 0.0,
+        distance: 23.0,
+        v_max: 2.5,
+        a_max: 0.7,
+        j_max: 2.0,
+    };
+    let setpoint: Profile = unshaped(&curve).profile;
+    let moving = moving_scene(&scene, &setpoint, 20.0).unwrap();
+    let file = design_velocity_feedback(&moving, &VelocityDesign::default()).unwrap();
+    assert!(file.points.len() > 2, "a scheduled law");
+    let dir = std::env::temp_dir().join(format!("telescopic-feedback-c-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    write_velocity_c(&file, &dir).unwrap();
+    let program = dir.join("velocity_ticks");
+    let driver = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/c/velocity_ticks.c");
+    common::compile_c(
+        &[
+            "-O1",
+            "-g",
+            "-fsanitize=address,undefined",
+            "-fno-sanitize-recover=all",
+        ],
+        &[&driver, &dir.join(FEEDBACK_FILES[1])],
+        &dir,
+        &program,
+    );
+    // 16 s of ticks: the move and its end, a curvature and a vehicle off their setpoint
+    let ticks = (16.0 * file.rate_hz) as usize;
+    let mut lines = String::new();
+    let mut library = VelocityController::new(&file, setpoint.clone());
+    let mut expected = Vec::with_capacity(ticks);
+    let mut hostile = 0;
+    use std::fmt::Write as _;
+    for k in 0..ticks {
+        let t = k as f64 / file.rate_hz;
+        let (s, _, s_acc) = setpoint.state(t);
+        let mut u = s + 0.01 * (1.3 * t).sin();
+        let mut kappa = 2e-3 * s_acc + 5e-4 * (6.0 * t).sin();
+        let mut a = 0.2 + 1.2 * k as f64 / ticks as f64;
+        match k % 211 {
+            17 => kappa = f64::NAN,
+            101 => u = f64::INFINITY,
+            160 => a = f64::NAN,
+            _ => {}
+        }
+        hostile += usize::from(matches!(k % 211, 17 | 101 | 160));
+        expected.push(library.step(t, &[u, kappa], a));
+        let _ = writeln!(lines, "{u:e} {kappa:e} {a:e} {s:e} {s_acc:e}");
+    }
+    // the ticks from a file: a pipe both ways would fill while the other end still writes
+    let input = dir.join("ticks.txt");
+    std::fs::write(&input, &lines).unwrap();
+    let out = std::process::Command::new(&program)
+        .stdin(std::fs::File::open(&input).unwrap())
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut printed = text.lines();
+    for (k, want) in expected.iter().enumerate() {
+        let got: f64 = printed
+            .next()
+            .expect("a correction per tick")
+            .parse()
+            .unwrap();
+        assert_eq!(
+            got.to_bits(),
+            want.to_bits(),
+            "tick {k}: C {got:e}, library {want:e}"
+        );
+    }
+    assert_eq!(printed.next(), Some(format!("rejected {hostile}").as_str()));
+    let largest = expected.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(
+        largest > 0.0 && largest <= file.velocity_limit_m_per_s,
+        "{largest}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -181,8 +181,15 @@ fn a_plan_with_feedback_writes_its_file_and_simulate_reproduces_its_row() {
     let feedback = dir.join("plan.json");
     let csv = dir.join("plan.csv");
     let name = "s-curve + feedback";
-    let flags = ["6", "--feedback", "0.2", "--pick", name, "--out"];
-    let out = succeeds(&[&SHORT_MOVE[..], &flags, &[plan.to_str().unwrap()]].concat());
+    let flags = ["6", "--feedback", "0.2", "--pick", name, "--emit-c"];
+    let emitted = [dir.to_str().unwrap(), "--out", plan.to_str().unwrap()];
+    let out = succeeds(&[&SHORT_MOVE[..], &flags, &emitted].concat());
+    // the S-curve has no shaper: the C is its feedback law alone
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(said.contains("its velocity feedback law at"), "{said}");
+    let law = std::fs::read_to_string(dir.join("telescopic_feedback.c")).unwrap();
+    assert!(law.contains("double tvf_step("), "{law}");
+    assert!(!dir.join("telescopic_setpoint.c").exists(), "{said}");
     let table = String::from_utf8_lossy(&out.stdout);
     let cells = nominal_row(&table, name);
     let move_time: f64 = cells[1].parse().expect("the move time");

@@ -12,6 +12,7 @@
 //! than a tick: the filter then gives the library's profile to rounding.
 
 use super::candidates::Candidate;
+use super::outcome::MovePlan;
 use crate::control::emit::common::{list, lit};
 use crate::io::comment::comment_text;
 use crate::{Error, OptionName, Result};
@@ -280,4 +281,37 @@ pub fn write_filter_c(
         crate::io::output::write_atomically(&dir.join(name), |w| w.write_all(text.as_bytes()))?;
     }
     Ok(())
+}
+
+/// Writes what a machine runs of candidate `i` of `plan` into `dir`: its shaper as the
+/// setpoint filter at `rate_hz` ([`write_filter_c`]) and, when it uses the plan's velocity
+/// feedback, the feedback law
+/// ([`crate::control::emit::velocity::write_velocity_c`]). Returns a line per pair of files
+/// written.
+///
+/// # Errors
+/// [`Error::Option`] for a candidate with neither (the S-curve, the matched S-curve: a
+/// drive makes those from its limits), or as [`write_filter_c`].
+pub fn write_plan_c(plan: &MovePlan, i: usize, rate_hz: f64, dir: &Path) -> Result<Vec<String>> {
+    let candidate = &plan.candidates[i];
+    let shaped = matches!(candidate.profile, Profile::Shaped(ShapedProfile::Shaped(_)));
+    let feedback = plan.feedback.as_ref().filter(|_| candidate.feedback);
+    let mut written = Vec::new();
+    if shaped || feedback.is_none() {
+        write_filter_c(&plan.scene, candidate, rate_hz, dir)?;
+        written.push(format!(
+            "{}: {}'s setpoint filter at {rate_hz} Hz",
+            FILTER_FILES.join(", "),
+            candidate.name
+        ));
+    }
+    if let Some(law) = feedback {
+        crate::control::emit::velocity::write_velocity_c(law, dir)?;
+        written.push(format!(
+            "{}: its velocity feedback law at {} Hz",
+            crate::control::emit::velocity::FEEDBACK_FILES.join(", "),
+            law.rate_hz
+        ));
+    }
+    Ok(written)
 }

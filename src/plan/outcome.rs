@@ -123,7 +123,7 @@ impl MovePlan {
     /// Checks, before planning, that `name` can name a candidate of a plan with `options`
     /// (the S-curve, a shaper, a scheduled shaper, an optimized one when the optimizer
     /// runs, each `+ feedback` when the feedback is evaluated), and, when `emit_c`, that it
-    /// has a shaper to emit.
+    /// has a shaper or a feedback law to emit.
     ///
     /// # Errors
     /// [`Error::Option`] naming the pick (or `--emit-c`) and the names it may take.
@@ -163,7 +163,7 @@ impl MovePlan {
                 ),
             ));
         }
-        if emit_c && unshaped {
+        if emit_c && unshaped && !with_feedback {
             return Err(Error::option(
                 OptionName::EmitC,
                 format!(

@@ -7,9 +7,10 @@ use super::{SceneArgs, check_output};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use telescopic::control::design::velocity::VelocityDesign;
+use telescopic::control::emit::velocity::FEEDBACK_FILES;
 use telescopic::plan;
 use telescopic::plan::emit::{
-    DEFAULT_FILTER_RATE_HZ, FILTER_FILES, check_filter_rate, write_filter_c,
+    DEFAULT_FILTER_RATE_HZ, FILTER_FILES, check_filter_rate, write_plan_c,
 };
 use telescopic::plan::{MoveLimits, MovePlan, PlanOptions, RobustRange, plan_move};
 use telescopic::run::SimulationOptions;
@@ -89,7 +90,8 @@ pub struct PlanArgs {
     #[arg(long, value_name = "CANDIDATE")]
     pick: Option<String>,
     /// Write the written candidate's shaper as a C99 setpoint filter (telescopic_setpoint.h
-    /// and .c) into this existing directory.
+    /// and .c) and, when it uses feedback, its feedback law (telescopic_feedback.h and .c)
+    /// into this existing directory.
     #[arg(long, value_name = "DIR")]
     emit_c: Option<PathBuf>,
     /// The emitted filter's tick rate (Hz).
@@ -118,7 +120,8 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
     }
     let mut inputs: Vec<&Path> = vec![args.scene.scene.as_path()];
     inputs.extend(args.out.as_deref());
-    super::check_emit_dir("--emit-c", args.emit_c.as_deref(), &FILTER_FILES, &inputs)?;
+    let emitted = [FILTER_FILES, FEEDBACK_FILES].concat();
+    super::check_emit_dir("--emit-c", args.emit_c.as_deref(), &emitted, &inputs)?;
     if args.emit_c.is_some() {
         check_filter_rate(args.filter_rate)?;
     }
@@ -173,14 +176,9 @@ fn write_outputs(args: &PlanArgs, plan: &MovePlan) -> anyhow::Result<()> {
         None => plan.best,
     };
     if let Some(dir) = &args.emit_c {
-        let candidate = &plan.candidates[chosen];
-        write_filter_c(&plan.scene, candidate, args.filter_rate, dir)?;
-        eprintln!(
-            "wrote {} ({}'s setpoint filter at {} Hz)",
-            dir.display(),
-            candidate.name,
-            args.filter_rate
-        );
+        for files in write_plan_c(plan, chosen, args.filter_rate, dir)? {
+            eprintln!("wrote {} ({files})", dir.display());
+        }
     }
     if let Some(path) = &args.out {
         let text = plan.scene_toml_of(chosen);

@@ -8,12 +8,14 @@
 //! (`common.rs`: banner, header, tables of the schedule, feedforward and rigid reference)
 //! with one `append_*`-style step per part, then its fixed functions. Those fixed functions
 //! are C source files under `src/control/emit/c/`, included verbatim after the generated
-//! tables they read.
+//! tables they read. The velocity-feedback law a plan designs has its own, smaller emitter
+//! ([`velocity`]).
 
 pub(crate) mod common;
 mod ekf;
 mod lqr;
 mod strain;
+pub mod velocity;
 
 use crate::control::file::schema::{Controller, Estimator};
 use crate::{Error, Result};
