@@ -153,6 +153,22 @@ pub fn check_not_an_input(out: &Path, inputs: &[&Path]) -> Result<()> {
     Ok(())
 }
 
+/// Writes each of `texts` into `dir` under the matching one of `names`, each file whole or
+/// not at all ([`write_atomically`]): an emitted header and source.
+///
+/// # Errors
+/// [`Error::Write`] naming the first file that cannot be written.
+pub fn write_files_atomically<const N: usize>(
+    dir: &Path,
+    names: &[&str; N],
+    texts: [String; N],
+) -> Result<()> {
+    for (name, text) in names.iter().zip(texts) {
+        write_atomically(&dir.join(name), |w| w.write_all(text.as_bytes()))?;
+    }
+    Ok(())
+}
+
 /// Writes `path`: a regular file through a temporary file in the same directory, renamed
 /// when `fill` succeeded (removed otherwise, so no partial file is left at `path`); a
 /// character device or FIFO directly, as a stream.

@@ -277,10 +277,7 @@ pub fn write_filter_c(
     dir: &Path,
 ) -> Result<()> {
     let (header, source) = emit_filter_c(scene, candidate, rate_hz)?;
-    for (name, text) in FILTER_FILES.iter().zip([header, source]) {
-        crate::io::output::write_atomically(&dir.join(name), |w| w.write_all(text.as_bytes()))?;
-    }
-    Ok(())
+    crate::io::output::write_files_atomically(dir, &FILTER_FILES, [header, source])
 }
 
 /// Writes what a machine runs of candidate `i` of `plan` into `dir`: its shaper as the

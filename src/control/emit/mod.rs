@@ -54,8 +54,5 @@ pub fn emit_c(file: &Controller, start: f64, end: f64) -> Result<(String, String
 /// As [`emit_c`]; [`Error::Write`] naming a file that cannot be written.
 pub fn write_c(file: &Controller, start: f64, end: f64, dir: &Path) -> Result<()> {
     let (header, source) = emit_c(file, start, end)?;
-    for (name, text) in C_FILES.iter().zip([header, source]) {
-        crate::io::output::write_atomically(&dir.join(name), |w| w.write_all(text.as_bytes()))?;
-    }
-    Ok(())
+    crate::io::output::write_files_atomically(dir, &C_FILES, [header, source])
 }

@@ -47,10 +47,7 @@ pub fn emit_velocity_c(file: &VelocityFeedback) -> (String, String) {
     let mut s = banner;
     s.push_str("#include \"telescopic_feedback.h\"\n#include <math.h>\n\n");
     let _ = writeln!(s, "#define TVF_POINTS {}\n", file.points.len());
-    let positions: Vec<f64> = match file.scheduled_index() {
-        Some(i) => file.points.iter().map(|p| p.positions[i]).collect(),
-        None => vec![0.0; file.points.len()],
-    };
+    let positions = file.scheduled_positions();
     let tables = [
         (
             "POSITIONS",
@@ -139,8 +136,5 @@ fn header(banner: &str, rate_hz: f64) -> String {
 /// [`crate::Error::Write`] naming a file that cannot be written.
 pub fn write_velocity_c(file: &VelocityFeedback, dir: &Path) -> Result<()> {
     let (header, source) = emit_velocity_c(file);
-    for (name, text) in FEEDBACK_FILES.iter().zip([header, source]) {
-        crate::io::output::write_atomically(&dir.join(name), |w| w.write_all(text.as_bytes()))?;
-    }
-    Ok(())
+    crate::io::output::write_files_atomically(dir, &FEEDBACK_FILES, [header, source])
 }

@@ -249,6 +249,14 @@ impl VelocityFeedback {
     }
 
     /// Index (among `a_2..`) of the scheduled position.
+    /// Each design point's scheduled position (m): zeros when nothing is scheduled.
+    pub(crate) fn scheduled_positions(&self) -> Vec<f64> {
+        match self.scheduled_index() {
+            Some(i) => self.points.iter().map(|p| p.positions[i]).collect(),
+            None => vec![0.0; self.points.len()],
+        }
+    }
+
     pub(crate) fn scheduled_index(&self) -> Option<usize> {
         self.schedule_parameter
             .as_deref()

@@ -54,10 +54,7 @@ pub struct VelocityController {
 impl VelocityController {
     /// The law of `file` around the setpoint `setpoint`.
     pub fn new(file: &VelocityFeedback, setpoint: Profile) -> Self {
-        let positions = match file.scheduled_index() {
-            Some(i) => file.points.iter().map(|p| p.positions[i]).collect(),
-            None => vec![0.0; file.points.len()],
-        };
+        let positions = file.scheduled_positions();
         let period = 1.0 / file.rate_hz;
         VelocityController {
             positions,
