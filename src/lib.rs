@@ -52,6 +52,7 @@ mod cancel;
 pub mod control;
 mod error;
 pub mod fmu;
+pub mod identify;
 pub mod io;
 pub mod linear;
 mod named;

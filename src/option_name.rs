@@ -157,6 +157,10 @@ pub enum OptionName {
     EmitC,
     /// The emitted setpoint filter's rate (Hz).
     FilterRate,
+    /// `IdentifyOptions::free`: the scene values a fit frees.
+    Free,
+    /// `IdentifyOptions::noise`: the sensors' noise given.
+    Noise,
 }
 
 crate::named::named_enum!(OptionName, "an option", {
@@ -235,4 +239,6 @@ crate::named::named_enum!(OptionName, "an option", {
     Pick => "MovePlan::candidate_named",
     EmitC => "plan::emit::emit_filter_c",
     FilterRate => "plan::emit::emit_filter_c rate_hz",
+    Free => "IdentifyOptions::free",
+    Noise => "IdentifyOptions::noise",
 });

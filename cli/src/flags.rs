@@ -80,6 +80,8 @@ pub fn flag(option: OptionName) -> &'static str {
         O::Pick => "--pick",
         O::EmitC => "--emit-c",
         O::FilterRate => "--filter-rate",
+        O::Free => "--free",
+        O::Noise => "--noise",
     }
 }
 

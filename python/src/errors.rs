@@ -178,6 +178,8 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::Pick => "pick",
         O::EmitC => "emit_c",
         O::FilterRate => "filter_rate",
+        O::Free => "free",
+        O::Noise => "noise",
     }
 }
 

@@ -184,7 +184,7 @@ impl Attempt {
 
 /// The sizes a basis's search may try from `start`, in order: `start` refined by
 /// [`refined_modes`] until the rule stops growing (the last has no companion).
-fn ladder(basis: Basis, start: usize) -> Vec<ModelSize> {
+pub(crate) fn ladder(basis: Basis, start: usize) -> Vec<ModelSize> {
     let mut sizes = vec![ModelSize {
         basis,
         modes: start,

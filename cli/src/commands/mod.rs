@@ -6,6 +6,7 @@ mod animate;
 mod bode;
 mod control;
 mod fmu;
+mod identify;
 mod modes;
 mod plan;
 mod progress;
@@ -43,6 +44,10 @@ enum Command {
     /// robust over a set of plants: the time-optimal S-curve, shaped by ZV/ZVD/EI/2EI
     /// (fixed and scheduled on the first mode) and optimized, on the nonlinear model.
     Plan(plan::PlanArgs),
+    /// Fit scene values (stiffness, damping, load, clearance, ...) to a measured record of
+    /// the machine by nonlinear least squares: the values with their standard deviations and
+    /// correlations, the residual per sensor, the fitted scene and a figure.
+    Identify(identify::IdentifyArgs),
     /// The stiffest frequency with closed contacts and the largest stable step of the
     /// fixed-step explicit methods (textbook limits and the model's own).
     Stability(analysis::StabilityArgs),
@@ -179,6 +184,7 @@ impl Cli {
             Command::Simulate(args) => simulate::simulate(&args),
             Command::Animate(args) => animate::animate(&args),
             Command::Plan(args) => plan::plan(&args),
+            Command::Identify(args) => identify::identify_command(&args),
             Command::Stability(args) => analysis::stability(&args),
             Command::WorkPrecision(args) => analysis::work_precision(&args),
             Command::Converge(args) => analysis::converge(&args),

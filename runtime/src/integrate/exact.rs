@@ -655,12 +655,34 @@ impl<'m> ExactRun<'m> {
             self.y1 += &b.gamma;
             self.taylor_len = 0;
         } else {
-            self.expand(current, tau)?;
-            self.sum_taylor(tau);
+            self.taylor_step(current, tau)?;
         }
         self.check_size(t, tau)?;
         self.stats.steps += 1;
         Ok(stop)
+    }
+
+    /// A step of `tau` off the grid from `y` into `y1` by Taylor sums: one, or where `tau`
+    /// is longer than [`STEP_OMEGA`] over the fastest mode (a branch without switch events
+    /// steps the whole sample) as many equal pieces as keep each within it.
+    fn taylor_step(&mut self, current: usize, tau: f64) -> Result<(), SimError> {
+        let omega = self.branches[current].omega;
+        let pieces = ((tau * omega / STEP_OMEGA).ceil() as usize).max(1);
+        let piece = tau / pieces as f64;
+        for i in 0..pieces {
+            self.expand(current, piece)?;
+            self.sum_taylor(piece);
+            if i + 1 < pieces {
+                std::mem::swap(&mut self.y, &mut self.y1);
+            }
+        }
+        if pieces > 1 {
+            // the step's start state was overwritten: nothing of it may be reused
+            self.taylor_len = 0;
+            self.gaps0_current = false;
+            self.modal0_at = None;
+        }
+        Ok(())
     }
 
     /// The branch for the current contact states and drive `segment`, built on first use.

@@ -1,0 +1,332 @@
+//! The least-squares problem of a fit: the model run on the record's time grid with the
+//! free values at the optimizer's coordinates, its residuals against the record (each
+//! sensor weighted by its noise, its offset removed), and their Jacobian by forward
+//! differences, the free values' runs side by side (rayon).
+
+use super::free::Free;
+use super::record::Record;
+use crate::report::Reporter;
+use crate::run::{ModelSize, PreparedRun, SimulationOptions, Trajectory};
+use crate::{Error, Result};
+use levenberg_marquardt::LeastSquaresProblem;
+use nalgebra_lm::storage::Owned;
+use nalgebra_lm::{DMatrix, DVector, Dyn};
+use rayon::prelude::*;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use telescopic_runtime::Scene;
+
+/// What becomes of each sensor's unknown offset (a strain gauge's zero, an encoder's
+/// reference).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Offsets {
+    /// Each sensor's offset is a free constant of the fit, eliminated in closed form (the
+    /// mean of its residual): the record's mean level carries no information.
+    #[default]
+    Fitted,
+    /// The record is zeroed as the model is: the mean level is fitted too.
+    Zero,
+}
+
+/// Step of the central differences in the optimizer's coordinate (the scale coordinate's
+/// step is this at the middle of the bounds). A run's outputs change
+/// with its values at the level of rounding amplified by the stiff contacts (about 1e-7 of
+/// the vehicle's travel on adams-linear), so a step of 1e-6 gives a Jacobian of noise; at
+/// 1e-3 that noise is 1e-4 of it and the differences' own error 1e-6.
+const DIFFERENCE_STEP: f64 = 1e-3;
+
+/// The optimizer's coordinate is `u + SHIFT`: MINPACK sizes its first trust region by the
+/// coordinates' magnitude, and `u` starts at 0 (a start in the middle of its bounds), which
+/// would make the first steps of the order of rounding.
+const SHIFT: f64 = 1.0;
+
+/// The fit's problem: the scene driven as the record was, the free values, the weights.
+pub struct FitProblem<'a> {
+    /// The scene on the record's grid with its input, at the model size of the fit.
+    pub driven: &'a Scene,
+    /// The model size every run of the fit takes.
+    pub size: ModelSize,
+    /// The free values.
+    pub free: &'a [Free],
+    /// The record.
+    pub record: &'a Record,
+    /// Each sensor's noise (its unit), in the record's order.
+    pub noise: Vec<f64>,
+    /// Offsets fitted or zero.
+    pub offsets: Offsets,
+    /// The optimizer's coordinates.
+    pub u: Vec<f64>,
+    /// Runs made.
+    pub runs: AtomicUsize,
+    /// The first error of a run, reported after the optimizer stops.
+    pub failure: Mutex<Option<Error>>,
+    /// The residuals at the last coordinates evaluated.
+    last: Mutex<Option<(Vec<f64>, Vec<f64>)>>,
+    /// Progress and notes.
+    reporter: &'a dyn Reporter,
+    /// Runs the optimizer may make (for progress).
+    budget: usize,
+}
+
+impl<'a> FitProblem<'a> {
+    /// The problem at the free values' starts.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        driven: &'a Scene,
+        size: ModelSize,
+        free: &'a [Free],
+        record: &'a Record,
+        noise: Vec<f64>,
+        offsets: Offsets,
+        reporter: &'a dyn Reporter,
+        budget: usize,
+    ) -> Self {
+        FitProblem {
+            driven,
+            size,
+            free,
+            record,
+            noise,
+            offsets,
+            u: free.iter().map(|f| f.u_of(f.start)).collect(),
+            runs: AtomicUsize::new(0),
+            failure: Mutex::new(None),
+            last: Mutex::new(None),
+            reporter,
+            budget,
+        }
+    }
+
+    /// The free values at coordinates `u`.
+    pub fn values(&self, u: &[f64]) -> Vec<f64> {
+        self.free
+            .iter()
+            .zip(u)
+            .map(|(f, &u)| f.value_of_u(u))
+            .collect()
+    }
+
+    /// The driven scene with `values` at the fit's model size.
+    pub fn scene_with(&self, values: &[f64]) -> Result<Scene> {
+        let pairs: Vec<(&str, f64)> = self
+            .free
+            .iter()
+            .zip(values)
+            .map(|(f, &v)| (f.key.as_str(), v))
+            .collect();
+        Ok(self.size.apply(&self.driven.with_values(&pairs)?))
+    }
+
+    /// The model's run with `values`.
+    pub fn run(&self, values: &[f64]) -> Result<Trajectory> {
+        let scene = self.scene_with(values)?;
+        let run = PreparedRun::new(&scene, &fit_options(), &crate::Silent)?;
+        let trajectory = run.integrate(&crate::Silent)?;
+        let done = self.runs.fetch_add(1, Ordering::Relaxed) + 1;
+        self.reporter
+            .progress((done as f64 / self.budget as f64).min(0.99));
+        Ok(trajectory)
+    }
+
+    /// Each sensor's model samples on the record's grid.
+    pub fn predictions(&self, trajectory: &Trajectory) -> Result<Vec<Vec<f64>>> {
+        predictions(trajectory, self.record)
+    }
+
+    /// The weighted residuals of `predictions`: per sensor `(model - record - offset) /
+    /// noise`, sensors one after the other.
+    pub fn weighted(&self, predictions: &[Vec<f64>]) -> Vec<f64> {
+        let mut out = Vec::with_capacity(predictions.len() * self.record.times.len());
+        for ((p, (_, y)), sigma) in predictions
+            .iter()
+            .zip(&self.record.sensors)
+            .zip(&self.noise)
+        {
+            let offset = offset_of(p, y, self.offsets);
+            out.extend(p.iter().zip(y).map(|(p, y)| (p - y - offset) / sigma));
+        }
+        out
+    }
+
+    /// The weighted residuals at `u`.
+    fn residuals_at(&self, u: &[f64]) -> Result<Vec<f64>> {
+        let trajectory = self.run(&self.values(u))?;
+        Ok(self.weighted(&self.predictions(&trajectory)?))
+    }
+
+    /// Keeps the first failure for after the optimizer stops.
+    fn fail(&self, error: Error) {
+        let mut failure = self.failure.lock().expect("not poisoned");
+        failure.get_or_insert(error);
+    }
+
+    /// The residuals at `u`, from the last evaluation when it was at `u`.
+    fn residuals_cached(&self, u: &[f64]) -> Result<Vec<f64>> {
+        if let Some((at, r)) = &*self.last.lock().expect("not poisoned")
+            && at == u
+        {
+            return Ok(r.clone());
+        }
+        let r = self.residuals_at(u)?;
+        *self.last.lock().expect("not poisoned") = Some((u.to_vec(), r.clone()));
+        Ok(r)
+    }
+
+    /// The Jacobian of the weighted residuals in the optimizer's coordinates `u` at `u`.
+    pub fn jacobian_at(&self, u: &[f64]) -> Result<DMatrix<f64>> {
+        let steps: Vec<f64> = u
+            .iter()
+            .map(|u| DIFFERENCE_STEP * (1.0 + u.abs()))
+            .collect();
+        self.central_differences(u, &steps, &|u| self.residuals_at(u))
+    }
+
+    /// The Jacobian of the weighted residuals in the scale coordinates `theta` (a value's
+    /// logarithm, or the value) at `values`: what the covariance is made from. Unlike the
+    /// optimizer's coordinates it does not flatten at the bounds.
+    pub fn jacobian_in_scale(&self, values: &[f64]) -> Result<DMatrix<f64>> {
+        let theta: Vec<f64> = self
+            .free
+            .iter()
+            .zip(values)
+            .map(|(f, &v)| f.theta(v))
+            .collect();
+        // the optimizer's step at the middle of the bounds
+        let steps: Vec<f64> = self
+            .free
+            .iter()
+            .map(|f| DIFFERENCE_STEP * f.dtheta_du(0.0))
+            .collect();
+        self.central_differences(&theta, &steps, &|theta| {
+            let values: Vec<f64> = self
+                .free
+                .iter()
+                .zip(theta)
+                .map(|(f, &t)| f.value_of_theta(t))
+                .collect();
+            let trajectory = self.run(&values)?;
+            Ok(self.weighted(&self.predictions(&trajectory)?))
+        })
+    }
+
+    /// Central differences of `residuals` at `point` with `steps`, the runs side by side.
+    fn central_differences(
+        &self,
+        point: &[f64],
+        steps: &[f64],
+        residuals: &(dyn Fn(&[f64]) -> Result<Vec<f64>> + Sync),
+    ) -> Result<DMatrix<f64>> {
+        let sides: Vec<Result<Vec<f64>>> = (0..2 * point.len())
+            .into_par_iter()
+            .map(|k| {
+                let mut moved = point.to_vec();
+                moved[k / 2] += if k % 2 == 0 {
+                    steps[k / 2]
+                } else {
+                    -steps[k / 2]
+                };
+                residuals(&moved)
+            })
+            .collect();
+        let mut sides = sides.into_iter();
+        let mut columns = Vec::with_capacity(point.len());
+        for step in steps {
+            let plus = sides.next().expect("two per value")?;
+            let minus = sides.next().expect("two per value")?;
+            let column: Vec<f64> = plus
+                .iter()
+                .zip(&minus)
+                .map(|(p, m)| (p - m) / (2.0 * step))
+                .collect();
+            columns.push(DVector::from_vec(column));
+        }
+        Ok(DMatrix::from_columns(&columns))
+    }
+}
+
+/// The options of every run of a fit: the size as given, no error estimate of its own (the
+/// fit's model size was checked once, before).
+fn fit_options() -> SimulationOptions {
+    SimulationOptions {
+        modes_as_given: true,
+        error_estimate: false,
+        ..SimulationOptions::default()
+    }
+}
+
+/// The offset of a sensor whose model samples are `p` and record `y`.
+pub fn offset_of(p: &[f64], y: &[f64], offsets: Offsets) -> f64 {
+    match offsets {
+        Offsets::Fitted => p.iter().zip(y).map(|(p, y)| p - y).sum::<f64>() / p.len() as f64,
+        Offsets::Zero => 0.0,
+    }
+}
+
+/// Each of `record`'s sensors from `trajectory` (on the record's grid).
+///
+/// # Errors
+/// [`Error::Input`] naming the column when the model has no such output, or when the run's
+/// grid does not match the record's.
+pub fn predictions(trajectory: &Trajectory, record: &Record) -> Result<Vec<Vec<f64>>> {
+    let n = record.times.len();
+    record
+        .sensors
+        .iter()
+        .map(|(output, _)| {
+            let column = trajectory.column_of(*output).ok_or_else(|| Error::Input {
+                subject: format!("{}, column {output}", record.source),
+                rule: format!(
+                    "the scene cannot produce it; its outputs: {}",
+                    trajectory.names()[1..].join(", ")
+                ),
+            })?;
+            if column.len() < n {
+                return Err(Error::Input {
+                    subject: record.source.clone(),
+                    rule: format!("{n} samples, the model's run has {}", column.len()),
+                });
+            }
+            Ok(column[..n].to_vec())
+        })
+        .collect()
+}
+
+impl LeastSquaresProblem<f64, Dyn, Dyn> for FitProblem<'_> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, x: &DVector<f64>) {
+        self.u = x.iter().map(|x| x - SHIFT).collect();
+    }
+
+    fn params(&self) -> DVector<f64> {
+        DVector::from_iterator(self.u.len(), self.u.iter().map(|u| u + SHIFT))
+    }
+
+    fn residuals(&self) -> Option<DVector<f64>> {
+        match self.residuals_cached(&self.u) {
+            Ok(r) => Some(DVector::from_vec(r)),
+            Err(e) => {
+                self.fail(e);
+                None
+            }
+        }
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        if self.reporter.stop_requested() {
+            self.fail(Error::Stopped {
+                what: "the fit".into(),
+            });
+            return None;
+        }
+        match self.jacobian_at(&self.u) {
+            Ok(j) => Some(j),
+            Err(e) => {
+                self.fail(e);
+                None
+            }
+        }
+    }
+}
