@@ -7,6 +7,7 @@ mod background;
 mod calls;
 mod environment;
 mod errors;
+mod identification;
 mod planning;
 mod scene;
 
@@ -21,6 +22,7 @@ fn _telescopic(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(animation::animate, m)?)?;
     m.add_function(wrap_pyfunction!(animation::animate_modes_of, m)?)?;
     m.add_function(wrap_pyfunction!(planning::plan, m)?)?;
+    m.add_function(wrap_pyfunction!(identification::identify, m)?)?;
     m.add_function(wrap_pyfunction!(scene::read_input, m)?)?;
     m.add_function(wrap_pyfunction!(calls::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(calls::modes, m)?)?;

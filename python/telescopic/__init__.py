@@ -42,6 +42,8 @@ __all__ = [
     "modes",
     "plan",
     "Plan",
+    "identify",
+    "Identification",
     "linearize",
     "design",
     "sweep",
@@ -523,3 +525,71 @@ def plan(scene: Scene, distance: float, v_max: float | None = None,
         **{k: v for k, v in defaulted.items() if v is not None})
     return Plan(rows, scene_text, summary)
 
+
+
+def _columns(data: Any, name: str) -> tuple[list[str], list[list[float]]]:
+    """A DataFrame's (or a mapping's) column names and columns as floats."""
+    try:
+        names = [str(c) for c in data.keys()]
+        columns = [np.asarray(data[c], dtype=float).tolist() for c in data.keys()]
+    except (AttributeError, TypeError, ValueError) as e:
+        raise OptionError(
+            f"{name}: a DataFrame of numbers with columns t, F and sensors ({e})") from None
+    return names, columns
+
+
+class Identification:
+    """A fit of scene values to a record (``telescopic identify``): ``scene`` the fitted
+    Scene, ``values`` a DataFrame of the values with their standard deviations (``std``,
+    None on a bound), ``sensors`` each sensor's noise, offset, residual RMS and the model's
+    own error, ``residuals`` a DataFrame of fitted minus measured at each sample, ``validation``
+    each sensor's error on the unseen record (or None), ``correlation`` a DataFrame of the
+    values' correlations; ``str()`` is the CLI's report."""
+
+    def __init__(self, values, sensors, residuals, validation, scene_text, summary):
+        import pandas as pd
+
+        self.values = pd.DataFrame(values)
+        self.sensors = pd.DataFrame(sensors)
+        names, rows = residuals
+        self.residuals = pd.DataFrame(rows, columns=names)
+        self.validation = None if validation is None else pd.DataFrame(validation)
+        keys = summary["correlated"]
+        self.correlation = pd.DataFrame(summary["correlation"], index=keys, columns=keys)
+        self.scene: Scene = Scene.from_toml(scene_text)
+        self.scene_toml: str = scene_text
+        self.size: str = summary["size"]
+        self.runs: int = summary["runs"]
+        self.wall_s: float = summary["wall_s"]
+        self._text: str = summary["text"]
+
+    def __str__(self) -> str:
+        return self._text
+
+    def __repr__(self) -> str:
+        parts = ", ".join(f"{k} {v:.6g}" for k, v in zip(self.values["key"], self.values["value"]))
+        return f"Identification({parts}; model {self.size}, {self.runs} runs)"
+
+
+def identify(scene: Scene, data: Any, free: Sequence[str] | Mapping[str, Any],
+             noise: Mapping[str, float] | None = None, offsets: str = "fitted",
+             size: str | None = None, until: float | None = None, validate: Any = None,
+             progress: Any = None) -> Identification:
+    """Fits the ``free`` scene values (keys, or a mapping of key to ``(low, high)`` or None)
+    of ``scene`` to the record ``data`` (a DataFrame with ``t``, the drive force ``F`` and
+    sensor columns by output name) (``telescopic identify``, docs/identify.md). ``noise``
+    gives sensors' noise instead of the estimate; ``offsets`` is ``"fitted"`` or ``"zero"``;
+    ``size`` the model's (``"static:9"``); ``validate`` a second record the fitted scene
+    predicts. Returns an ``Identification``."""
+    if isinstance(free, Mapping):
+        entries = [(k, None if b is None else (float(b[0]), float(b[1]))) for k, b in free.items()]
+    elif isinstance(free, str):
+        raise OptionError("free: a list of keys, e.g. ['masses.load']")
+    else:
+        entries = [(str(k), None) for k in free]
+    noise_text = None if noise is None else ",".join(f"{k}={v}" for k, v in noise.items())
+    unseen = None if validate is None else _columns(validate, "validate")
+    result = _telescopic.identify(
+        scene, _columns(data, "data"), entries, noise=noise_text, offsets=offsets, size=size,
+        until=until, unseen=unseen, progress=_progress(progress), notes=progress is not False)
+    return Identification(*result)

@@ -153,6 +153,28 @@ def equations(scene: Scene, format: str = "latex") -> str:
 def read_input(path: str) -> str:
     """The text of an input file, at most 16 MiB."""
 
+def identify(
+    scene: Scene,
+    record: tuple[list[str], list[list[float]]],
+    free: list[tuple[str, tuple[float, float] | None]],
+    noise: str | None = None,
+    offsets: str = "fitted",
+    size: str | None = None,
+    until: float | None = None,
+    unseen: tuple[list[str], list[list[float]]] | None = None,
+    progress: Callable[[float], None] | None = None,
+    notes: bool = True,
+) -> tuple[
+    list[dict[str, Any]],
+    list[dict[str, Any]],
+    tuple[list[str], list[list[float]]],
+    list[dict[str, Any]] | None,
+    str,
+    dict[str, Any],
+]:
+    """Scene values fitted to a record: (values, sensors, residuals, validation, fitted
+    scene TOML, summary)."""
+
 def plan(
     scene: Scene,
     distance: float,

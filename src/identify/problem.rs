@@ -277,7 +277,7 @@ pub fn predictions(trajectory: &Trajectory, record: &Record) -> Result<Vec<Vec<f
                 subject: format!("{}, column {output}", record.source),
                 rule: format!(
                     "the scene cannot produce it; its outputs: {}",
-                    trajectory.names()[1..].join(", ")
+                    trajectory.names().join(", ")
                 ),
             })?;
             if column.len() < n {
