@@ -93,24 +93,19 @@ fn options() -> IdentifyOptions {
     }
 }
 
-/// Stiffness, load and contact damping from a 5 s record of encoder, strain gauge and tip:
-/// the stiffness within 2 % and the load within 3 % of the beams', each within three of its
-/// stated standard deviations; the contact damping, which these sensors see only through
-/// the higher modes' decay, is within three stated deviations when the fit states one, or
-/// reported as not determined (on a bound), never as a confident wrong value; and the
-/// fitted scene predicts a record it did not see within 3 % of each sensor's peak.
+/// The done-when of identification: stiffness, load and contact damping from a 5 s record
+/// of encoder, strain gauge and tip within 2 %, 3 % and 25 % of the beams', each within
+/// three of its stated standard deviations; and the fitted scene predicts a record it did
+/// not see within 3 % of each sensor's peak.
 #[test]
-fn the_fit_recovers_the_beams_stiffness_and_load_and_is_honest_about_contact_damping() {
+fn the_fit_recovers_the_beams_stiffness_load_and_contact_damping() {
     let scene = scene(&FIT_SWITCHES);
     let truth = scene.with_values(&TRUE_VALUES).unwrap();
     let record = noisy_record(&beam_run(&truth), &truth, 1);
     let fit = identify(&scene, &record, &options(), &Silent).unwrap();
     println!("{}", fit.to_text());
-    for (v, ((_, want), share)) in fit
-        .values
-        .iter()
-        .zip(TRUE_VALUES.into_iter().zip([0.02, 0.03]))
-    {
+    let shares = [0.02, 0.03, 0.25];
+    for (v, ((_, want), share)) in fit.values.iter().zip(TRUE_VALUES.into_iter().zip(shares)) {
         let off = (v.value - want).abs();
         assert!(off <= share * want, "{}: {} against {want}", v.key, v.value);
         let std = v
@@ -122,15 +117,6 @@ fn the_fit_recovers_the_beams_stiffness_and_load_and_is_honest_about_contact_dam
             v.key,
             v.value
         );
-    }
-    let damping = &fit.values[2];
-    match damping.std {
-        Some(std) => assert!((damping.value - 3000.0).abs() <= 3.0 * std, "{damping:?}"),
-        None => assert!(
-            fit.to_text().contains("not determined"),
-            "{}",
-            fit.to_text()
-        ),
     }
     let check_scene = self::scene(&CHECK_SWITCHES)
         .with_values(&TRUE_VALUES)
@@ -223,4 +209,41 @@ fn a_partial_last_step_of_a_stiff_model_is_taken_exactly() {
         last[tip],
         same[tip]
     );
+}
+
+/// A clearance record of the beams (adams-clearance: a 100 N step, 10 mm of clearance):
+/// the fit keeps to the window up to the first contact switch, grown in three stages, and
+/// its values are within three stated deviations of the beams' or reported as not
+/// determined. The sensors' noise is given (a datasheet's): the beams' strain at the foot
+/// rings at the contacts' frequencies throughout, which the estimate from second
+/// differences takes for noise (1.5e-3 1/m for 1e-4).
+#[test]
+fn a_clearance_record_is_fitted_inside_its_window_and_honestly() {
+    let scene = Scene::load(
+        "scenes/adams-clearance.toml".as_ref(),
+        &["time.end=1".into()],
+    )
+    .unwrap();
+    let truth = scene.with_values(&TRUE_VALUES[..2]).unwrap();
+    let record = noisy_record(&beam_run(&truth), &truth, 3);
+    let options = IdentifyOptions {
+        free: FreeValue::parse_list("sections.youngs_modulus,masses.load").unwrap(),
+        noise: SENSORS
+            .map(|(name, sigma)| (name.parse().unwrap(), sigma))
+            .to_vec(),
+        ..IdentifyOptions::default()
+    };
+    let fit = identify(&scene, &record, &options, &Silent).unwrap();
+    println!("{}", fit.to_text());
+    assert!(
+        fit.window.contains("first contact switch"),
+        "{}",
+        fit.window
+    );
+    for (v, (_, want)) in fit.values.iter().zip(TRUE_VALUES) {
+        match v.std {
+            Some(std) => assert!((v.value - want).abs() <= 3.0 * std, "{v:?} against {want}"),
+            None => assert!(fit.to_text().contains("not determined")),
+        }
+    }
 }

@@ -90,44 +90,122 @@ pub fn identify(
         .iter()
         .map(|(o, y)| noise::noise_of(*o, y, &options.noise))
         .collect();
-    let sigmas: Vec<f64> = noise.iter().map(|n| n.0).collect();
     reporter.start(&format!(
         "identifying {} from {}",
         scene.name, record.source
     ));
-    let (model, start_run) =
-        model_size::fit_model(&driven, record, &sigmas, options.size, reporter)?;
-    problem::predictions(&start_run.trajectory, record)?;
-    let (window, window_reason) = fit_window(&driven, &start_run, record, options.until)?;
-    let fitted_record = record.first(window);
-    let budget = PATIENCE * (free.len() + 1) * (free.len() + 1);
-    let problem = FitProblem::new(
-        &driven,
-        model.size,
-        &free,
-        &fitted_record,
-        sigmas.clone(),
-        options.offsets,
-        reporter,
-        budget,
-    );
-    // every coordinate spans its bounds over a few units: a round trust region in them
-    let (problem, lm) = LevenbergMarquardt::new()
-        .with_scale_diag(false)
-        .with_stepbound(1.0)
-        .with_patience(PATIENCE)
-        .minimize(problem);
-    if let Some(error) = problem.failure.lock().expect("not poisoned").take() {
-        reporter.finish();
-        return Err(error);
-    }
-    let outcome = report::conclude(&problem, scene, &noise, &model, window_reason)?;
+    let outcome = fit_record(scene, &driven, record, options, &free, &noise, reporter);
     reporter.finish();
     Ok(Identification {
-        termination: format!("{:?}", lm.termination),
         wall_s: started.elapsed().as_secs_f64(),
-        ..outcome
+        ..outcome?
     })
+}
+
+/// The fit of [`identify`] once the scene is driven as the record was and the free values
+/// and noise are known: the model size, the window, the growing horizon with clearance,
+/// the last fit and its report.
+fn fit_record(
+    scene: &Scene,
+    driven: &Scene,
+    record: &Record,
+    options: &IdentifyOptions,
+    free: &[Free],
+    noise: &[(f64, noise::NoiseSource)],
+    reporter: &dyn Reporter,
+) -> Result<Identification> {
+    let sigmas: Vec<f64> = noise.iter().map(|n| n.0).collect();
+    let (model, start_run) =
+        model_size::fit_model(driven, record, &sigmas, options.size, reporter)?;
+    problem::predictions(&start_run.trajectory, record)?;
+    let (mut window, mut window_reason) =
+        fit_window(driven, &start_run.trajectory, record, options.until)?;
+    let setup = FitSetup {
+        driven,
+        size: model.size,
+        free,
+        sigmas: &sigmas,
+        offsets: options.offsets,
+        reporter,
+        budget: PATIENCE * (free.len() + 1) * (free.len() + 1),
+    };
+    let mut start: Vec<f64> = free.iter().map(|f| f.start).collect();
+    // with clearance, a growing horizon: fits of the window's first quarter and half
+    // first, each bounding the window by the fitted model's own first switch
+    if options.until.is_none() && !driven.params.contact.is_linear() {
+        for share in [0.25, 0.5] {
+            let samples = ((window as f64 * share) as usize).max(record::MIN_SAMPLES);
+            let part = record.first(samples.min(window));
+            let (problem, _) = setup.fit(&part, &start)?;
+            start = problem.values(&problem.u);
+            // the fitted values run over the whole window: their first switch bounds it
+            let whole = record.first(window);
+            let run = setup.problem(&whole).run(&start)?;
+            let switch = crate::run::error_budget::window(&driven.params, &run);
+            if switch.reason == crate::run::error_budget::WindowEnd::FirstSwitch {
+                let (end, reason) = fit_window(driven, &run, record, None)?;
+                if end < window {
+                    (window, window_reason) = (end, reason);
+                }
+            }
+        }
+    }
+    let fitted_record = record.first(window);
+    let (problem, lm) = setup.fit(&fitted_record, &start)?;
+    Ok(Identification {
+        termination: format!("{:?}", lm.termination),
+        ..report::conclude(&problem, scene, noise, &model, window_reason)?
+    })
+}
+
+/// What every fit of one identification shares.
+struct FitSetup<'a> {
+    driven: &'a Scene,
+    size: crate::run::ModelSize,
+    free: &'a [Free],
+    sigmas: &'a [f64],
+    offsets: Offsets,
+    reporter: &'a dyn Reporter,
+    budget: usize,
+}
+
+impl FitSetup<'_> {
+    /// The problem of fitting `part` of the record, at the scene's values.
+    fn problem<'b>(&'b self, part: &'b Record) -> FitProblem<'b> {
+        FitProblem::new(
+            self.driven,
+            self.size,
+            self.free,
+            part,
+            self.sigmas.to_vec(),
+            self.offsets,
+            self.reporter,
+            self.budget,
+        )
+    }
+
+    /// Levenberg-Marquardt on `part` of the record from the free values `start`: the
+    /// problem at its optimum and the optimizer's report.
+    ///
+    /// # Errors
+    /// The first error of a run the optimizer asked for.
+    fn fit<'b>(
+        &'b self,
+        part: &'b Record,
+        start: &[f64],
+    ) -> Result<(FitProblem<'b>, levenberg_marquardt::MinimizationReport<f64>)> {
+        let problem = self.problem(part).starting_at(start);
+        // every coordinate spans its bounds over a few units: a round trust region in them
+        let (problem, lm) = LevenbergMarquardt::new()
+            .with_scale_diag(false)
+            .with_stepbound(1.0)
+            .with_patience(PATIENCE)
+            .minimize(problem);
+        if let Some(error) = problem.failure.lock().expect("not poisoned").take() {
+            return Err(error);
+        }
+        Ok((problem, lm))
+    }
 }
 
 /// `scene` run as `record` was: on its time grid, driven by its force held between samples
@@ -178,10 +256,11 @@ fn held(times: &[f64], values: &[f64]) -> Profile {
     })
 }
 
-/// How many of the record's samples the fit uses, and why it stops there.
+/// How many of the record's samples the fit uses, and why it stops there: `until`, or the
+/// whole record without clearance, or with it up to the first contact switch of `run`.
 fn fit_window(
     driven: &Scene,
-    start: &crate::run::Simulation,
+    run: &crate::run::Trajectory,
     record: &Record,
     until: Option<f64>,
 ) -> Result<(usize, String)> {
@@ -197,7 +276,7 @@ fn fit_window(
         Some(end) => (count(end), format!("up to t = {end} s, as asked")),
         None if driven.params.contact.is_linear() => (n, "the whole record".to_string()),
         None => {
-            let window = crate::run::error_budget::window(&driven.params, &start.trajectory);
+            let window = crate::run::error_budget::window(&driven.params, run);
             (
                 count(window.end),
                 format!(

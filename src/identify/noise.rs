@@ -1,7 +1,8 @@
 //! Each sensor's noise, estimated from the record where it is not given: from the second
 //! differences of its samples, which cancel a smooth signal and keep white noise
 //! (`var(y[i-1] - 2 y[i] + y[i+1]) = 6 sigma^2`), by their median absolute value so that the
-//! record's few sharp features (a step of the drive) do not count.
+//! record's few sharp features (a step of the drive) do not count, and per block so that the
+//! impacts of a clearance record do not either.
 
 use telescopic_runtime::Output;
 
@@ -83,8 +84,28 @@ pub fn parse_noise(text: &str) -> crate::Result<Vec<(Output, f64)>> {
     Ok(out)
 }
 
-/// The white-noise standard deviation of `samples` from their second differences.
+/// Samples per block of [`estimate`].
+const BLOCK: usize = 500;
+
+/// Which of the blocks' estimates is taken, from the lowest (a quantile).
+const BLOCK_QUANTILE: f64 = 0.25;
+
+/// The white-noise standard deviation of `samples` from their second differences: per block
+/// of [`BLOCK`] samples, and of those the lower quartile, so that stretches of impacts
+/// (whose sharp motion survives the differences) do not count; a record shorter than two
+/// blocks is one block. The quartile of blocks reads about 4 % low on white noise alone.
 pub fn estimate(samples: &[f64]) -> f64 {
+    if samples.len() < 2 * BLOCK {
+        return block_estimate(samples);
+    }
+    let mut blocks: Vec<f64> = samples.chunks(BLOCK).map(block_estimate).collect();
+    let k = ((blocks.len() - 1) as f64 * BLOCK_QUANTILE).round() as usize;
+    let (_, quantile, _) = blocks.select_nth_unstable_by(k, f64::total_cmp);
+    *quantile
+}
+
+/// The estimate of one block: the median absolute second difference, scaled.
+fn block_estimate(samples: &[f64]) -> f64 {
     let mut second: Vec<f64> = samples
         .windows(3)
         .map(|w| (w[0] - 2.0 * w[1] + w[2]).abs())
@@ -104,7 +125,7 @@ mod tests {
     use rand_distr::{Distribution, Normal};
 
     /// White noise on a smooth signal (a 2 Hz sine at 1 kHz with a step) is found within
-    /// 5 % over 5000 samples.
+    /// 8 % over 5000 samples, also when a tenth of the record rattles.
     #[test]
     fn the_noise_of_a_smooth_signal_is_found() {
         let normal = Normal::new(0.0, 1e-4).unwrap();
@@ -120,7 +141,17 @@ mod tests {
                 })
                 .collect();
             let sigma = estimate(&samples);
-            assert!((sigma / 1e-4 - 1.0).abs() < 0.05, "seed {seed}: {sigma}");
+            assert!((sigma / 1e-4 - 1.0).abs() < 0.08, "seed {seed}: {sigma}");
+            // impacts: a 200 Hz ring of 1 mm over the record's last 500 samples
+            let mut rattling = samples.clone();
+            for (i, v) in rattling.iter_mut().enumerate().skip(4500) {
+                *v += 1e-3 * (i as f64 * 1e-3 * 2.0 * std::f64::consts::PI * 200.0).sin();
+            }
+            let sigma = estimate(&rattling);
+            assert!(
+                (sigma / 1e-4 - 1.0).abs() < 0.08,
+                "seed {seed}, rattling: {sigma}"
+            );
         }
         let (sigma, source) = noise_of(Output::TipRel, &[0.0; 30], &[]);
         assert_eq!(source, NoiseSource::Floor);

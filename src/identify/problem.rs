@@ -97,6 +97,17 @@ impl<'a> FitProblem<'a> {
         }
     }
 
+    /// The problem starting at the free values `values` instead of the scene's.
+    pub fn starting_at(mut self, values: &[f64]) -> Self {
+        self.u = self
+            .free
+            .iter()
+            .zip(values)
+            .map(|(f, &v)| f.u_of(v))
+            .collect();
+        self
+    }
+
     /// The free values at coordinates `u`.
     pub fn values(&self, u: &[f64]) -> Vec<f64> {
         self.free
@@ -106,13 +117,17 @@ impl<'a> FitProblem<'a> {
             .collect()
     }
 
-    /// The driven scene with `values` at the fit's model size.
+    /// The driven scene with `values` at the fit's model size, ending at the fitted
+    /// record's last sample.
     pub fn scene_with(&self, values: &[f64]) -> Result<Scene> {
+        let end =
+            self.record.times[0] + self.driven.time.sample * (self.record.times.len() - 1) as f64;
         let pairs: Vec<(&str, f64)> = self
             .free
             .iter()
             .zip(values)
             .map(|(f, &v)| (f.key.as_str(), v))
+            .chain(std::iter::once(("time.end", end)))
             .collect();
         Ok(self.size.apply(&self.driven.with_values(&pairs)?))
     }

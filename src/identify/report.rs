@@ -85,8 +85,11 @@ pub struct Identification {
     pub values: Vec<FittedValue>,
     /// The correlation matrix of the values inside their bounds ([`Self::correlated`]).
     pub correlation: Vec<Vec<f64>>,
-    /// The keys of the correlation's rows: the values not on a bound.
+    /// The keys of the correlation's rows.
     pub correlated: Vec<String>,
+    /// Values on a bound the record does not see at all, held there for the others'
+    /// deviations (which then do not include their uncertainty).
+    pub held: Vec<String>,
     /// The weighted residual's variance per degree of freedom (1: noise and model right).
     pub variance_factor: f64,
     /// The widening of the standard deviations' variance for correlated residuals.
@@ -143,17 +146,32 @@ pub fn conclude(
     let trajectory = problem.run(&values)?;
     let predictions = problem.predictions(&trajectory)?;
     let residuals = problem.weighted(&predictions);
-    let inside: Vec<usize> = (0..problem.free.len())
+    // a value on a bound stays in the covariance where it can (the others' deviations then
+    // include its uncertainty); only where the record does not see it at all is it held
+    let all: Vec<usize> = (0..values.len()).collect();
+    let inside: Vec<usize> = all
+        .iter()
+        .copied()
         .filter(|&j| !problem.free[j].at_bound(values[j]))
         .collect();
-    let spread = if inside.is_empty() {
-        None
-    } else {
-        Some(spread_inside(problem, &values, &residuals, &inside)?)
+    let (used, spread) = match spread_of(problem, &values, &residuals, &all) {
+        Ok(spread) => (all, Some(spread)),
+        Err(_) if inside.len() < values.len() && !inside.is_empty() => {
+            let spread = spread_of(problem, &values, &residuals, &inside)?;
+            (inside.clone(), Some(spread))
+        }
+        Err(_) if inside.is_empty() => (Vec::new(), None),
+        Err(e) => return Err(e),
     };
+    let held: Vec<String> = (0..values.len())
+        .filter(|j| !used.contains(j))
+        .map(|j| problem.free[j].key.clone())
+        .collect();
     let std_theta: Vec<Option<f64>> = (0..values.len())
         .map(|j| {
-            let k = inside.iter().position(|&i| i == j)?;
+            let k = inside
+                .contains(&j)
+                .then(|| used.iter().position(|&i| i == j))??;
             Some(spread.as_ref()?.std_theta[k])
         })
         .collect();
@@ -168,7 +186,8 @@ pub fn conclude(
         correlation: spread
             .as_ref()
             .map_or(Vec::new(), |s| s.correlation.clone()),
-        correlated: inside.iter().map(|&j| keys[j].clone()).collect(),
+        correlated: used.iter().map(|&j| keys[j].clone()).collect(),
+        held,
         variance_factor: spread.as_ref().map_or(f64::NAN, |s| s.variance_factor),
         correlation_factor: spread.as_ref().map_or(f64::NAN, |s| s.correlation_factor),
         sensors,
@@ -182,8 +201,9 @@ pub fn conclude(
     })
 }
 
-/// The uncertainty of the values `inside` their bounds (the others held).
-fn spread_inside(
+/// The uncertainty of the values `inside` (the others held); a value on a bound is not
+/// refused for a deviation wider than its bounds.
+fn spread_of(
     problem: &FitProblem,
     values: &[f64],
     residuals: &[f64],
@@ -205,7 +225,11 @@ fn spread_inside(
         .iter()
         .map(|&j| {
             let f = &problem.free[j];
-            f.theta(f.high) - f.theta(f.low)
+            if f.at_bound(values[j]) {
+                f64::INFINITY
+            } else {
+                f.theta(f.high) - f.theta(f.low)
+            }
         })
         .collect();
     uncertainty(
@@ -343,6 +367,14 @@ impl Identification {
                 s.noise.0,
                 s.noise.1.word(),
                 s.offset
+            );
+        }
+        if !self.held.is_empty() {
+            let _ = writeln!(
+                out,
+                "WARNING: the deviations hold {} at its bound: the record does not see it, \
+                 and the deviations do not include its uncertainty",
+                self.held.join(", ")
             );
         }
         for s in self.misfits() {
