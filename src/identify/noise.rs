@@ -91,7 +91,7 @@ const BLOCK: usize = 500;
 const BLOCK_QUANTILE: f64 = 0.25;
 
 /// The white-noise standard deviation of `samples` from their second differences: per block
-/// of [`BLOCK`] samples, and of those the lower quartile, so that stretches of impacts
+/// of 500 samples, and of those the lower quartile, so that stretches of impacts
 /// (whose sharp motion survives the differences) do not count; a record shorter than two
 /// blocks is one block. The quartile of blocks reads about 4 % low on white noise alone.
 pub fn estimate(samples: &[f64]) -> f64 {
