@@ -8,7 +8,9 @@
 //! the beams is below the noise ([`model_size`]). The values' standard deviations and
 //! correlations come from the Jacobian at the optimum ([`uncertainty`]). With clearance the
 //! fit keeps to the pointwise window, up to the first contact switch, unless asked to go
-//! further: beyond it the motion is chaotic and a pointwise fit means nothing.
+//! further: beyond it the motion is chaotic and a pointwise fit means nothing. It grows
+//! that window in stages (a quarter, a half, the whole), each bounding it by the fitted
+//! values' own first switch.
 //!
 //! ```
 //! use telescopic::identify::{IdentifyOptions, FreeValue, Record, identify};
@@ -313,7 +315,7 @@ pub fn validate(
         .model
         .size
         .apply(&driven_scene(&fitted.scene, record)?);
-    let run = crate::run::PreparedRun::new(&driven, &report::run_options(), &crate::Silent)?;
+    let run = crate::run::PreparedRun::new(&driven, &problem::run_options(), &crate::Silent)?;
     let trajectory = run.integrate(&crate::Silent)?;
     let predictions = problem::predictions(&trajectory, record)?;
     Ok(record

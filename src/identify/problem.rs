@@ -1,6 +1,6 @@
 //! The least-squares problem of a fit: the model run on the record's time grid with the
 //! free values at the optimizer's coordinates, its residuals against the record (each
-//! sensor weighted by its noise, its offset removed), and their Jacobian by forward
+//! sensor weighted by its noise, its offset removed), and their Jacobian by central
 //! differences, the free values' runs side by side (rayon).
 
 use super::free::Free;
@@ -135,7 +135,7 @@ impl<'a> FitProblem<'a> {
     /// The model's run with `values`.
     pub fn run(&self, values: &[f64]) -> Result<Trajectory> {
         let scene = self.scene_with(values)?;
-        let run = PreparedRun::new(&scene, &fit_options(), &crate::Silent)?;
+        let run = PreparedRun::new(&scene, &run_options(), &crate::Silent)?;
         let trajectory = run.integrate(&crate::Silent)?;
         let done = self.runs.fetch_add(1, Ordering::Relaxed) + 1;
         self.reporter
@@ -259,9 +259,9 @@ impl<'a> FitProblem<'a> {
     }
 }
 
-/// The options of every run of a fit: the size as given, no error estimate of its own (the
-/// fit's model size was checked once, before).
-fn fit_options() -> SimulationOptions {
+/// The options of every run of a fit, and of a fitted scene's run: the size as given, no
+/// error estimate of its own (the fit's model size was checked once, before).
+pub fn run_options() -> SimulationOptions {
     SimulationOptions {
         modes_as_given: true,
         error_estimate: false,

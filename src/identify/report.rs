@@ -7,7 +7,7 @@ use super::noise::NoiseSource;
 use super::problem::{FitProblem, Offsets, offset_of};
 use super::uncertainty::uncertainty;
 use crate::Result;
-use crate::run::{Column, SimulationOptions, Trajectory};
+use crate::run::{Column, Trajectory};
 use std::fmt::Write as _;
 use telescopic_runtime::{Output, RunStats, Scene};
 
@@ -115,15 +115,6 @@ pub struct Identification {
 /// A residual RMS above this many noise deviations is a misfit the report warns of: white
 /// noise alone keeps it within a few per cent of 1 over thousands of samples.
 pub const MISFIT: f64 = 1.5;
-
-/// The options of a run of a fitted scene at its model size.
-pub fn run_options() -> SimulationOptions {
-    SimulationOptions {
-        modes_as_given: true,
-        error_estimate: false,
-        ..SimulationOptions::default()
-    }
-}
 
 fn rms(v: &[f64]) -> f64 {
     (v.iter().map(|e| e * e).sum::<f64>() / v.len() as f64).sqrt()
