@@ -54,6 +54,7 @@ mod error;
 pub mod fmu;
 pub mod identify;
 pub mod io;
+mod key_range;
 pub mod linear;
 mod named;
 mod option_name;

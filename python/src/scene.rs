@@ -199,9 +199,8 @@ impl PyScene {
     }
 
     /// The scene as TOML, overrides applied.
-    fn to_toml(&self) -> PyResult<String> {
-        toml::to_string(&self.scene.file)
-            .map_err(|e| crate::errors::TelescopicError::new_err(e.to_string()))
+    fn to_toml(&self) -> String {
+        self.scene.file.to_toml()
     }
 
     /// Short name.

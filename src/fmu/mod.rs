@@ -98,10 +98,9 @@ pub const SCENE_RESOURCE: &str = "scene.toml";
 /// text: what the FMU's library will see, so the description is built from the same.
 ///
 /// # Errors
-/// [`Error::Model`] when the scene does not serialize, or does not read back.
+/// [`Error::Scene`] when the scene does not read back.
 pub fn scene_text(scene: &Scene) -> Result<(String, Scene)> {
-    let text = toml::to_string(&scene.file)
-        .map_err(|e| Error::Model(format!("the scene does not serialize as TOML: {e}")))?;
+    let text = scene.file.to_toml();
     let back = Scene::from_toml_str(&text, Path::new(SCENE_RESOURCE), &[])?;
     Ok((text, back))
 }

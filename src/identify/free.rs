@@ -3,6 +3,7 @@
 //! load differ by nine decades), mapped through a logistic function into the bounds, so
 //! that every step stays inside them.
 
+use crate::key_range::{RangeRule, parse_key_ranges};
 use crate::{Error, OptionName, Result};
 use telescopic_runtime::Scene;
 use telescopic_runtime::scene::SceneKey;
@@ -34,30 +35,14 @@ impl FreeValue {
     /// # Errors
     /// [`Error::Option`] naming the entry and the rule.
     pub fn parse_list(text: &str) -> Result<Vec<FreeValue>> {
-        let mut out: Vec<FreeValue> = Vec::new();
-        for entry in text.split(',').map(str::trim).filter(|e| !e.is_empty()) {
-            let (key, bounds) = match entry.split_once('=') {
-                None => (entry, None),
-                Some((key, range)) => {
-                    let (low, high) = range
-                        .split_once(':')
-                        .ok_or_else(|| bad(entry, "give the bounds as KEY=LOW:HIGH"))?;
-                    let number = |s: &str| {
-                        s.trim()
-                            .parse::<f64>()
-                            .ok()
-                            .filter(|v| v.is_finite())
-                            .ok_or_else(|| bad(entry, "LOW and HIGH must be finite numbers"))
-                    };
-                    (key.trim(), Some((number(low)?, number(high)?)))
-                }
-            };
-            out.push(FreeValue {
-                key: key.to_string(),
-                bounds,
-            });
-        }
-        Ok(out)
+        let entries = parse_key_ranges(text, OptionName::Free, RangeRule::Optional)?;
+        Ok(entries
+            .into_iter()
+            .map(|e| FreeValue {
+                key: e.key,
+                bounds: e.range,
+            })
+            .collect())
     }
 
     /// Checks `values` against `scene` and gives each its start, bounds and scale.

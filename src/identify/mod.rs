@@ -49,7 +49,7 @@ pub use report::{FittedValue, Identification, SensorFit, SensorPrediction};
 use crate::report::Reporter;
 use crate::{Error, Result};
 use levenberg_marquardt::LevenbergMarquardt;
-use problem::FitProblem;
+use problem::{FitProblem, FitSetup};
 use std::time::Instant;
 use telescopic_runtime::{Output, Profile, Scene, ShapedProfile};
 
@@ -126,7 +126,7 @@ fn fit_record(
         driven,
         size: model.size,
         free,
-        sigmas: &sigmas,
+        noise: &sigmas,
         offsets: options.offsets,
         reporter,
         budget: PATIENCE * (free.len() + 1) * (free.len() + 1),
@@ -160,42 +160,17 @@ fn fit_record(
     })
 }
 
-/// What every fit of one identification shares.
-struct FitSetup<'a> {
-    driven: &'a Scene,
-    size: crate::run::ModelSize,
-    free: &'a [Free],
-    sigmas: &'a [f64],
-    offsets: Offsets,
-    reporter: &'a dyn Reporter,
-    budget: usize,
-}
-
-impl FitSetup<'_> {
-    /// The problem of fitting `part` of the record, at the scene's values.
-    fn problem<'b>(&'b self, part: &'b Record) -> FitProblem<'b> {
-        FitProblem::new(
-            self.driven,
-            self.size,
-            self.free,
-            part,
-            self.sigmas.to_vec(),
-            self.offsets,
-            self.reporter,
-            self.budget,
-        )
-    }
-
+impl<'a> FitSetup<'a> {
     /// Levenberg-Marquardt on `part` of the record from the free values `start`: the
     /// problem at its optimum and the optimizer's report.
     ///
     /// # Errors
     /// The first error of a run the optimizer asked for.
-    fn fit<'b>(
-        &'b self,
-        part: &'b Record,
+    fn fit(
+        &self,
+        part: &'a Record,
         start: &[f64],
-    ) -> Result<(FitProblem<'b>, levenberg_marquardt::MinimizationReport<f64>)> {
+    ) -> Result<(FitProblem<'a>, levenberg_marquardt::MinimizationReport<f64>)> {
         let problem = self.problem(part).starting_at(start);
         // every coordinate spans its bounds over a few units: a round trust region in them
         let (problem, lm) = LevenbergMarquardt::new()

@@ -28,6 +28,16 @@ pub enum Offsets {
     Zero,
 }
 
+impl Offsets {
+    /// The constants fitted beside the free values for `sensors` sensors.
+    pub fn count(self, sensors: usize) -> usize {
+        match self {
+            Offsets::Fitted => sensors,
+            Offsets::Zero => 0,
+        }
+    }
+}
+
 /// Step of the central differences in the optimizer's coordinate (the scale coordinate's
 /// step is this at the middle of the bounds). A run's outputs change
 /// with its values at the level of rounding amplified by the stiff contacts (about 1e-7 of
@@ -40,7 +50,34 @@ const DIFFERENCE_STEP: f64 = 1e-3;
 /// would make the first steps of the order of rounding.
 const SHIFT: f64 = 1.0;
 
-/// The fit's problem: the scene driven as the record was, the free values, the weights.
+/// What every fit of one identification shares: the driven scene, the model size, the free
+/// values, the weights, and the progress.
+pub struct FitSetup<'a> {
+    /// The scene on the record's grid with its input.
+    pub driven: &'a Scene,
+    /// The model size every run of the fit takes.
+    pub size: ModelSize,
+    /// The free values.
+    pub free: &'a [Free],
+    /// Each sensor's noise (its unit), in the record's order.
+    pub noise: &'a [f64],
+    /// Offsets fitted or zero.
+    pub offsets: Offsets,
+    /// Progress and notes.
+    pub reporter: &'a dyn Reporter,
+    /// Runs the optimizer may make (for progress).
+    pub budget: usize,
+}
+
+/// A run's sensors on the record's grid and their weighted residuals, at coordinates `u`.
+struct Evaluation {
+    u: Vec<f64>,
+    predictions: Vec<Vec<f64>>,
+    residuals: Vec<f64>,
+}
+
+/// The fit's problem: the setup's model against one part of the record, at the optimizer's
+/// coordinates.
 pub struct FitProblem<'a> {
     /// The scene on the record's grid with its input, at the model size of the fit.
     pub driven: &'a Scene,
@@ -48,10 +85,10 @@ pub struct FitProblem<'a> {
     pub size: ModelSize,
     /// The free values.
     pub free: &'a [Free],
-    /// The record.
+    /// The record (the part fitted).
     pub record: &'a Record,
     /// Each sensor's noise (its unit), in the record's order.
-    pub noise: Vec<f64>,
+    pub noise: &'a [f64],
     /// Offsets fitted or zero.
     pub offsets: Offsets,
     /// The optimizer's coordinates.
@@ -60,61 +97,44 @@ pub struct FitProblem<'a> {
     pub runs: AtomicUsize,
     /// The first error of a run, reported after the optimizer stops.
     pub failure: Mutex<Option<Error>>,
-    /// The residuals at the last coordinates evaluated.
-    last: Mutex<Option<(Vec<f64>, Vec<f64>)>>,
+    /// The last evaluation the optimizer asked for.
+    last: Mutex<Option<Evaluation>>,
     /// Progress and notes.
     reporter: &'a dyn Reporter,
     /// Runs the optimizer may make (for progress).
     budget: usize,
 }
 
-impl<'a> FitProblem<'a> {
-    /// The problem at the free values' starts.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        driven: &'a Scene,
-        size: ModelSize,
-        free: &'a [Free],
-        record: &'a Record,
-        noise: Vec<f64>,
-        offsets: Offsets,
-        reporter: &'a dyn Reporter,
-        budget: usize,
-    ) -> Self {
+impl<'a> FitSetup<'a> {
+    /// The problem of fitting `record` (or a part of it) at the free values' starts.
+    pub fn problem(&self, record: &'a Record) -> FitProblem<'a> {
         FitProblem {
-            driven,
-            size,
-            free,
+            driven: self.driven,
+            size: self.size,
+            free: self.free,
             record,
-            noise,
-            offsets,
-            u: free.iter().map(|f| f.u_of(f.start)).collect(),
+            noise: self.noise,
+            offsets: self.offsets,
+            u: each(self.free, &starts(self.free), Free::u_of),
             runs: AtomicUsize::new(0),
             failure: Mutex::new(None),
             last: Mutex::new(None),
-            reporter,
-            budget,
+            reporter: self.reporter,
+            budget: self.budget,
         }
     }
+}
 
+impl FitProblem<'_> {
     /// The problem starting at the free values `values` instead of the scene's.
     pub fn starting_at(mut self, values: &[f64]) -> Self {
-        self.u = self
-            .free
-            .iter()
-            .zip(values)
-            .map(|(f, &v)| f.u_of(v))
-            .collect();
+        self.u = each(self.free, values, Free::u_of);
         self
     }
 
     /// The free values at coordinates `u`.
     pub fn values(&self, u: &[f64]) -> Vec<f64> {
-        self.free
-            .iter()
-            .zip(u)
-            .map(|(f, &u)| f.value_of_u(u))
-            .collect()
+        each(self.free, u, Free::value_of_u)
     }
 
     /// The driven scene with `values` at the fit's model size, ending at the fitted
@@ -152,21 +172,18 @@ impl<'a> FitProblem<'a> {
     /// noise`, sensors one after the other.
     pub fn weighted(&self, predictions: &[Vec<f64>]) -> Vec<f64> {
         let mut out = Vec::with_capacity(predictions.len() * self.record.times.len());
-        for ((p, (_, y)), sigma) in predictions
-            .iter()
-            .zip(&self.record.sensors)
-            .zip(&self.noise)
-        {
+        for ((p, (_, y)), sigma) in predictions.iter().zip(&self.record.sensors).zip(self.noise) {
             let offset = offset_of(p, y, self.offsets);
             out.extend(p.iter().zip(y).map(|(p, y)| (p - y - offset) / sigma));
         }
         out
     }
 
-    /// The weighted residuals at `u`.
-    fn residuals_at(&self, u: &[f64]) -> Result<Vec<f64>> {
-        let trajectory = self.run(&self.values(u))?;
-        Ok(self.weighted(&self.predictions(&trajectory)?))
+    /// The sensors' model samples and their weighted residuals with `values`.
+    fn evaluate(&self, values: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
+        let predictions = self.predictions(&self.run(values)?)?;
+        let residuals = self.weighted(&predictions);
+        Ok((predictions, residuals))
     }
 
     /// Keeps the first failure for after the optimizer stops.
@@ -175,16 +192,21 @@ impl<'a> FitProblem<'a> {
         failure.get_or_insert(error);
     }
 
-    /// The residuals at `u`, from the last evaluation when it was at `u`.
-    fn residuals_cached(&self, u: &[f64]) -> Result<Vec<f64>> {
-        if let Some((at, r)) = &*self.last.lock().expect("not poisoned")
-            && at == u
+    /// The sensors' model samples and the weighted residuals at coordinates `u`: the last
+    /// evaluation's when it was at `u`, else a run.
+    pub fn evaluation_at(&self, u: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
+        if let Some(last) = &*self.last.lock().expect("not poisoned")
+            && last.u == u
         {
-            return Ok(r.clone());
+            return Ok((last.predictions.clone(), last.residuals.clone()));
         }
-        let r = self.residuals_at(u)?;
-        *self.last.lock().expect("not poisoned") = Some((u.to_vec(), r.clone()));
-        Ok(r)
+        let (predictions, residuals) = self.evaluate(&self.values(u))?;
+        *self.last.lock().expect("not poisoned") = Some(Evaluation {
+            u: u.to_vec(),
+            predictions: predictions.clone(),
+            residuals: residuals.clone(),
+        });
+        Ok((predictions, residuals))
     }
 
     /// The Jacobian of the weighted residuals in the optimizer's coordinates `u` at `u`.
@@ -193,19 +215,14 @@ impl<'a> FitProblem<'a> {
             .iter()
             .map(|u| DIFFERENCE_STEP * (1.0 + u.abs()))
             .collect();
-        self.central_differences(u, &steps, &|u| self.residuals_at(u))
+        self.central_differences(u, &steps, &|u| Ok(self.evaluate(&self.values(u))?.1))
     }
 
     /// The Jacobian of the weighted residuals in the scale coordinates `theta` (a value's
     /// logarithm, or the value) at `values`: what the covariance is made from. Unlike the
     /// optimizer's coordinates it does not flatten at the bounds.
     pub fn jacobian_in_scale(&self, values: &[f64]) -> Result<DMatrix<f64>> {
-        let theta: Vec<f64> = self
-            .free
-            .iter()
-            .zip(values)
-            .map(|(f, &v)| f.theta(v))
-            .collect();
+        let theta = each(self.free, values, Free::theta);
         // the optimizer's step at the middle of the bounds
         let steps: Vec<f64> = self
             .free
@@ -213,14 +230,9 @@ impl<'a> FitProblem<'a> {
             .map(|f| DIFFERENCE_STEP * f.dtheta_du(0.0))
             .collect();
         self.central_differences(&theta, &steps, &|theta| {
-            let values: Vec<f64> = self
-                .free
-                .iter()
-                .zip(theta)
-                .map(|(f, &t)| f.value_of_theta(t))
-                .collect();
-            let trajectory = self.run(&values)?;
-            Ok(self.weighted(&self.predictions(&trajectory)?))
+            Ok(self
+                .evaluate(&each(self.free, theta, Free::value_of_theta))?
+                .1)
         })
     }
 
@@ -267,6 +279,16 @@ pub fn run_options() -> SimulationOptions {
         error_estimate: false,
         ..SimulationOptions::default()
     }
+}
+
+/// `map` of each free value and its entry of `xs`, in order.
+fn each(free: &[Free], xs: &[f64], map: impl Fn(&Free, f64) -> f64) -> Vec<f64> {
+    free.iter().zip(xs).map(|(f, &x)| map(f, x)).collect()
+}
+
+/// The free values' starts (the scene's values).
+fn starts(free: &[Free]) -> Vec<f64> {
+    free.iter().map(|f| f.start).collect()
 }
 
 /// The offset of a sensor whose model samples are `p` and record `y`.
@@ -320,8 +342,8 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for FitProblem<'_> {
     }
 
     fn residuals(&self) -> Option<DVector<f64>> {
-        match self.residuals_cached(&self.u) {
-            Ok(r) => Some(DVector::from_vec(r)),
+        match self.evaluation_at(&self.u) {
+            Ok((_, r)) => Some(DVector::from_vec(r)),
             Err(e) => {
                 self.fail(e);
                 None

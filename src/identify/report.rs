@@ -132,11 +132,8 @@ pub fn conclude(
     model: &FitModel,
     window: String,
 ) -> Result<Identification> {
-    let u = problem.u.clone();
-    let values = problem.values(&u);
-    let trajectory = problem.run(&values)?;
-    let predictions = problem.predictions(&trajectory)?;
-    let residuals = problem.weighted(&predictions);
+    let values = problem.values(&problem.u);
+    let (predictions, residuals) = problem.evaluation_at(&problem.u)?;
     // a value on a bound stays in the covariance where it can (the others' deviations then
     // include its uncertainty); only where the record does not see it at all is it held
     let all: Vec<usize> = (0..values.len()).collect();
@@ -208,10 +205,7 @@ fn spread_of(
         .map(|&j| problem.free[j].key.clone())
         .collect();
     let record = problem.record;
-    let offsets = match problem.offsets {
-        Offsets::Fitted => record.sensors.len(),
-        Offsets::Zero => 0,
-    };
+    let offsets = problem.offsets.count(record.sensors.len());
     let spans: Vec<f64> = inside
         .iter()
         .map(|&j| {
@@ -411,7 +405,7 @@ impl Identification {
 
     /// The fitted scene as a scene file (TOML): the scene as given with the fitted values.
     pub fn scene_toml(&self) -> String {
-        toml::to_string(&self.scene.file).expect("a scene file serializes")
+        self.scene.file.to_toml()
     }
 
     /// Draws the record's sensors and the fitted run over each other, one panel per

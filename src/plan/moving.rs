@@ -14,11 +14,6 @@ pub fn moving_file(scene: &Scene, profile: &Profile, end: f64) -> SceneFile {
     file
 }
 
-/// A scene file as TOML.
-pub fn file_text(file: &SceneFile) -> String {
-    toml::to_string(file).expect("a scene file serializes")
-}
-
 /// The scene moving along `profile` (its prescribed motion) until `end` (s).
 ///
 /// # Errors

@@ -82,7 +82,7 @@ impl MovePlan {
         let chosen = &self.candidates[i];
         let mut file = moving::moving_file(&self.scene, &chosen.profile, self.end_s);
         file.description = format!("{}: planned move ({})", self.scene.name, chosen.name);
-        moving::file_text(&file)
+        file.to_toml()
     }
 
     /// The best plan's feedback file (JSON), when the best plan uses feedback: what

@@ -2,6 +2,7 @@
 //! (`masses.load=10:30,contact.clearance=0.005:0.02`): its corners and centre, which the
 //! planner evaluates, and interior points it does not, which check it.
 
+use crate::key_range::{RangeRule, parse_key_ranges};
 use crate::{Error, OptionName, Result};
 use telescopic_runtime::Scene;
 
@@ -31,21 +32,11 @@ impl RobustRange {
     /// # Errors
     /// [`Error::Option`] naming the entry and the rule.
     pub fn parse_list(text: &str) -> Result<Vec<RobustRange>> {
-        let mut entries = Vec::new();
-        for entry in text.split(',').map(str::trim).filter(|e| !e.is_empty()) {
-            let (key, range) = entry
-                .split_once('=')
-                .ok_or_else(|| bad(entry, "give KEY=LOW:HIGH, e.g. masses.load=10:30"))?;
-            let (low, high) = range
-                .split_once(':')
-                .ok_or_else(|| bad(entry, "give the range as LOW:HIGH"))?;
-            let number = |s: &str| {
-                s.trim()
-                    .parse::<f64>()
-                    .map_err(|_| bad(entry, "LOW and HIGH must be finite numbers"))
-            };
-            entries.push((key.trim().to_string(), number(low)?, number(high)?));
-        }
+        let entries: Vec<(String, f64, f64)> =
+            parse_key_ranges(text, OptionName::Robust, RangeRule::Required)?
+                .into_iter()
+                .filter_map(|e| e.range.map(|(low, high)| (e.key, low, high)))
+                .collect();
         Self::list(&entries)
     }
 

@@ -45,6 +45,15 @@ pub struct SceneFile {
     pub figures: Option<FiguresSpec>,
 }
 
+impl SceneFile {
+    /// The scene file as TOML text, readable by [`crate::Scene::from_toml_str`].
+    pub fn to_toml(&self) -> String {
+        // the serializer refuses shapes (a map with keys that are not strings, a value
+        // after a table), never values; this schema has none of those shapes
+        toml::to_string(self).expect("the scene schema serializes as TOML")
+    }
+}
+
 /// `[figures]`: the panels of a run's figure and the paper's figures they reproduce.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
