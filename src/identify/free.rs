@@ -1,7 +1,9 @@
 //! The scene values a fit frees (`--free KEY,KEY=LOW:HIGH`), their bounds, and the
 //! coordinate the optimizer moves in: the logarithm of a positive value (a stiffness and a
-//! load differ by nine decades), mapped through a logistic function into the bounds, so
-//! that every step stays inside them.
+//! load differ by nine decades), mapped into the bounds by a sine (MINUIT's transformation
+//! of a bounded parameter), so that every step stays inside them and none is stranded: a
+//! step past a bound comes back, where a logistic map's flat ends held a value that an early
+//! step had thrown there.
 
 use crate::key_range::{RangeRule, parse_key_ranges};
 use crate::{Error, OptionName, Result};
@@ -129,8 +131,8 @@ pub struct Free {
     pub logarithmic: bool,
 }
 
-/// Closest the logistic map comes to a bound (a start on a bound moves in by this share).
-const EDGE: f64 = 1e-9;
+/// Share of the box a start on a bound moves in by (on the bound the sine is flat).
+const EDGE: f64 = 1e-6;
 
 impl Free {
     /// The scale coordinate `theta` of `value`: its logarithm, or itself.
@@ -143,22 +145,28 @@ impl Free {
         if self.logarithmic { theta.exp() } else { theta }
     }
 
+    /// The bounds' width in the scale coordinate.
+    pub fn theta_span(&self) -> f64 {
+        let (a, b) = self.theta_bounds();
+        b - a
+    }
+
     fn theta_bounds(&self) -> (f64, f64) {
         (self.theta(self.low), self.theta(self.high))
     }
 
-    /// The optimizer's unbounded coordinate `u` of `value`: `theta` through the inverse
-    /// logistic map of the bounds.
+    /// The optimizer's coordinate `u` of `value`, in `[-pi/2, pi/2]`: `theta`'s share `s` of
+    /// the bounds is `(1 + sin u) / 2`.
     pub fn u_of(&self, value: f64) -> f64 {
         let (a, b) = self.theta_bounds();
         let s = ((self.theta(value) - a) / (b - a)).clamp(EDGE, 1.0 - EDGE);
-        (s / (1.0 - s)).ln()
+        (2.0 * s - 1.0).asin()
     }
 
-    /// The scale coordinate of `u`.
+    /// The scale coordinate of `u` (any real: the sine folds it into the bounds).
     pub fn theta_of_u(&self, u: f64) -> f64 {
         let (a, b) = self.theta_bounds();
-        a + (b - a) / (1.0 + (-u).exp())
+        a + (b - a) * 0.5 * (1.0 + u.sin())
     }
 
     /// The value of `u`, inside the bounds.
@@ -170,8 +178,7 @@ impl Free {
     /// `d theta / d u` at `u`.
     pub fn dtheta_du(&self, u: f64) -> f64 {
         let (a, b) = self.theta_bounds();
-        let s = 1.0 / (1.0 + (-u).exp());
-        (b - a) * s * (1.0 - s)
+        (b - a) * 0.5 * u.cos()
     }
 
     /// Whether `value` sits on a bound (within 0.1 % of the box in the scale coordinate): the
@@ -207,7 +214,7 @@ mod tests {
                 let v = f.value_of_u(u);
                 assert!((f.low..=f.high).contains(&v), "{} at u {u}: {v}", f.key);
             }
-            // the derivative is the logistic map's
+            // the derivative is the sine's
             let h = 1e-6;
             let numeric = (f.theta_of_u(0.3 + h) - f.theta_of_u(0.3 - h)) / (2.0 * h);
             assert!((numeric - f.dtheta_du(0.3)).abs() < 1e-6 * numeric.abs());

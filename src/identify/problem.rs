@@ -38,12 +38,24 @@ impl Offsets {
     }
 }
 
-/// Step of the central differences in the optimizer's coordinate (the scale coordinate's
-/// step is this at the middle of the bounds). A run's outputs change
-/// with its values at the level of rounding amplified by the stiff contacts (about 1e-7 of
-/// the vehicle's travel on adams-linear), so a step of 1e-6 gives a Jacobian of noise; at
-/// 1e-3 that noise is 1e-4 of it and the differences' own error 1e-6.
+/// Step of the optimizer's central differences in its coordinate (relative to `1 + |u|`),
+/// and the first step of the covariance's in the scale coordinate (the optimizer's at the
+/// middle of the bounds).
 const DIFFERENCE_STEP: f64 = 1e-3;
+
+/// The covariance's difference step of each value follows its own column: the step at which
+/// the weighted residuals move by about one (a standard deviation of the value, were it
+/// alone), within these fractions of the bounds' width. A run's outputs jump with its values
+/// at the level of its rounding and discrete choices, about 0.01-0.07 in weighted residuals
+/// on adams-linear at modes+static 21: at the optimizer's step the contact damping's column
+/// came out twice its size (the jumps), and a stiffness step that large sits on the
+/// frequency's curvature. At one standard deviation the secant is the slope the covariance
+/// needs, and the jumps are a few per cent of it.
+const STEP_RANGE: (f64, f64) = (1e-12, 0.25);
+
+/// Most sets of runs the covariance's Jacobian is refined by, each with the steps the last
+/// columns set.
+const COVARIANCE_REFINEMENTS: usize = 2;
 
 /// The optimizer's coordinate is `u + SHIFT`: MINPACK sizes its first trust region by the
 /// coordinates' magnitude, and `u` starts at 0 (a start in the middle of its bounds), which
@@ -220,20 +232,52 @@ impl FitProblem<'_> {
 
     /// The Jacobian of the weighted residuals in the scale coordinates `theta` (a value's
     /// logarithm, or the value) at `values`: what the covariance is made from. Unlike the
-    /// optimizer's coordinates it does not flatten at the bounds.
+    /// optimizer's coordinates it does not flatten at the bounds. Each value's step is
+    /// refined until its column moves the residuals by about one over it (within a quarter
+    /// of the bounds' width; at most two more sets of runs).
     pub fn jacobian_in_scale(&self, values: &[f64]) -> Result<DMatrix<f64>> {
         let theta = each(self.free, values, Free::theta);
-        // the optimizer's step at the middle of the bounds
-        let steps: Vec<f64> = self
+        // the optimizer's step at the middle of the bounds, to begin with
+        let mut steps: Vec<f64> = self
             .free
             .iter()
             .map(|f| DIFFERENCE_STEP * f.dtheta_du(0.0))
             .collect();
-        self.central_differences(&theta, &steps, &|theta| {
-            Ok(self
-                .evaluate(&each(self.free, theta, Free::value_of_theta))?
-                .1)
-        })
+        let mut refinements = 0;
+        loop {
+            let jacobian = self.central_differences(&theta, &steps, &|theta| {
+                Ok(self
+                    .evaluate(&each(self.free, theta, Free::value_of_theta))?
+                    .1)
+            })?;
+            let next = self.steps_of(&jacobian);
+            let settled = next
+                .iter()
+                .zip(&steps)
+                .all(|(new, old)| (new / old).log2().abs() < 1.0);
+            if settled || refinements == COVARIANCE_REFINEMENTS {
+                return Ok(jacobian);
+            }
+            (steps, refinements) = (next, refinements + 1);
+        }
+    }
+
+    /// Each value's step from its column of `jacobian` (scale coordinates): the step over
+    /// which the weighted residuals move by one, within [`STEP_RANGE`] of the bounds' width.
+    fn steps_of(&self, jacobian: &DMatrix<f64>) -> Vec<f64> {
+        self.free
+            .iter()
+            .enumerate()
+            .map(|(j, f)| {
+                let norm = jacobian.column(j).norm();
+                let (low, high) = (STEP_RANGE.0 * f.theta_span(), STEP_RANGE.1 * f.theta_span());
+                if norm.is_finite() && norm > 0.0 {
+                    (1.0 / norm).clamp(low, high)
+                } else {
+                    high
+                }
+            })
+            .collect()
     }
 
     /// Central differences of `residuals` at `point` with `steps`, the runs side by side.

@@ -137,6 +137,12 @@ struct Branch {
     /// The lower half `[A_vz, A_vv]` of `A` when its upper half is `[0, I]` (positions'
     /// rates are the velocities) and `e`'s is zero, as the model's first-order form has it.
     lower: Option<DMatrix<f64>>,
+    /// Whether the branch has switch functions (its regular step is then `h omega`-bound).
+    events: bool,
+    /// `int_0^h exp(A s) ds`, once a later branch with the same `A` needed it.
+    integral: Option<DMatrix<f64>>,
+    /// Whether the exponential is another branch's ([`ExactRun::same_flow_branch`]).
+    shared: bool,
 }
 
 impl Branch {
@@ -755,6 +761,29 @@ impl<'m> ExactRun<'m> {
         Ok(())
     }
 
+    /// Refuses a model whose right-hand side is not affine in the state within the current
+    /// branches at `t` (`A`, `e` as evaluated there), checked on a probe state of the size of
+    /// the current one.
+    fn check_affine(&mut self, t: f64, a: &DMatrix<f64>, e: &DVector<f64>) -> Result<(), SimError> {
+        let (n2, states) = (2 * self.n, self.tracker.fixed_states());
+        let scale = self.y.amax().max(1e-6);
+        let probe = DVector::from_fn(n2, |i, _| scale * (1.7 * i as f64 + 0.3).sin());
+        let mut f = DVector::zeros(n2);
+        self.model
+            .rhs(t, probe.as_slice(), states, f.as_mut_slice());
+        let predicted = a * &probe + e;
+        self.stats.rhs_evals += 1;
+        let mismatch = (&f - &predicted).amax();
+        let allowed = 1e-9 * (predicted.amax() + f.amax()).max(f64::MIN_POSITIVE);
+        if mismatch.is_nan() || mismatch > allowed {
+            return Err(SimError::Settings(format!(
+                "method exact: the model's right-hand side is not affine in the state within a \
+                 contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"
+            )));
+        }
+        Ok(())
+    }
+
     /// `A`, `e`, the regular step and its exponential for the current branches at `t`.
     fn build_branch(&mut self, t: f64) -> Result<Branch, SimError> {
         let (model, n2) = (self.model, 2 * self.n);
@@ -764,21 +793,14 @@ impl<'m> ExactRun<'m> {
         model.jacobian(t, self.y.as_slice(), states, &mut a);
         let zero = vec![0.0; n2];
         model.rhs(t, &zero, states, e.as_mut_slice());
-        // affinity check on a probe state of the size of the current one
-        let scale = self.y.amax().max(1e-6);
-        let probe = DVector::from_fn(n2, |i, _| scale * (1.7 * i as f64 + 0.3).sin());
-        let mut f = DVector::zeros(n2);
-        model.rhs(t, probe.as_slice(), states, f.as_mut_slice());
-        let predicted = &a * &probe + &e;
-        self.stats.rhs_evals += 2;
+        self.stats.rhs_evals += 1;
         self.stats.jacobian_evals += 1;
-        let mismatch = (&f - &predicted).amax();
-        let allowed = 1e-9 * (predicted.amax() + f.amax()).max(f64::MIN_POSITIVE);
-        if mismatch.is_nan() || mismatch > allowed {
-            return Err(SimError::Settings(format!(
-                "method exact: the model's right-hand side is not affine in the state within a \
-                 contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"
-            )));
+        self.check_affine(t, &a, &e)?;
+        if self.held {
+            self.check_time_invariant(t, &e)?;
+        }
+        if let Some(branch) = self.same_flow_branch(&a, &e) {
+            return Ok(branch);
         }
         let eigen =
             crate::analysis::eigen::eigenvalues(a.clone(), "eigenvalues of a branch's Jacobian")
@@ -793,7 +815,6 @@ impl<'m> ExactRun<'m> {
             regular_step(omega, self.span.sample)
         };
         let (phi, gamma, gamma_of) = if self.held {
-            self.check_time_invariant(t, &e)?;
             // the input at build as a run without ticks takes it (the same flow to the
             // last bit while the input stays), later ones through `gamma_of`
             let (phi, gamma) = balanced_flow(&a, &e, h, omega);
@@ -821,6 +842,59 @@ impl<'m> ExactRun<'m> {
             omega,
             long,
             lower,
+            events: !self.functionals.is_empty(),
+            integral: None,
+            shared: false,
+        })
+    }
+
+    /// A branch whose `A` equals that of one built before with as many switch functions (the
+    /// drive stepped, the contacts and positions did not): that one's exponential, step and
+    /// spectral radius, and `gamma` as `int_0^h exp(A s) ds e` with the integral built once
+    /// for all such branches. `None` when no branch has this `A`. The earliest such branch
+    /// is taken, so a run's result does not depend on the order of a hash map.
+    fn same_flow_branch(&mut self, a: &DMatrix<f64>, e: &DVector<f64>) -> Option<Branch> {
+        let code = self.branch_code();
+        let events = !self.functionals.is_empty();
+        // only branches built afresh: a shared one has its donor's `A`
+        let donor = self
+            .index
+            .iter()
+            .filter(|((_, c), i)| *c == code && !self.branches[**i].shared)
+            .map(|(_, &i)| i)
+            .filter(|&i| self.branches[i].events == events && self.branches[i].a == *a)
+            .min()?;
+        let known = {
+            let d = &self.branches[donor];
+            d.gamma_of.as_ref().or(d.integral.as_ref()).cloned()
+        };
+        let integral = known.unwrap_or_else(|| {
+            let d = &self.branches[donor];
+            self.stats.exponentials += 1;
+            balanced_input_flow(a, d.h, d.omega)
+        });
+        self.branches[donor].integral = Some(integral.clone());
+        let d = &self.branches[donor];
+        let mut gamma = DVector::zeros(e.len());
+        mat_vec(&integral, e.as_slice(), 1.0, gamma.as_mut_slice());
+        Some(Branch {
+            phi: d.phi.clone(),
+            gamma,
+            gamma_of: self.held.then(|| integral.clone()),
+            input_epoch: self.input_epoch,
+            a: a.clone(),
+            e: e.clone(),
+            h: d.h,
+            omega: d.omega,
+            long: d.long.as_ref().map(|l| LongStep {
+                h: l.h,
+                fast: l.fast.clone(),
+                flow: None,
+            }),
+            lower: first_order_lower(a, e),
+            events,
+            integral: Some(integral),
+            shared: true,
         })
     }
 

@@ -349,7 +349,8 @@ pub struct RunStats {
     /// Contact branch switches (band-edge crossings).
     pub switches: u64,
     /// Matrix exponentials (method `exact`: one per contact-branch combination met, two
-    /// for a branch with a long step over its contact modes).
+    /// for a branch with a long step over its contact modes; drive steps that leave `A`
+    /// unchanged share one, plus one integral of it for their inputs).
     pub exponentials: u64,
     /// Steps over closed contacts' fast modes (counted in `steps` too): method `exact`'s long
     /// steps, `dop853-imex`'s imex steps.
