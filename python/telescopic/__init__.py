@@ -576,8 +576,8 @@ def identify(scene: Scene, data: Any, free: Sequence[str] | Mapping[str, Any],
              size: str | None = None, until: float | None = None, validate: Any = None,
              progress: Any = None) -> Identification:
     """Fits the ``free`` scene values (keys, or a mapping of key to ``(low, high)`` or None)
-    of ``scene`` to the record ``data`` (a DataFrame with ``t``, the drive force ``F`` and
-    sensor columns by output name) (``telescopic identify``, docs/identify.md). ``noise``
+    of ``scene`` to the record ``data`` (a DataFrame with ``t``, the drive force ``F`` or the
+    prescribed position ``s``, and sensor columns by output name) (``telescopic identify``, docs/identify.md). ``noise``
     gives sensors' noise instead of the estimate; ``offsets`` is ``"fitted"`` or ``"zero"``;
     ``size`` the model's (``"static:9"``); ``validate`` a second record the fitted scene
     predicts. Returns an ``Identification``."""

@@ -60,3 +60,7 @@ def test_a_bad_record_is_refused_naming_its_column_and_row():
     with pytest.raises(telescopic.OptionError, match="offsets"):
         telescopic.identify(scene, _record(20.0, 3), free=["masses.load"], offsets="mean",
                             progress=False)
+    both = _record(20.0, 3)
+    both["s"] = 0.0
+    with pytest.raises(telescopic.TelescopicError, match="not both"):
+        telescopic.identify(scene, both, free=["masses.load"], progress=False)

@@ -185,8 +185,9 @@ impl<'a> FitSetup<'a> {
     }
 }
 
-/// `scene` run as `record` was: on its time grid, driven by its force held between samples
-/// (when it has one; else by the scene's own drive).
+/// `scene` run as `record` was: on its time grid, driven by its force held between samples,
+/// or moved along its prescribed position (a smooth monotone cubic through the samples,
+/// whatever the scene's own drive), or else by the scene's own drive.
 ///
 /// # Errors
 /// [`Error::Input`] when the record has a force and the scene's drive is a motion.
@@ -208,6 +209,13 @@ pub fn driven_scene(scene: &Scene, record: &Record) -> Result<Scene> {
             });
         }
         file.drive.force = Some(held(&record.times, force));
+    }
+    if let Some(position) = &record.position {
+        file.drive.force = None;
+        file.drive.motion = Some(Profile::Shaped(ShapedProfile::PiecewiseCubic {
+            times: record.times.clone(),
+            values: position.clone(),
+        }));
     }
     Ok(Scene::from_file(
         file,

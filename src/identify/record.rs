@@ -1,5 +1,5 @@
-//! A measured record: the time column `t`, the drive force `F` the machine applied (if the
-//! record has it) and sensor columns named by their outputs (`vehicle`, `kappa_1_0`,
+//! A measured record: the time column `t`, the input the machine applied if the record has
+//! it (the drive force `F`, or the vehicle's prescribed position `s`) and sensor columns named by their outputs (`vehicle`, `kappa_1_0`,
 //! `tip_rel`, ...), evenly sampled. Every rule a record breaks is named with its column and
 //! line.
 
@@ -9,6 +9,9 @@ use telescopic_runtime::{LinearInput, Output};
 
 /// The time column's name.
 pub const TIME_COLUMN: &str = "t";
+
+/// The prescribed position's column (a position-controlled drive's setpoint, m).
+pub const POSITION_COLUMN: &str = "s";
 
 /// How far an interval may stray from the record's median interval before it is a gap (or
 /// a jump back): 1 % of the interval. The model is sampled on the even grid.
@@ -27,6 +30,9 @@ pub struct Record {
     pub times: Vec<f64>,
     /// The drive force the machine applied at each sample (N), held until the next one.
     pub force: Option<Vec<f64>>,
+    /// The vehicle's prescribed position at each sample (m), the setpoint of a
+    /// position-controlled drive: the scene is driven by its smooth interpolation.
+    pub position: Option<Vec<f64>>,
     /// Each sensor's samples, in the record's column order.
     pub sensors: Vec<(Output, Vec<f64>)>,
 }
@@ -121,7 +127,7 @@ impl Record {
             )
         })?;
         let force_name = LinearInput::DriveForce.name();
-        let mut force = None;
+        let (mut force, mut position) = (None, None);
         let mut sensors = Vec::new();
         for (i, name) in names.iter().enumerate() {
             let name = name.trim();
@@ -133,11 +139,18 @@ impl Record {
                 force = Some(column);
                 continue;
             }
+            if name == POSITION_COLUMN {
+                position = Some(column);
+                continue;
+            }
             let output: Output = name.parse().map_err(|rule: String| {
                 bad(
                     &source,
                     &format!("column {name}"),
-                    &format!("{rule}; the drive force is `{force_name}`, the time `t`"),
+                    &format!(
+                        "{rule}; the drive force is `{force_name}`, the prescribed position \
+                         `{POSITION_COLUMN}`, the time `{TIME_COLUMN}`"
+                    ),
                 )
             })?;
             if sensors.iter().any(|(o, _)| *o == output) {
@@ -152,12 +165,23 @@ impl Record {
                 "no sensor column (vehicle, kappa_1_0, acc_load, tip_rel, ...)",
             ));
         }
+        if force.is_some() && position.is_some() {
+            return Err(bad(
+                &source,
+                "columns",
+                &format!(
+                    "give the drive force `{force_name}` or the prescribed position \
+                     `{POSITION_COLUMN}`, not both: the drive is one or the other"
+                ),
+            ));
+        }
         let times = std::mem::take(&mut columns[time_index]);
         check_times(&source, &times, &place)?;
         Ok(Record {
             source,
             times,
             force,
+            position,
             sensors,
         })
     }
@@ -181,6 +205,7 @@ impl Record {
             source: self.source.clone(),
             times: self.times[..n].to_vec(),
             force: self.force.as_ref().map(|f| f[..n].to_vec()),
+            position: self.position.as_ref().map(|s| s[..n].to_vec()),
             sensors: self
                 .sensors
                 .iter()
@@ -279,6 +304,19 @@ mod tests {
             text.push('\n');
         }
         text
+    }
+
+    #[test]
+    fn a_prescribed_position_reads_and_is_refused_beside_a_force() {
+        let names: Vec<String> = ["t", "s", "tip_rel"].map(String::from).to_vec();
+        let t: Vec<f64> = (0..30).map(|i| 0.01 * i as f64).collect();
+        let record =
+            Record::from_columns("frame", &names, vec![t.clone(), t.clone(), t.clone()]).unwrap();
+        assert_eq!(record.position.as_ref().unwrap()[7], t[7]);
+        assert!(record.force.is_none());
+        let both: Vec<String> = ["t", "F", "s", "tip_rel"].map(String::from).to_vec();
+        let refused = Record::from_columns("frame", &both, vec![t.clone(); 4]).unwrap_err();
+        assert!(refused.to_string().contains("not both"), "{refused}");
     }
 
     #[test]

@@ -366,8 +366,9 @@ impl Identification {
             let _ = writeln!(
                 out,
                 "WARNING: {}'s residual is {:.1} times its noise: the model does not explain it \
-                 (a wrong noise figure, a value not freed, or a model that lacks what the \
-                 machine does); the deviations above do not cover such a misfit",
+                 (a wrong noise figure, a value not freed, a record that does not start at \
+                 rest as the model does, or a model that lacks what the machine does); the \
+                 deviations above do not cover such a misfit",
                 s.output,
                 s.rms_residual / s.noise.0
             );

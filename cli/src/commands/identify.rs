@@ -25,8 +25,9 @@ pub struct IdentifyArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// The measured record (CSV): a time column t (s), the drive force F (N) the machine
-    /// applied, if the scene is force-driven, and sensor columns by output name (vehicle,
-    /// kappa_1_0, acc_load, tip_rel, ...), evenly sampled.
+    /// applied, if the scene is force-driven, or the prescribed position s (m) of a
+    /// position-controlled drive, and sensor columns by output name (vehicle, kappa_1_0,
+    /// acc_load, tip_rel, ...), evenly sampled.
     #[arg(long, value_name = "RUN.csv")]
     data: PathBuf,
     /// The scene values to fit, with optional bounds: e.g.
