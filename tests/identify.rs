@@ -275,6 +275,15 @@ const FREE_CLEARANCE: &str = "sections.youngs_modulus,masses.load";
 /// machine's stiffness and load, its sensors with `SENSORS`' noise from `seed`, from
 /// `from` (s) on (the time shifted to start at 0): the scene and the record.
 fn own_record(rate: f64, seed: u64, from: f64) -> (Scene, Record) {
+    own_record_from(rate, seed, from, &[])
+}
+
+/// As [`own_record`] from the start, the machine with `values` besides.
+fn own_record_with(rate: f64, seed: u64, values: &[(&str, f64)]) -> (Scene, Record) {
+    own_record_from(rate, seed, 0.0, values)
+}
+
+fn own_record_from(rate: f64, seed: u64, from: f64, values: &[(&str, f64)]) -> (Scene, Record) {
     use telescopic::run::{ModelSize, SimulationOptions, simulate_scene};
     let sample = format!("time.sample={}", 1.0 / rate);
     let base = Scene::load(
@@ -283,7 +292,8 @@ fn own_record(rate: f64, seed: u64, from: f64) -> (Scene, Record) {
     )
     .unwrap();
     let size: ModelSize = "5".parse().unwrap();
-    let truth = size.apply(&base.with_values(&TRUE_VALUES[..2]).unwrap());
+    let machine: Vec<(&str, f64)> = TRUE_VALUES[..2].iter().chain(values).copied().collect();
+    let truth = size.apply(&base.with_values(&machine).unwrap());
     let options = SimulationOptions {
         modes_as_given: true,
         error_estimate: false,
@@ -414,4 +424,37 @@ fn a_record_of_the_prescribed_position_drives_the_fit() {
         let std = v.std.expect("determined");
         assert!((v.value - want).abs() <= 3.0 * std, "{v:?} against {want}");
     }
+}
+
+/// A value on a bound the scene cannot go past (contact damping `0:5000` in linear
+/// coordinates, at 0): the covariance's differences keep to the bounds (one-sided there), so
+/// its column is the slope inside instead of a run the scene refuses (a negative damping).
+#[test]
+fn a_value_on_a_hard_bound_is_differenced_inside_it() {
+    use telescopic::identify::driven_scene;
+    use telescopic::identify::problem::FitSetup;
+    let (base, record) = own_record_with(1000.0, 15, &[("contact.damping", 0.0)]);
+    let record = record.first(200);
+    let driven = driven_scene(&base, &record).unwrap();
+    let free = FreeValue::resolve(
+        &FreeValue::parse_list("masses.load,contact.damping=0:5000").unwrap(),
+        &driven,
+    )
+    .unwrap();
+    let setup = FitSetup {
+        driven: &driven,
+        size: "5".parse().unwrap(),
+        free: &free,
+        noise: &[1e-5, 1e-4, 1e-4],
+        offsets: Offsets::Fitted,
+        reporter: &Silent,
+        budget: 10,
+    };
+    let problem = setup.problem(&record);
+    let jacobian = problem.jacobian_in_scale(&[21.5, 0.0]).unwrap();
+    let damping = jacobian.column(1).norm();
+    assert!(
+        damping.is_finite() && damping > 0.0,
+        "damping's column {damping}"
+    );
 }

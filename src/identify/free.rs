@@ -151,7 +151,8 @@ impl Free {
         b - a
     }
 
-    fn theta_bounds(&self) -> (f64, f64) {
+    /// The bounds in the scale coordinate.
+    pub fn theta_bounds(&self) -> (f64, f64) {
         (self.theta(self.low), self.theta(self.high))
     }
 

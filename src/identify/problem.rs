@@ -227,7 +227,10 @@ impl FitProblem<'_> {
             .iter()
             .map(|u| DIFFERENCE_STEP * (1.0 + u.abs()))
             .collect();
-        self.central_differences(u, &steps, &|u| Ok(self.evaluate(&self.values(u))?.1))
+        let unbounded = vec![(f64::NEG_INFINITY, f64::INFINITY); u.len()];
+        self.central_differences(u, &steps, &unbounded, &|u| {
+            Ok(self.evaluate(&self.values(u))?.1)
+        })
     }
 
     /// The Jacobian of the weighted residuals in the scale coordinates `theta` (a value's
@@ -237,6 +240,7 @@ impl FitProblem<'_> {
     /// of the bounds' width; at most two more sets of runs).
     pub fn jacobian_in_scale(&self, values: &[f64]) -> Result<DMatrix<f64>> {
         let theta = each(self.free, values, Free::theta);
+        let limits: Vec<(f64, f64)> = self.free.iter().map(Free::theta_bounds).collect();
         // the optimizer's step at the middle of the bounds, to begin with
         let mut steps: Vec<f64> = self
             .free
@@ -245,7 +249,7 @@ impl FitProblem<'_> {
             .collect();
         let mut refinements = 0;
         loop {
-            let jacobian = self.central_differences(&theta, &steps, &|theta| {
+            let jacobian = self.central_differences(&theta, &steps, &limits, &|theta| {
                 Ok(self
                     .evaluate(&each(self.free, theta, Free::value_of_theta))?
                     .1)
@@ -280,34 +284,39 @@ impl FitProblem<'_> {
             .collect()
     }
 
-    /// Central differences of `residuals` at `point` with `steps`, the runs side by side.
+    /// Central differences of `residuals` at `point` with `steps`, each side kept within
+    /// `limits` (a value on its bound is differenced on one side: a step past it could
+    /// leave what the scene allows, a clearance below zero), the runs side by side.
     fn central_differences(
         &self,
         point: &[f64],
         steps: &[f64],
+        limits: &[(f64, f64)],
         residuals: &(dyn Fn(&[f64]) -> Result<Vec<f64>> + Sync),
     ) -> Result<DMatrix<f64>> {
+        let side = |k: usize| {
+            let (j, (low, high)) = (k / 2, limits[k / 2]);
+            let moved = point[j] + if k.is_multiple_of(2) { steps[j] } else { -steps[j] };
+            moved.clamp(low.min(point[j]), high.max(point[j]))
+        };
         let sides: Vec<Result<Vec<f64>>> = (0..2 * point.len())
             .into_par_iter()
             .map(|k| {
                 let mut moved = point.to_vec();
-                moved[k / 2] += if k % 2 == 0 {
-                    steps[k / 2]
-                } else {
-                    -steps[k / 2]
-                };
+                moved[k / 2] = side(k);
                 residuals(&moved)
             })
             .collect();
         let mut sides = sides.into_iter();
         let mut columns = Vec::with_capacity(point.len());
-        for step in steps {
+        for j in 0..point.len() {
             let plus = sides.next().expect("two per value")?;
             let minus = sides.next().expect("two per value")?;
+            let width = side(2 * j) - side(2 * j + 1);
             let column: Vec<f64> = plus
                 .iter()
                 .zip(&minus)
-                .map(|(p, m)| (p - m) / (2.0 * step))
+                .map(|(p, m)| (p - m) / width)
                 .collect();
             columns.push(DVector::from_vec(column));
         }
