@@ -4,6 +4,7 @@
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use telescopic::analysis::beam_reference::{REFERENCE_ELEMENTS, element_response};
+use telescopic::identify::problem::run_options;
 use telescopic::identify::{FreeValue, IdentifyOptions, Offsets, Record, identify, validate};
 use telescopic::run::stress::Station;
 use telescopic::run::{Column, Trajectory};
@@ -284,7 +285,7 @@ fn own_record_with(rate: f64, seed: u64, values: &[(&str, f64)]) -> (Scene, Reco
 }
 
 fn own_record_from(rate: f64, seed: u64, from: f64, values: &[(&str, f64)]) -> (Scene, Record) {
-    use telescopic::run::{ModelSize, SimulationOptions, simulate_scene};
+    use telescopic::run::{ModelSize, simulate_scene};
     let sample = format!("time.sample={}", 1.0 / rate);
     let base = Scene::load(
         "scenes/adams-linear.toml".as_ref(),
@@ -294,12 +295,8 @@ fn own_record_from(rate: f64, seed: u64, from: f64, values: &[(&str, f64)]) -> (
     let size: ModelSize = "5".parse().unwrap();
     let machine: Vec<(&str, f64)> = TRUE_VALUES[..2].iter().chain(values).copied().collect();
     let truth = size.apply(&base.with_values(&machine).unwrap());
-    let options = SimulationOptions {
-        modes_as_given: true,
-        error_estimate: false,
-        ..SimulationOptions::default()
-    };
-    let run = simulate_scene(&truth, &options, &Silent)
+    // a fit's own run options: the size as given, no error estimate
+    let run = simulate_scene(&truth, &run_options(), &Silent)
         .unwrap()
         .trajectory;
     let first = run.rows.iter().position(|r| r[0] >= from - 1e-9).unwrap();
@@ -381,7 +378,7 @@ fn a_record_that_starts_in_motion_is_warned_of() {
 /// their stated deviations from the strain gauge and the tip.
 #[test]
 fn a_record_of_the_prescribed_position_drives_the_fit() {
-    use telescopic::run::{ModelSize, SimulationOptions, simulate_scene};
+    use telescopic::run::{ModelSize, simulate_scene};
     use telescopic::runtime::{Profile, ShapedProfile};
     let base = Scene::load("scenes/adams-linear.toml".as_ref(), &["time.end=2".into()]).unwrap();
     let size: ModelSize = "5".parse().unwrap();
@@ -395,12 +392,8 @@ fn a_record_of_the_prescribed_position_drives_the_fit() {
     file.drive.force = None;
     file.drive.motion = Some(quintic.clone());
     let truth = size.apply(&Scene::from_file(file, "moved").unwrap());
-    let options = SimulationOptions {
-        modes_as_given: true,
-        error_estimate: false,
-        ..SimulationOptions::default()
-    };
-    let run = simulate_scene(&truth, &options, &Silent)
+    // a fit's own run options: the size as given, no error estimate
+    let run = simulate_scene(&truth, &run_options(), &Silent)
         .unwrap()
         .trajectory;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(14);

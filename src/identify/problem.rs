@@ -296,7 +296,12 @@ impl FitProblem<'_> {
     ) -> Result<DMatrix<f64>> {
         let side = |k: usize| {
             let (j, (low, high)) = (k / 2, limits[k / 2]);
-            let moved = point[j] + if k.is_multiple_of(2) { steps[j] } else { -steps[j] };
+            let moved = point[j]
+                + if k.is_multiple_of(2) {
+                    steps[j]
+                } else {
+                    -steps[j]
+                };
             moved.clamp(low.min(point[j]), high.max(point[j]))
         };
         let sides: Vec<Result<Vec<f64>>> = (0..2 * point.len())

@@ -42,6 +42,7 @@ use crate::profile::{Profile, ShapedProfile};
 use crate::scene::TimeSpan;
 use nalgebra::{Complex, DMatrix, DVector};
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// Largest `h omega_b` of a regular step: below a quarter period of the fastest mode, so a
 /// gap cannot cross a band edge and return unseen except by grazing it (which the cubic
@@ -115,19 +116,20 @@ fn piecewise_constant(p: &Profile) -> bool {
 
 /// The affine flow of one combination of contact branches and drive level.
 struct Branch {
-    /// `A` (`2 dof x 2 dof`).
-    a: DMatrix<f64>,
+    /// `A` (`2 dof x 2 dof`); the matrices below it are shared with the branches of later
+    /// drive steps that keep this `A` ([`ExactRun::same_flow_branch`]).
+    a: Arc<DMatrix<f64>>,
     /// `e` (`2 dof`).
     e: DVector<f64>,
     /// Regular step (s).
     h: f64,
     /// `exp(A h)`.
-    phi: DMatrix<f64>,
+    phi: Arc<DMatrix<f64>>,
     /// `int_0^h exp(A s) ds e`.
     gamma: DVector<f64>,
-    /// `int_0^h exp(A s) ds` where the drive is a held input ([`ExactTicks`]): `gamma` for
-    /// each new `e`.
-    gamma_of: Option<DMatrix<f64>>,
+    /// `int_0^h exp(A s) ds`, `gamma` for each new `e`: built with the branch where the
+    /// drive is a held input ([`ExactTicks`]), else once a later drive step keeps this `A`.
+    integral: Option<Arc<DMatrix<f64>>>,
     /// The [`ExactRun::input_epoch`] whose input `e` and `gamma` hold.
     input_epoch: u64,
     /// Spectral radius of `A` (rad/s).
@@ -136,11 +138,9 @@ struct Branch {
     long: Option<LongStep>,
     /// The lower half `[A_vz, A_vv]` of `A` when its upper half is `[0, I]` (positions'
     /// rates are the velocities) and `e`'s is zero, as the model's first-order form has it.
-    lower: Option<DMatrix<f64>>,
+    lower: Option<Arc<DMatrix<f64>>>,
     /// Whether the branch has switch functions (its regular step is then `h omega`-bound).
     events: bool,
-    /// `int_0^h exp(A s) ds`, once a later branch with the same `A` needed it.
-    integral: Option<DMatrix<f64>>,
     /// Whether the exponential is another branch's ([`ExactRun::same_flow_branch`]).
     shared: bool,
 }
@@ -734,8 +734,8 @@ impl<'m> ExactRun<'m> {
         self.model
             .rhs(t, self.y1.as_slice(), states, b.e.as_mut_slice());
         self.stats.rhs_evals += 1;
-        if let Some(gamma_of) = &b.gamma_of {
-            mat_vec(gamma_of, b.e.as_slice(), 1.0, b.gamma.as_mut_slice());
+        if let Some(integral) = &b.integral {
+            mat_vec(integral, b.e.as_slice(), 1.0, b.gamma.as_mut_slice());
         }
         b.input_epoch = self.input_epoch;
     }
@@ -814,15 +814,12 @@ impl<'m> ExactRun<'m> {
         } else {
             regular_step(omega, self.span.sample)
         };
-        let (phi, gamma, gamma_of) = if self.held {
-            // the input at build as a run without ticks takes it (the same flow to the
-            // last bit while the input stays), later ones through `gamma_of`
-            let (phi, gamma) = balanced_flow(&a, &e, h, omega);
-            (phi, gamma, Some(balanced_input_flow(&a, h, omega)))
-        } else {
-            let (phi, gamma) = balanced_flow(&a, &e, h, omega);
-            (phi, gamma, None)
-        };
+        // with a held input the input at build is taken as a run without ticks takes it (the
+        // same flow to the last bit while the input stays), later ones through the integral
+        let (phi, gamma) = balanced_flow(&a, &e, h, omega);
+        let integral = self
+            .held
+            .then(|| Arc::new(balanced_input_flow(&a, h, omega)));
         self.stats.exponentials += 1 + u64::from(self.held);
         // a held input's long steps would need the fast modes' bound anew at every tick
         let long = if self.long_steps && !self.held {
@@ -830,20 +827,19 @@ impl<'m> ExactRun<'m> {
         } else {
             None
         };
-        let lower = first_order_lower(&a, &e);
+        let lower = first_order_lower(&a, &e).map(Arc::new);
         Ok(Branch {
-            phi,
+            phi: Arc::new(phi),
             gamma,
-            gamma_of,
+            integral,
             input_epoch: self.input_epoch,
-            a,
+            a: Arc::new(a),
             e,
             h,
             omega,
             long,
             lower,
             events: !self.functionals.is_empty(),
-            integral: None,
             shared: false,
         })
     }
@@ -862,27 +858,29 @@ impl<'m> ExactRun<'m> {
             .iter()
             .filter(|((_, c), i)| *c == code && !self.branches[**i].shared)
             .map(|(_, &i)| i)
-            .filter(|&i| self.branches[i].events == events && self.branches[i].a == *a)
+            .filter(|&i| self.branches[i].events == events && *self.branches[i].a == *a)
             .min()?;
-        let known = {
-            let d = &self.branches[donor];
-            d.gamma_of.as_ref().or(d.integral.as_ref()).cloned()
+        let integral = match self.branches[donor].integral.clone() {
+            Some(integral) => integral,
+            None => {
+                let d = &self.branches[donor];
+                let integral = Arc::new(balanced_input_flow(a, d.h, d.omega));
+                self.stats.exponentials += 1;
+                self.branches[donor].integral = Some(integral.clone());
+                integral
+            }
         };
-        let integral = known.unwrap_or_else(|| {
-            let d = &self.branches[donor];
-            self.stats.exponentials += 1;
-            balanced_input_flow(a, d.h, d.omega)
-        });
-        self.branches[donor].integral = Some(integral.clone());
         let d = &self.branches[donor];
         let mut gamma = DVector::zeros(e.len());
         mat_vec(&integral, e.as_slice(), 1.0, gamma.as_mut_slice());
+        // the same `A`: first-order form as the donor's, if `e`'s upper half is zero too
+        let upper_free = e.rows(0, e.len() / 2).iter().all(|&v| v == 0.0);
         Some(Branch {
             phi: d.phi.clone(),
             gamma,
-            gamma_of: self.held.then(|| integral.clone()),
+            integral: Some(integral),
             input_epoch: self.input_epoch,
-            a: a.clone(),
+            a: d.a.clone(),
             e: e.clone(),
             h: d.h,
             omega: d.omega,
@@ -891,9 +889,8 @@ impl<'m> ExactRun<'m> {
                 fast: l.fast.clone(),
                 flow: None,
             }),
-            lower: first_order_lower(a, e),
+            lower: d.lower.clone().filter(|_| upper_free),
             events,
-            integral: Some(integral),
             shared: true,
         })
     }
