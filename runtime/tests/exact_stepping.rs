@@ -11,6 +11,15 @@ use telescopic_runtime::{
     mechanical_energy,
 };
 
+/// dop853 at the tolerance the exact method is checked against.
+fn tight() -> Settings {
+    Settings {
+        rtol: 1e-12,
+        atol: 1e-15,
+        ..Settings::default()
+    }
+}
+
 /// adams-clearance on the assembled model: gravity off, l_S = 0.01 m, F = 100 N from rest.
 fn adams_clearance() -> ModelParams {
     let mut p = rig([5, 5]);
@@ -59,12 +68,7 @@ fn exact_method_agrees_with_dop853_across_contact_switches() {
     let window = span(0.3, 1e-3);
     let (exact, exact_stats) =
         run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
-    let tight = Settings {
-        rtol: 1e-12,
-        atol: 1e-15,
-        ..Settings::default()
-    };
-    let (reference, reference_stats) = run(&model, &y0, &window, Method::Dop853, &tight).unwrap();
+    let (reference, reference_stats) = run(&model, &y0, &window, Method::Dop853, &tight()).unwrap();
     let (exact_switches, reference_switches) = (exact_stats.switches, reference_stats.switches);
     let worst = exact
         .iter()
@@ -346,12 +350,7 @@ fn long_steps_over_a_lasting_contact_agree_with_the_short_steps() {
     let model = AssembledModel::new(&adams_clearance()).unwrap();
     let y0 = vec![0.0; 2 * model.dof()];
     let window = span(1.2, 1e-3);
-    let tight = Settings {
-        rtol: 1e-12,
-        atol: 1e-15,
-        ..Settings::default()
-    };
-    let (reference, _) = run(&model, &y0, &window, Method::Dop853, &tight).unwrap();
+    let (reference, _) = run(&model, &y0, &window, Method::Dop853, &tight()).unwrap();
     let (exact, _) = run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
     let against_dop853 = exact
         .iter()
@@ -405,12 +404,7 @@ fn drive_steps_on_one_branch_share_its_exponential() {
     let y0 = vec![0.0; 2 * model.dof()];
     let window = span(0.4, 1e-3);
     let (exact, stats) = run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
-    let tight = Settings {
-        rtol: 1e-12,
-        atol: 1e-15,
-        ..Settings::default()
-    };
-    let (reference, _) = run(&model, &y0, &window, Method::Dop853, &tight).unwrap();
+    let (reference, _) = run(&model, &y0, &window, Method::Dop853, &tight()).unwrap();
     let peak = reference
         .iter()
         .map(|(_, y)| tip_rel(&model, y).abs())

@@ -145,12 +145,6 @@ impl Free {
         if self.logarithmic { theta.exp() } else { theta }
     }
 
-    /// The bounds' width in the scale coordinate.
-    pub fn theta_span(&self) -> f64 {
-        let (a, b) = self.theta_bounds();
-        b - a
-    }
-
     /// The bounds in the scale coordinate.
     pub fn theta_bounds(&self) -> (f64, f64) {
         (self.theta(self.low), self.theta(self.high))

@@ -127,7 +127,7 @@ impl<'a> FitSetup<'a> {
             record,
             noise: self.noise,
             offsets: self.offsets,
-            u: each(self.free, &starts(self.free), Free::u_of),
+            u: self.free.iter().map(|f| f.u_of(f.start)).collect(),
             runs: AtomicUsize::new(0),
             failure: Mutex::new(None),
             last: Mutex::new(None),
@@ -274,7 +274,8 @@ impl FitProblem<'_> {
             .enumerate()
             .map(|(j, f)| {
                 let norm = jacobian.column(j).norm();
-                let (low, high) = (STEP_RANGE.0 * f.theta_span(), STEP_RANGE.1 * f.theta_span());
+                let (a, b) = f.theta_bounds();
+                let (low, high) = (STEP_RANGE.0 * (b - a), STEP_RANGE.1 * (b - a));
                 if norm.is_finite() && norm > 0.0 {
                     (1.0 / norm).clamp(low, high)
                 } else {
@@ -342,11 +343,6 @@ pub fn run_options() -> SimulationOptions {
 /// `map` of each free value and its entry of `xs`, in order.
 fn each(free: &[Free], xs: &[f64], map: impl Fn(&Free, f64) -> f64) -> Vec<f64> {
     free.iter().zip(xs).map(|(f, &x)| map(f, x)).collect()
-}
-
-/// The free values' starts (the scene's values).
-fn starts(free: &[Free]) -> Vec<f64> {
-    free.iter().map(|f| f.start).collect()
 }
 
 /// The offset of a sensor whose model samples are `p` and record `y`.
