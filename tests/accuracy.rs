@@ -66,11 +66,7 @@ fn committed(scene: &str) -> Vec<(String, String, f64, f64, f64)> {
 #[test]
 fn the_accuracy_table_is_the_committed_measurements() {
     for row in MEASURED {
-        let setting = if row.method == "exact" {
-            "exact".to_string()
-        } else {
-            format!("rtol={:e}", row.rtol)
-        };
+        let setting = row.setting();
         let runs = committed(row.scene);
         let (_, _, error, wall, statistics) = runs
             .iter()

@@ -33,7 +33,7 @@ pub mod profile;
 pub mod scene;
 pub mod shape;
 
-pub use analysis::accuracy::{AccuracyPlan, DEFAULT_ACCURACY_M, plan_for_accuracy};
+pub use analysis::accuracy::{AccuracyPlan, DEFAULT_ACCURACY_M, plan_for_accuracy, setting_label};
 pub use analysis::damped_modes::{DampedMode, damped_modes};
 pub use analysis::damping::{
     CONTACT_MODE_SHARE, StructuralDamping, contact_energy_shares, structural_damping,

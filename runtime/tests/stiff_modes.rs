@@ -97,3 +97,76 @@ fn check_stiff_modes(basis: Basis, modes: usize) {
         paper_stats.steps
     );
 }
+
+/// With a longest step of 8 ms, `imex` crosses the 1 ms output samples and gives them by
+/// its steps' cubic Hermite interpolants: a quarter of the steps, every output still close
+/// to a tight explicit reference (the static shapes with 6 modes per section, whose stiff
+/// modes then reach down to 12 Hz).
+#[test]
+fn imex_steps_across_samples_up_to_a_longest_step() {
+    let model = case_study(Basis::ModesAndStatic, 6);
+    let span = span(4.0, 1e-3);
+    let y0 = rest_state(&model, 0.0);
+    let on_samples = Settings {
+        rtol: 1e-5,
+        atol: 1e-8,
+        ..Settings::default()
+    };
+    let across = Settings {
+        longest_step: Some(8e-3),
+        ..on_samples
+    };
+    let tight = Settings {
+        rtol: 1e-10,
+        atol: 1e-13,
+        ..Settings::default()
+    };
+    let (long, long_stats) = run_counted(&model, &y0, &span, Method::Imex, &across).unwrap();
+    let (_, sample_stats) = run_counted(&model, &y0, &span, Method::Imex, &on_samples).unwrap();
+    let (reference, _) = run_counted(&model, &y0, &span, Method::Dop853, &tight).unwrap();
+    assert_eq!(long.len(), reference.len(), "every sample is given");
+    let names = model.output_names();
+    let (ours, theirs) = (outputs(&model, &long), outputs(&model, &reference));
+    let worst = |prefix: &str| {
+        (0..names.len())
+            .filter(|&i| names[i].starts_with(prefix))
+            .flat_map(|i| {
+                ours.iter()
+                    .zip(&theirs)
+                    .map(move |(a, b)| (a[i] - b[i]).abs())
+            })
+            .fold(0.0, f64::max)
+    };
+    let (tip, forces) = (worst("tip_rel"), worst("f_"));
+    eprintln!(
+        "longest step 8 ms: {} steps against {} on the samples; tip_rel {tip:.2e} m, contact \
+         forces {forces:.2e} N off dop853 at rtol 1e-10",
+        long_stats.steps, sample_stats.steps
+    );
+    // counted work, not time: steps end on no sample but where the control puts them
+    assert!(4 * long_stats.steps <= sample_stats.steps + sample_stats.steps / 10);
+    // the Hermite samples keep tip_rel within 3e-5 m of its 0.2 m peak and the forces
+    // within 3 % of their 400 N peak
+    assert!(tip < 3e-5, "{tip}");
+    assert!(forces < 12.0, "{forces}");
+}
+
+/// A longest step that is not a positive number of seconds is refused, naming the rule.
+#[test]
+fn a_longest_step_that_is_not_positive_is_refused() {
+    let model = case_study(Basis::Modes, 4);
+    let y0 = rest_state(&model, 0.0);
+    for bad in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+        let settings = Settings {
+            longest_step: Some(bad),
+            ..Settings::default()
+        };
+        let message = run_counted(&model, &y0, &span(0.1, 1e-3), Method::Imex, &settings)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("the longest step must be a positive number of seconds"),
+            "{message}"
+        );
+    }
+}

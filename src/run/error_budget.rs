@@ -6,7 +6,9 @@
 //!   method from ([`telescopic_runtime::analysis::accuracy`]), in `tip_rel` inside the scene kind's
 //!   predictability horizon; not estimated when the method was given.
 //! * **Truncation**: a companion run of the same scene with more modes per section
-//!   ([`refined_modes`]), same basis, method and settings. Its difference from the run,
+//!   ([`refined_modes`]), same basis, method and settings, its steps ending on every output
+//!   sample (where the run's cross them, the difference also holds the run's interpolation
+//!   error, measured on the run: [`Truncation::interpolation`]). Its difference from the run,
 //!   times [`TRUNCATION_FACTOR`], is the estimate: in `tip_rel` pointwise inside the
 //!   [`Window`], relative to their peaks for the moments at stations, and relative for the
 //!   statistics beyond the window.
@@ -132,6 +134,9 @@ pub struct Truncation {
     pub outputs: Vec<(String, f64)>,
     /// Beyond the window (clearance scenes only).
     pub statistics: Vec<StatisticError>,
+    /// The run's steps crossed its output samples while the companion's ended on every
+    /// sample: the estimates also hold the run's interpolation error, measured on this run.
+    pub interpolation: bool,
 }
 
 /// A run's error budget.
@@ -191,7 +196,7 @@ impl ErrorBudget {
                 ));
             }
             if !t.outputs.is_empty() {
-                lines.push(describe_outputs(&t.outputs));
+                lines.push(describe_outputs(&t.outputs, t.interpolation));
             }
             if !t.statistics.is_empty() {
                 lines.insert(0, self.describe_statistics(t));
@@ -240,6 +245,13 @@ impl ErrorBudget {
                 .to_string(),
         };
         let truncation = match (&self.truncation, &self.missing) {
+            (Some(t), _) if t.interpolation => format!(
+                "truncation and this run's interpolation {:.1e} m ({} modes per section \
+                 against {} stepped on every sample)",
+                t.tip_m,
+                join(modes),
+                join(&t.refined_modes)
+            ),
             (Some(t), _) => format!(
                 "truncation {:.1e} m ({} modes per section against {})",
                 t.tip_m,
@@ -275,9 +287,10 @@ impl ErrorBudget {
     }
 }
 
-/// The line of the other outputs' truncation estimates: the largest of each kind of column
-/// (the relative positions, the gaps, the contact forces), the rest by name.
-fn describe_outputs(outputs: &[(String, f64)]) -> String {
+/// The line of the other outputs' truncation estimates (with the run's `interpolation`
+/// error): the largest of each kind of column (the relative positions, the gaps, the contact
+/// forces), the rest by name.
+fn describe_outputs(outputs: &[(String, f64)], interpolation: bool) -> String {
     let kinds = [
         ("xi_", "gaps", "m"),
         ("f_", "contact forces", "N"),
@@ -299,8 +312,13 @@ fn describe_outputs(outputs: &[(String, f64)]) -> String {
             parts.push(format!("{column} {e:.1e}"));
         }
     }
+    let what = if interpolation {
+        "truncation and interpolation error"
+    } else {
+        "truncation error"
+    };
     format!(
-        "truncation error of the other outputs in the window (largest, SI units): {}",
+        "{what} of the other outputs in the window (largest, SI units): {}",
         parts.join(", ")
     )
 }
@@ -405,6 +423,7 @@ pub fn truncation(
         moments,
         outputs,
         statistics,
+        interpolation: false,
     }
 }
 

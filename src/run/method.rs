@@ -130,10 +130,12 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     let mut integration_error_m = None;
     let mut integration_statistics_rel = None;
     // moments at stations need the contact modes resolved
-    let resolve = if options.stations.is_empty() {
+    let resolve = if !options.stations.is_empty() {
+        Resolve::Moments
+    } else if options.steps_across_samples {
         Resolve::Displacements
     } else {
-        Resolve::Moments
+        Resolve::EverySample
     };
     let (method, reason) = match (options.method, options.accuracy) {
         (MethodChoice::Auto, Some(accuracy)) => {
@@ -146,6 +148,7 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
             let chosen = plan_for_accuracy(&scene.params, &scene.time, accuracy, resolve)
                 .map_err(|e| Error::option(OptionName::Accuracy, e))?;
             settings.exact_from = chosen.exact_from;
+            settings.longest_step = chosen.longest_step;
             settings.rtol = chosen.rtol;
             settings.atol = 1e-3 * chosen.rtol;
             integration_error_m = Some(chosen.error_m);
@@ -162,6 +165,7 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
             let chosen = plan_for_accuracy(&scene.params, &scene.time, DEFAULT_ACCURACY_M, resolve)
                 .expect("every kind of scene has a measured run within the default accuracy");
             settings.exact_from = chosen.exact_from;
+            settings.longest_step = chosen.longest_step;
             integration_error_m = Some(chosen.error_m);
             integration_statistics_rel = Some(chosen.statistics_rel);
             (chosen.method, MethodReason::Auto(chosen))

@@ -85,6 +85,10 @@ pub struct SimulationOptions {
     /// [`telescopic_runtime::model`], m and dimensionless) as columns `z_0 ..` after the
     /// others: what an animation draws from (default false).
     pub coordinates: bool,
+    /// Let the accuracy's method step across output samples where its measured row does
+    /// (default true; false: steps end on every sample, as a companion run that measures a
+    /// run's error needs: its own interpolation error would otherwise hide the run's).
+    pub steps_across_samples: bool,
 }
 
 impl Default for SimulationOptions {
@@ -106,6 +110,7 @@ impl Default for SimulationOptions {
             statistics_tolerance: 0.05,
             memory_budget: super::memory::DEFAULT_MEMORY_BUDGET,
             coordinates: false,
+            steps_across_samples: true,
         }
     }
 }

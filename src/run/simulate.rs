@@ -101,6 +101,7 @@ fn companion_run(
     let companion_options = SimulationOptions {
         error_estimate: false,
         coordinates: false,
+        steps_across_samples: false,
         // a generated model of the refined size may not exist: the registry falls back
         model: match options.model {
             ModelChoice::Generated => ModelChoice::Auto,
@@ -130,12 +131,10 @@ fn budget_of(scene: &Scene, simulation: &Simulation, companion: Companion) -> Er
     };
     match companion {
         Companion::Ran(trajectory, modes) => {
-            budget.truncation = Some(error_budget::truncation(
-                &simulation.trajectory,
-                &trajectory,
-                modes,
-                window,
-            ));
+            budget.truncation = Some(error_budget::Truncation {
+                interpolation: simulation.plan.settings.longest_step.is_some(),
+                ..error_budget::truncation(&simulation.trajectory, &trajectory, modes, window)
+            });
         }
         Companion::Missing(why) => budget.missing = Some(why),
     }

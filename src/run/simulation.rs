@@ -47,13 +47,16 @@ impl Simulation {
         } else {
             String::new()
         };
+        // 1e-3 x rtol prints 1.0000000000000001e-7: twelve digits say the same shorter
+        let tidy = |x: f64| format!("{x:.12e}").parse::<f64>().unwrap_or(x);
+        let (rtol, atol) = (tidy(settings.rtol), tidy(settings.atol));
         let tol = match self.plan.method.step_control() {
             StepControl::Adaptive if s.exponentials > 0 => format!(
-                "rtol {:e}, atol {:e}{cap}; {} matrix exponentials{long}",
-                settings.rtol, settings.atol, s.exponentials
+                "rtol {rtol:e}, atol {atol:e}{cap}; {} matrix exponentials{long}",
+                s.exponentials
             ),
             StepControl::Adaptive => {
-                format!("rtol {:e}, atol {:e}{cap}", settings.rtol, settings.atol)
+                format!("rtol {rtol:e}, atol {atol:e}{cap}")
             }
             StepControl::Fixed => format!("dt {:e} s", settings.dt.unwrap_or(f64::NAN)),
             StepControl::Exact => format!("{} matrix exponentials{long}", s.exponentials),

@@ -68,6 +68,9 @@ pub struct ErrorSummary {
     pub integration_statistics: Option<f64>,
     /// Truncation error of `tip_rel` in the window (m).
     pub truncation_m: Option<f64>,
+    /// Whether `truncation_m` and `outputs` also hold the run's interpolation error (its
+    /// steps crossed the output samples, its companion's ended on them).
+    pub interpolation_included: bool,
     /// Their sum (m).
     pub total_m: Option<f64>,
     /// Modes per section of the companion run.
@@ -130,6 +133,7 @@ impl ErrorSummary {
             integration_m: budget.integration_m,
             integration_statistics: budget.integration_statistics,
             truncation_m: truncation.map(|t| t.tip_m),
+            interpolation_included: truncation.is_some_and(|t| t.interpolation),
             total_m: budget.total_m(),
             refined_modes: truncation.map(|t| t.refined_modes.clone()),
             moments: truncation

@@ -320,10 +320,16 @@ pub fn simulate_for_accuracy(
         runs: std::cell::Cell::new(0),
     };
     reporter.note(&format!("accuracy search: {prediction}"));
+    // a size's companion ends its steps on every sample, so that the difference holds the
+    // run's integration error too (a run across samples interpolates its samples)
+    let companion = SimulationOptions {
+        steps_across_samples: false,
+        ..integration.clone()
+    };
     let mut attempts = Vec::new();
     let best = search(
         scene,
-        (&integration, options),
+        (&integration, &companion, options),
         &prediction,
         &mut attempts,
         &progress,
@@ -490,7 +496,7 @@ impl Rung {
 /// `attempts` with its verdict.
 fn search(
     scene: &Scene,
-    (integration, options): (&SimulationOptions, &SimulationOptions),
+    (integration, companion, options): (&SimulationOptions, &SimulationOptions, &SimulationOptions),
     prediction: &SizePrediction,
     attempts: &mut Vec<Attempt>,
     progress: &SearchProgress,
@@ -498,6 +504,7 @@ fn search(
     let mut search = Search {
         scene,
         integration,
+        companion,
         options,
         progress,
         rungs: Vec::new(),
@@ -537,6 +544,8 @@ fn search(
 struct Search<'a> {
     scene: &'a Scene,
     integration: &'a SimulationOptions,
+    /// The companions' options: the integration's, steps ending on every sample.
+    companion: &'a SimulationOptions,
     options: &'a SimulationOptions,
     progress: &'a SearchProgress<'a>,
     rungs: Vec<Rung>,
@@ -603,11 +612,12 @@ impl Search<'_> {
             return self.check_cheapest(attempts).map(|_| ());
         };
         let (scene, integration, cap) = (self.scene, self.integration, self.cap());
+        let companion_options = self.companion;
         let (size_run, companion) = crate::report::both(
             &self.progress.pair_reporter(first, refined),
             0.5,
             |r| run(&first.apply(scene), integration, cap, r),
-            |r| run(&refined.apply(scene), integration, f64::INFINITY, r),
+            |r| run(&refined.apply(scene), companion_options, f64::INFINITY, r),
         );
         let size_run = size_run?;
         let companion = match size_run {
@@ -644,12 +654,7 @@ impl Search<'_> {
             Some(outcome) => outcome,
             None => {
                 let step = progress.run_reporter(refined, "its companion");
-                run(
-                    &refined.apply(scene),
-                    self.integration,
-                    f64::INFINITY,
-                    &step,
-                )?
+                run(&refined.apply(scene), self.companion, f64::INFINITY, &step)?
             }
         };
         let companion = match outcome {
@@ -719,12 +724,15 @@ fn companion_budget(
         window,
         integration_m: run.plan.integration_error_m,
         integration_statistics: run.plan.integration_statistics_rel,
-        truncation: Some(error_budget::truncation(
-            &run.trajectory,
-            &companion.trajectory,
-            vec![refined.modes; scene.params.sections.len()],
-            window,
-        )),
+        truncation: Some(error_budget::Truncation {
+            interpolation: run.plan.settings.longest_step.is_some(),
+            ..error_budget::truncation(
+                &run.trajectory,
+                &companion.trajectory,
+                vec![refined.modes; scene.params.sections.len()],
+                window,
+            )
+        }),
         missing: None,
     }
 }

@@ -6,7 +6,10 @@
 //! integrated element by element), with the vehicle and the load as point masses and the
 //! contact points of docs/model.md section 3, with their law, at mesh nodes. It shares only
 //! the parameters with the Ritz models: no shape function, root or quadrature rule of theirs.
-//! Telescopic positions must be fixed (the contact points are nodes of the mesh).
+//! With fixed telescopic positions the contact points are nodes of the mesh; with moving ones
+//! they slide across the elements (the mesh is cut at their starting points), and a contact
+//! vector is the Hermite functions of the element the point is in at that time, its rate
+//! their slopes times the point's speed (docs/model.md, section 3), as in the Ritz models.
 //!
 //! Coordinates follow [`crate::model`]: index 0 is the vehicle position `u`, carried by the
 //! unit translation of the whole telescope; every other coordinate is a nodal displacement
@@ -29,7 +32,7 @@
 
 use crate::contact::ContactState;
 use crate::model::Model;
-use crate::model::layout::Layout;
+use crate::model::layout::{ContactPoint, Layout};
 use crate::model::mass_solve::MassSolve;
 use crate::model::params::StructuralDamping;
 use crate::model::params::{Drive, ModelParams, SectionParams};
@@ -40,11 +43,6 @@ use std::f64::consts::PI;
 /// Why an element model could not be built or solved.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ElementError {
-    /// The element model needs fixed telescopic positions.
-    #[error(
-        "the finite-element reference needs fixed telescopic positions (contact points are mesh nodes)"
-    )]
-    MovingPositions,
     /// The element count is out of range.
     #[error("elements per section must be 2 to {MAX_ELEMENTS} (got {0})")]
     Elements(usize),
@@ -153,7 +151,29 @@ const GAUSS4: [(f64, f64); 4] = [
     (0.930_568_155_797_026_3, 0.173_927_422_568_726_93),
 ];
 
-/// The finite-element model of a scene with fixed telescopic positions.
+/// A contact vector's nonzero entries over the mesh, `(index, g, gdot)`: at most two nodes'
+/// displacement and slope on each of the two sections.
+#[derive(Debug, Clone, Copy)]
+struct ContactEntries {
+    len: usize,
+    entries: [(usize, f64, f64); 8],
+}
+
+impl ContactEntries {
+    /// `(index, g, gdot)` for every entry.
+    fn iter(&self) -> impl Iterator<Item = (usize, f64, f64)> + '_ {
+        self.entries[..self.len].iter().copied()
+    }
+
+    /// `(xi, xi_dot)` at state `z`, `zd` (the rate with the moving point's share).
+    fn gap(&self, z: &[f64], zd: &[f64]) -> (f64, f64) {
+        self.iter().fold((0.0, 0.0), |(xi, xid), (j, g, gd)| {
+            (xi + g * z[j], xid + g * zd[j] + gd * z[j])
+        })
+    }
+}
+
+/// The finite-element model of a scene.
 #[derive(Debug, Clone)]
 pub struct ElementModel {
     params: ModelParams,
@@ -164,8 +184,11 @@ pub struct ElementModel {
     damping: Option<DMatrix<f64>>,
     drive: DVector<f64>,
     mass_solve: MassSolve,
-    /// Nonzero entries of each contact vector `g_c`.
-    contacts: Vec<Vec<(usize, f64)>>,
+    /// The contact points, in the layout's order.
+    points: Vec<ContactPoint>,
+    /// Each contact vector's entries when the telescopic positions are fixed (else they
+    /// are made at each time).
+    fixed_contacts: Option<Vec<ContactEntries>>,
     /// `tip_rel` and `top1_rel` as entries over the coordinates.
     tip: Vec<(usize, f64)>,
     top1: Vec<(usize, f64)>,
@@ -176,14 +199,11 @@ impl ElementModel {
     /// it), assembles `M` and `K`, and places the contacts.
     ///
     /// # Errors
-    /// [`ElementError`] for moving positions, an element count outside `2..=MAX_ELEMENTS`,
-    /// or a mass matrix that is not positive definite.
+    /// [`ElementError`] for an element count outside `2..=MAX_ELEMENTS`, or a mass matrix
+    /// that is not positive definite.
     pub fn new(params: &ModelParams, elements: usize) -> Result<Self, ElementError> {
         if !(2..=MAX_ELEMENTS).contains(&elements) {
             return Err(ElementError::Elements(elements));
-        }
-        if !params.positions.iter().all(Profile::is_constant) {
-            return Err(ElementError::MovingPositions);
         }
         let meshes = number_nodes(params, elements);
         let counts: Vec<usize> = meshes
@@ -216,7 +236,7 @@ impl ElementModel {
         mass += params.load_mass * &load * load.transpose();
         let mass = 0.5 * (&mass + mass.transpose());
         let stiffness = 0.5 * (&stiffness + stiffness.transpose());
-        let contacts = contact_entries(params, &layout, &meshes);
+        let points: Vec<ContactPoint> = layout.contacts().collect();
         let mass_solve = MassSolve::new(&mass, &params.drive)
             .ok_or(ElementError::NotPositiveDefinite("mass"))?;
         let damping = match params.damping {
@@ -227,7 +247,7 @@ impl ElementModel {
         };
         let mut drive = DVector::zeros(dof);
         drive[0] = 1.0;
-        Ok(ElementModel {
+        let mut model = ElementModel {
             params: params.clone(),
             layout,
             meshes,
@@ -236,10 +256,18 @@ impl ElementModel {
             damping,
             drive,
             mass_solve,
-            contacts,
+            points,
+            fixed_contacts: None,
             tip,
             top1,
-        })
+        };
+        if params.positions.iter().all(Profile::is_constant) {
+            let fixed = (0..model.points.len())
+                .map(|c| model.contact_at(c, 0.0))
+                .collect();
+            model.fixed_contacts = Some(fixed);
+        }
+        Ok(model)
     }
 
     /// Number of elements of section `k` (1-based).
@@ -322,12 +350,40 @@ impl ElementModel {
         }
     }
 
-    fn gap(&self, c: usize, z: &[f64], zd: &[f64]) -> (f64, f64) {
-        self.contacts[c]
-            .iter()
-            .fold((0.0, 0.0), |(xi, xid), &(j, g)| {
-                (xi + g * z[j], xid + g * zd[j])
-            })
+    /// Contact `c`'s vector and its rate at time `t` (s).
+    fn contact_at(&self, c: usize, t: f64) -> ContactEntries {
+        if let Some(fixed) = &self.fixed_contacts {
+            return fixed[c];
+        }
+        let position = &self.params.positions[self.points[c].overlap - 2];
+        self.entries_at(self.points[c], position.value(t), position.rate(t))
+    }
+
+    /// The entries of contact point `p`'s vector with its overlap's telescopic position at
+    /// `a` (m) moving at `a_rate` (m/s): `+psi(x_in)` on the inner section, `-psi(x_out)` on
+    /// the outer one (the translation cancels), the rates from the slopes.
+    fn entries_at(&self, p: ContactPoint, a: f64, a_rate: f64) -> ContactEntries {
+        let k = p.overlap;
+        let s = p.fraction;
+        let overlap = self.params.sections[k - 2].length - a;
+        let (x_in, x_out) = (s * overlap, a + s * overlap);
+        let (rate_in, rate_out) = (-s * a_rate, (1.0 - s) * a_rate);
+        let mut e = ContactEntries {
+            len: 0,
+            entries: [(0, 0.0, 0.0); 8],
+        };
+        for (mesh, x, rate, sign) in [
+            (&self.meshes[k - 1], x_in, rate_in, 1.0),
+            (&self.meshes[k - 2], x_out, rate_out, -1.0),
+        ] {
+            for ((j, v), (_, d)) in mesh.point_entries(x, 0).zip(mesh.point_entries(x, 1)) {
+                if v != 0.0 || d != 0.0 {
+                    e.entries[e.len] = (j, sign * v, sign * d * rate);
+                    e.len += 1;
+                }
+            }
+        }
+        e
     }
 }
 
@@ -433,27 +489,6 @@ fn assemble_section(
     }
 }
 
-/// The nonzero entries of every contact vector: `+psi(x_in)` on the inner section, `-psi(x_out)`
-/// on the outer one (the translation cancels).
-fn contact_entries(
-    params: &ModelParams,
-    layout: &Layout,
-    meshes: &[SectionMesh],
-) -> Vec<Vec<(usize, f64)>> {
-    layout
-        .contacts()
-        .map(|c| {
-            let k = c.overlap;
-            let a = params.positions[k - 2].value(0.0);
-            let overlap = params.sections[k - 2].length - a;
-            let (x_in, x_out) = (c.fraction * overlap, a + c.fraction * overlap);
-            let inner = meshes[k - 1].point_entries(x_in, 0);
-            let outer = meshes[k - 2].point_entries(x_out, 0).map(|(j, v)| (j, -v));
-            inner.chain(outer).filter(|&(_, v)| v != 0.0).collect()
-        })
-        .collect()
-}
-
 impl Model for ElementModel {
     fn layout(&self) -> &Layout {
         &self.layout
@@ -479,31 +514,39 @@ impl Model for ElementModel {
         &self.drive
     }
 
-    fn contact_vectors(&self, _t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
+    fn contact_vectors(&self, t: f64, g: &mut DMatrix<f64>, gdot: &mut DMatrix<f64>) {
         g.fill(0.0);
         gdot.fill(0.0);
-        for (c, entries) in self.contacts.iter().enumerate() {
-            for &(j, v) in entries {
+        for c in 0..self.points.len() {
+            for (j, v, d) in self.contact_at(c, t).iter() {
                 g[(j, c)] = v;
+                gdot[(j, c)] = d;
             }
         }
     }
 
     fn contact_vectors_at(
         &self,
-        _positions: &[f64],
-        _rates: &[f64],
+        positions: &[f64],
+        rates: &[f64],
         g: &mut DMatrix<f64>,
         gdot: &mut DMatrix<f64>,
     ) {
-        // the mesh is cut at the scene's contact points: other positions are not meshed
-        self.contact_vectors(0.0, g, gdot);
+        g.fill(0.0);
+        gdot.fill(0.0);
+        for (c, &p) in self.points.iter().enumerate() {
+            let e = self.entries_at(p, positions[p.overlap - 2], rates[p.overlap - 2]);
+            for (j, v, d) in e.iter() {
+                g[(j, c)] = v;
+                gdot[(j, c)] = d;
+            }
+        }
     }
 
-    fn contact_gaps(&self, _t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
+    fn contact_gaps(&self, t: f64, y: &[f64], xi: &mut [f64], xi_dot: &mut [f64]) {
         let (z, zd) = y.split_at(self.dof());
-        for c in 0..self.contacts.len() {
-            (xi[c], xi_dot[c]) = self.gap(c, z, zd);
+        for c in 0..self.points.len() {
+            (xi[c], xi_dot[c]) = self.contact_at(c, t).gap(z, zd);
         }
     }
 
@@ -517,23 +560,18 @@ impl Model for ElementModel {
         if let Some(d) = &self.damping {
             acc.gemv(-1.0, d, &DVectorView::from_slice(zd, n), 1.0);
         }
-        for (c, entries) in self.contacts.iter().enumerate() {
-            let (xi, xid) = self.gap(c, z, zd);
+        for c in 0..self.points.len() {
+            let entries = self.contact_at(c, t);
+            let (xi, xid) = entries.gap(z, zd);
             let f = self.contact_force(c, xi, xid, states).force;
-            for &(j, g) in entries {
+            for (j, g, _) in entries.iter() {
                 acc[j] -= f * g;
             }
         }
         self.mass_solve.accelerations(self.drive_input(t), acc);
     }
 
-    fn jacobian(
-        &self,
-        _t: f64,
-        y: &[f64],
-        states: Option<&[ContactState]>,
-        jac: &mut DMatrix<f64>,
-    ) {
+    fn jacobian(&self, t: f64, y: &[f64], states: Option<&[ContactState]>, jac: &mut DMatrix<f64>) {
         let n = self.dof();
         let (z, zd) = y.split_at(n);
         jac.fill(0.0);
@@ -544,12 +582,14 @@ impl Model for ElementModel {
         if let Some(d) = &self.damping {
             jac.view_mut((n, n), (n, n)).copy_from(d);
         }
-        for (c, entries) in self.contacts.iter().enumerate() {
-            let (xi, xid) = self.gap(c, z, zd);
+        for c in 0..self.points.len() {
+            let entries = self.contact_at(c, t);
+            let (xi, xid) = entries.gap(z, zd);
             let f = self.contact_force(c, xi, xid, states);
-            for &(i, gi) in entries {
-                for &(j, gj) in entries {
-                    jac[(n + i, j)] += gi * f.d_gap * gj;
+            for (i, gi, _) in entries.iter() {
+                for (j, gj, gdj) in entries.iter() {
+                    // xi_dot = g . zd + gdot . z
+                    jac[(n + i, j)] += gi * (f.d_gap * gj + f.d_rate * gdj);
                     jac[(n + i, n + j)] += f.d_rate * gi * gj;
                 }
             }
@@ -573,16 +613,16 @@ impl Model for ElementModel {
             .sum::<f64>()
     }
 
-    fn outputs(&self, _t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
+    fn outputs(&self, t: f64, y: &[f64], ydot: &[f64], out: &mut [f64]) {
         let n = self.dof();
         let (z, zd) = y.split_at(n);
         let dot = |entries: &[(usize, f64)]| entries.iter().map(|&(j, v)| v * z[j]).sum::<f64>();
         out[0] = z[0];
         out[1] = dot(&self.tip);
         out[2] = dot(&self.top1);
-        let nc = self.contacts.len();
+        let nc = self.points.len();
         for c in 0..nc {
-            let (xi, xid) = self.gap(c, z, zd);
+            let (xi, xid) = self.contact_at(c, t).gap(z, zd);
             out[3 + c] = xi;
             out[3 + nc + c] = self.contact_force(c, xi, xid, None).force;
         }

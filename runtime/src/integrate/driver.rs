@@ -103,7 +103,8 @@ pub(super) struct Driver<'m> {
 }
 
 /// Refuses settings `method` cannot run with: a fixed step without `dt`, a step that is not
-/// a positive number of seconds, tolerances that are not positive with rtol < 1.
+/// a positive number of seconds, tolerances that are not positive with rtol < 1, a longest
+/// step that is not a positive number of seconds.
 fn check_settings(method: Method, settings: &Settings) -> Result<(), SimError> {
     let control = method.step_control();
     match (control, settings.dt) {
@@ -125,6 +126,13 @@ fn check_settings(method: Method, settings: &Settings) -> Result<(), SimError> {
         return Err(SimError::Settings(format!(
             "tolerances must be positive with rtol < 1 (got rtol = {}, atol = {})",
             settings.rtol, settings.atol
+        )));
+    }
+    if let Some(longest) = settings.longest_step
+        && !(longest > 0.0 && longest.is_finite())
+    {
+        return Err(SimError::Settings(format!(
+            "the longest step must be a positive number of seconds (got {longest})"
         )));
     }
     Ok(())
@@ -186,7 +194,13 @@ impl<'m> Driver<'m> {
             },
             stop_on_switch: false,
             target: span.end,
-            stepper: make_stepper(method, n, settings, cap, span.sample),
+            stepper: make_stepper(
+                method,
+                n,
+                settings,
+                cap,
+                settings.longest_step.unwrap_or(span.sample),
+            ),
             sys,
             method,
             settings: *settings,
@@ -359,6 +373,9 @@ impl<'m> Driver<'m> {
         if capped {
             self.h = self.h.min(self.step_cap);
         }
+        if let Some(longest) = self.settings.longest_step {
+            self.h = self.h.min(longest);
+        }
         let remaining = t_stop - self.t;
         // never leave a sliver before a stop
         let h = if self.h >= remaining * (1.0 - 1e-9) {
@@ -519,8 +536,9 @@ impl<'m> Driver<'m> {
     /// The next profile breakpoint after `t` (advancing `next_break` to it) and the next
     /// time a step must end on, `(t_break, t_stop)` (s): the breakpoint or, for adaptive
     /// methods, the next sample time, whichever comes first (adaptive methods end steps on
-    /// sample times, so samples carry the method's own accuracy; fixed-step methods keep
-    /// their grid and interpolate).
+    /// sample times, so samples carry the method's own accuracy, unless
+    /// `Settings::longest_step` lets them cross samples; fixed-step methods keep their grid
+    /// and interpolate).
     #[inline]
     fn next_stops(&self, next_break: &mut usize) -> (f64, f64) {
         let end = self.target;
@@ -533,7 +551,10 @@ impl<'m> Driver<'m> {
             .copied()
             .filter(|&b| b < end)
             .unwrap_or(end);
-        let t_sample = if self.adaptive() && self.next_sample < self.samples.total {
+        let t_sample = if self.adaptive()
+            && self.settings.longest_step.is_none()
+            && self.next_sample < self.samples.total
+        {
             self.samples.time(self.next_sample).min(end)
         } else {
             end

@@ -162,7 +162,7 @@ pub struct Imex {
 
 impl Imex {
     /// For `dof` coordinates with the run's tolerances and its longest step (s; the output
-    /// sample interval), which sets the stiff modes ([`StiffModes::of`]).
+    /// sample interval, or `Settings::longest_step`), which sets the stiff modes ([`StiffModes::of`]).
     pub fn new(dof: usize, settings: &Settings, longest_step: f64) -> Self {
         Imex {
             longest_step,

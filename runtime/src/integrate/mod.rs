@@ -316,6 +316,11 @@ pub struct Settings {
     /// Let method `exact` step over a closed contact's fast modes where their bound
     /// certifies it (`false`: its short steps throughout, for comparison).
     pub long_steps: bool,
+    /// Longest step (s) of an adaptive method, whose steps then cross output samples and
+    /// give them by the step's cubic Hermite interpolant (imex's stiff modes are those that
+    /// turn fast over this step); `None`: steps end on every sample. Fixed-step methods
+    /// ignore it.
+    pub longest_step: Option<f64>,
 }
 
 impl Default for Settings {
@@ -329,6 +334,7 @@ impl Default for Settings {
             exact_from: None,
             step_cap: true,
             long_steps: true,
+            longest_step: None,
         }
     }
 }
@@ -653,8 +659,8 @@ pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> 
 }
 
 /// The stepper of `method`; `step_cap` is dop853's step cap with closed contacts (s), when
-/// the model has contacts (read by `dop853-imex`); `longest_step` the output sample interval
-/// (s), which sets imex's stiff modes.
+/// the model has contacts (read by `dop853-imex`); `longest_step` the run's longest step
+/// (s: the output sample interval, or `Settings::longest_step`), which sets imex's stiff modes.
 fn make_stepper(
     method: Method,
     dof: usize,

@@ -53,7 +53,8 @@ pub const QUIET_STEPS: u32 = 4;
 
 impl SettledSteps {
     /// For `dof` coordinates with the run's tolerances; `cap` is dop853's step cap with closed
-    /// contacts (s); `longest_step` the run's output sample interval (s).
+    /// contacts (s); `longest_step` the run's longest step (s: the output sample interval, or
+    /// `Settings::longest_step`).
     pub fn new(dof: usize, settings: &Settings, cap: f64, longest_step: f64) -> Self {
         SettledSteps {
             explicit: ExplicitRk::new(&DOP853, 2 * dof, settings),

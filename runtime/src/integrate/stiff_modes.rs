@@ -2,7 +2,8 @@
 //! contacts.
 //!
 //! A mode of the sections' `(K, M)` that turns more than [`STIFF_TURN`] radians over the
-//! run's longest step (its output sample interval: adaptive steps end on samples) goes to
+//! run's longest step (its output sample interval where adaptive steps end on samples, else
+//! `Settings::longest_step`) goes to
 //! the implicit part, whose L-stable stages give it its quasi-static response; the step
 //! control bounds every coordinate's error whichever part holds it. In an explicit part such
 //! modes set the step although the drive and the sliding contacts hardly excite them:
