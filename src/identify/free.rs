@@ -110,7 +110,27 @@ impl FreeValue {
                 logarithmic: low > 0.0,
             });
         }
+        check_products(&out)?;
         Ok(out)
+    }
+}
+
+/// Scene values the beams see only as a product (docs/model.md: `EI` of a section): no
+/// record determines both factors.
+const PRODUCTS: [(&str, &str); 1] = [("sections.youngs_modulus", "sections.inertia")];
+
+/// Refuses two free values that enter the model only as a product.
+fn check_products(free: &[Free]) -> Result<()> {
+    let is_free = |key: &str| free.iter().any(|f| f.key == key);
+    match PRODUCTS.iter().find(|(a, b)| is_free(a) && is_free(b)) {
+        Some((first, second)) => Err(bad(
+            second,
+            &format!(
+                "a record does not determine {second} beside {first}: the beams see only \
+                 their product E I; free one of them"
+            ),
+        )),
+        None => Ok(()),
     }
 }
 
@@ -232,5 +252,10 @@ mod tests {
         assert!(refused("contact.clearance").contains("give bounds"));
         assert!(refused("masses.load=a:b").contains("finite numbers"));
         assert!(refused("").contains("at least one"));
+        let product = refused("sections.youngs_modulus,masses.load,sections.inertia");
+        assert!(
+            product.contains("does not determine sections.inertia beside sections.youngs_modulus"),
+            "{product}"
+        );
     }
 }
