@@ -32,6 +32,26 @@ fn outputs(model: &dyn Model, samples: &[(f64, Vec<f64>)]) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// The largest difference between two runs' outputs whose names start with `prefix`, over
+/// every sample.
+fn largest_difference(
+    model: &dyn Model,
+    ours: &[(f64, Vec<f64>)],
+    theirs: &[(f64, Vec<f64>)],
+    prefix: &str,
+) -> f64 {
+    let names = model.output_names();
+    let (ours, theirs) = (outputs(model, ours), outputs(model, theirs));
+    (0..names.len())
+        .filter(|&i| names[i].starts_with(prefix))
+        .flat_map(|i| {
+            ours.iter()
+                .zip(&theirs)
+                .map(move |(a, b)| (a[i] - b[i]).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
 #[test]
 fn imex_steps_over_the_static_shapes_stiff_modes_and_keeps_every_output() {
     check_stiff_modes(Basis::ModesAndStatic, 2);
@@ -58,18 +78,7 @@ fn check_stiff_modes(basis: Basis, modes: usize) {
         ..Settings::default()
     };
     let (reference, _) = run_counted(&model, &y0, &span, Method::Dop853, &tight).unwrap();
-    let names = model.output_names();
-    let (ours, theirs) = (outputs(&model, &imex), outputs(&model, &reference));
-    let worst = |prefix: &str| {
-        (0..names.len())
-            .filter(|&i| names[i].starts_with(prefix))
-            .flat_map(|i| {
-                ours.iter()
-                    .zip(&theirs)
-                    .map(move |(a, b)| (a[i] - b[i]).abs())
-            })
-            .fold(0.0, f64::max)
-    };
+    let worst = |prefix: &str| largest_difference(&model, &imex, &reference, prefix);
     let (tip, top, forces) = (worst("tip_rel"), worst("top1_rel"), worst("f_"));
     eprintln!(
         "{basis:?} {modes}: imex {} steps: tip_rel {tip:.2e} m, top1_rel {top:.2e} m, contact forces {forces:.2e} N \
@@ -125,18 +134,7 @@ fn imex_steps_across_samples_up_to_a_longest_step() {
     let (_, sample_stats) = run_counted(&model, &y0, &span, Method::Imex, &on_samples).unwrap();
     let (reference, _) = run_counted(&model, &y0, &span, Method::Dop853, &tight).unwrap();
     assert_eq!(long.len(), reference.len(), "every sample is given");
-    let names = model.output_names();
-    let (ours, theirs) = (outputs(&model, &long), outputs(&model, &reference));
-    let worst = |prefix: &str| {
-        (0..names.len())
-            .filter(|&i| names[i].starts_with(prefix))
-            .flat_map(|i| {
-                ours.iter()
-                    .zip(&theirs)
-                    .map(move |(a, b)| (a[i] - b[i]).abs())
-            })
-            .fold(0.0, f64::max)
-    };
+    let worst = |prefix: &str| largest_difference(&model, &long, &reference, prefix);
     let (tip, forces) = (worst("tip_rel"), worst("f_"));
     eprintln!(
         "longest step 8 ms: {} steps against {} on the samples; tip_rel {tip:.2e} m, contact \

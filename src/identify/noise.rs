@@ -3,10 +3,11 @@
 //! higher their order and keep white noise (`var` of the `k`-th difference is `C(2k, k)
 //! sigma^2`: 6 for the second), by their median absolute value so that the record's few sharp
 //! features (a step of the drive) do not count, and per block so that the impacts of a
-//! clearance record do not either. A signal that rings at a tenth of the sample rate leaves
+//! clearance record do not either. A signal that rings at a twentieth of the sample rate leaves
 //! `(omega h)^k` of its amplitude in the `k`-th difference: at 100 Hz a 5 Hz ring makes the
 //! second differences read 23 times the noise and the sixth 1.03 times, so the estimate is
-//! the least of the orders (on white noise alone they agree, within 4 %).
+//! that of the first two successive orders that agree ([`estimate`]): white noise reads the
+//! same at every order, a smooth signal lower at each higher one.
 
 use telescopic_runtime::Output;
 
@@ -111,10 +112,10 @@ const DIFFERENCES: [&[f64]; 4] = [
 const ORDERS_AGREE: f64 = 1.3;
 
 /// The white-noise standard deviation of `samples`, 0 when none shows: per order of
-/// [`DIFFERENCES`], the estimate per block of 500 samples and of those the lower quartile,
+/// `DIFFERENCES`, the estimate per block of 500 samples and of those the lower quartile,
 /// so that stretches of impacts (whose sharp motion survives the differences) do not count
 /// (a record shorter than two blocks is one block); then the first two successive orders
-/// that agree within [`ORDERS_AGREE`], the lesser of the two. White noise reads the same at
+/// that agree within `ORDERS_AGREE`, the lesser of the two. White noise reads the same at
 /// every order (the quartile of blocks about 4 % low); a smooth signal's leak falls with
 /// the order, and a record where no two orders agree (a noise-free, synthetic one) has no
 /// noise to show.
