@@ -108,7 +108,8 @@ fn check_stiff_modes(basis: Basis, modes: usize) {
 }
 
 /// With a longest step of 8 ms, `imex` crosses the 1 ms output samples and gives them by
-/// its steps' cubic Hermite interpolants: a quarter of the steps, every output still close
+/// its steps' cubic Hermite interpolants: at most a quarter of the steps (measured an
+/// eighth), every output still close
 /// to a tight explicit reference (the static shapes with 6 modes per section, whose stiff
 /// modes then reach down to 12 Hz).
 #[test]
