@@ -161,6 +161,8 @@ pub enum OptionName {
     Free,
     /// `IdentifyOptions::noise`: the sensors' noise given.
     Noise,
+    /// `IdentifyOptions::start`: a record that starts at rest or in motion.
+    Start,
 }
 
 crate::named::named_enum!(OptionName, "an option", {
@@ -241,4 +243,5 @@ crate::named::named_enum!(OptionName, "an option", {
     FilterRate => "plan::emit::emit_filter_c rate_hz",
     Free => "IdentifyOptions::free",
     Noise => "IdentifyOptions::noise",
+    Start => "IdentifyOptions::start",
 });

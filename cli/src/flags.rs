@@ -82,6 +82,7 @@ pub fn flag(option: OptionName) -> &'static str {
         O::FilterRate => "--filter-rate",
         O::Free => "--free",
         O::Noise => "--noise",
+        O::Start => "--start",
     }
 }
 

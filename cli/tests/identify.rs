@@ -151,3 +151,63 @@ fn bad_records_are_refused_naming_the_column_and_the_line() {
     identify(&record, "masses.lod", &["--free", "masses.lod"]);
     identify(&record, "contact.clearance", &["--free", "give bounds"]);
 }
+
+/// `--start moving`: the record from 0.3 s on (the machine already moving, its time from 0)
+/// is fitted back to the machine's values with the free motion of its start, and the
+/// report says so; with clearance the flag is refused, naming it and the rule.
+#[test]
+fn a_record_that_starts_in_motion_is_fitted_with_start_moving() {
+    let dir = scratch("identify-moving");
+    let whole = std::fs::read_to_string(write_record(&dir)).unwrap();
+    let mut text = String::new();
+    for (i, line) in whole.lines().enumerate() {
+        // line 1 is the comment, 2 the header, sample 300 (0.3 s) on line 303
+        if !(2..302).contains(&i) {
+            let mut fields: Vec<String> = line.split(',').map(String::from).collect();
+            if i >= 302 {
+                fields[0] = format!("{}", fields[0].parse::<f64>().unwrap() - 0.3);
+            }
+            text.push_str(&fields.join(","));
+            text.push('\n');
+        }
+    }
+    let record = dir.join("moving.csv");
+    std::fs::write(&record, text).unwrap();
+    let args = |scene: &'static str| {
+        vec![
+            "identify".to_string(),
+            scene.to_string(),
+            "--data".into(),
+            record.to_str().unwrap().into(),
+            "--free".into(),
+            "sections.youngs_modulus,masses.load".into(),
+            "--size".into(),
+            "5".into(),
+            "--start".into(),
+            "moving".into(),
+        ]
+    };
+    let fitted = succeeds(
+        &args("scenes/adams-linear.toml")
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    let report = String::from_utf8(fitted.stdout).unwrap();
+    assert!(report.contains("start in motion"), "{report}");
+    for (key, want) in [("sections.youngs_modulus", 1.93e11), ("masses.load", 21.5)] {
+        let line = report
+            .lines()
+            .find(|l| l.trim_start().starts_with(key))
+            .unwrap();
+        let value: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        assert!((value / want - 1.0).abs() < 1e-5, "{report}");
+    }
+    fails_with(
+        &args("scenes/adams-clearance.toml")
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+        &["--start", "clearance"],
+    );
+}

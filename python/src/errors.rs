@@ -180,6 +180,7 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::FilterRate => "filter_rate",
         O::Free => "free",
         O::Noise => "noise",
+        O::Start => "start",
     }
 }
 

@@ -9,7 +9,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use telescopic::identify::noise::parse_noise;
 use telescopic::identify::{
-    FreeValue, Identification, IdentifyOptions, Offsets, Record, identify as fit, validate,
+    FreeValue, Identification, IdentifyOptions, Offsets, Record, SensorPrediction, Start,
+    identify as fit, validate,
 };
 use telescopic::run::ModelSize;
 
@@ -74,7 +75,7 @@ fn residuals(fit: &Identification) -> (Vec<String>, Vec<Vec<f64>>) {
 /// residuals, validation, fitted scene TOML, summary)`.
 #[pyfunction]
 #[pyo3(signature = (scene, record, free, noise = None, offsets = "fitted", size = None,
-    until = None, unseen = None, progress = None, notes = true))]
+    until = None, unseen = None, progress = None, notes = true, start = "rest"))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub fn identify<'py>(
     py: Python<'py>,
@@ -88,6 +89,7 @@ pub fn identify<'py>(
     unseen: Option<Columns>,
     progress: Option<&Bound<'py, PyAny>>,
     notes: bool,
+    start: &str,
 ) -> PyResult<(
     Vec<Bound<'py, PyDict>>,
     Vec<Bound<'py, PyDict>>,
@@ -96,16 +98,16 @@ pub fn identify<'py>(
     String,
     Bound<'py, PyDict>,
 )> {
-    let offsets = match offsets {
-        "fitted" => Offsets::Fitted,
-        "zero" => Offsets::Zero,
-        other => {
-            return Err(argument(
-                "offsets",
-                format!("{other:?}: give \"fitted\" or \"zero\""),
-            ));
-        }
-    };
+    let offsets = choice(
+        "offsets",
+        offsets,
+        [("fitted", Offsets::Fitted), ("zero", Offsets::Zero)],
+    )?;
+    let start = choice(
+        "start",
+        start,
+        [("rest", Start::Rest), ("moving", Start::Moving)],
+    )?;
     let size = size
         .map(|s| {
             s.parse::<ModelSize>()
@@ -126,6 +128,7 @@ pub fn identify<'py>(
         offsets,
         size,
         until,
+        start,
     };
     let record = Record::from_columns("data", &record.0, record.1).map_err(to_python)?;
     let unseen = unseen
@@ -137,33 +140,12 @@ pub fn identify<'py>(
         let fit = fit(scene, &record, &options, reporter)?;
         let predictions = unseen
             .as_ref()
-            .map(|u| validate(&fit, u, offsets))
+            .map(|u| validate(&fit, u, offsets, start))
             .transpose()?;
         Ok((fit, predictions))
     })?;
-    let validation = predictions
-        .map(|p| {
-            p.iter()
-                .map(|s| {
-                    let row = PyDict::new(py);
-                    row.set_item("sensor", s.output.to_string())?;
-                    row.set_item("peak", s.peak)?;
-                    row.set_item("max_error", s.max_error)?;
-                    row.set_item("relative", s.relative())?;
-                    row.set_item("rms_error", s.rms_error)?;
-                    Ok(row)
-                })
-                .collect::<PyResult<Vec<_>>>()
-        })
-        .transpose()?;
-    let summary = PyDict::new(py);
-    summary.set_item("text", fit.to_text())?;
-    summary.set_item("size", fit.model.size.to_string())?;
-    summary.set_item("runs", fit.runs)?;
-    summary.set_item("wall_s", fit.wall_s)?;
-    summary.set_item("window", &fit.window)?;
-    summary.set_item("correlated", &fit.correlated)?;
-    summary.set_item("correlation", &fit.correlation)?;
+    let validation = predictions.map(|p| validation_rows(py, &p)).transpose()?;
+    let summary = summary(py, &fit)?;
     Ok((
         value_rows(py, &fit)?,
         sensor_rows(py, &fit)?,
@@ -172,4 +154,56 @@ pub fn identify<'py>(
         fit.scene_toml(),
         summary,
     ))
+}
+
+/// `given` among the `choices` of the argument `name`, or an error naming them.
+fn choice<T: Copy, const N: usize>(
+    name: &str,
+    given: &str,
+    choices: [(&str, T); N],
+) -> PyResult<T> {
+    choices
+        .iter()
+        .find(|(word, _)| *word == given)
+        .map(|&(_, value)| value)
+        .ok_or_else(|| {
+            let words: Vec<String> = choices.iter().map(|(w, _)| format!("\"{w}\"")).collect();
+            argument(name, format!("{given:?}: give {}", words.join(" or ")))
+        })
+}
+
+/// Each sensor's prediction of the unseen record as a dict.
+fn validation_rows<'py>(
+    py: Python<'py>,
+    p: &[SensorPrediction],
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    p.iter()
+        .map(|s| {
+            let row = PyDict::new(py);
+            row.set_item("sensor", s.output.to_string())?;
+            row.set_item("peak", s.peak)?;
+            row.set_item("max_error", s.max_error)?;
+            row.set_item("relative", s.relative())?;
+            row.set_item("rms_error", s.rms_error)?;
+            Ok(row)
+        })
+        .collect::<PyResult<Vec<_>>>()
+}
+
+/// The fit's summary: its report, model, runs, window, correlation and start.
+fn summary<'py>(py: Python<'py>, fit: &Identification) -> PyResult<Bound<'py, PyDict>> {
+    let summary = PyDict::new(py);
+    summary.set_item("text", fit.to_text())?;
+    summary.set_item("size", fit.model.size.to_string())?;
+    summary.set_item("runs", fit.runs)?;
+    summary.set_item("wall_s", fit.wall_s)?;
+    summary.set_item("window", &fit.window)?;
+    summary.set_item(
+        "start_vehicle_speed",
+        fit.start.and_then(|s| s.vehicle_speed),
+    )?;
+    summary.set_item("start_amplitudes", fit.start.map_or(0, |s| s.amplitudes))?;
+    summary.set_item("correlated", &fit.correlated)?;
+    summary.set_item("correlation", &fit.correlation)?;
+    Ok(summary)
 }

@@ -544,7 +544,8 @@ class Identification:
     None on a bound), ``sensors`` each sensor's noise, offset, residual RMS and the model's
     own error, ``residuals`` a DataFrame of fitted minus measured at each sample, ``validation``
     each sensor's error on the unseen record (or None), ``correlation`` a DataFrame of the
-    values' correlations; ``str()`` is the CLI's report."""
+    values' correlations, ``start_vehicle_speed`` the vehicle's speed (m/s) at the first
+    sample fitted with ``start="moving"`` (else None); ``str()`` is the CLI's report."""
 
     def __init__(self, values, sensors, residuals, validation, scene_text, summary):
         import pandas as pd
@@ -561,6 +562,7 @@ class Identification:
         self.size: str = summary["size"]
         self.runs: int = summary["runs"]
         self.wall_s: float = summary["wall_s"]
+        self.start_vehicle_speed: float | None = summary["start_vehicle_speed"]
         self._text: str = summary["text"]
 
     def __str__(self) -> str:
@@ -574,13 +576,15 @@ class Identification:
 def identify(scene: Scene, data: Any, free: Sequence[str] | Mapping[str, Any],
              noise: Mapping[str, float] | None = None, offsets: str = "fitted",
              size: str | None = None, until: float | None = None, validate: Any = None,
-             progress: Any = None) -> Identification:
+             progress: Any = None, start: str = "rest") -> Identification:
     """Fits the ``free`` scene values (keys, or a mapping of key to ``(low, high)`` or None)
     of ``scene`` to the record ``data`` (a DataFrame with ``t``, the drive force ``F`` or the
     prescribed position ``s``, and sensor columns by output name) (``telescopic identify``, docs/identify.md). ``noise``
     gives sensors' noise instead of the estimate; ``offsets`` is ``"fitted"`` or ``"zero"``;
     ``size`` the model's (``"static:9"``); ``validate`` a second record the fitted scene
-    predicts. Returns an ``Identification``."""
+    predicts; ``start`` is ``"rest"`` or ``"moving"`` (a record that starts in motion: the
+    free motion of the slowest modes and the vehicle's speed at its first sample are fitted
+    too). Returns an ``Identification``."""
     if isinstance(free, Mapping):
         entries = [(k, None if b is None else (float(b[0]), float(b[1]))) for k, b in free.items()]
     elif isinstance(free, str):
@@ -591,5 +595,6 @@ def identify(scene: Scene, data: Any, free: Sequence[str] | Mapping[str, Any],
     unseen = None if validate is None else _columns(validate, "validate")
     result = _telescopic.identify(
         scene, _columns(data, "data"), entries, noise=noise_text, offsets=offsets, size=size,
-        until=until, unseen=unseen, progress=_progress(progress), notes=progress is not False)
+        until=until, unseen=unseen, progress=_progress(progress), notes=progress is not False,
+        start=start)
     return Identification(*result)

@@ -164,6 +164,7 @@ def identify(
     unseen: tuple[list[str], list[list[float]]] | None = None,
     progress: Callable[[float], None] | None = None,
     notes: bool = True,
+    start: str = "rest",
 ) -> tuple[
     list[dict[str, Any]],
     list[dict[str, Any]],

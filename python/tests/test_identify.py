@@ -64,3 +64,31 @@ def test_a_bad_record_is_refused_naming_its_column_and_row():
     both["s"] = 0.0
     with pytest.raises(telescopic.TelescopicError, match="not both"):
         telescopic.identify(scene, both, free=["masses.load"], progress=False)
+
+
+def test_a_record_that_starts_in_motion_is_fitted_with_start_moving():
+    import pandas as pd
+
+    truth = telescopic.Scene.load("scenes/adams-linear.toml",
+                                  set={"time.end": 1.0, "masses.load": 24.0})
+    sim = telescopic.simulate(truth, error_estimate=False)
+    rng = np.random.default_rng(5)
+    first = int(np.searchsorted(sim.t, 0.3 - 1e-9))
+    rows = slice(first, None)
+    data = pd.DataFrame({
+        "t": sim.t[rows] - sim.t[first],
+        "F": np.full(len(sim.t) - first, 100.0),
+        "vehicle": sim["vehicle"][rows] + rng.normal(0, 1e-5, len(sim.t) - first),
+        "tip_rel": sim["tip_rel"][rows] + rng.normal(0, 1e-4, len(sim.t) - first),
+    })
+    scene = telescopic.Scene.load("scenes/adams-linear.toml", set={"time.end": 1.0})
+    fit = telescopic.identify(scene, data, free=["masses.load"], size="5", start="moving",
+                              progress=False)
+    row = fit.values.iloc[0]
+    assert abs(row["value"] - 24.0) <= 4 * row["std"], fit.values
+    vehicle = np.asarray(sim["vehicle"])
+    speed = (vehicle[first + 1] - vehicle[first - 1]) / (sim.t[first + 1] - sim.t[first - 1])
+    assert abs(fit.start_vehicle_speed - speed) < 1e-2 * abs(speed), (fit.start_vehicle_speed, speed)
+    assert "start in motion" in str(fit)
+    with pytest.raises(telescopic.OptionError, match="start"):
+        telescopic.identify(scene, data, free=["masses.load"], start="walking", progress=False)

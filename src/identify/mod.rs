@@ -3,7 +3,7 @@
 //! The record ([`record`]) gives the time, the drive force the machine applied (`F`, held
 //! between samples) and sensors by their output names. The fit frees scene values by key
 //! ([`free`]) and minimizes the sensors' residuals, each weighted by its noise ([`noise`])
-//! and with its offset removed ([`problem::Offsets`]), by Levenberg-Marquardt
+//! and with its offset removed ([`offsets::Offsets`]), by Levenberg-Marquardt
 //! (the `levenberg-marquardt` crate, MINPACK's method) on a model whose own error against
 //! the beams is below the noise ([`model_size`]). The values' standard deviations and
 //! correlations come from the Jacobian at the optimum ([`uncertainty`]). With clearance the
@@ -36,15 +36,18 @@
 pub mod free;
 pub mod model_size;
 pub mod noise;
+pub mod offsets;
 pub mod problem;
 pub mod record;
 pub mod report;
+pub mod start;
 pub mod uncertainty;
 
 pub use free::{Free, FreeValue};
-pub use problem::Offsets;
+pub use offsets::Offsets;
 pub use record::Record;
 pub use report::{FittedValue, Identification, SensorFit, SensorPrediction};
+pub use start::{Start, StartFit};
 
 use crate::report::Reporter;
 use crate::{Error, Result};
@@ -68,6 +71,8 @@ pub struct IdentifyOptions {
     /// Fit only the record up to this time (s); `None`: the whole record without clearance,
     /// the pointwise window with it.
     pub until: Option<f64>,
+    /// At rest at the record's first sample (default), or in motion ([`start`]).
+    pub start: Start,
 }
 
 /// The optimizer's patience: at most this many times (free values + 1) runs.
@@ -86,6 +91,7 @@ pub fn identify(
 ) -> Result<Identification> {
     let started = Instant::now();
     let driven = driven_scene(scene, record)?;
+    start::check(&driven, options.start)?;
     let free = FreeValue::resolve(&options.free, &driven)?;
     let noise: Vec<(f64, noise::NoiseSource)> = record
         .sensors
@@ -122,12 +128,17 @@ fn fit_record(
     problem::predictions(&start_run.trajectory, record)?;
     let (mut window, mut window_reason) =
         fit_window(driven, &start_run.trajectory, record, options.until)?;
+    let start_modes = match options.start {
+        Start::Rest => None,
+        Start::Moving => Some(start_modes(&model.size.apply(driven), record.interval())?),
+    };
     let setup = FitSetup {
         driven,
         size: model.size,
         free,
         noise: &sigmas,
         offsets: options.offsets,
+        start_modes,
         reporter,
         budget: PATIENCE * (free.len() + 1) * (free.len() + 1),
     };
@@ -158,6 +169,13 @@ fn fit_record(
         termination: format!("{:?}", lm.termination),
         ..report::conclude(&problem, scene, noise, &model, window_reason)?
     })
+}
+
+/// The slowest modes of `sized` a start in motion fits on a record sampled every `interval`
+/// seconds ([`start::modes_below_rate`]).
+fn start_modes(sized: &Scene, interval: f64) -> Result<usize> {
+    let run = crate::run::PreparedRun::new(sized, &problem::run_options(), &crate::Silent)?;
+    start::modes_below_rate(run.model(), sized, interval)
 }
 
 impl<'a> FitSetup<'a> {
@@ -285,7 +303,10 @@ fn fit_window(
 }
 
 /// Runs the `fitted` scene (at the fit's model size) as `record` was and compares each
-/// sensor: what `--validate` reports.
+/// sensor: what `--validate` reports. With `offsets` fitted, each sensor's offset is removed
+/// as in the fit; with a `start` in motion, the free motion of as many modes as the fit took
+/// is fitted to the record first (each sensor weighted by the fit's noise for it, or its
+/// noise estimate).
 ///
 /// # Errors
 /// As [`identify`]'s runs, and a record with sensors the scene cannot produce.
@@ -293,14 +314,39 @@ pub fn validate(
     fitted: &Identification,
     record: &Record,
     offsets: Offsets,
+    start: Start,
 ) -> Result<Vec<SensorPrediction>> {
     let driven = fitted
         .model
         .size
         .apply(&driven_scene(&fitted.scene, record)?);
+    start::check(&driven, start)?;
     let run = crate::run::PreparedRun::new(&driven, &problem::run_options(), &crate::Silent)?;
     let trajectory = run.integrate(&crate::Silent)?;
-    let predictions = problem::predictions(&trajectory, record)?;
+    let mut predictions = problem::predictions(&trajectory, record)?;
+    if start == Start::Moving {
+        let modes = match fitted.start {
+            Some(fit) => fit.modes,
+            None => start::modes_below_rate(run.model(), &driven, record.interval())?,
+        };
+        let noise: Vec<f64> = record
+            .sensors
+            .iter()
+            .map(|(output, y)| {
+                fitted
+                    .sensors
+                    .iter()
+                    .find(|s| s.output == *output)
+                    .map_or_else(|| noise::noise_of(*output, y, &[]).0, |s| s.noise.0)
+            })
+            .collect();
+        start::FreeMotion::of(run.model(), &driven, record, modes)?.add_fitted(
+            &mut predictions,
+            record,
+            &noise,
+            offsets,
+        );
+    }
     Ok(record
         .sensors
         .iter()

@@ -4,7 +4,9 @@
 //! differences, the free values' runs side by side (rayon).
 
 use super::free::Free;
+use super::offsets::{Offsets, offset_of};
 use super::record::Record;
+use super::start::{FreeMotion, StartFit};
 use crate::report::Reporter;
 use crate::run::{ModelSize, PreparedRun, SimulationOptions, Trajectory};
 use crate::{Error, Result};
@@ -15,28 +17,6 @@ use rayon::prelude::*;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use telescopic_runtime::Scene;
-
-/// What becomes of each sensor's unknown offset (a strain gauge's zero, an encoder's
-/// reference).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Offsets {
-    /// Each sensor's offset is a free constant of the fit, eliminated in closed form (the
-    /// mean of its residual): the record's mean level carries no information.
-    #[default]
-    Fitted,
-    /// The record is zeroed as the model is: the mean level is fitted too.
-    Zero,
-}
-
-impl Offsets {
-    /// The constants fitted beside the free values for `sensors` sensors.
-    pub fn count(self, sensors: usize) -> usize {
-        match self {
-            Offsets::Fitted => sensors,
-            Offsets::Zero => 0,
-        }
-    }
-}
 
 /// Step of the optimizer's central differences in its coordinate (relative to `1 + |u|`),
 /// and the first step of the covariance's in the scale coordinate (the optimizer's at the
@@ -75,17 +55,24 @@ pub struct FitSetup<'a> {
     pub noise: &'a [f64],
     /// Offsets fitted or zero.
     pub offsets: Offsets,
+    /// With a record that starts in motion, the slowest modes whose free motion is fitted
+    /// ([`super::start`]); `None`: the record starts at rest.
+    pub start_modes: Option<usize>,
     /// Progress and notes.
     pub reporter: &'a dyn Reporter,
     /// Runs the optimizer may make (for progress).
     pub budget: usize,
 }
 
-/// A run's sensors on the record's grid and their weighted residuals, at coordinates `u`.
-struct Evaluation {
-    u: Vec<f64>,
-    predictions: Vec<Vec<f64>>,
-    residuals: Vec<f64>,
+/// A run's sensors on the record's grid and their weighted residuals.
+#[derive(Debug, Clone)]
+pub struct Evaluation {
+    /// Each sensor's model samples (with the fitted free motion of a start in motion).
+    pub predictions: Vec<Vec<f64>>,
+    /// The weighted residuals, sensors one after the other.
+    pub residuals: Vec<f64>,
+    /// What a start in motion fitted.
+    pub start: Option<StartFit>,
 }
 
 /// The fit's problem: the setup's model against one part of the record, at the optimizer's
@@ -103,14 +90,16 @@ pub struct FitProblem<'a> {
     pub noise: &'a [f64],
     /// Offsets fitted or zero.
     pub offsets: Offsets,
+    /// The slowest modes whose free motion a start in motion fits; `None`: at rest.
+    pub start_modes: Option<usize>,
     /// The optimizer's coordinates.
     pub u: Vec<f64>,
     /// Runs made.
     pub runs: AtomicUsize,
     /// The first error of a run, reported after the optimizer stops.
     pub failure: Mutex<Option<Error>>,
-    /// The last evaluation the optimizer asked for.
-    last: Mutex<Option<Evaluation>>,
+    /// The last evaluation the optimizer asked for, and its coordinates.
+    last: Mutex<Option<(Vec<f64>, Evaluation)>>,
     /// Progress and notes.
     reporter: &'a dyn Reporter,
     /// Runs the optimizer may make (for progress).
@@ -127,6 +116,7 @@ impl<'a> FitSetup<'a> {
             record,
             noise: self.noise,
             offsets: self.offsets,
+            start_modes: self.start_modes,
             u: self.free.iter().map(|f| f.u_of(f.start)).collect(),
             runs: AtomicUsize::new(0),
             failure: Mutex::new(None),
@@ -166,13 +156,22 @@ impl FitProblem<'_> {
 
     /// The model's run with `values`.
     pub fn run(&self, values: &[f64]) -> Result<Trajectory> {
+        Ok(self.run_and_free_motion(values)?.0)
+    }
+
+    /// The model's run with `values`, and the free motions of a start in motion.
+    fn run_and_free_motion(&self, values: &[f64]) -> Result<(Trajectory, Option<FreeMotion>)> {
         let scene = self.scene_with(values)?;
         let run = PreparedRun::new(&scene, &run_options(), &crate::Silent)?;
         let trajectory = run.integrate(&crate::Silent)?;
+        let free = self
+            .start_modes
+            .map(|modes| FreeMotion::of(run.model(), &scene, self.record, modes))
+            .transpose()?;
         let done = self.runs.fetch_add(1, Ordering::Relaxed) + 1;
         self.reporter
             .progress((done as f64 / self.budget as f64).min(0.99));
-        Ok(trajectory)
+        Ok((trajectory, free))
     }
 
     /// Each sensor's model samples on the record's grid.
@@ -191,11 +190,25 @@ impl FitProblem<'_> {
         out
     }
 
-    /// The sensors' model samples and their weighted residuals with `values`.
-    fn evaluate(&self, values: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
-        let predictions = self.predictions(&self.run(values)?)?;
+    /// The sensors' model samples (with the free motion a start in motion fits) and their
+    /// weighted residuals with `values`.
+    fn evaluate(&self, values: &[f64]) -> Result<Evaluation> {
+        let (trajectory, free) = self.run_and_free_motion(values)?;
+        let mut predictions = self.predictions(&trajectory)?;
+        let start = free
+            .map(|free| free.add_fitted(&mut predictions, self.record, self.noise, self.offsets));
         let residuals = self.weighted(&predictions);
-        Ok((predictions, residuals))
+        Ok(Evaluation {
+            predictions,
+            residuals,
+            start,
+        })
+    }
+
+    /// The values eliminated in closed form at `evaluation`: the offsets and the amplitudes
+    /// of a start in motion.
+    pub fn eliminated(&self, evaluation: &Evaluation) -> usize {
+        self.offsets.count(self.record.sensors.len()) + evaluation.start.map_or(0, |s| s.amplitudes)
     }
 
     /// Keeps the first failure for after the optimizer stops.
@@ -204,21 +217,16 @@ impl FitProblem<'_> {
         failure.get_or_insert(error);
     }
 
-    /// The sensors' model samples and the weighted residuals at coordinates `u`: the last
-    /// evaluation's when it was at `u`, else a run.
-    pub fn evaluation_at(&self, u: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>)> {
-        if let Some(last) = &*self.last.lock().expect("not poisoned")
-            && last.u == u
+    /// The evaluation at coordinates `u`: the last one when it was at `u`, else a run.
+    pub fn evaluation_at(&self, u: &[f64]) -> Result<Evaluation> {
+        if let Some((at, last)) = &*self.last.lock().expect("not poisoned")
+            && at == u
         {
-            return Ok((last.predictions.clone(), last.residuals.clone()));
+            return Ok(last.clone());
         }
-        let (predictions, residuals) = self.evaluate(&self.values(u))?;
-        *self.last.lock().expect("not poisoned") = Some(Evaluation {
-            u: u.to_vec(),
-            predictions: predictions.clone(),
-            residuals: residuals.clone(),
-        });
-        Ok((predictions, residuals))
+        let evaluation = self.evaluate(&self.values(u))?;
+        *self.last.lock().expect("not poisoned") = Some((u.to_vec(), evaluation.clone()));
+        Ok(evaluation)
     }
 
     /// The Jacobian of the weighted residuals in the optimizer's coordinates `u` at `u`.
@@ -229,7 +237,7 @@ impl FitProblem<'_> {
             .collect();
         let unbounded = vec![(f64::NEG_INFINITY, f64::INFINITY); u.len()];
         self.central_differences(u, &steps, &unbounded, &|u| {
-            Ok(self.evaluate(&self.values(u))?.1)
+            Ok(self.evaluate(&self.values(u))?.residuals)
         })
     }
 
@@ -252,7 +260,7 @@ impl FitProblem<'_> {
             let jacobian = self.central_differences(&theta, &steps, &limits, &|theta| {
                 Ok(self
                     .evaluate(&each(self.free, theta, Free::value_of_theta))?
-                    .1)
+                    .residuals)
             })?;
             let next = self.steps_of(&jacobian);
             let settled = next
@@ -345,14 +353,6 @@ fn each(free: &[Free], xs: &[f64], map: impl Fn(&Free, f64) -> f64) -> Vec<f64> 
     free.iter().zip(xs).map(|(f, &x)| map(f, x)).collect()
 }
 
-/// The offset of a sensor whose model samples are `p` and record `y`.
-pub fn offset_of(p: &[f64], y: &[f64], offsets: Offsets) -> f64 {
-    match offsets {
-        Offsets::Fitted => p.iter().zip(y).map(|(p, y)| p - y).sum::<f64>() / p.len() as f64,
-        Offsets::Zero => 0.0,
-    }
-}
-
 /// Each of `record`'s sensors from `trajectory` (on the record's grid).
 ///
 /// # Errors
@@ -397,7 +397,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for FitProblem<'_> {
 
     fn residuals(&self) -> Option<DVector<f64>> {
         match self.evaluation_at(&self.u) {
-            Ok((_, r)) => Some(DVector::from_vec(r)),
+            Ok(evaluation) => Some(DVector::from_vec(evaluation.residuals)),
             Err(e) => {
                 self.fail(e);
                 None

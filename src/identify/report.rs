@@ -4,7 +4,9 @@
 
 use super::model_size::FitModel;
 use super::noise::NoiseSource;
-use super::problem::{FitProblem, Offsets, offset_of};
+use super::offsets::{Offsets, offset_of};
+use super::problem::FitProblem;
+use super::start::StartFit;
 use super::uncertainty::uncertainty;
 use crate::Result;
 use crate::run::{Column, Trajectory};
@@ -100,6 +102,8 @@ pub struct Identification {
     pub model: FitModel,
     /// Which part of the record was fitted, and why.
     pub window: String,
+    /// What was fitted of a record that starts in motion; `None`: it started at rest.
+    pub start: Option<StartFit>,
     /// Runs of the model the fit made.
     pub runs: usize,
     /// Why the optimizer stopped.
@@ -133,7 +137,8 @@ pub fn conclude(
     window: String,
 ) -> Result<Identification> {
     let values = problem.values(&problem.u);
-    let (predictions, residuals) = problem.evaluation_at(&problem.u)?;
+    let evaluation = problem.evaluation_at(&problem.u)?;
+    let (predictions, residuals) = (&evaluation.predictions, &evaluation.residuals);
     // a value on a bound stays in the covariance where it can (the others' deviations then
     // include its uncertainty); only where the record does not see it at all is it held
     let all: Vec<usize> = (0..values.len()).collect();
@@ -142,10 +147,11 @@ pub fn conclude(
         .copied()
         .filter(|&j| !problem.free[j].at_bound(values[j]))
         .collect();
-    let (used, spread) = match spread_of(problem, &values, &residuals, &all) {
+    let eliminated = problem.eliminated(&evaluation);
+    let (used, spread) = match spread_of(problem, &values, (residuals, eliminated), &all) {
         Ok(spread) => (all, Some(spread)),
         Err(_) if inside.len() < values.len() && !inside.is_empty() => {
-            let spread = spread_of(problem, &values, &residuals, &inside)?;
+            let spread = spread_of(problem, &values, (residuals, eliminated), &inside)?;
             (inside.clone(), Some(spread))
         }
         Err(_) if inside.is_empty() => (Vec::new(), None),
@@ -166,8 +172,8 @@ pub fn conclude(
     let keys: Vec<String> = problem.free.iter().map(|f| f.key.clone()).collect();
     let fitted_values = fitted_values(problem, &values, &std_theta);
     let pairs: Vec<(&str, f64)> = keys.iter().map(String::as_str).zip(values).collect();
-    let sensors = sensor_fits(problem, &predictions, noise, model);
-    let (measured, fitted) = overlay(problem, &predictions);
+    let sensors = sensor_fits(problem, predictions, noise, model);
+    let (measured, fitted) = overlay(problem, predictions);
     Ok(Identification {
         scene: scene.with_values(&pairs)?,
         values: fitted_values,
@@ -181,6 +187,7 @@ pub fn conclude(
         sensors,
         model: model.clone(),
         window,
+        start: evaluation.start,
         runs: problem.runs.load(std::sync::atomic::Ordering::Relaxed),
         termination: String::new(),
         wall_s: 0.0,
@@ -189,12 +196,13 @@ pub fn conclude(
     })
 }
 
-/// The uncertainty of the values `inside` (the others held); a value on a bound is not
-/// refused for a deviation wider than its bounds.
+/// The uncertainty of the values `inside` (the others held) from the `residuals` with
+/// `eliminated` values solved in closed form; a value on a bound is not refused for a
+/// deviation wider than its bounds.
 fn spread_of(
     problem: &FitProblem,
     values: &[f64],
-    residuals: &[f64],
+    (residuals, eliminated): (&[f64], usize),
     inside: &[usize],
 ) -> Result<super::uncertainty::Uncertainty> {
     let full = problem.jacobian_in_scale(values)?;
@@ -205,7 +213,6 @@ fn spread_of(
         .map(|&j| problem.free[j].key.clone())
         .collect();
     let record = problem.record;
-    let offsets = problem.offsets.count(record.sensors.len());
     let spans: Vec<f64> = inside
         .iter()
         .map(|&j| {
@@ -221,7 +228,7 @@ fn spread_of(
         &jacobian,
         residuals,
         record.times.len(),
-        offsets,
+        eliminated,
         &keys,
         &spans,
         &record.source,
@@ -352,6 +359,17 @@ impl Identification {
                 s.noise.0,
                 s.noise.1.word(),
                 s.offset
+            );
+        }
+        if let Some(start) = &self.start {
+            let speed = start.vehicle_speed.map_or(String::new(), |v| {
+                format!("; the vehicle's speed at the first sample {v:.4e} m/s")
+            });
+            let _ = writeln!(
+                out,
+                "start in motion: the free motion of the {} slowest modes fitted beside the \
+                 offsets ({} amplitudes, solved in closed form at every run){speed}",
+                start.modes, start.amplitudes
             );
         }
         if !self.held.is_empty() {

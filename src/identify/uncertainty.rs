@@ -31,7 +31,7 @@ pub struct Uncertainty {
 
 /// The uncertainty of a fit whose Jacobian in the scale coordinates is `jacobian` (rows:
 /// weighted residuals) with `residuals` at the optimum, per sensor of `per_sensor` samples,
-/// with `offsets` constants also fitted; `spans`: each value's bounds' width in its scale
+/// with `eliminated` values also fitted in closed form (offsets, a start's amplitudes); `spans`: each value's bounds' width in its scale
 /// coordinate.
 ///
 /// # Errors
@@ -41,7 +41,7 @@ pub fn uncertainty(
     jacobian: &DMatrix<f64>,
     residuals: &[f64],
     per_sensor: usize,
-    offsets: usize,
+    eliminated: usize,
     keys: &[String],
     spans: &[f64],
     record: &str,
@@ -58,7 +58,7 @@ pub fn uncertainty(
     if let Some(j) = (0..p).find(|&j| jacobian.column(j).iter().any(|v| !v.is_finite())) {
         return Err(undetermined(j, "the sensitivity to it is not finite"));
     }
-    let dof = m.saturating_sub(p + offsets);
+    let dof = m.saturating_sub(p + eliminated);
     if dof == 0 {
         return Err(undetermined(0, "fewer samples than fitted values"));
     }

@@ -6,7 +6,7 @@ use super::{SceneArgs, check_chart, check_output};
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
 use telescopic::identify::{
-    FreeValue, IdentifyOptions, Offsets, Record, identify, noise::parse_noise, validate,
+    FreeValue, IdentifyOptions, Offsets, Record, Start, identify, noise::parse_noise, validate,
 };
 use telescopic::run::ModelSize;
 
@@ -17,6 +17,16 @@ pub enum OffsetArg {
     Fitted,
     /// The record is zeroed as the model is (from rest at its first sample).
     Zero,
+}
+
+/// How the machine was moving at the record's first sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum StartArg {
+    /// At rest, as the model starts.
+    Rest,
+    /// In motion: the free motion of the slowest modes and the vehicle's speed at the first
+    /// sample are fitted too (closed contacts and fixed positions only).
+    Moving,
 }
 
 /// Options of `telescopic identify`.
@@ -42,6 +52,10 @@ pub struct IdentifyArgs {
     /// Each sensor's unknown offset: fitted, or zero (the record starts at the model's rest).
     #[arg(long, value_enum, default_value_t = OffsetArg::Fitted)]
     offsets: OffsetArg,
+    /// The machine at the record's first sample: at rest, or moving (its free motion is
+    /// fitted; the validation record's too).
+    #[arg(long, value_enum, default_value_t = StartArg::Rest)]
+    start: StartArg,
     /// The model's size (N or static:N modes per section); default: the smallest whose
     /// truncation is within every sensor's noise.
     #[arg(long, value_name = "SIZE")]
@@ -81,6 +95,10 @@ pub fn identify_command(args: &IdentifyArgs) -> anyhow::Result<()> {
         OffsetArg::Fitted => Offsets::Fitted,
         OffsetArg::Zero => Offsets::Zero,
     };
+    let start = match args.start {
+        StartArg::Rest => Start::Rest,
+        StartArg::Moving => Start::Moving,
+    };
     let options = IdentifyOptions {
         free: FreeValue::parse_list(&args.free)?,
         noise: args
@@ -92,13 +110,14 @@ pub fn identify_command(args: &IdentifyArgs) -> anyhow::Result<()> {
         offsets,
         size: args.size,
         until: args.until,
+        start,
     };
     let progress = Progress::new();
     let fit = identify(&scene, &record, &options, &progress)?;
     let mut report = fit.to_text();
     if let Some(unseen) = &unseen {
         report.push_str(&format!("validation on {} (not fitted):\n", unseen.source));
-        for sensor in validate(&fit, unseen, offsets)? {
+        for sensor in validate(&fit, unseen, offsets, start)? {
             report.push_str(&format!(
                 "  {:<10} largest error {:.3e} ({:.2} % of its peak {:.3e}), RMS {:.3e}\n",
                 sensor.output.to_string(),
