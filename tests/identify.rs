@@ -661,3 +661,39 @@ fn the_free_motion_of_a_start_in_motion_is_the_models_own() {
         "{fitted} against {speed}"
     );
 }
+
+/// A noisy force record: the done-when record with its force read with 1 N of noise (1 % of
+/// the drive). The model is driven by the force as recorded, so the sensors' response to
+/// that noise is in their residuals: the report reads the force's noise (within 25 %),
+/// stiffness and load stay within 2 % and 3 % of the beams', and the misfit warnings say
+/// that the stated deviations do not cover the result.
+#[test]
+fn a_noisy_force_record_is_read_and_warned_of() {
+    let scene = scene(&FIT_SWITCHES);
+    let truth = scene.with_values(&TRUE_VALUES).unwrap();
+    let mut record = noisy_record(&beam_run(&truth), &truth, 1);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(101);
+    let normal = Normal::new(0.0, 1.0).unwrap();
+    for f in record.force.as_mut().unwrap() {
+        *f += normal.sample(&mut rng);
+    }
+    let fit = identify(&scene, &record, &options(), &Silent).unwrap();
+    let text = fit.to_text();
+    println!("{text}");
+    let read = fit.force_noise.expect("the force's noise read");
+    assert!((read - 1.0).abs() < 0.25, "{read} N");
+    for (v, ((_, want), share)) in fit
+        .values
+        .iter()
+        .zip(TRUE_VALUES.into_iter().zip([0.02, 0.03]))
+    {
+        assert!(
+            (v.value - want).abs() <= share * want,
+            "{}: {} against {want}",
+            v.key,
+            v.value
+        );
+    }
+    assert!(fit.misfits().count() > 0, "{text}");
+    assert!(text.contains("the force record: noise"), "{text}");
+}

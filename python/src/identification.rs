@@ -190,7 +190,7 @@ fn validation_rows<'py>(
         .collect::<PyResult<Vec<_>>>()
 }
 
-/// The fit's summary: its report, model, runs, window, correlation and start.
+/// The fit's summary: its report, model, runs, window, correlation, start and force noise.
 fn summary<'py>(py: Python<'py>, fit: &Identification) -> PyResult<Bound<'py, PyDict>> {
     let summary = PyDict::new(py);
     summary.set_item("text", fit.to_text())?;
@@ -203,6 +203,7 @@ fn summary<'py>(py: Python<'py>, fit: &Identification) -> PyResult<Bound<'py, Py
         fit.start.and_then(|s| s.vehicle_speed),
     )?;
     summary.set_item("start_amplitudes", fit.start.map_or(0, |s| s.amplitudes))?;
+    summary.set_item("force_noise", fit.force_noise)?;
     summary.set_item("correlated", &fit.correlated)?;
     summary.set_item("correlation", &fit.correlation)?;
     Ok(summary)

@@ -545,7 +545,8 @@ class Identification:
     own error, ``residuals`` a DataFrame of fitted minus measured at each sample, ``validation``
     each sensor's error on the unseen record (or None), ``correlation`` a DataFrame of the
     values' correlations, ``start_vehicle_speed`` the vehicle's speed (m/s) at the first
-    sample fitted with ``start="moving"`` (else None); ``str()`` is the CLI's report."""
+    sample fitted with ``start="moving"`` (else None), ``force_noise`` the recorded force's
+    noise (N) where it shows (else None); ``str()`` is the CLI's report."""
 
     def __init__(self, values, sensors, residuals, validation, scene_text, summary):
         import pandas as pd
@@ -563,6 +564,7 @@ class Identification:
         self.runs: int = summary["runs"]
         self.wall_s: float = summary["wall_s"]
         self.start_vehicle_speed: float | None = summary["start_vehicle_speed"]
+        self.force_noise: float | None = summary["force_noise"]
         self._text: str = summary["text"]
 
     def __str__(self) -> str:

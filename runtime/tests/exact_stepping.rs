@@ -423,3 +423,58 @@ fn drive_steps_on_one_branch_share_its_exponential() {
     // measured 1.67e-11 m (2.3e-9 of the peak), the same as with 24 exponentials built afresh
     assert!(worst < 1e-8 * peak, "tip_rel differs by {worst:e} m");
 }
+
+/// A recorded force: a new value at every sample, its time stamps a few ulps off the run's
+/// sample times (as a logger's text and a record's mean interval give them). Exact
+/// stepping takes one regular step per sample (a matrix-vector product) and a step of those
+/// ulps at an off-grid stamp (a few Taylor terms), one Jacobian for the whole record (each
+/// drive step takes the first branch's `A` once the model's right-hand side agrees with
+/// it), and agrees with dop853 at rtol 1e-12.
+#[test]
+fn a_force_stepping_at_every_sample_takes_one_step_per_sample() {
+    let mut p = rig([5, 5]);
+    p.gravity = 0.0;
+    p.force_flow = ForceFlow::None;
+    let samples = 400;
+    let ulps = |k: usize| 1.0 + [-3.0, 0.0, 2.0][k % 3] * f64::EPSILON;
+    let times: Vec<f64> = (0..samples).map(|k| k as f64 * 1e-3 * ulps(k)).collect();
+    let values: Vec<f64> = (0..samples)
+        .map(|k| 100.0 * ((k as f64 * 0.37).sin() + 0.3 * (k as f64 * 2.9).cos()))
+        .collect();
+    p.drive = Drive::Force(Profile::Shaped(
+        telescopic_runtime::profile::ShapedProfile::PiecewiseConstant { times, values },
+    ));
+    let model = AssembledModel::new(&p).unwrap();
+    let y0 = vec![0.0; 2 * model.dof()];
+    let window = span(0.4, 1e-3);
+    let (exact, stats) = run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
+    let (reference, _) = run(&model, &y0, &window, Method::Dop853, &tight()).unwrap();
+    let peak = reference
+        .iter()
+        .map(|(_, y)| tip_rel(&model, y).abs())
+        .fold(0.0, f64::max);
+    let worst = exact
+        .iter()
+        .zip(&reference)
+        .map(|((_, a), (_, b))| (tip_rel(&model, a) - tip_rel(&model, b)).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "{samples} drive steps: {} steps, {} Taylor terms, {} Jacobians, {} exponentials; \
+         worst |tip_rel| difference to dop853 {worst:.2e} m (peak {peak:.2e} m)",
+        stats.steps, stats.taylor_terms, stats.jacobian_evals, stats.exponentials
+    );
+    let off_grid = (1..samples).filter(|&k| ulps(k) != 1.0).count() as u64;
+    assert_eq!(
+        stats.steps,
+        samples as u64 + off_grid,
+        "a step per sample and stamp"
+    );
+    assert!(
+        stats.taylor_terms <= 4 * off_grid,
+        "{} Taylor terms",
+        stats.taylor_terms
+    );
+    assert_eq!(stats.jacobian_evals, 1, "one Jacobian");
+    assert_eq!(stats.exponentials, 2, "one flow and one input integral");
+    assert!(worst < 1e-8 * peak, "tip_rel differs by {worst:e} m");
+}

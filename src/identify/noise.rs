@@ -60,6 +60,19 @@ pub fn noise_of(output: Output, samples: &[f64], given: &[(Output, f64)]) -> (f6
     (floor, NoiseSource::Floor)
 }
 
+/// The noise of a recorded drive force (N), when it shows above [`NOISE_FLOOR`] of its
+/// range: a force held between switches reads none. The model is driven by the force as
+/// recorded, so the sensors' response to this noise is in their residuals.
+pub fn force_noise(force: &[f64]) -> Option<f64> {
+    let (low, high) = force
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    let estimated = estimate(force);
+    (estimated > NOISE_FLOOR * (high - low)).then_some(estimated)
+}
+
 /// Parses `SENSOR=SIGMA,...` (`kappa_1_0=1e-4,tip_rel=1e-4`): noise figures given.
 ///
 /// # Errors

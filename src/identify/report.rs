@@ -104,6 +104,8 @@ pub struct Identification {
     pub window: String,
     /// What was fitted of a record that starts in motion; `None`: it started at rest.
     pub start: Option<StartFit>,
+    /// The recorded drive force's noise (N), where it shows ([`super::noise::force_noise`]).
+    pub force_noise: Option<f64>,
     /// Runs of the model the fit made.
     pub runs: usize,
     /// Why the optimizer stopped.
@@ -188,6 +190,11 @@ pub fn conclude(
         model: model.clone(),
         window,
         start: evaluation.start,
+        force_noise: problem
+            .record
+            .force
+            .as_deref()
+            .and_then(super::noise::force_noise),
         runs: problem.runs.load(std::sync::atomic::Ordering::Relaxed),
         termination: String::new(),
         wall_s: 0.0,
@@ -372,6 +379,13 @@ impl Identification {
                 start.modes, start.amplitudes
             );
         }
+        if let Some(sigma) = self.force_noise {
+            let _ = writeln!(
+                out,
+                "the force record: noise {sigma:.3e} N (estimated); the model is driven by it \
+                 as recorded, so the sensors' response to that noise is in their residuals"
+            );
+        }
         if !self.held.is_empty() {
             let _ = writeln!(
                 out,
@@ -385,8 +399,8 @@ impl Identification {
                 out,
                 "WARNING: {}'s residual is {:.1} times its noise: the model does not explain it \
                  (a wrong noise figure, a value not freed, a record that does not start at \
-                 rest as the model does, or a model that lacks what the machine does); the \
-                 deviations above do not cover such a misfit",
+                 rest as the model does, a noisy force record, or a model that lacks what the \
+                 machine does); the deviations above do not cover such a misfit",
                 s.output,
                 s.rms_residual / s.noise.0
             );

@@ -301,6 +301,10 @@ struct ExactRun<'m> {
     breakpoints: Vec<f64>,
     branches: Vec<Branch>,
     index: HashMap<(usize, u128), usize>,
+    /// The first branch built afresh for each contact code and presence of switch
+    /// functions: the donor a later drive segment's branch takes its flow from when the
+    /// model's right-hand side is the donor's affine map with the segment's own `e`.
+    donors: HashMap<(u128, bool), usize>,
     stats: RunStats,
     size_limit: f64,
     y: DVector<f64>,
@@ -519,6 +523,7 @@ impl<'m> ExactRun<'m> {
             breakpoints: Vec::new(),
             branches: Vec::new(),
             index: HashMap::new(),
+            donors: HashMap::new(),
             stats: RunStats::default(),
             size_limit: 100.0 * params.sections.iter().map(|s| s.length).sum::<f64>(),
             y: DVector::from_column_slice(y0),
@@ -602,7 +607,8 @@ impl<'m> ExactRun<'m> {
             std::mem::swap(&mut self.y, &mut self.y1);
             std::mem::swap(&mut self.gaps0, &mut self.gaps1);
             self.gaps0_current = !self.functionals.is_empty();
-            if t == t_sample && next_sample < self.samples.total {
+            let on_sample = t == t_sample && next_sample < self.samples.total;
+            if on_sample {
                 self.emit(current, t, observe);
                 next_sample += 1;
                 anchor = start;
@@ -610,7 +616,14 @@ impl<'m> ExactRun<'m> {
             if t == t_break && t < end {
                 segment += 1;
                 current = self.branch(t, segment)?;
-                anchor = t;
+                // a drive step within rounding of the start's grid (a record's force, held
+                // between samples, steps at its own time stamps, a few ulps off the run's
+                // samples) stays on that grid: the next step ends on the next sample (one
+                // matrix-vector product), not a Taylor sum of nearly a sample short of it
+                let h = self.branches[current].h;
+                if !(on_sample || next_grid_point(t, start, h).0) {
+                    anchor = t;
+                }
             }
             if let Some(p) = progress.as_mut()
                 && t - last_report >= 0.01 * (end - start)
@@ -652,10 +665,13 @@ impl<'m> ExactRun<'m> {
         anchor: f64,
         limit: f64,
     ) -> Result<f64, SimError> {
-        let (on_grid, t_grid) = next_grid_point(t, anchor, self.branches[current].h);
+        let h = self.branches[current].h;
+        let (on_grid, t_grid) = next_grid_point(t, anchor, h);
         let stop = t_grid.min(limit);
         let tau = stop - t;
-        if on_grid && stop == t_grid {
+        // a stop within rounding of the grid point (a drive step stamped a few ulps before a
+        // sample) is taken as it, as `next_grid_point` takes a start within rounding of it
+        if on_grid && t_grid - stop <= 1e-9 * h {
             let b = &self.branches[current];
             mat_vec(&b.phi, self.y.as_slice(), 1.0, self.y1.as_mut_slice());
             self.y1 += &b.gamma;
@@ -706,9 +722,15 @@ impl<'m> ExactRun<'m> {
             return Ok(i);
         }
         let branch = self.build_branch(t)?;
+        let fresh = !branch.shared;
+        let events = branch.events;
         self.branches.push(branch);
-        self.index.insert(key, self.branches.len() - 1);
-        Ok(self.branches.len() - 1)
+        let i = self.branches.len() - 1;
+        self.index.insert(key, i);
+        if fresh {
+            self.donors.entry((key.1, events)).or_insert(i);
+        }
+        Ok(i)
     }
 
     fn branch_code(&self) -> u128 {
@@ -765,6 +787,19 @@ impl<'m> ExactRun<'m> {
     /// branches at `t` (`A`, `e` as evaluated there), checked on a probe state of the size of
     /// the current one.
     fn check_affine(&mut self, t: f64, a: &DMatrix<f64>, e: &DVector<f64>) -> Result<(), SimError> {
+        let (mismatch, allowed) = self.affine_mismatch(t, a, e);
+        if mismatch.is_nan() || mismatch > allowed {
+            return Err(SimError::Settings(format!(
+                "method exact: the model's right-hand side is not affine in the state within a \
+                 contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"
+            )));
+        }
+        Ok(())
+    }
+
+    /// How far the model's right-hand side at `t` on a probe state of the size of the
+    /// current one is from `A probe + e`, and the mismatch allowed (1e-9 of their size).
+    fn affine_mismatch(&mut self, t: f64, a: &DMatrix<f64>, e: &DVector<f64>) -> (f64, f64) {
         let (n2, states) = (2 * self.n, self.tracker.fixed_states());
         let scale = self.y.amax().max(1e-6);
         let probe = DVector::from_fn(n2, |i, _| scale * (1.7 * i as f64 + 0.3).sin());
@@ -775,25 +810,31 @@ impl<'m> ExactRun<'m> {
         self.stats.rhs_evals += 1;
         let mismatch = (&f - &predicted).amax();
         let allowed = 1e-9 * (predicted.amax() + f.amax()).max(f64::MIN_POSITIVE);
-        if mismatch.is_nan() || mismatch > allowed {
-            return Err(SimError::Settings(format!(
-                "method exact: the model's right-hand side is not affine in the state within a \
-                 contact branch at t = {t} s (mismatch {mismatch:.3e}); take dopri5"
-            )));
-        }
-        Ok(())
+        (mismatch, allowed)
     }
 
     /// `A`, `e`, the regular step and its exponential for the current branches at `t`.
     fn build_branch(&mut self, t: f64) -> Result<Branch, SimError> {
         let (model, n2) = (self.model, 2 * self.n);
-        let states = self.tracker.fixed_states();
-        let mut a = DMatrix::zeros(n2, n2);
         let mut e = DVector::zeros(n2);
-        model.jacobian(t, self.y.as_slice(), states, &mut a);
         let zero = vec![0.0; n2];
-        model.rhs(t, &zero, states, e.as_mut_slice());
+        model.rhs(t, &zero, self.tracker.fixed_states(), e.as_mut_slice());
         self.stats.rhs_evals += 1;
+        // a drive step on contacts as before: the donor's `A`, if the model agrees, without
+        // a Jacobian of its own (a record's force changes at every sample)
+        let events = !self.functionals.is_empty();
+        if let Some(&donor) = self.donors.get(&(self.branch_code(), events)) {
+            let a = self.branches[donor].a.clone();
+            let (mismatch, allowed) = self.affine_mismatch(t, &a, &e);
+            if mismatch <= allowed {
+                if self.held {
+                    self.check_time_invariant(t, &e)?;
+                }
+                return Ok(self.shared_branch(donor, e));
+            }
+        }
+        let mut a = DMatrix::zeros(n2, n2);
+        model.jacobian(t, self.y.as_slice(), self.tracker.fixed_states(), &mut a);
         self.stats.jacobian_evals += 1;
         self.check_affine(t, &a, &e)?;
         if self.held {
@@ -860,11 +901,17 @@ impl<'m> ExactRun<'m> {
             .map(|(_, &i)| i)
             .filter(|&i| self.branches[i].events == events && *self.branches[i].a == *a)
             .min()?;
+        Some(self.shared_branch(donor, e.clone()))
+    }
+
+    /// A branch with the `donor`'s `A`, exponential, step and spectral radius and its own
+    /// `e`: `gamma` is `int_0^h exp(A s) ds e`, the integral built once for all of them.
+    fn shared_branch(&mut self, donor: usize, e: DVector<f64>) -> Branch {
         let integral = match self.branches[donor].integral.clone() {
             Some(integral) => integral,
             None => {
                 let d = &self.branches[donor];
-                let integral = Arc::new(balanced_input_flow(a, d.h, d.omega));
+                let integral = Arc::new(balanced_input_flow(&d.a, d.h, d.omega));
                 self.stats.exponentials += 1;
                 self.branches[donor].integral = Some(integral.clone());
                 integral
@@ -875,13 +922,13 @@ impl<'m> ExactRun<'m> {
         mat_vec(&integral, e.as_slice(), 1.0, gamma.as_mut_slice());
         // the same `A`: first-order form as the donor's, if `e`'s upper half is zero too
         let upper_free = e.rows(0, e.len() / 2).iter().all(|&v| v == 0.0);
-        Some(Branch {
+        Branch {
             phi: d.phi.clone(),
             gamma,
             integral: Some(integral),
             input_epoch: self.input_epoch,
             a: d.a.clone(),
-            e: e.clone(),
+            e,
             h: d.h,
             omega: d.omega,
             long: d.long.as_ref().map(|l| LongStep {
@@ -890,9 +937,9 @@ impl<'m> ExactRun<'m> {
                 flow: None,
             }),
             lower: d.lower.clone().filter(|_| upper_free),
-            events,
+            events: d.events,
             shared: true,
-        })
+        }
     }
 
     /// The long step of a branch with closed contacts (its eigenvalues, its short step `h`),
@@ -1035,6 +1082,7 @@ impl<'m> ExactRun<'m> {
                 small_terms += 1;
                 if small_terms == 2 {
                     self.taylor_len = j + 1;
+                    self.stats.taylor_terms += j as u64;
                     return Ok(());
                 }
             } else {

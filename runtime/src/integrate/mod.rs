@@ -361,6 +361,9 @@ pub struct RunStats {
     /// Steps over closed contacts' fast modes (counted in `steps` too): method `exact`'s long
     /// steps, `dop853-imex`'s imex steps.
     pub long_steps: u64,
+    /// Matrix-vector products of method `exact`'s partial steps off its regular grid (the
+    /// terms of their Taylor sums).
+    pub taylor_terms: u64,
     /// The step cap (s) applied while a contact was closed, if any.
     pub step_cap: Option<f64>,
     /// Wall-clock time of the integration.
@@ -398,6 +401,7 @@ impl RunStats {
         self.switches += other.switches;
         self.exponentials += other.exponentials;
         self.long_steps += other.long_steps;
+        self.taylor_terms += other.taylor_terms;
         self.step_cap = self.step_cap.or(other.step_cap);
         self.wall += other.wall;
         self.state_len = self.state_len.max(other.state_len);
