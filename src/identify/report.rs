@@ -374,8 +374,8 @@ impl Identification {
             });
             let _ = writeln!(
                 out,
-                "start in motion: the free motion of the {} slowest modes fitted beside the \
-                 offsets ({} amplitudes, solved in closed form at every run){speed}",
+                "start in motion: the free motion of the {} slowest modes fitted ({} amplitudes, \
+                 solved in closed form at every run){speed}",
                 start.modes, start.amplitudes
             );
         }

@@ -46,6 +46,9 @@ pub struct FreeMotion {
     /// Each column's vehicle rate at the first sample (m/s per unit), when the vehicle is a
     /// sensor.
     vehicle_rates: Option<Vec<f64>>,
+    /// The column that is the vehicle's position at the first sample: left out where the
+    /// offsets are fitted (the vehicle's offset is that position).
+    position: Option<usize>,
     /// Modes kept.
     pub modes: usize,
 }
@@ -181,6 +184,7 @@ impl FreeMotion {
                 rates.push(vehicle.map_or(0.0, |s| part(w[s] * lambda)));
             }
         }
+        let mut position = None;
         if let (Some(s), Drive::Force(_)) = (vehicle, &scene.params.drive) {
             // the whole telescope translating: the vehicle moves, nothing else does
             let only = |f: &dyn Fn(f64) -> f64| -> Vec<Vec<f64>> {
@@ -192,20 +196,23 @@ impl FreeMotion {
                     })
                     .collect()
             };
+            position = Some(columns.len());
             columns.extend([only(&|_| 1.0), only(&|t| t)]);
             rates.extend([0.0, 1.0]);
         }
         Ok(FreeMotion {
             columns,
             vehicle_rates: vehicle.map(|_| rates),
+            position,
             modes: modes.min(lambdas.len()),
         })
     }
 
     /// Adds to `predictions` the free motion that, with each sensor's offset when `offsets`
     /// are fitted, best explains `record` (each sensor weighted by its `noise`): weighted
-    /// least squares by the singular values, a column that adds nothing (a vehicle position
-    /// the offsets already hold) dropped by their rank.
+    /// least squares by the singular values, a column that adds nothing dropped by their
+    /// rank (the vehicle's position is left out where the offsets are fitted: it is the
+    /// vehicle's offset).
     pub fn add_fitted(
         &self,
         predictions: &mut [Vec<f64>],
@@ -216,10 +223,13 @@ impl FreeMotion {
         let n = record.times.len();
         let sensors = record.sensors.len();
         let offset_columns = offsets.count(sensors);
-        let count = offset_columns + self.columns.len();
+        // the vehicle's position is its offset where the offsets are fitted
+        let used: Vec<usize> = (0..self.columns.len())
+            .filter(|&c| offset_columns == 0 || Some(c) != self.position)
+            .collect();
+        let count = offset_columns + used.len();
         let mut design = DMatrix::zeros(n * sensors, count);
         let mut rhs = DVector::zeros(n * sensors);
-        let mut norms = vec![0.0; count];
         for (s, ((_, y), sigma)) in record.sensors.iter().zip(noise).enumerate() {
             for i in 0..n {
                 let row = s * n + i;
@@ -227,25 +237,30 @@ impl FreeMotion {
                 if offset_columns > 0 {
                     design[(row, s)] = 1.0 / sigma;
                 }
-                for (c, column) in self.columns.iter().enumerate() {
-                    design[(row, offset_columns + c)] = column[s][i] / sigma;
+                for (k, &c) in used.iter().enumerate() {
+                    design[(row, offset_columns + k)] = self.columns[c][s][i] / sigma;
                 }
             }
         }
         // columns of one scale, so that the rank's tolerance treats them alike
-        for (c, norm) in norms.iter_mut().enumerate() {
-            *norm = design.column(c).norm().max(f64::MIN_POSITIVE);
-            design.column_mut(c).unscale_mut(*norm);
-        }
+        let norms: Vec<f64> = (0..count)
+            .map(|c| {
+                let norm = design.column(c).norm().max(f64::MIN_POSITIVE);
+                design.column_mut(c).unscale_mut(norm);
+                norm
+            })
+            .collect();
         let svd = design.svd(true, true);
         let tolerance = 1e-10 * svd.singular_values.max();
         let rank = svd.rank(tolerance);
         let solution = svd
             .solve(&rhs, tolerance)
             .unwrap_or_else(|_| DVector::zeros(count));
-        let amplitude = |c: usize| solution[offset_columns + c] / norms[offset_columns + c];
-        for (c, column) in self.columns.iter().enumerate() {
-            let a = amplitude(c);
+        let mut amplitudes = vec![0.0; self.columns.len()];
+        for (k, &c) in used.iter().enumerate() {
+            amplitudes[c] = solution[offset_columns + k] / norms[offset_columns + k];
+        }
+        for (column, &a) in self.columns.iter().zip(&amplitudes) {
             for (p, col) in predictions.iter_mut().zip(column) {
                 for (p, v) in p.iter_mut().zip(col) {
                     *p += a * v;
@@ -255,13 +270,10 @@ impl FreeMotion {
         StartFit {
             modes: self.modes,
             amplitudes: rank.saturating_sub(offset_columns),
-            vehicle_speed: self.vehicle_rates.as_ref().map(|rates| {
-                rates
-                    .iter()
-                    .enumerate()
-                    .map(|(c, r)| amplitude(c) * r)
-                    .sum()
-            }),
+            vehicle_speed: self
+                .vehicle_rates
+                .as_ref()
+                .map(|rates| rates.iter().zip(&amplitudes).map(|(r, a)| r * a).sum()),
         }
     }
 }
