@@ -382,21 +382,16 @@ fn long_steps_never_skip_a_switch_across_clearances_and_forces() {
     }
 }
 
-/// A drive that steps often on closed contacts (a force record held between samples): every
-/// segment has the same `A`, so its exponential is built once and each later segment takes
-/// `gamma` from `int exp(A s) ds` (one more exponential); the motion agrees with dop853 at a
-/// tight tolerance as a run built afresh per segment does.
-#[test]
-fn drive_steps_on_one_branch_share_its_exponential() {
+/// The rig without gravity or prestress driven by a force held at `values` from `times`
+/// (s), run 0.4 s by method exact and by dop853 at rtol 1e-12: exact's counts, its worst
+/// `tip_rel` difference to dop853 and dop853's peak `tip_rel` (m).
+fn exact_against_dop853(
+    times: Vec<f64>,
+    values: Vec<f64>,
+) -> (telescopic_runtime::RunStats, f64, f64) {
     let mut p = rig([5, 5]);
     p.gravity = 0.0;
     p.force_flow = ForceFlow::None;
-    let times: Vec<f64> = (0..24)
-        .map(|k| 0.0125 * k as f64 + 0.003 * (k % 3) as f64)
-        .collect();
-    let values: Vec<f64> = (0..24)
-        .map(|k| if k % 2 == 0 { 100.0 } else { -70.0 })
-        .collect();
     p.drive = Drive::Force(Profile::Shaped(
         telescopic_runtime::profile::ShapedProfile::PiecewiseConstant { times, values },
     ));
@@ -414,6 +409,22 @@ fn drive_steps_on_one_branch_share_its_exponential() {
         .zip(&reference)
         .map(|((_, a), (_, b))| (tip_rel(&model, a) - tip_rel(&model, b)).abs())
         .fold(0.0, f64::max);
+    (stats, worst, peak)
+}
+
+/// A drive that steps often on closed contacts (a force record held between samples): every
+/// segment has the same `A`, so its exponential is built once and each later segment takes
+/// `gamma` from `int exp(A s) ds` (one more exponential); the motion agrees with dop853 at a
+/// tight tolerance as a run built afresh per segment does.
+#[test]
+fn drive_steps_on_one_branch_share_its_exponential() {
+    let times: Vec<f64> = (0..24)
+        .map(|k| 0.0125 * k as f64 + 0.003 * (k % 3) as f64)
+        .collect();
+    let values: Vec<f64> = (0..24)
+        .map(|k| if k % 2 == 0 { 100.0 } else { -70.0 })
+        .collect();
+    let (stats, worst, peak) = exact_against_dop853(times, values);
     eprintln!(
         "24 drive steps: {} exponentials; worst |tip_rel| difference to dop853 {worst:.2e} m \
          (peak {peak:.2e} m)",
@@ -432,32 +443,13 @@ fn drive_steps_on_one_branch_share_its_exponential() {
 /// it), and agrees with dop853 at rtol 1e-12.
 #[test]
 fn a_force_stepping_at_every_sample_takes_one_step_per_sample() {
-    let mut p = rig([5, 5]);
-    p.gravity = 0.0;
-    p.force_flow = ForceFlow::None;
     let samples = 400;
     let ulps = |k: usize| 1.0 + [-3.0, 0.0, 2.0][k % 3] * f64::EPSILON;
     let times: Vec<f64> = (0..samples).map(|k| k as f64 * 1e-3 * ulps(k)).collect();
     let values: Vec<f64> = (0..samples)
         .map(|k| 100.0 * ((k as f64 * 0.37).sin() + 0.3 * (k as f64 * 2.9).cos()))
         .collect();
-    p.drive = Drive::Force(Profile::Shaped(
-        telescopic_runtime::profile::ShapedProfile::PiecewiseConstant { times, values },
-    ));
-    let model = AssembledModel::new(&p).unwrap();
-    let y0 = vec![0.0; 2 * model.dof()];
-    let window = span(0.4, 1e-3);
-    let (exact, stats) = run(&model, &y0, &window, Method::Exact, &Settings::default()).unwrap();
-    let (reference, _) = run(&model, &y0, &window, Method::Dop853, &tight()).unwrap();
-    let peak = reference
-        .iter()
-        .map(|(_, y)| tip_rel(&model, y).abs())
-        .fold(0.0, f64::max);
-    let worst = exact
-        .iter()
-        .zip(&reference)
-        .map(|((_, a), (_, b))| (tip_rel(&model, a) - tip_rel(&model, b)).abs())
-        .fold(0.0, f64::max);
+    let (stats, worst, peak) = exact_against_dop853(times, values);
     eprintln!(
         "{samples} drive steps: {} steps, {} Taylor terms, {} Jacobians, {} exponentials; \
          worst |tip_rel| difference to dop853 {worst:.2e} m (peak {peak:.2e} m)",
