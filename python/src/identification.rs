@@ -98,16 +98,8 @@ pub fn identify<'py>(
     String,
     Bound<'py, PyDict>,
 )> {
-    let offsets = choice(
-        "offsets",
-        offsets,
-        [("fitted", Offsets::Fitted), ("zero", Offsets::Zero)],
-    )?;
-    let start = choice(
-        "start",
-        start,
-        [("rest", Start::Rest), ("moving", Start::Moving)],
-    )?;
+    let offsets: Offsets = offsets.parse().map_err(|rule| argument("offsets", rule))?;
+    let start: Start = start.parse().map_err(|rule| argument("start", rule))?;
     let size = size
         .map(|s| {
             s.parse::<ModelSize>()
@@ -154,22 +146,6 @@ pub fn identify<'py>(
         fit.scene_toml(),
         summary,
     ))
-}
-
-/// `given` among the `choices` of the argument `name`, or an error naming them.
-fn choice<T: Copy, const N: usize>(
-    name: &str,
-    given: &str,
-    choices: [(&str, T); N],
-) -> PyResult<T> {
-    choices
-        .iter()
-        .find(|(word, _)| *word == given)
-        .map(|&(_, value)| value)
-        .ok_or_else(|| {
-            let words: Vec<String> = choices.iter().map(|(w, _)| format!("\"{w}\"")).collect();
-            argument(name, format!("{given:?}: give {}", words.join(" or ")))
-        })
 }
 
 /// Each sensor's prediction of the unseen record as a dict.

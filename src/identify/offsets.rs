@@ -13,6 +13,11 @@ pub enum Offsets {
     Zero,
 }
 
+crate::named::named_enum!(Offsets, "an offsets choice", {
+    Fitted => "fitted",
+    Zero => "zero",
+});
+
 impl Offsets {
     /// The constants fitted beside the free values for `sensors` sensors.
     pub fn count(self, sensors: usize) -> usize {

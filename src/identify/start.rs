@@ -28,6 +28,11 @@ pub enum Start {
     Moving,
 }
 
+crate::named::named_enum!(Start, "a start", {
+    Rest => "rest",
+    Moving => "moving",
+});
+
 /// Most modes whose free motion a start in motion fits: the slowest of those below half the
 /// record's sample rate (a faster mode's motion is not resolved by the samples, and its fitted
 /// amplitude would take up the first sample's noise).
