@@ -121,22 +121,14 @@ fn companion_run(
 
 /// The error budget of `simulation` from its `companion`.
 fn budget_of(scene: &Scene, simulation: &Simulation, companion: Companion) -> ErrorBudget {
-    let window = error_budget::window(&scene.params, &simulation.trajectory);
-    let mut budget = ErrorBudget {
-        window,
-        integration_m: simulation.plan.integration_error_m,
-        integration_statistics: simulation.plan.integration_statistics_rel,
-        truncation: None,
-        missing: None,
-    };
     match companion {
-        Companion::Ran(trajectory, modes) => {
-            budget.truncation = Some(error_budget::Truncation {
-                interpolation: simulation.plan.settings.longest_step.is_some(),
-                ..error_budget::truncation(&simulation.trajectory, &trajectory, modes, window)
-            });
-        }
-        Companion::Missing(why) => budget.missing = Some(why),
+        Companion::Ran(trajectory, modes) => simulation.budget_against(scene, &trajectory, modes),
+        Companion::Missing(why) => ErrorBudget {
+            window: error_budget::window(&scene.params, &simulation.trajectory),
+            integration_m: simulation.plan.integration_error_m,
+            integration_statistics: simulation.plan.integration_statistics_rel,
+            truncation: None,
+            missing: Some(why),
+        },
     }
-    budget
 }

@@ -34,6 +34,28 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// This run's error budget from a `companion` run of `modes` per section on `scene`:
+    /// the stored integration figures, the truncation from the companion's difference, and
+    /// whether that difference holds this run's interpolation (steps across the samples).
+    pub(crate) fn budget_against(
+        &self,
+        scene: &telescopic_runtime::Scene,
+        companion: &Trajectory,
+        modes: Vec<usize>,
+    ) -> ErrorBudget {
+        let window = super::error_budget::window(&scene.params, &self.trajectory);
+        ErrorBudget {
+            window,
+            integration_m: self.plan.integration_error_m,
+            integration_statistics: self.plan.integration_statistics_rel,
+            truncation: Some(super::error_budget::Truncation {
+                interpolation: self.plan.settings.longest_step.is_some(),
+                ..super::error_budget::truncation(&self.trajectory, companion, modes, window)
+            }),
+            missing: None,
+        }
+    }
+
     /// The run summary: scene, model, method (and why, for `auto`), specializations, and
     /// what the run did.
     pub fn summary(&self) -> String {

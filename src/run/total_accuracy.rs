@@ -42,7 +42,7 @@
 use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
-use crate::run::error_budget::{self, ErrorBudget, Statistic, refined_modes};
+use crate::run::error_budget::{ErrorBudget, Statistic, refined_modes};
 use crate::run::predicted_size::{SizePrediction, predict_size};
 use crate::run::{MethodReason, ModelSize, Simulation, SimulationOptions, plan};
 use crate::{Error, Result};
@@ -665,7 +665,8 @@ impl Search<'_> {
                 return Ok(true);
             }
         };
-        let budget = companion_budget(scene, &rung.run, &companion, refined);
+        let modes = vec![refined.modes; scene.params.sections.len()];
+        let budget = rung.run.budget_against(scene, &companion.trajectory, modes);
         let rejection = rejection(&budget, self.options);
         let attempt = rung.attempt(budget.total_m(), rejection.clone());
         record(attempts, progress, attempt);
@@ -710,31 +711,6 @@ fn not_checked(size: ModelSize, rejection: Rejection, (cost, wall): (f64, f64)) 
 fn record(attempts: &mut Vec<Attempt>, progress: &SearchProgress, attempt: Attempt) {
     progress.verdict(&attempt);
     attempts.push(attempt);
-}
-
-/// The error budget of `run` from its `companion` of size `refined`.
-fn companion_budget(
-    scene: &Scene,
-    run: &Simulation,
-    companion: &Simulation,
-    refined: ModelSize,
-) -> ErrorBudget {
-    let window = error_budget::window(&scene.params, &run.trajectory);
-    ErrorBudget {
-        window,
-        integration_m: run.plan.integration_error_m,
-        integration_statistics: run.plan.integration_statistics_rel,
-        truncation: Some(error_budget::Truncation {
-            interpolation: run.plan.settings.longest_step.is_some(),
-            ..error_budget::truncation(
-                &run.trajectory,
-                &companion.trajectory,
-                vec![refined.modes; scene.params.sections.len()],
-                window,
-            )
-        }),
-        missing: None,
-    }
 }
 
 /// Why `budget` fails the accuracy and tolerances of `options`; `None` when it meets them.
