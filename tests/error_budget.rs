@@ -522,3 +522,54 @@ fn the_companion_made_beside_the_run_gives_the_budget_of_one_made_after_it() {
         );
     }
 }
+
+/// Where the run's method is picked from the table, its companion is integrated a tenth as
+/// coarsely, and the stated error holds the run's own integration error, measured on the
+/// run. Modes+static 14 on case-study-no-clearance's first 2 s, integrated to 1e-4 m: imex
+/// at rtol 1e-4, its steps across the samples. Its integration and interpolation error
+/// (against the same size by dop853 at rtol 1e-10) is of the size of its truncation, so a
+/// budget that left it out could state less than it.
+#[test]
+fn the_companion_integrated_finer_measures_the_runs_integration_error() {
+    let s = Scene::load(
+        "scenes/case-study-no-clearance.toml".as_ref(),
+        &["time.end=2".to_string()],
+    )
+    .unwrap();
+    let s = sized(&s, Basis::ModesAndStatic, 14);
+    let options = SimulationOptions {
+        accuracy: Some(1e-4),
+        modes_as_given: true,
+        ..SimulationOptions::default()
+    };
+    let sim = simulate_scene(&s, &options, &Silent).unwrap();
+    let b = budget(&sim);
+    let t = b.truncation.as_ref().unwrap();
+    assert!(t.integration && t.interpolation, "{b:?}");
+    let row_error = sim.plan.integration_error_m.unwrap();
+    assert!(
+        b.integration_m.unwrap() * 10.0 <= row_error,
+        "the companion's own integration {:?} against the run's row {row_error}",
+        b.integration_m
+    );
+    let tight = SimulationOptions {
+        method: telescopic::run::MethodChoice::Method(telescopic_runtime::Method::Dop853),
+        rtol: Some(1e-10),
+        atol: Some(1e-13),
+        error_estimate: false,
+        modes_as_given: true,
+        ..SimulationOptions::default()
+    };
+    let reference = simulate_scene(&s, &tight, &Silent).unwrap();
+    let integration = difference_until(&sim.trajectory, &reference.trajectory, "tip_rel", 2.0);
+    let stated = b.total_m().unwrap();
+    assert!(
+        integration > 0.3 * t.tip_m,
+        "the run's integration error {integration:.2e} m must matter beside the stated \
+         {stated:.2e} m for this test to tell"
+    );
+    assert!(
+        (integration..=10.0 * integration).contains(&stated),
+        "stated {stated:.2e} m, the run's integration and interpolation {integration:.2e} m"
+    );
+}

@@ -2,16 +2,21 @@
 //! integrates, and the truncation error of that model's size against the beams it
 //! discretizes.
 //!
-//! * **Integration**: the error of the measured run that `auto` or `--accuracy` picked the
-//!   method from ([`telescopic_runtime::analysis::accuracy`]), in `tip_rel` inside the scene kind's
-//!   predictability horizon; not estimated when the method was given.
 //! * **Truncation**: a companion run of the same scene with more modes per section
-//!   ([`refined_modes`]), same basis, method and settings, its steps ending on every output
-//!   sample (where the run's cross them, the difference also holds the run's interpolation
-//!   error, measured on the run: [`Truncation::interpolation`]). Its difference from the run,
-//!   times [`TRUNCATION_FACTOR`], is the estimate: in `tip_rel` pointwise inside the
-//!   [`Window`], relative to their peaks for the moments at stations, and relative for the
-//!   statistics beyond the window.
+//!   ([`refined_modes`]), same basis, its steps ending on every output sample. Its
+//!   difference from the run, times [`TRUNCATION_FACTOR`], is the estimate: in `tip_rel`
+//!   pointwise inside the [`Window`], relative to their peaks for the moments at stations,
+//!   and relative for the statistics beyond the window. Where the run's steps cross the
+//!   samples, the difference also holds the run's interpolation error, measured on the run
+//!   ([`Truncation::interpolation`]).
+//! * **Integration**: where `auto` or `--accuracy` picked the run's method from the table of
+//!   measured runs ([`telescopic_runtime::analysis::accuracy`]), the companion is integrated
+//!   at most a tenth as coarsely as that row's measured error
+//!   ([`telescopic_runtime::analysis::accuracy::COMPANION_RATIO`]): the difference then holds
+//!   the run's own integration error, measured on this run ([`Truncation::integration`]), and
+//!   the companion's own row's figure is added. Where no row is that much finer (exact
+//!   stepping, whose error is rounding) the run's row's figure stands: a stored figure, said
+//!   so. Not estimated when the method or a tolerance was given.
 //!
 //! The window is the whole span without clearance. With clearance it ends at the run's first
 //! contact switch: after an impact, two models that differ by a truncation error part like
@@ -137,6 +142,9 @@ pub struct Truncation {
     /// The run's steps crossed its output samples while the companion's ended on every
     /// sample: the estimates also hold the run's interpolation error, measured on this run.
     pub interpolation: bool,
+    /// The companion was integrated finer than the run (at most a tenth of its measured
+    /// error): the estimates also hold the run's integration error, measured on this run.
+    pub integration: bool,
 }
 
 /// A run's error budget.
@@ -196,7 +204,7 @@ impl ErrorBudget {
                 ));
             }
             if !t.outputs.is_empty() {
-                lines.push(describe_outputs(&t.outputs, t.interpolation));
+                lines.push(describe_outputs(&t.outputs, t));
             }
             if !t.statistics.is_empty() {
                 lines.insert(0, self.describe_statistics(t));
@@ -235,7 +243,12 @@ impl ErrorBudget {
                 self.window.end
             ),
         };
+        let measured = self.truncation.as_ref().is_some_and(|t| t.integration);
         let integration = match self.integration_m {
+            Some(e) if measured => format!(
+                "the companion's own integration {e:.1e} m (a stored figure: the measured \
+                 reference run its method was picked from)"
+            ),
             Some(e) => format!(
                 "integration {e:.1e} m (a stored figure: the measured reference run the \
                  method was picked from, not this run)"
@@ -245,22 +258,25 @@ impl ErrorBudget {
                 .to_string(),
         };
         let truncation = match (&self.truncation, &self.missing) {
-            (Some(t), _) if t.interpolation => format!(
-                "truncation and this run's interpolation {:.1e} m ({} modes per section \
-                 against {} stepped on every sample)",
-                t.tip_m,
-                join(modes),
-                join(&t.refined_modes)
-            ),
             (Some(t), _) => format!(
-                "truncation {:.1e} m ({} modes per section against {})",
+                "{} {:.1e} m ({} modes per section against {}{})",
+                measured_parts(t),
                 t.tip_m,
                 join(modes),
-                join(&t.refined_modes)
+                join(&t.refined_modes),
+                match (t.integration, t.interpolation) {
+                    (true, _) => " stepped on every sample and integrated finer",
+                    (false, true) => " stepped on every sample",
+                    (false, false) => "",
+                }
             ),
             (None, Some(why)) => format!("truncation not estimated ({why})"),
             (None, None) => "truncation not estimated".to_string(),
         };
+        // what the companion measured leads; the stored figure follows
+        if measured {
+            return format!("error of tip_rel {window}: {truncation}; {integration}");
+        }
         format!("error of tip_rel {window}: {integration}; {truncation}")
     }
 
@@ -279,18 +295,35 @@ impl ErrorBudget {
             ),
             None => String::new(),
         };
+        // a companion integrated finer parts from the run beyond an impact as two correct
+        // runs do: its difference holds that spread too
+        let measured = match t.integration {
+            true => "truncation and this run's integration spread",
+            false => "truncation",
+        };
         format!(
-            "error of the statistics beyond t = {} s, relative: {integration}truncation {}",
+            "error of the statistics beyond t = {} s, relative: {integration}{measured} {}",
             self.window.end,
             parts.join(", ")
         )
     }
 }
 
-/// The line of the other outputs' truncation estimates (with the run's `interpolation`
-/// error): the largest of each kind of column (the relative positions, the gaps, the contact
-/// forces), the rest by name.
-fn describe_outputs(outputs: &[(String, f64)], interpolation: bool) -> String {
+/// What a companion's difference holds beyond the truncation, as the summary names it.
+fn measured_parts(t: &Truncation) -> &'static str {
+    match (t.integration, t.interpolation) {
+        (true, true) => "truncation and this run's integration and interpolation",
+        (true, false) => "truncation and this run's integration",
+        (false, true) => "truncation and this run's interpolation",
+        (false, false) => "truncation",
+    }
+}
+
+/// The line of the other outputs' estimates from the companion `t` (with the run's
+/// integration and interpolation errors where its difference holds them): the largest of
+/// each kind of column (the relative positions, the gaps, the contact forces), the rest by
+/// name.
+fn describe_outputs(outputs: &[(String, f64)], t: &Truncation) -> String {
     let kinds = [
         ("xi_", "gaps", "m"),
         ("f_", "contact forces", "N"),
@@ -312,13 +345,9 @@ fn describe_outputs(outputs: &[(String, f64)], interpolation: bool) -> String {
             parts.push(format!("{column} {e:.1e}"));
         }
     }
-    let what = if interpolation {
-        "truncation and interpolation error"
-    } else {
-        "truncation error"
-    };
     format!(
-        "{what} of the other outputs in the window (largest, SI units): {}",
+        "{} error of the other outputs in the window (largest, SI units): {}",
+        measured_parts(t),
         parts.join(", ")
     )
 }
@@ -424,6 +453,7 @@ pub fn truncation(
         outputs,
         statistics,
         interpolation: false,
+        integration: false,
     }
 }
 

@@ -1,11 +1,13 @@
 //! The resolved method and settings of a run: `auto` chosen on the scene, tolerances checked.
 
+use super::models::ModelChoice;
 use super::options::{MethodChoice, SimulationOptions};
 use super::predicted_size::SizePrediction;
 use crate::OptionName;
 use crate::{Error, Result};
-use telescopic_runtime::analysis::accuracy::AccuracyPlan;
-use telescopic_runtime::analysis::accuracy::Resolve;
+use telescopic_runtime::analysis::accuracy::{
+    AccuracyPlan, MeasuredRun, Resolve, SceneKind, companion_accuracy,
+};
 use telescopic_runtime::integrate::StepControl;
 use telescopic_runtime::{Basis, DEFAULT_ACCURACY_M, Method, Scene, Settings, plan_for_accuracy};
 
@@ -120,6 +122,71 @@ pub struct Plan {
     pub integration_statistics_rel: Option<f64>,
 }
 
+impl Plan {
+    /// The measured run of the table the method and tolerance were picked from, when they
+    /// were picked and not overridden by a given tolerance.
+    pub fn measured_row(&self) -> Option<&MeasuredRun> {
+        match &self.reason {
+            MethodReason::Auto(chosen) | MethodReason::Accuracy(chosen) => Some(&chosen.row),
+            MethodReason::TotalAccuracy { integration, .. } => match integration.as_ref() {
+                MethodReason::Auto(chosen) | MethodReason::Accuracy(chosen) => Some(&chosen.row),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+}
+
+/// The options of the companion run that checks a run of `scene` planned as `run` with
+/// `options`: no estimate of its own, its steps ending on every sample (where the run's
+/// cross them, the difference holds the run's interpolation), a generated model only where
+/// one exists. Where the run's method and tolerance were picked from the table (no
+/// tolerance given), the companion's integration is picked at most a
+/// [`COMPANION_RATIO`](telescopic_runtime::analysis::accuracy::COMPANION_RATIO)th of the run's measured error: the difference then holds the run's
+/// own integration error, measured on this run. The second value says whether it does.
+pub(crate) fn companion_options(
+    scene: &Scene,
+    options: &SimulationOptions,
+    run: &Plan,
+) -> (SimulationOptions, bool) {
+    let mut companion = SimulationOptions {
+        error_estimate: false,
+        coordinates: false,
+        steps_across_samples: false,
+        modes_as_given: true,
+        // a generated model of the refined size may not exist: the registry falls back
+        model: match options.model {
+            ModelChoice::Generated => ModelChoice::Auto,
+            other => other,
+        },
+        ..options.clone()
+    };
+    let given_tolerance = options.rtol.is_some() || options.atol.is_some();
+    let finer = run
+        .measured_row()
+        .filter(|_| !given_tolerance)
+        .and_then(|row| {
+            companion_accuracy(SceneKind::of(&scene.params), row, resolve_of(&companion))
+        });
+    if let Some(accuracy) = finer {
+        companion.method = MethodChoice::Auto;
+        companion.accuracy = Some(accuracy);
+    }
+    (companion, finer.is_some())
+}
+
+/// What a run with `options` must resolve at its samples.
+fn resolve_of(options: &SimulationOptions) -> Resolve {
+    // moments at stations need the contact modes resolved
+    if !options.stations.is_empty() {
+        Resolve::Moments
+    } else if options.steps_across_samples {
+        Resolve::Displacements
+    } else {
+        Resolve::EverySample
+    }
+}
+
 /// Resolves `options` on `scene`: `auto` becomes a method, tolerances are checked.
 ///
 /// # Errors
@@ -129,14 +196,7 @@ pub fn plan(scene: &Scene, options: &SimulationOptions) -> Result<Plan> {
     let mut settings = Settings::default();
     let mut integration_error_m = None;
     let mut integration_statistics_rel = None;
-    // moments at stations need the contact modes resolved
-    let resolve = if !options.stations.is_empty() {
-        Resolve::Moments
-    } else if options.steps_across_samples {
-        Resolve::Displacements
-    } else {
-        Resolve::EverySample
-    };
+    let resolve = resolve_of(options);
     let (method, reason) = match (options.method, options.accuracy) {
         (MethodChoice::Auto, Some(accuracy)) => {
             if options.rtol.is_some() || options.atol.is_some() {

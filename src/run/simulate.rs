@@ -4,12 +4,12 @@
 //! ([`super::total_accuracy`]).
 
 use super::error_budget::{self, ErrorBudget};
+use super::method::{Plan, companion_options};
 use super::options::SimulationOptions;
 use super::prepared::PreparedRun;
 use super::simulation::Simulation;
 use super::trajectory::Trajectory;
 use crate::report::Reporter;
-use crate::run::models::ModelChoice;
 use crate::{Error, Result};
 use telescopic_runtime::Scene;
 
@@ -35,7 +35,8 @@ pub fn simulate_scene(
         let trajectory = run.integrate(reporter)?;
         return Ok(run.into_simulation(trajectory));
     }
-    // the run and its companion at once: the companion needs only the scene
+    // the run and its companion at once: the companion needs only the scene and the plan
+    let run_plan = super::method::plan(scene, options)?;
     let (simulation, companion) = crate::report::both(
         reporter,
         COMPANION_SPLIT,
@@ -44,7 +45,7 @@ pub fn simulate_scene(
             let trajectory = run.integrate(main)?;
             Ok(run.into_simulation(trajectory))
         },
-        |companion| companion_run(scene, options, companion),
+        |companion| companion_run(scene, options, &run_plan, companion),
     );
     let mut simulation = simulation?;
     simulation.error = Some(budget_of(scene, &simulation, companion?));
@@ -69,25 +70,29 @@ pub fn estimate_error(
     Ok(budget_of(
         scene,
         simulation,
-        companion_run(scene, options, reporter)?,
+        companion_run(scene, options, &simulation.plan, reporter)?,
     ))
 }
 
 /// What became of a companion run: its trajectory, or why there is none.
 enum Companion {
-    /// The refined model's run, with its modes per section.
-    Ran(Trajectory, Vec<usize>),
+    /// The refined model's run, with its modes per section and, when it was integrated
+    /// finer than the run, its own stored integration error (m).
+    Ran(Trajectory, Vec<usize>, Option<f64>),
     /// No companion: why.
     Missing(String),
 }
 
-/// The companion run of `scene` with `options`: the refined model, no estimate of its own.
+/// The companion run of `scene` with `options` (planned as `run`): the refined model, no
+/// estimate of its own, integrated finer where the run's integration was picked
+/// ([`crate::run::method::companion_options`]).
 ///
 /// # Errors
 /// A failed companion run (an unaffordable one is [`Companion::Missing`]).
 fn companion_run(
     scene: &Scene,
     options: &SimulationOptions,
+    run: &Plan,
     reporter: &dyn Reporter,
 ) -> Result<Companion> {
     let Some(refined) = error_budget::refined(&scene.params) else {
@@ -98,20 +103,15 @@ fn companion_run(
     };
     let mut companion_scene = scene.clone();
     companion_scene.params = refined;
-    let companion_options = SimulationOptions {
-        error_estimate: false,
-        coordinates: false,
-        steps_across_samples: false,
-        // a generated model of the refined size may not exist: the registry falls back
-        model: match options.model {
-            ModelChoice::Generated => ModelChoice::Auto,
-            other => other,
-        },
-        ..options.clone()
-    };
+    let (companion_options, finer) = companion_options(scene, options, run);
     let prepared = PreparedRun::new(&companion_scene, &companion_options, &crate::Silent)?;
+    let integration = finer.then_some(prepared.plan.integration_error_m).flatten();
     match prepared.integrate(reporter) {
-        Ok(companion) => Ok(Companion::Ran(companion, companion_scene.params.modes())),
+        Ok(companion) => Ok(Companion::Ran(
+            companion,
+            companion_scene.params.modes(),
+            integration,
+        )),
         Err(Error::Unaffordable { reason, .. }) => Ok(Companion::Missing(format!(
             "the refined model's run is unaffordable: {reason}"
         ))),
@@ -122,7 +122,9 @@ fn companion_run(
 /// The error budget of `simulation` from its `companion`.
 fn budget_of(scene: &Scene, simulation: &Simulation, companion: Companion) -> ErrorBudget {
     match companion {
-        Companion::Ran(trajectory, modes) => simulation.budget_against(scene, &trajectory, modes),
+        Companion::Ran(trajectory, modes, integration) => {
+            simulation.budget_against(scene, &trajectory, modes, integration)
+        }
         Companion::Missing(why) => ErrorBudget {
             window: error_budget::window(&scene.params, &simulation.trajectory),
             integration_m: simulation.plan.integration_error_m,

@@ -35,21 +35,27 @@ pub struct Simulation {
 
 impl Simulation {
     /// This run's error budget from a `companion` run of `modes` per section on `scene`:
-    /// the stored integration figures, the truncation from the companion's difference, and
-    /// whether that difference holds this run's interpolation (steps across the samples).
+    /// the truncation from the companion's difference, whether that difference holds this
+    /// run's interpolation (steps across the samples), and whether it holds this run's
+    /// integration error (`companion_integration`: the companion's own stored figure, when
+    /// it was integrated finer; else the integration part is this run's stored figure).
     pub(crate) fn budget_against(
         &self,
         scene: &telescopic_runtime::Scene,
         companion: &Trajectory,
         modes: Vec<usize>,
+        companion_integration: Option<f64>,
     ) -> ErrorBudget {
         let window = super::error_budget::window(&scene.params, &self.trajectory);
         ErrorBudget {
             window,
-            integration_m: self.plan.integration_error_m,
+            // integrated finer, the companion's difference holds this run's integration
+            // error: what remains to add is the companion's own
+            integration_m: companion_integration.or(self.plan.integration_error_m),
             integration_statistics: self.plan.integration_statistics_rel,
             truncation: Some(super::error_budget::Truncation {
                 interpolation: self.plan.settings.longest_step.is_some(),
+                integration: companion_integration.is_some(),
                 ..super::error_budget::truncation(&self.trajectory, companion, modes, window)
             }),
             missing: None,

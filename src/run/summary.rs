@@ -62,7 +62,8 @@ pub struct ErrorSummary {
     pub window_end_s: f64,
     /// Why it ends there: `span-end` or `first-switch`.
     pub window_end: String,
-    /// Integration error of `tip_rel` in the window (m).
+    /// Integration error of `tip_rel` in the window (m): the run's stored figure, or with
+    /// `integration_included` the companion's own.
     pub integration_m: Option<f64>,
     /// Relative integration error of the statistics beyond the window.
     pub integration_statistics: Option<f64>,
@@ -71,6 +72,9 @@ pub struct ErrorSummary {
     /// Whether `truncation_m` and `outputs` also hold the run's interpolation error (its
     /// steps crossed the output samples, its companion's ended on them).
     pub interpolation_included: bool,
+    /// Whether `truncation_m` and `outputs` also hold the run's integration error (its
+    /// companion was integrated finer); `integration_m` is then the companion's own.
+    pub integration_included: bool,
     /// Their sum (m).
     pub total_m: Option<f64>,
     /// Modes per section of the companion run.
@@ -134,6 +138,7 @@ impl ErrorSummary {
             integration_statistics: budget.integration_statistics,
             truncation_m: truncation.map(|t| t.tip_m),
             interpolation_included: truncation.is_some_and(|t| t.interpolation),
+            integration_included: truncation.is_some_and(|t| t.integration),
             total_m: budget.total_m(),
             refined_modes: truncation.map(|t| t.refined_modes.clone()),
             moments: truncation

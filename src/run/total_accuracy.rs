@@ -43,6 +43,7 @@ use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::error_budget::{ErrorBudget, Statistic, refined_modes};
+use crate::run::method::companion_options;
 use crate::run::predicted_size::{SizePrediction, predict_size};
 use crate::run::{MethodReason, ModelSize, Simulation, SimulationOptions, plan};
 use crate::{Error, Result};
@@ -309,9 +310,12 @@ pub fn simulate_for_accuracy(
         ..options.clone()
     };
     // refuses bad tolerances and the like before any run
-    plan(scene, &integration)?;
+    let run_plan = plan(scene, &integration)?;
     let prediction = prediction(scene, accuracy);
-    let (total, max_runs) = search_extent(&prediction);
+    // a size's companion ends its steps on every sample and is integrated finer, so that
+    // the difference holds the run's interpolation and integration errors too
+    let (companion, finer) = companion_options(scene, &integration, &run_plan);
+    let (total, max_runs) = search_extent(&prediction, finer);
     let progress = SearchProgress {
         reporter,
         total,
@@ -320,16 +324,10 @@ pub fn simulate_for_accuracy(
         runs: std::cell::Cell::new(0),
     };
     reporter.note(&format!("accuracy search: {prediction}"));
-    // a size's companion ends its steps on every sample, so that the difference holds the
-    // run's integration error too (a run across samples interpolates its samples)
-    let companion = SimulationOptions {
-        steps_across_samples: false,
-        ..integration.clone()
-    };
     let mut attempts = Vec::new();
     let best = search(
         scene,
-        (&integration, &companion, options),
+        (&integration, (&companion, finer), options),
         &prediction,
         &mut attempts,
         &progress,
@@ -386,8 +384,10 @@ fn prediction(scene: &Scene, accuracy: f64) -> SizePrediction {
 }
 
 /// The most sizes the search checks and the most runs it makes: every size of every
-/// ladder, and before them the predicted size's own ladder from that size on.
-fn search_extent(prediction: &SizePrediction) -> (usize, usize) {
+/// ladder, and before them the predicted size's own ladder from that size on. A rejected
+/// size's companion is the next size's run, unless the companions are integrated `finer`
+/// than the sizes' runs: then each size checked takes two runs.
+fn search_extent(prediction: &SizePrediction, finer: bool) -> (usize, usize) {
     let mut ladders: Vec<Vec<ModelSize>> = STARTS
         .iter()
         .map(|&(basis, start)| ladder(basis, start))
@@ -395,8 +395,12 @@ fn search_extent(prediction: &SizePrediction) -> (usize, usize) {
     if let SizePrediction::Predicted { size, .. } = prediction {
         ladders.push(ladder(size.basis, size.modes));
     }
-    let runs: usize = ladders.iter().map(Vec::len).sum();
-    (runs - ladders.len(), runs)
+    let sizes: usize = ladders.iter().map(|l| l.len() - 1).sum();
+    let runs = match finer {
+        true => 2 * sizes,
+        false => sizes + ladders.len(),
+    };
+    (sizes, runs)
 }
 
 /// Refuses an accuracy or tolerances out of range.
@@ -496,7 +500,11 @@ impl Rung {
 /// `attempts` with its verdict.
 fn search(
     scene: &Scene,
-    (integration, companion, options): (&SimulationOptions, &SimulationOptions, &SimulationOptions),
+    (integration, (companion, finer), options): (
+        &SimulationOptions,
+        (&SimulationOptions, bool),
+        &SimulationOptions,
+    ),
     prediction: &SizePrediction,
     attempts: &mut Vec<Attempt>,
     progress: &SearchProgress,
@@ -505,6 +513,7 @@ fn search(
         scene,
         integration,
         companion,
+        finer,
         options,
         progress,
         rungs: Vec::new(),
@@ -544,8 +553,11 @@ fn search(
 struct Search<'a> {
     scene: &'a Scene,
     integration: &'a SimulationOptions,
-    /// The companions' options: the integration's, steps ending on every sample.
+    /// The companions' options: steps ending on every sample, integrated finer where
+    /// `finer` ([`companion_options`]).
     companion: &'a SimulationOptions,
+    /// Whether the companions are integrated finer than the sizes' runs.
+    finer: bool,
     options: &'a SimulationOptions,
     progress: &'a SearchProgress<'a>,
     rungs: Vec<Rung>,
@@ -666,7 +678,13 @@ impl Search<'_> {
             }
         };
         let modes = vec![refined.modes; scene.params.sections.len()];
-        let budget = rung.run.budget_against(scene, &companion.trajectory, modes);
+        let integration = self
+            .finer
+            .then_some(companion.plan.integration_error_m)
+            .flatten();
+        let budget = rung
+            .run
+            .budget_against(scene, &companion.trajectory, modes, integration);
         let rejection = rejection(&budget, self.options);
         let attempt = rung.attempt(budget.total_m(), rejection.clone());
         record(attempts, progress, attempt);
@@ -677,6 +695,10 @@ impl Search<'_> {
             if cost < self.cap() {
                 self.best = Some((passing, cost));
             }
+        } else if self.finer {
+            // integrated finer than a size's run, the companion cannot stand for the next
+            // size's run: that size runs afresh
+            self.start(rung.ladder[rung.at + 1..].to_vec(), attempts)?;
         } else {
             self.rungs.push(Rung {
                 ladder: rung.ladder,

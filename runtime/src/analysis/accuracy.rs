@@ -361,14 +361,7 @@ pub fn cheapest(
     accuracy: f64,
     resolve: Resolve,
 ) -> Result<&'static MeasuredRun, String> {
-    let rows = MEASURED.iter().filter(|r| {
-        r.kind == kind
-            && match resolve {
-                Resolve::Displacements => true,
-                Resolve::EverySample => r.longest_step.is_none(),
-                Resolve::Moments => r.method != "imex",
-            }
-    });
+    let rows = rows_of(kind, resolve);
     if let Some(row) = rows
         .clone()
         .filter(|r| r.error_m * MARGIN <= accuracy)
@@ -391,6 +384,47 @@ pub fn cheapest(
     ))
 }
 
+/// The rows of `kind` that resolve what `resolve` says.
+fn rows_of(
+    kind: SceneKind,
+    resolve: Resolve,
+) -> impl Iterator<Item = &'static MeasuredRun> + Clone {
+    MEASURED.iter().filter(move |r| {
+        r.kind == kind
+            && match resolve {
+                Resolve::Displacements => true,
+                Resolve::EverySample => r.longest_step.is_none(),
+                Resolve::Moments => r.method != "imex",
+            }
+    })
+}
+
+/// How many times finer than its run's measured error a companion run is integrated: the
+/// companion's difference from the run then holds the run's own integration error, and the
+/// companion's (its row's stored figure) adds at most a tenth of it.
+pub const COMPANION_RATIO: f64 = 10.0;
+
+/// The accuracy (m) to ask of the companion of a run planned on `row` of `kind`, among the
+/// rows that resolve what `resolve` says: the cheapest row whose measured error is at most
+/// `row`'s over [`COMPANION_RATIO`] is the one [`cheapest`] then picks. `None` when no row
+/// is that fine (`row` is the finest of its kind: exact stepping, rounding).
+///
+/// ```
+/// use telescopic_runtime::analysis::accuracy::{
+///     COMPANION_RATIO, MEASURED, Resolve, cheapest, companion_accuracy,
+/// };
+/// let run = &MEASURED[5]; // case-study: dop853 at rtol 1e-5
+/// let asked = companion_accuracy(run.kind, run, Resolve::EverySample).unwrap();
+/// let companion = cheapest(run.kind, asked, Resolve::EverySample).unwrap();
+/// assert!(companion.error_m * COMPANION_RATIO <= run.error_m);
+/// ```
+pub fn companion_accuracy(kind: SceneKind, row: &MeasuredRun, resolve: Resolve) -> Option<f64> {
+    rows_of(kind, resolve)
+        .filter(|r| r.error_m * COMPANION_RATIO <= row.error_m)
+        .min_by(|a, b| a.wall_s.total_cmp(&b.wall_s))
+        .map(|r| (r.error_m * MARGIN).max(ACCURACY_RANGE.0))
+}
+
 /// `x > 0` rounded up to two significant digits, so that the printed bound is one a request
 /// can meet (2.43e-9 -> 2.5e-9, where rounding to nearest printed 2e-9).
 fn round_up_two_digits(x: f64) -> f64 {
@@ -401,6 +435,32 @@ fn round_up_two_digits(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_companion_is_integrated_a_tenth_as_coarsely_wherever_a_finer_row_exists() {
+        for resolve in [Resolve::EverySample, Resolve::Moments] {
+            for row in &MEASURED {
+                let finer =
+                    rows_of(row.kind, resolve).any(|r| r.error_m * COMPANION_RATIO <= row.error_m);
+                match companion_accuracy(row.kind, row, resolve) {
+                    Some(asked) => {
+                        let picked = cheapest(row.kind, asked, resolve).unwrap();
+                        assert!(
+                            picked.error_m * COMPANION_RATIO <= row.error_m,
+                            "{row:?}: {picked:?}"
+                        );
+                    }
+                    None => assert!(!finer, "{row:?} has a finer row"),
+                }
+            }
+        }
+        // exact stepping is the finest of its kind: its figure stays a stored one
+        let exact = MEASURED.iter().find(|r| r.method == "exact").unwrap();
+        assert_eq!(
+            companion_accuracy(exact.kind, exact, Resolve::EverySample),
+            None
+        );
+    }
 
     #[test]
     fn every_kind_has_a_row_that_reaches_the_default_accuracy() {
