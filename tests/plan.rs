@@ -228,7 +228,8 @@ fn a_plan_stops_at_its_next_run_or_eigen_analysis_when_its_caller_asks() {
     });
     for (after, stopped_in) in [
         ("", "first mode's schedule"),
-        ("evaluating", "evaluating s-curve"),
+        // the candidates run side by side: whichever reaches its stop point first names it
+        ("evaluating", "evaluating "),
     ] {
         let caller = StopAfter {
             after,

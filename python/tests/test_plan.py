@@ -12,7 +12,7 @@ def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli, capsys):
                            settle=4.0, optimize=False)
     # what the planner does is on stderr as it goes, with the share done, as the CLI's log
     said = capsys.readouterr().err
-    assert "evaluating s-curve on 1 plants" in said and "evaluating 2ei" in said, said
+    assert "evaluating 6 candidates on 1 plants, side by side" in said, said
     assert "%]" in said
     assert abs(plan.rigid_limit_s - 3.2) < 1e-12
     assert set(plan.table["candidate"]) >= {"s-curve", "zv", "zvd", "ei", "2ei"}

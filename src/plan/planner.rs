@@ -31,6 +31,9 @@ const STRETCH_RANGE: (f64, f64) = (0.7, 1.3);
 /// the optimizer tries.
 const MATCHED_STRETCH_RANGE: (f64, f64) = (0.85, 1.15);
 
+/// Points per stretch of the grid the matched move's optimizer starts from.
+const MATCHED_GRID: usize = 5;
+
 /// The first mode's period (s) along the move, with the vehicle held, scheduled on the
 /// moving telescopic position (a monotone cubic through its values at the positions reached
 /// every 0.25 s; a number when no position moves), and its value at `arrival`
@@ -190,6 +193,27 @@ impl Setting<'_> {
             .collect())
     }
 
+    /// Runs each of `candidates` (indices from `first`) on every evaluated plant, the
+    /// candidates side by side: their rows in the candidates' order (the same whichever
+    /// finishes first); `finished` is called as each candidate's runs end.
+    fn rows_of(
+        &self,
+        candidates: &[Candidate],
+        first: usize,
+        finished: &(dyn Fn() + Sync),
+    ) -> Result<Vec<PlanRow>> {
+        let per_candidate = candidates
+            .par_iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let rows = self.rows(first + k, c);
+                finished();
+                rows
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(per_candidate.into_iter().flatten().collect())
+    }
+
     /// How a plant that never settles counts in the worst cycle time.
     fn penalty(&self) -> (f64, f64) {
         (self.end, self.options.pick_tolerance())
@@ -262,17 +286,39 @@ impl Setting<'_> {
         candidates::shaped(name, &self.curve, shaper, (&self.schedule, early, late))
     }
 
-    /// Nelder-Mead over the stretches of the matched move's acceleration and deceleration;
-    /// `None` when the limits leave no matched move.
+    /// The stretches of the matched move's acceleration and deceleration that leave the
+    /// least: a [`MATCHED_GRID`]-square grid over [`MATCHED_STRETCH_RANGE`] first, its runs
+    /// side by side, then Nelder-Mead within a grid spacing of its best point for the rest
+    /// of [`MATCHED_BUDGET`]. The residual's zero is sharp (a few thousandths of a stretch
+    /// wide), so a simplex from the linear design's point finds it or not by the path that
+    /// rounding sets; the grid finds its valley first. `None` when the limits leave no
+    /// matched move.
     fn optimized_matched(&self) -> Option<Candidate> {
         let period = &self.schedule;
         let build = |x: &[f64]| candidates::matched("", &self.curve, period, (x[0], x[1]));
         build(&[1.0, 1.0])?;
-        let x = self.search(
-            (2, MATCHED_STRETCH_RANGE),
-            &|x| build(x).map(|m| m.candidate),
-            MATCHED_BUDGET,
-        );
+        let cost = |x: &[f64]| self.cost(build(x).map(|m| m.candidate).as_ref());
+        let (lo, hi) = MATCHED_STRETCH_RANGE;
+        let spacing = (hi - lo) / (MATCHED_GRID - 1) as f64;
+        let grid: Vec<[f64; 2]> = (0..MATCHED_GRID * MATCHED_GRID)
+            .map(|k| {
+                let at = |i: usize| lo + spacing * i as f64;
+                [at(k / MATCHED_GRID), at(k % MATCHED_GRID)]
+            })
+            .collect();
+        let values: Vec<f64> = grid.par_iter().map(|x| cost(x)).collect();
+        // the first of equal values: the same pick whichever run ends first
+        let best = (0..grid.len())
+            .min_by(|&a, &b| values[a].total_cmp(&values[b]))
+            .expect("the grid has points");
+        let bounds = grid[best].map(|v| ((v - spacing).max(lo), (v + spacing).min(hi)));
+        let budget = MATCHED_BUDGET - grid.len();
+        let found = nelder_mead(&mut |x| cost(x), &grid[best], &bounds, budget);
+        let x = if found.value < values[best] {
+            found.x
+        } else {
+            grid[best].to_vec()
+        };
         let found = build(&x)?;
         // named by what a drive is set to: its acceleration and braking limits (m/s^2)
         let [accelerate, brake] = found.accelerations;
@@ -387,17 +433,17 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
     check_robust_set(scene, options)?;
     let (s, period) = setting(scene, options, reporter)?;
     let (mut list, starts) = candidate_list(&s, period);
-    let mut rows: Vec<PlanRow> = Vec::new();
     let steps = (list.len() + 2) as f64;
-    for (i, c) in list.iter().enumerate() {
-        reporter.note(&format!(
-            "evaluating {} on {} plants",
-            c.name,
-            s.plants.len()
-        ));
-        rows.extend(s.rows(i, c)?);
-        reporter.progress((i + 1) as f64 / steps);
-    }
+    reporter.note(&format!(
+        "evaluating {} candidates on {} plants, side by side",
+        list.len(),
+        s.plants.len()
+    ));
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let mut rows = s.rows_of(&list, 0, &|| {
+        let finished = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        reporter.progress(finished as f64 / steps);
+    })?;
     if options.optimize {
         // from the best scheduled shaper (the best fixed one when no position moves)
         let (shaper, _) = starts
@@ -423,11 +469,10 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         if open != 0 {
             with.push(list[open].with_feedback());
         }
-        for c in with {
-            reporter.note(&format!("evaluating {}", c.name));
-            rows.extend(s.rows(list.len(), &c)?);
-            list.push(c);
-        }
+        let names: Vec<&str> = with.iter().map(|c| c.name.as_str()).collect();
+        reporter.note(&format!("evaluating {}, side by side", names.join(" and ")));
+        rows.extend(s.rows_of(&with, list.len(), &|| {})?);
+        list.extend(with);
     }
     reporter.progress((steps - 1.0) / steps);
     let best = best_within_limit(&s, &rows, list.len())?;
