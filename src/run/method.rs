@@ -6,7 +6,7 @@ use super::predicted_size::SizePrediction;
 use crate::OptionName;
 use crate::{Error, Result};
 use telescopic_runtime::analysis::accuracy::{
-    AccuracyPlan, MeasuredRun, Resolve, SceneKind, companion_accuracy,
+    AccuracyPlan, COMPANION_RATIO, MeasuredRun, Resolve, SceneKind, companion_accuracy,
 };
 use telescopic_runtime::integrate::StepControl;
 use telescopic_runtime::{Basis, DEFAULT_ACCURACY_M, Method, Scene, Settings, plan_for_accuracy};
@@ -124,7 +124,8 @@ pub struct Plan {
 
 impl Plan {
     /// The measured run of the table the method and tolerance were picked from, when they
-    /// were picked and not overridden by a given tolerance.
+    /// were picked (a tolerance given beside `auto` overrides the row's:
+    /// the companion's options check for that).
     pub fn measured_row(&self) -> Option<&MeasuredRun> {
         match &self.reason {
             MethodReason::Auto(chosen) | MethodReason::Accuracy(chosen) => Some(&chosen.row),
@@ -142,7 +143,7 @@ impl Plan {
 /// cross them, the difference holds the run's interpolation), a generated model only where
 /// one exists. Where the run's method and tolerance were picked from the table (no
 /// tolerance given), the companion's integration is picked at most a
-/// [`COMPANION_RATIO`](telescopic_runtime::analysis::accuracy::COMPANION_RATIO)th of the run's measured error: the difference then holds the run's
+/// [`COMPANION_RATIO`]th of the run's measured error: the difference then holds the run's
 /// own integration error, measured on this run. The second value says whether it does.
 pub(crate) fn companion_options(
     scene: &Scene,
@@ -173,6 +174,15 @@ pub(crate) fn companion_options(
         companion.accuracy = Some(accuracy);
     }
     (companion, finer.is_some())
+}
+
+/// The integration error (m) that a `companion` planned with [`companion_options`] adds to
+/// the budget of a run planned as `run`: the companion's row's stored figure when that row
+/// is at most a [`COMPANION_RATIO`]th of the run's (their difference then holds the run's own
+/// integration error); `None` when it is not, and the run's own figure stands.
+pub(crate) fn companion_integration(run: &Plan, companion: &Plan) -> Option<f64> {
+    let (run, companion) = (run.measured_row()?, companion.measured_row()?);
+    (companion.error_m * COMPANION_RATIO <= run.error_m).then_some(companion.error_m)
 }
 
 /// What a run with `options` must resolve at its samples.

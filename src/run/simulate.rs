@@ -4,7 +4,7 @@
 //! ([`super::total_accuracy`]).
 
 use super::error_budget::{self, ErrorBudget};
-use super::method::{Plan, companion_options};
+use super::method::{Plan, companion_integration, companion_options};
 use super::options::SimulationOptions;
 use super::prepared::PreparedRun;
 use super::simulation::Simulation;
@@ -103,9 +103,9 @@ fn companion_run(
     };
     let mut companion_scene = scene.clone();
     companion_scene.params = refined;
-    let (companion_options, finer) = companion_options(scene, options, run);
+    let (companion_options, _) = companion_options(scene, options, run);
     let prepared = PreparedRun::new(&companion_scene, &companion_options, &crate::Silent)?;
-    let integration = finer.then_some(prepared.plan.integration_error_m).flatten();
+    let integration = companion_integration(run, &prepared.plan);
     match prepared.integrate(reporter) {
         Ok(companion) => Ok(Companion::Ran(
             companion,

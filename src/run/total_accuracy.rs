@@ -43,7 +43,7 @@ use crate::OptionName;
 use crate::report::Reporter;
 use crate::run::PreparedRun;
 use crate::run::error_budget::{ErrorBudget, Statistic, refined_modes};
-use crate::run::method::companion_options;
+use crate::run::method::{companion_integration, companion_options};
 use crate::run::predicted_size::{SizePrediction, predict_size};
 use crate::run::{MethodReason, ModelSize, Simulation, SimulationOptions, plan};
 use crate::{Error, Result};
@@ -678,10 +678,7 @@ impl Search<'_> {
             }
         };
         let modes = vec![refined.modes; scene.params.sections.len()];
-        let integration = self
-            .finer
-            .then_some(companion.plan.integration_error_m)
-            .flatten();
+        let integration = companion_integration(&rung.run.plan, &companion.plan);
         let budget = rung
             .run
             .budget_against(scene, &companion.trajectory, modes, integration);
