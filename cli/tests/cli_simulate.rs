@@ -820,3 +820,77 @@ fn the_documented_top_accuracy_is_taken() {
     let said = String::from_utf8_lossy(&out.stderr);
     assert!(said.contains("wrote /dev/null"), "{said}");
 }
+
+/// Runs `simulate` on adams-clearance's first half second with records kept in `dir`.
+fn simulate_keeping_records(
+    dir: &std::path::Path,
+    out: &std::path::Path,
+    extra: &[&str],
+) -> String {
+    let mut args = vec![
+        "simulate",
+        "scenes/adams-clearance.toml",
+        "--set",
+        "time.end=0.5",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_telescopic"))
+        .args(&args)
+        .env("TELESCOPIC_CACHE_DIR", dir)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+#[test]
+fn a_repeated_simulate_reuses_the_error_budget_its_first_run_kept() {
+    let dir = scratch("reuse");
+    let records = dir.join("records");
+    let (first, second, fresh) = (dir.join("a.csv"), dir.join("b.csv"), dir.join("c.csv"));
+    let json = |text: &str| serde_json::from_str::<serde_json::Value>(text).unwrap();
+    let kept = json(&simulate_keeping_records(&records, &first, &[]));
+    assert!(kept["error"]["reused_from"].is_null());
+    assert_eq!(std::fs::read_dir(&records).unwrap().count(), 1);
+    let reused = json(&simulate_keeping_records(&records, &second, &[]));
+    let record = reused["error"]["reused_from"]
+        .as_str()
+        .expect("the second run reuses");
+    assert!(record.starts_with(records.to_str().unwrap()));
+    assert!(
+        reused["text"]
+            .as_str()
+            .unwrap()
+            .contains("error budget reused from")
+    );
+    // the same samples and, apart from where it came from, the same budget
+    let samples = |path: &std::path::Path| -> Vec<String> {
+        let text = std::fs::read_to_string(path).unwrap();
+        text.lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(String::from)
+            .collect()
+    };
+    assert!(
+        samples(&first) == samples(&second),
+        "the reused run's samples differ"
+    );
+    let without_source = |mut v: serde_json::Value| {
+        v["error"]["reused_from"] = serde_json::Value::Null;
+        v["error"].clone()
+    };
+    assert_eq!(without_source(kept.clone()), without_source(reused));
+    // --no-reuse estimates afresh and keeps nothing
+    let afresh = json(&simulate_keeping_records(&records, &fresh, &["--no-reuse"]));
+    assert!(afresh["error"]["reused_from"].is_null());
+    assert_eq!(afresh["error"], kept["error"]);
+    assert_eq!(std::fs::read_dir(&records).unwrap().count(), 1);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -120,7 +120,7 @@ impl RunArguments {
 #[pyfunction]
 #[pyo3(signature = (scene, method = "auto", rtol = None, atol = None, dt = None, accuracy = None,
     controller = None, stations = None, model = "auto", progress = None, modes_as_given = false,
-    error_estimate = true, moment_tolerance = None, statistics_tolerance = None))]
+    error_estimate = true, moment_tolerance = None, statistics_tolerance = None, reuse = true))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
@@ -138,6 +138,7 @@ pub fn simulate<'py>(
     error_estimate: bool,
     moment_tolerance: Option<f64>,
     statistics_tolerance: Option<f64>,
+    reuse: bool,
 ) -> PyResult<SimulationData<'py>> {
     let defaults = SimulationOptions::default();
     let stations = stations
@@ -163,6 +164,7 @@ pub fn simulate<'py>(
         moment_tolerance: moment_tolerance.unwrap_or(defaults.moment_tolerance),
         statistics_tolerance: statistics_tolerance.unwrap_or(defaults.statistics_tolerance),
         memory_budget: memory_budget()?,
+        reuse: reuse.then(telescopic::run::reuse::default_dir).flatten(),
         ..SimulationOptions::default()
     };
     let controller = match controller {

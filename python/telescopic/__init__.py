@@ -286,6 +286,7 @@ def simulate(
     error_estimate: bool = True,
     moment_tolerance: float | None = None,
     statistics_tolerance: float | None = None,
+    reuse: bool = True,
 ) -> Simulation:
     """Integrates ``scene`` from rest with the clearance contact law (``telescopic simulate``).
 
@@ -298,7 +299,9 @@ def simulate(
     integration only; ``moment_tolerance`` and ``statistics_tolerance`` bound the moments and, with
     clearance, the statistics, defaults 0.02 and 0.05). ``summary["error"]`` holds the run's
     error in two parts (integration and truncation; ``error_estimate=False`` skips the
-    companion run that estimates the truncation); ``controller`` drives the scene
+    companion run that estimates the truncation; a repeated run of the same scene and
+    arguments reuses the budget its first run kept, as the CLI does, and ``reuse=False``
+    estimates afresh and keeps nothing); ``controller`` drives the scene
     with a designed controller; ``stations`` adds bending moments (and stresses) at
     ``(section, x)``; ``progress`` is a callable taking the fraction done (or ``True`` for a
     tqdm bar). Raises ``SolverError`` (with ``.time`` and ``.method``) when the integration
@@ -322,6 +325,7 @@ def simulate(
         error_estimate=error_estimate,
         moment_tolerance=moment_tolerance,
         statistics_tolerance=statistics_tolerance,
+        reuse=reuse,
     )
     request = dict(scene=scene, method=method, rtol=rtol, atol=atol, dt=dt, accuracy=accuracy,
                    controller=text, model=model, modes_as_given=modes_as_given)

@@ -76,6 +76,7 @@ def simulate(
     error_estimate: bool = True,
     moment_tolerance: float | None = None,
     statistics_tolerance: float | None = None,
+    reuse: bool = True,
 ) -> tuple[list[str], np.ndarray, dict[str, Any]]:
     """Columns, samples (t first) and the run summary (with its error budget) of a simulation."""
 

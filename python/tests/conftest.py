@@ -16,6 +16,13 @@ def at_root(monkeypatch):
     monkeypatch.chdir(ROOT)
 
 
+@pytest.fixture(autouse=True)
+def no_budget_records(monkeypatch):
+    """Runs keep no error budgets for reuse between tests (the library's and the CLI's);
+    the tests of reuse name a directory of their own."""
+    monkeypatch.setenv("TELESCOPIC_CACHE_DIR", "off")
+
+
 @pytest.fixture(scope="session")
 def cli():
     """Runs the `telescopic` binary; a missing binary fails the test, naming it."""

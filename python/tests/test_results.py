@@ -49,6 +49,28 @@ def test_simulate_equals_the_cli_csv(cli, tmp_path):
         assert theirs_summary[key] == sim.summary[key], key
 
 
+def test_a_repeated_simulate_reuses_the_budget_and_the_cli_reads_the_same_record(
+        cli, tmp_path, monkeypatch):
+    records = tmp_path / "records"
+    monkeypatch.setenv("TELESCOPIC_CACHE_DIR", str(records))
+    scene = telescopic.Scene.load("scenes/adams-clearance.toml", set={"time.end": 0.5})
+    first = telescopic.simulate(scene)
+    assert first.summary["error"]["reused_from"] is None
+    (record,) = records.iterdir()
+    second = telescopic.simulate(scene)
+    assert second.summary["error"]["reused_from"] == str(record)
+    assert np.array_equal(first.to_numpy(), second.to_numpy())
+    without = {k: v for k, v in second.summary["error"].items() if k != "reused_from"}
+    assert without == {k: v for k, v in first.summary["error"].items() if k != "reused_from"}
+    # the command names a run by the same scene and options: it reuses Python's record
+    out = cli("simulate", "scenes/adams-clearance.toml", "--set", "time.end=0.5",
+              "--out", str(tmp_path / "run.csv"), "--json")
+    assert json.loads(out.stdout)["error"]["reused_from"] == str(record)
+    afresh = telescopic.simulate(scene, reuse=False)
+    assert afresh.summary["error"]["reused_from"] is None
+    assert afresh.summary["error"]["total_m"] == first.summary["error"]["total_m"]
+
+
 def test_a_scene_from_text_and_from_its_file_agree():
     path = "scenes/adams-clearance.toml"
     with open(path, encoding="utf-8") as f:

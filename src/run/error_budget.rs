@@ -28,7 +28,7 @@
 
 use crate::named::named_enum;
 use crate::run::Trajectory;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use telescopic_runtime::Output;
 use telescopic_runtime::{MAX_MODES, ModelParams};
 
@@ -55,7 +55,7 @@ pub fn refined(params: &ModelParams) -> Option<ModelParams> {
 }
 
 /// Why the pointwise window ends where it does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum WindowEnd {
     /// The span's end (no clearance: no impacts).
@@ -65,7 +65,7 @@ pub enum WindowEnd {
 }
 
 /// Where `tip_rel` is compared pointwise.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Window {
     /// End of the window (s); it starts at the span's start.
     pub end: f64,
@@ -74,7 +74,7 @@ pub struct Window {
 }
 
 /// A statistic of a run beyond its window.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Statistic {
     /// RMS of `tip_rel` (m).
@@ -103,7 +103,7 @@ named_enum!(Statistic, "a statistic", {
 });
 
 /// One statistic with its relative truncation estimate.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct StatisticError {
     /// Which.
     pub statistic: Statistic,
@@ -114,7 +114,7 @@ pub struct StatisticError {
 }
 
 /// A station's moment error estimate inside the window, relative to its peak over the run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MomentError {
     /// The column, `moment_k_x`.
     pub column: String,
@@ -125,7 +125,7 @@ pub struct MomentError {
 }
 
 /// The truncation part of a run's error, from its companion run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Truncation {
     /// Modes per section of the companion run.
     pub refined_modes: Vec<usize>,
@@ -148,7 +148,7 @@ pub struct Truncation {
 }
 
 /// A run's error budget.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ErrorBudget {
     /// The pointwise window.
     pub window: Window,
@@ -162,6 +162,9 @@ pub struct ErrorBudget {
     pub truncation: Option<Truncation>,
     /// Why the truncation part is missing, when it is.
     pub missing: Option<String>,
+    /// The record this budget was read from ([`crate::run::reuse`]): a run of the same scene
+    /// and options whose outputs this run reproduced to the bit. `None`: this run's own.
+    pub reused: Option<std::path::PathBuf>,
 }
 
 impl ErrorBudget {
@@ -209,6 +212,13 @@ impl ErrorBudget {
             if !t.statistics.is_empty() {
                 lines.insert(0, self.describe_statistics(t));
             }
+        }
+        if let Some(path) = &self.reused {
+            lines.push(format!(
+                "error budget reused from {}: written by a run of the same scene and options, \
+                 whose outputs this run reproduced to the bit",
+                path.display()
+            ));
         }
         lines
     }

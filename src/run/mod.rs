@@ -2,7 +2,8 @@
 //! method ([`method`]), the model chosen for the scene's configuration ([`models`]), the
 //! checks before a run starts ([`budget`], [`memory`]), the prepared run that integrates it
 //! ([`prepared`]), the outputs at stations ([`stress`]), the samples ([`trajectory`]), the
-//! error budget ([`error_budget`]), a model size ([`sized`]), the search for a model size
+//! error budget ([`error_budget`]) and its reuse by a repeated run ([`reuse`]), a model size
+//! ([`sized`]), the search for a model size
 //! and method that meets a total accuracy ([`total_accuracy`]), the finished run
 //! ([`simulation`]) and its summary as data ([`summary`]).
 //!
@@ -27,6 +28,7 @@ pub mod models;
 pub mod options;
 pub mod predicted_size;
 pub mod prepared;
+pub mod reuse;
 pub mod simulate;
 pub mod simulation;
 pub mod sized;

@@ -165,6 +165,11 @@ impl ChosenModel {
 }
 
 impl ModelRegistry {
+    /// The names of its sets, searched last to first.
+    pub fn set_names(&self) -> Vec<&'static str> {
+        self.sets.iter().map(|set| set.name).collect()
+    }
+
     /// A registry with no generated models: every run takes the assembled model.
     pub fn assembled_only() -> Self {
         ModelRegistry { sets: Vec::new() }

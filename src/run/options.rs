@@ -89,6 +89,10 @@ pub struct SimulationOptions {
     /// (default true; false: steps end on every sample, as a companion run that measures a
     /// run's error needs: its own interpolation error would otherwise hide the run's).
     pub steps_across_samples: bool,
+    /// Where a run keeps its error budget, and its accuracy search's pick, for a repeated run
+    /// of the same scene and options to reuse ([`crate::run::reuse`]); `None`: every run
+    /// estimates afresh. The faces set [`crate::run::reuse::default_dir`].
+    pub reuse: Option<std::path::PathBuf>,
 }
 
 impl Default for SimulationOptions {
@@ -111,6 +115,7 @@ impl Default for SimulationOptions {
             memory_budget: super::memory::DEFAULT_MEMORY_BUDGET,
             coordinates: false,
             steps_across_samples: true,
+            reuse: None,
         }
     }
 }

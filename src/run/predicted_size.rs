@@ -18,7 +18,7 @@ use telescopic_runtime::analysis::modal_surrogate::surrogate_tip;
 use telescopic_runtime::{AssembledModel, Scene};
 
 /// What the search was told before its first run.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum SizePrediction {
     /// The cheapest size whose surrogate estimate is within the accuracy.
     Predicted {
@@ -34,7 +34,7 @@ pub enum SizePrediction {
 }
 
 /// Why no size was predicted.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum NoPrediction {
     /// The scene has clearance: impacts set its runs' error.
     Clearance,

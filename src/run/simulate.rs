@@ -7,6 +7,7 @@ use super::error_budget::{self, ErrorBudget};
 use super::method::{Plan, companion_integration, companion_options};
 use super::options::SimulationOptions;
 use super::prepared::PreparedRun;
+use super::reuse::{self, Lookup, Pick, Record};
 use super::simulation::Simulation;
 use super::trajectory::Trajectory;
 use crate::report::Reporter;
@@ -23,6 +24,92 @@ use telescopic_runtime::Scene;
 /// [`Error`] for bad options, a model that cannot be had, an unaffordable run (with the
 /// estimate), or a failed integration (time, method, likely cause).
 pub fn simulate_scene(
+    scene: &Scene,
+    options: &SimulationOptions,
+    reporter: &dyn Reporter,
+) -> Result<Simulation> {
+    let Some(dir) = options.reuse.as_deref().filter(|_| options.error_estimate) else {
+        return simulate_afresh(scene, options, reporter);
+    };
+    let identity = reuse::identity(scene, options);
+    match reuse::load(dir, &identity) {
+        Lookup::Found(record) => {
+            let path = reuse::record_path(dir, &identity);
+            match rerun(scene, options, *record, path, reporter)? {
+                Ok(simulation) => return Ok(simulation),
+                Err(stale) => reporter.note(&stale),
+            }
+        }
+        Lookup::Unreadable(why) => {
+            reporter.note(&format!(
+                "error budget not reused (unreadable record {why})"
+            ));
+        }
+        Lookup::Missing => {}
+    }
+    let simulation = simulate_afresh(scene, options, reporter)?;
+    if let Some(budget) = &simulation.error {
+        let record = Record {
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            outputs: reuse::outputs_digest(&simulation.trajectory),
+            budget: budget.clone(),
+            pick: Pick::of(&simulation.plan.reason),
+        };
+        if let Err(why) = reuse::store(dir, &identity, &record) {
+            reporter.note(&format!("error budget not kept for reuse ({why})"));
+        }
+    }
+    Ok(simulation)
+}
+
+/// The run `record` belongs to, made again: the picked size's run for an accuracy search's
+/// record, else the scene's. `Ok(Err(why))` when its outputs differ from the record's (a
+/// stale record: the caller estimates afresh).
+///
+/// # Errors
+/// The run's own error.
+fn rerun(
+    scene: &Scene,
+    options: &SimulationOptions,
+    record: Record,
+    path: std::path::PathBuf,
+    reporter: &dyn Reporter,
+) -> Result<std::result::Result<Simulation, String>> {
+    let (sized, run_options) = match &record.pick {
+        Some(pick) => (
+            pick.size.apply(scene),
+            super::total_accuracy::integration_options(options),
+        ),
+        None => (scene.clone(), options.clone()),
+    };
+    let run = PreparedRun::new(&sized, &run_options, reporter)?;
+    let trajectory = run.integrate(reporter)?;
+    let mut simulation = run.into_simulation(trajectory);
+    if reuse::outputs_digest(&simulation.trajectory) != record.outputs {
+        return Ok(Err(format!(
+            "error budget not reused: this run's outputs differ from those of the record {} \
+             (another build or model): estimating afresh",
+            path.display()
+        )));
+    }
+    if let Some(pick) = record.pick {
+        reporter.note(&format!(
+            "accuracy search: reused the pick {} {} of {}",
+            pick.size.basis.word(),
+            pick.size.modes,
+            path.display()
+        ));
+        simulation.plan.reason = pick.reason(simulation.plan.reason);
+    }
+    simulation.error = Some(ErrorBudget {
+        reused: Some(path),
+        ..record.budget
+    });
+    Ok(Ok(simulation))
+}
+
+/// [`simulate_scene`] without reuse: the run and its companion, or the accuracy search.
+fn simulate_afresh(
     scene: &Scene,
     options: &SimulationOptions,
     reporter: &dyn Reporter,
@@ -131,6 +218,7 @@ fn budget_of(scene: &Scene, simulation: &Simulation, companion: Companion) -> Er
             integration_statistics: simulation.plan.integration_statistics_rel,
             truncation: None,
             missing: Some(why),
+            reused: None,
         },
     }
 }

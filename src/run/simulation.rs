@@ -59,6 +59,7 @@ impl Simulation {
                 ..super::error_budget::truncation(&self.trajectory, companion, modes, window)
             }),
             missing: None,
+            reused: None,
         }
     }
 

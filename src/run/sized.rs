@@ -6,7 +6,8 @@ use std::str::FromStr;
 use telescopic_runtime::{Basis, MAX_MODES, Scene};
 
 /// One model size: the basis and the modes per section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(into = "String", try_from = "String")]
 pub struct ModelSize {
     /// The basis.
     pub basis: Basis,
@@ -30,6 +31,20 @@ impl FromStr for ModelSize {
                 "`{s}`: the modes per section must be 1 to {MAX_MODES} (N or static:N)"
             )),
         }
+    }
+}
+
+impl From<ModelSize> for String {
+    fn from(size: ModelSize) -> String {
+        size.to_string()
+    }
+}
+
+impl TryFrom<String> for ModelSize {
+    type Error = String;
+
+    fn try_from(text: String) -> std::result::Result<Self, String> {
+        text.parse()
     }
 }
 

@@ -87,6 +87,8 @@ pub struct ErrorSummary {
     pub statistics: BTreeMap<String, (f64, f64)>,
     /// Why the truncation part is missing.
     pub missing: Option<String>,
+    /// The record the budget was reused from ([`crate::run::reuse`]); `None`: this run's own.
+    pub reused_from: Option<String>,
 }
 
 impl Simulation {
@@ -161,6 +163,7 @@ impl ErrorSummary {
                 })
                 .unwrap_or_default(),
             missing: budget.missing.clone(),
+            reused_from: budget.reused.as_ref().map(|p| p.display().to_string()),
         }
     }
 }

@@ -300,15 +300,7 @@ pub fn simulate_for_accuracy(
     let started = Instant::now();
     let accuracy = options.accuracy.expect("called with an accuracy");
     check_options(accuracy, options)?;
-    // the share, within the integration's own range (0.1 x the top 0.1 m rounds above 1e-2)
-    let integration_m = (accuracy * INTEGRATION_SHARE)
-        .min(telescopic_runtime::analysis::accuracy::ACCURACY_RANGE.1);
-    let integration = SimulationOptions {
-        accuracy: Some(integration_m),
-        modes_as_given: true,
-        error_estimate: false,
-        ..options.clone()
-    };
+    let integration = integration_options(options);
     // refuses bad tolerances and the like before any run
     let run_plan = plan(scene, &integration)?;
     let prediction = prediction(scene, accuracy);
@@ -364,6 +356,21 @@ pub fn simulate_for_accuracy(
         integration: Box::new(simulation.plan.reason.clone()),
     };
     Ok(simulation)
+}
+
+/// The options of a size's run in the search for `options.accuracy`: the size as given,
+/// integrated to the accuracy's integration share, no estimate of its own.
+pub(crate) fn integration_options(options: &SimulationOptions) -> SimulationOptions {
+    let accuracy = options.accuracy.expect("called with an accuracy");
+    // the share, within the integration's own range (0.1 x the top 0.1 m rounds above 1e-2)
+    let integration_m = (accuracy * INTEGRATION_SHARE)
+        .min(telescopic_runtime::analysis::accuracy::ACCURACY_RANGE.1);
+    SimulationOptions {
+        accuracy: Some(integration_m),
+        modes_as_given: true,
+        error_estimate: false,
+        ..options.clone()
+    }
 }
 
 /// The size predicted for `accuracy` (m) before any run ([`predict_size`]): among every

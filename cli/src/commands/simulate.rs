@@ -104,6 +104,13 @@ pub struct SimulateArgs {
     /// Skip the companion run with more modes that estimates the truncation error.
     #[arg(long)]
     pub no_error_estimate: bool,
+    /// Estimate the error budget afresh and keep no record of it. By default a run keeps its
+    /// budget (and its accuracy search's pick) in $TELESCOPIC_CACHE_DIR (`off`: none), else
+    /// $XDG_CACHE_HOME/telescopic/budgets or ~/.cache/telescopic/budgets, and a repeated run
+    /// of the same scene and options whose outputs equal the kept run's to the bit reuses
+    /// it (docs/numerics.md).
+    #[arg(long)]
+    pub no_reuse: bool,
     /// CSV file for the outputs (written to a temporary file and renamed when complete);
     /// default: standard output.
     #[arg(long, value_name = "FILE")]
@@ -254,6 +261,10 @@ fn simulation_options(args: &SimulateArgs) -> anyhow::Result<SimulationOptions> 
             None => Vec::new(),
         },
         error_estimate: !args.no_error_estimate,
+        reuse: match args.no_reuse {
+            true => None,
+            false => telescopic::run::reuse::default_dir(),
+        },
         ..args.run.options()?
     })
 }

@@ -19,6 +19,17 @@ extern "C" fn move_to_workspace_root() {
 #[unsafe(link_section = ".init_array")]
 static MOVE_TO_WORKSPACE_ROOT: extern "C" fn() = move_to_workspace_root;
 
+/// The binary's runs keep no error budgets for reuse between tests (each test reads its own
+/// run's estimate, whatever ran before); the tests of reuse name a directory of their own.
+extern "C" fn keep_no_budget_records() {
+    // SAFETY: this runs in `.init_array`, before `main`, while no other thread exists
+    unsafe { std::env::set_var("TELESCOPIC_CACHE_DIR", "off") };
+}
+
+#[used]
+#[unsafe(link_section = ".init_array")]
+static KEEP_NO_BUDGET_RECORDS: extern "C" fn() = keep_no_budget_records;
+
 /// Runs the binary from the workspace root.
 pub fn telescopic(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_telescopic"))
