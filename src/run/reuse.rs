@@ -3,13 +3,14 @@
 //! pays for its own integration only.
 //!
 //! A record is named by the SHA-256 of everything a run's result depends on: telescopic's
-//! version, the scene after overrides (every value, at full precision), the options that
-//! change a result, and the generated model sets a run may use. It holds the budget, the pick
+//! version and the digest of the sources it was built from (`build.rs`), the scene after
+//! overrides (every value, at full precision), the options that change a result, and the
+//! generated model sets a run may use. It holds the budget, the pick
 //! (when an accuracy search made one) and the SHA-256 of every output sample of the run the
 //! budget belongs to. A repeated run integrates its scene (the picked size, for a search) and
 //! compares its outputs with that digest: runs are deterministic, so equal outputs mean the
-//! same run, and its companion would give the same budget. Outputs that differ by one bit (a
-//! changed model or build) make the record stale: the run estimates afresh and replaces it.
+//! same run, and its companion would give the same budget. Outputs that differ by one bit (say,
+//! another machine's arithmetic) make the record stale: the run estimates afresh and replaces it.
 //!
 //! Records are written to a temporary file and renamed, so a reader never sees a partial one;
 //! two processes writing the same record write the same bytes. A record that cannot be read
@@ -159,10 +160,11 @@ pub enum Lookup {
 pub fn identity(scene: &Scene, options: &SimulationOptions) -> String {
     let o = options;
     let text = format!(
-        "telescopic {}\nscene {scene:?}\nmethod {:?} rtol {:?} atol {:?} dt {:?} step-cap {} \
+        "telescopic {} {}\nscene {scene:?}\nmethod {:?} rtol {:?} atol {:?} dt {:?} step-cap {} \
          long-steps {} model {:?} sets {:?} accuracy {:?} stations {:?} modes-as-given {} \
          moment-tolerance {:?} statistics-tolerance {:?} coordinates {} across-samples {}",
         env!("CARGO_PKG_VERSION"),
+        env!("TELESCOPIC_SOURCE_DIGEST"),
         o.method,
         o.rtol,
         o.atol,

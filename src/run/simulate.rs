@@ -87,8 +87,8 @@ fn rerun(
     let mut simulation = run.into_simulation(trajectory);
     if reuse::outputs_digest(&simulation.trajectory) != record.outputs {
         return Ok(Err(format!(
-            "error budget not reused: this run's outputs differ from those of the record {} \
-             (another build or model): estimating afresh",
+            "error budget not reused: this run's outputs differ from those of the record \
+             {}: estimating afresh",
             path.display()
         )));
     }
