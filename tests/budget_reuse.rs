@@ -7,7 +7,9 @@ use std::sync::Mutex;
 use telescopic::Scene;
 use telescopic::report::Reporter;
 use telescopic::run::reuse::{self, Record};
-use telescopic::run::{Simulation, SimulationOptions, simulate_scene};
+use telescopic::run::{
+    NoPrediction, Simulation, SimulationOptions, SizePrediction, simulate_scene,
+};
 
 /// Counts the runs started and keeps the notes.
 #[derive(Default)]
@@ -119,6 +121,24 @@ fn a_record_whose_run_differs_is_replaced_by_a_fresh_estimate() {
     assert_eq!(again.error, first.error);
     let replaced: Record = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     assert_eq!(replaced, kept);
+    // a record of an accuracy search under a plain run's name does not fit: no panic, afresh
+    let searched = Record {
+        pick: Some(reuse::Pick {
+            accuracy_m: 1e-3,
+            estimated_m: Some(1e-4),
+            size: "static:2".parse().unwrap(),
+            prediction: SizePrediction::Skipped(NoPrediction::Clearance),
+            confirmed: false,
+            tried: Vec::new(),
+            search_runs: 2,
+            search_s: 0.1,
+        }),
+        ..kept.clone()
+    };
+    std::fs::write(&path, serde_json::to_string(&searched).unwrap()).unwrap();
+    let (fitted, reporter) = run(&scene, &dir);
+    assert!(reporter.noted("does not fit these options"));
+    assert_eq!(fitted.error, first.error);
     // an unreadable record is noted and replaced the same way
     std::fs::write(&path, "{ not json").unwrap();
     let (third, reporter) = run(&scene, &dir);

@@ -18,7 +18,9 @@ use telescopic_runtime::Scene;
 /// fits the resource limits and is affordable, integrates from rest, collects every sample,
 /// and estimates the run's error ([`crate::run::error_budget`]). With
 /// [`SimulationOptions::accuracy`] (and not [`SimulationOptions::modes_as_given`]) it also
-/// picks the basis and the modes per section ([`crate::run::total_accuracy`]).
+/// picks the basis and the modes per section ([`crate::run::total_accuracy`]). With
+/// [`SimulationOptions::reuse`], a repeated run of the same scene and options makes its one
+/// run and reuses the budget (and the pick) its first run kept ([`crate::run::reuse`]).
 ///
 /// # Errors
 /// [`Error`] for bad options, a model that cannot be had, an unaffordable run (with the
@@ -75,12 +77,22 @@ fn rerun(
     path: std::path::PathBuf,
     reporter: &dyn Reporter,
 ) -> Result<std::result::Result<Simulation, String>> {
-    let (sized, run_options) = match &record.pick {
-        Some(pick) => (
+    // a record is read from disk: one whose kind does not fit the options is stale, not a
+    // reason to fail
+    let searched = options.accuracy.is_some() && !options.modes_as_given;
+    let (sized, run_options) = match (&record.pick, searched) {
+        (Some(pick), true) => (
             pick.size.apply(scene),
             super::total_accuracy::integration_options(options),
         ),
-        None => (scene.clone(), options.clone()),
+        (None, false) => (scene.clone(), options.clone()),
+        _ => {
+            return Ok(Err(format!(
+                "error budget not reused: the record {} does not fit these options: \
+                 estimating afresh",
+                path.display()
+            )));
+        }
     };
     let run = PreparedRun::new(&sized, &run_options, reporter)?;
     let trajectory = run.integrate(reporter)?;
