@@ -135,7 +135,7 @@ impl Pick {
 /// What a run keeps for the next run of its identity.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Record {
-    /// telescopic's version that wrote it.
+    /// telescopic's version that wrote it (for a reader; the identity holds it).
     pub version: String,
     /// [`outputs_digest`] of the run the budget belongs to.
     pub outputs: String,
@@ -158,30 +158,40 @@ pub enum Lookup {
 
 /// A run's identity: the record's file name (hex SHA-256, see the module documentation).
 pub fn identity(scene: &Scene, options: &SimulationOptions) -> String {
-    let o = options;
+    // every field named, so that an option added later cannot be left out of the identity
+    let SimulationOptions {
+        method,
+        rtol,
+        atol,
+        dt,
+        step_cap,
+        long_steps,
+        model,
+        models,
+        accuracy,
+        stations,
+        modes_as_given,
+        moment_tolerance,
+        statistics_tolerance,
+        coordinates,
+        steps_across_samples,
+        // no record is read or kept without an estimate; the memory budget refuses a run
+        // or not, and the records' directory is where the identity is looked up
+        error_estimate: _,
+        memory_budget: _,
+        reuse: _,
+    } = options;
     let text = format!(
-        "telescopic {} {}\nscene {scene:?}\nmethod {:?} rtol {:?} atol {:?} dt {:?} step-cap {} \
-         long-steps {} model {:?} sets {:?} accuracy {:?} stations {:?} modes-as-given {} \
-         moment-tolerance {:?} statistics-tolerance {:?} coordinates {} across-samples {}",
+        "telescopic {} {}\nscene {scene:?}\nmethod {method:?} rtol {rtol:?} atol {atol:?} \
+         dt {dt:?} step-cap {step_cap} long-steps {long_steps} model {model:?} sets {:?} \
+         accuracy {accuracy:?} stations {stations:?} modes-as-given {modes_as_given} \
+         moment-tolerance {moment_tolerance:?} statistics-tolerance {statistics_tolerance:?} \
+         coordinates {coordinates} across-samples {steps_across_samples}",
         env!("CARGO_PKG_VERSION"),
         env!("TELESCOPIC_SOURCE_DIGEST"),
-        o.method,
-        o.rtol,
-        o.atol,
-        o.dt,
-        o.step_cap,
-        o.long_steps,
-        o.model,
-        o.models.set_names(),
-        o.accuracy,
-        o.stations,
-        o.modes_as_given,
-        o.moment_tolerance,
-        o.statistics_tolerance,
-        o.coordinates,
-        o.steps_across_samples,
+        models.set_names(),
     );
-    hex(&Sha256::digest(text.as_bytes()))
+    format!("{:x}", Sha256::digest(text.as_bytes()))
 }
 
 /// The SHA-256 (hex) of a run's outputs: its columns' names and every sample's bits.
@@ -197,7 +207,7 @@ pub fn outputs_digest(trajectory: &Trajectory) -> String {
             hasher.update(value.to_bits().to_le_bytes());
         }
     }
-    hex(&hasher.finalize())
+    format!("{:x}", hasher.finalize())
 }
 
 /// The record of `identity` in `dir`.
@@ -208,15 +218,9 @@ pub fn load(dir: &Path, identity: &str) -> Lookup {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Lookup::Missing,
         Err(e) => return Lookup::Unreadable(format!("{}: {e}", path.display())),
     };
+    // the identity names the version and the sources: a record under it is theirs
     match serde_json::from_str::<Record>(&text) {
-        Ok(record) if record.version == env!("CARGO_PKG_VERSION") => {
-            Lookup::Found(Box::new(record))
-        }
-        Ok(record) => Lookup::Unreadable(format!(
-            "{}: written by telescopic {}",
-            path.display(),
-            record.version
-        )),
+        Ok(record) => Lookup::Found(Box::new(record)),
         Err(e) => Lookup::Unreadable(format!("{}: {e}", path.display())),
     }
 }
@@ -246,9 +250,4 @@ pub fn store(dir: &Path, identity: &str, record: &Record) -> Result<PathBuf, Str
 /// Where the record of `identity` lives in `dir`.
 pub fn record_path(dir: &Path, identity: &str) -> PathBuf {
     dir.join(format!("{identity}.json"))
-}
-
-/// Lower-case hex of `bytes`.
-fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
