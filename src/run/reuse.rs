@@ -36,6 +36,7 @@ use super::error_budget::ErrorBudget;
 use super::method::MethodReason;
 use super::options::SimulationOptions;
 use super::predicted_size::SizePrediction;
+use super::simulation::Simulation;
 use super::sized::ModelSize;
 use super::trajectory::Trajectory;
 use serde::{Deserialize, Serialize};
@@ -143,6 +144,18 @@ pub struct Record {
     pub budget: ErrorBudget,
     /// The accuracy search's pick, when the run made one.
     pub pick: Option<Pick>,
+}
+
+impl Record {
+    /// The record of a finished `simulation`: `None` when it has no budget to keep.
+    pub fn of(simulation: &Simulation) -> Option<Record> {
+        Some(Record {
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            outputs: outputs_digest(&simulation.trajectory),
+            budget: simulation.error.clone()?,
+            pick: Pick::of(&simulation.plan.reason),
+        })
+    }
 }
 
 /// What a lookup found.

@@ -7,7 +7,7 @@ use super::error_budget::{self, ErrorBudget};
 use super::method::{Plan, companion_integration, companion_options};
 use super::options::SimulationOptions;
 use super::prepared::PreparedRun;
-use super::reuse::{self, Lookup, Pick, Record};
+use super::reuse::{self, Lookup, Record};
 use super::simulation::Simulation;
 use super::trajectory::Trajectory;
 use crate::report::Reporter;
@@ -50,16 +50,10 @@ pub fn simulate_scene(
         Lookup::Missing => {}
     }
     let simulation = simulate_afresh(scene, options, reporter)?;
-    if let Some(budget) = &simulation.error {
-        let record = Record {
-            version: env!("CARGO_PKG_VERSION").to_string(),
-            outputs: reuse::outputs_digest(&simulation.trajectory),
-            budget: budget.clone(),
-            pick: Pick::of(&simulation.plan.reason),
-        };
-        if let Err(why) = reuse::store(dir, &identity, &record) {
-            reporter.note(&format!("error budget not kept for reuse ({why})"));
-        }
+    if let Some(record) = Record::of(&simulation)
+        && let Err(why) = reuse::store(dir, &identity, &record)
+    {
+        reporter.note(&format!("error budget not kept for reuse ({why})"));
     }
     Ok(simulation)
 }
