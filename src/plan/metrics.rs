@@ -118,11 +118,16 @@ mod tests {
     /// A run of 5 s at 1 ms: the vehicle at its target 1 m from 0.9 s on, `tip_rel` a 1 Hz
     /// swing of `amplitude` (m) until 3 s, then at rest at 0.
     fn run(amplitude: f64) -> Trajectory {
+        run_until(amplitude, 3.0)
+    }
+
+    /// As [`run`], the swing lasting until `until` (s; beyond 5 s it never stops).
+    fn run_until(amplitude: f64, until: f64) -> Trajectory {
         let rows = (0..=5000)
             .map(|k| {
                 let t = k as f64 * 1e-3;
                 let vehicle = if t >= 0.9 { 1.0 } else { t / 0.9 };
-                let tip = if t < 3.0 {
+                let tip = if t < until {
                     amplitude * (2.0 * std::f64::consts::PI * t).sin()
                 } else {
                     0.0
@@ -183,5 +188,34 @@ mod tests {
             super::super::planner::objective(&still, penalty),
         );
         assert!(s < c, "still {s} against close {c}");
+    }
+
+    #[test]
+    fn the_best_settles_on_the_most_plants_before_it_has_the_smallest_residual() {
+        let penalty = (5.0, 0.004);
+        let metrics = |amplitude: f64, until: f64| {
+            cycle_metrics(
+                &run_until(amplitude, until),
+                (1.0, 1.0),
+                (0.005, 0.004),
+                &LAW,
+            )
+        };
+        // settles on one plant of two and swings 0.5 m on the other
+        let half = [metrics(0.0021, 3.0), metrics(0.5, 9.0)];
+        // settles on neither, a 10 mm swing on both: the smaller worst penalized cycle
+        let neither = [metrics(0.01, 9.0), metrics(0.01, 9.0)];
+        assert!(neither[0].pick_cycle_time_s.is_none() && half[0].pick_cycle_time_s.is_some());
+        let objective = super::super::planner::objective;
+        assert!(objective(&neither, penalty) < objective(&half, penalty));
+        let ranking = super::super::planner::ranking;
+        assert_eq!(ranking(&half, &neither, penalty), std::cmp::Ordering::Less);
+        assert_eq!(
+            ranking(&neither, &half, penalty),
+            std::cmp::Ordering::Greater
+        );
+        // as many settled: the smaller worst penalized cycle
+        let better = [metrics(0.0021, 3.0), metrics(0.2, 9.0)];
+        assert_eq!(ranking(&better, &half, penalty), std::cmp::Ordering::Less);
     }
 }

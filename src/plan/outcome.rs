@@ -59,6 +59,19 @@ impl MovePlan {
         Self::worst_of(rows, i, |m| m.pick_cycle_time_s)
     }
 
+    /// How many plants of `rows` candidate `i` settles on within the pick's tolerance (those
+    /// with a pick cycle time), and on how many it was run.
+    pub fn settled(rows: &[PlanRow], i: usize) -> (usize, usize) {
+        rows.iter()
+            .filter(|r| r.candidate == i)
+            .fold((0, 0), |(settled, all), r| {
+                (
+                    settled + usize::from(r.metrics.pick_cycle_time_s.is_some()),
+                    all + 1,
+                )
+            })
+    }
+
     /// The largest `time` (s) of candidate `i` over `rows`; `None` if one is `None`.
     fn worst_of(
         rows: &[PlanRow],
@@ -241,11 +254,15 @@ impl MovePlan {
                  worst pick {pick}",
                 percent(w)
             ),
-            None => format!(
-                "the load does not settle on every evaluated plant within {:.1} s; the \
-                 smallest worst residual",
-                self.end_s
-            ),
+            None => {
+                let (settled, all) = Self::settled(&self.rows, self.best);
+                format!(
+                    "the load settles on {settled} of the {all} evaluated plants within {:.1} \
+                     s, the most of any candidate; of those that settle as many, the smallest \
+                     worst residual",
+                    self.end_s
+                )
+            }
         };
         let _ = writeln!(
             out,

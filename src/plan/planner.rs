@@ -156,6 +156,16 @@ pub fn objective(metrics: &[CycleMetrics], (end, pick_tolerance): (f64, f64)) ->
         .fold(0.0, f64::max)
 }
 
+/// How two candidates rank for the best, by their `metrics` over the same plants: first the
+/// one that settles within the pick's tolerance on more plants, then the smaller
+/// [`objective`] (with `penalty`). `Less` when `a` is the better.
+pub fn ranking(a: &[CycleMetrics], b: &[CycleMetrics], penalty: (f64, f64)) -> std::cmp::Ordering {
+    let settled = |m: &[CycleMetrics]| m.iter().filter(|m| m.pick_cycle_time_s.is_some()).count();
+    settled(b)
+        .cmp(&settled(a))
+        .then(objective(a, penalty).total_cmp(&objective(b, penalty)))
+}
+
 /// What every candidate of a plan shares: the curve, the schedule, the plants and the span.
 struct Setting<'a> {
     scene: &'a Scene,
@@ -219,14 +229,12 @@ impl Setting<'_> {
         (self.end, self.options.pick_tolerance())
     }
 
-    /// The worst cycle time of candidate `i` in `rows`, with the penalty.
-    fn worst(&self, rows: &[PlanRow], i: usize) -> f64 {
-        let metrics: Vec<CycleMetrics> = rows
-            .iter()
+    /// The metrics of candidate `i` in `rows`, plant by plant.
+    fn metrics(&self, rows: &[PlanRow], i: usize) -> Vec<CycleMetrics> {
+        rows.iter()
             .filter(|r| r.candidate == i)
             .map(|r| r.metrics.clone())
-            .collect();
-        objective(&metrics, self.penalty())
+            .collect()
     }
 
     /// The worst penalized cycle (s) of `candidate` on the evaluated plants; infinite when
@@ -445,11 +453,12 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         reporter.progress(finished as f64 / steps);
     })?;
     if options.optimize {
-        // from the best scheduled shaper (the best fixed one when no position moves)
+        // from the best scheduled shaper (the best fixed one when no position moves), ranked
+        // as the best plan is
         let (shaper, _) = starts
             .iter()
             .copied()
-            .min_by(|a, b| s.worst(&rows, a.1).total_cmp(&s.worst(&rows, b.1)))
+            .min_by(|a, b| ranking(&s.metrics(&rows, a.1), &s.metrics(&rows, b.1), s.penalty()))
             .expect("there are shapers");
         reporter.note(&format!(
             "optimizing the shaper's spacing and the {MATCHED_NAME}'s acceleration and \
@@ -502,8 +511,10 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
     })
 }
 
-/// The candidate with the shortest worst cycle time among those whose drive reaction stays
-/// within the force limit on every plant.
+/// Among the candidates whose drive reaction stays within the force limit on every plant,
+/// the one that brings the load to rest on the most plants, and of those the one with the
+/// shortest worst (penalized) cycle time: a plan that settles on 8 plants of 10 wins over one
+/// that settles on none with a smaller worst residual.
 fn best_within_limit(s: &Setting, rows: &[PlanRow], count: usize) -> Result<usize> {
     let within_limit = |i: usize| {
         s.options.force_limit.is_none_or(|limit| {
@@ -514,7 +525,7 @@ fn best_within_limit(s: &Setting, rows: &[PlanRow], count: usize) -> Result<usiz
     };
     (0..count)
         .filter(|&i| within_limit(i))
-        .min_by(|&a, &b| s.worst(rows, a).total_cmp(&s.worst(rows, b)))
+        .min_by(|&a, &b| ranking(&s.metrics(rows, a), &s.metrics(rows, b), s.penalty()))
         .ok_or_else(|| {
             Error::option(
                 OptionName::ForceLimit,
