@@ -529,20 +529,23 @@ fn search(
     };
     if let SizePrediction::Predicted { size, .. } = prediction {
         // the predicted size and its companion first; along its ladder only if that fails
-        search.start_checked(ladder(size.basis, size.modes), attempts)?;
+        search.start_checked(ladder(size.basis, size.modes), None, attempts)?;
         while search.check_cheapest(attempts)? {}
         if let Some((simulation, _)) = search.best {
             return Ok(Some(simulation));
         }
     }
-    for (k, (basis, start)) in STARTS.into_iter().enumerate() {
-        // the first ladder's first size is checked before the next ladder starts, so that
-        // a passing size caps the runs of the others
-        if k == 0 {
-            search.start_checked(ladder(basis, start), attempts)?;
-        } else {
-            search.start(ladder(basis, start), attempts)?;
-        }
+    // the first ladder's first size is checked before the next ladder starts, so that a
+    // passing size caps the runs of the others; the next ladder's first size runs ahead,
+    // capped by the first size's cost, on the core its run leaves free while its companion
+    // still runs
+    let [(basis, start), (next_basis, next_start)] = STARTS;
+    let next = ladder(next_basis, next_start);
+    let ahead = search.start_checked(ladder(basis, start), Some(next[0]), attempts)?;
+    match ahead {
+        // the cap it ran under is the one the next ladder's start has now: the same run
+        Some((cap, outcome)) if cap == search.cap() => search.keep(next, outcome?, None, attempts),
+        _ => search.start(next, attempts)?,
     }
     while search.check_cheapest(attempts)? {}
     // when the work budget refuses every size, its refusal says why (the stable step)
@@ -554,6 +557,9 @@ fn search(
     }
     Ok(search.best.map(|(simulation, _)| simulation))
 }
+
+/// A size run ahead of its turn: the cap it ran under (operations) and its outcome.
+type Ahead = (f64, Result<Outcome>);
 
 /// The state of the search: the ladders' sizes run but not yet checked, and the passing
 /// run of least cost with that cost (operations).
@@ -623,28 +629,52 @@ impl Search<'_> {
     }
 
     /// Runs the first size of `ladder` and its companion at once (the companion is the
-    /// size's check, made next), then checks it.
-    fn start_checked(&mut self, ladder: Vec<ModelSize>, attempts: &mut Vec<Attempt>) -> Result<()> {
+    /// size's check, made next), then checks it. With `ahead`, that size runs after the
+    /// first on the same core, capped by the first's cost: the cap and its outcome.
+    fn start_checked(
+        &mut self,
+        ladder: Vec<ModelSize>,
+        ahead: Option<ModelSize>,
+        attempts: &mut Vec<Attempt>,
+    ) -> Result<Option<Ahead>> {
         let first = ladder[0];
         let Some(&refined) = ladder.get(1) else {
             self.start(ladder, attempts)?;
-            return self.check_cheapest(attempts).map(|_| ());
+            return self.check_cheapest(attempts).map(|_| None);
         };
         let (scene, integration, cap) = (self.scene, self.integration, self.cap());
         let companion_options = self.companion;
         let (size_run, companion) = crate::report::both(
             &self.progress.pair_reporter(first, refined),
             0.5,
-            |r| run(&first.apply(scene), integration, cap, r),
+            |r| {
+                let outcome = run(&first.apply(scene), integration, cap, r)?;
+                let ahead = match (&outcome, ahead) {
+                    (Outcome::Ran(done), Some(size)) => {
+                        let cap = cap.min(done.trajectory.stats.operations());
+                        // its progress would go back within the pair's: it reports none, and
+                        // stops when the caller asks
+                        let quiet = crate::report::StopOnly(r);
+                        Some((cap, run(&size.apply(scene), integration, cap, &quiet)))
+                    }
+                    _ => None,
+                };
+                Ok::<_, Error>((outcome, ahead))
+            },
             |r| run(&refined.apply(scene), companion_options, f64::INFINITY, r),
         );
-        let size_run = size_run?;
+        let (size_run, ahead) = size_run?;
         let companion = match size_run {
             Outcome::Ran(_) => Some(companion?),
             _ => None,
         };
+        if ahead.is_some() {
+            // counted as the search's runs are
+            self.progress.runs.set(self.progress.runs.get() + 1);
+        }
         self.keep(ladder, size_run, companion, attempts);
-        self.check_cheapest(attempts).map(|_| ())
+        self.check_cheapest(attempts)?;
+        Ok(ahead)
     }
 
     /// The most a run may cost and still win: the passing size's cost.
