@@ -121,6 +121,62 @@ fn the_written_plan_reproduces_its_cycle_time_under_simulate() {
     );
 }
 
+/// The row of candidate `name` on `plant` in `table`: its cells after the name and plant.
+fn row_on(table: &str, name: &str, plant: &str) -> Vec<String> {
+    let row = table
+        .lines()
+        .find(|l| l.starts_with(&format!("{name:<52} {plant:<10}")))
+        .unwrap_or_else(|| panic!("no {plant} row for {name}:\n{table}"));
+    row[63..].split_whitespace().map(str::to_string).collect()
+}
+
+#[test]
+fn a_plan_without_a_robust_set_is_checked_on_its_neighbours_as_simulate_reproduces() {
+    let dir = scratch("plan-neighbours");
+    let (plan, csv) = (dir.join("plan.toml"), dir.join("neighbour.csv"));
+    let out = succeeds(&[&SHORT_MOVE[..], &["4", "--out", plan.to_str().unwrap()]].concat());
+    let table = String::from_utf8_lossy(&out.stdout);
+    let best = table.lines().find(|l| l.starts_with("best: ")).unwrap();
+    let name = &best["best: ".len()..best.find(" (").unwrap()];
+    // adams-linear has no clearance: its load and E, each 1 % down and up
+    let plants = ["load -1%", "load +1%", "E -1%", "E +1%"];
+    let settled = plants
+        .iter()
+        .filter(|p| row_on(&table, name, p)[2] != "never")
+        .count();
+    let checks = table
+        .lines()
+        .find(|l| l.starts_with("checks: "))
+        .expect("the table says how the best did on its checks");
+    assert!(checks.contains("its 4 neighbours"), "{checks}");
+    let count = if settled == 4 {
+        "settles on all".to_string()
+    } else {
+        format!("settles on {settled}")
+    };
+    assert!(checks.contains(&count), "{checks}\n{table}");
+    // the load 1 % up, by this file's own reading of the scene and of the run
+    let text = std::fs::read_to_string("scenes/adams-linear.toml").unwrap();
+    let scene: toml::Value = toml::from_str(&text).unwrap();
+    let load = scene["masses"]["load"].as_float().unwrap() * 1.01;
+    let cells = row_on(&table, name, "load +1%");
+    let (move_time, reported): (f64, f64) = (cells[0].parse().unwrap(), cells[2].parse().unwrap());
+    succeeds(&[
+        "simulate",
+        plan.to_str().unwrap(),
+        "--set",
+        &format!("masses.load={load:?}"),
+        "--no-error-estimate",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let measured = cycle_time(&Csv::read(&csv), (2.0, move_time), 0.002);
+    assert!(
+        (measured - reported).abs() < 0.006,
+        "the table says {reported} s with the load 1 % up, simulate gives {measured} s"
+    );
+}
+
 #[test]
 fn the_matched_move_is_written_as_jerk_segments_that_simulate_reproduces() {
     let dir = scratch("plan-matched");

@@ -271,7 +271,45 @@ impl MovePlan {
             best.name,
             100.0 * margin
         );
+        if let Some(line) = self.checks_line() {
+            let _ = writeln!(out, "{line}");
+        }
         out
+    }
+
+    /// What the best did on the plants that check it: on how many it settles within the
+    /// tolerance, and its worst cycle there; `None` without checks.
+    fn checks_line(&self) -> Option<String> {
+        if self.checks.is_empty() {
+            return None;
+        }
+        let all = self.checks.len();
+        let cycles: Vec<f64> = self
+            .checks
+            .iter()
+            .filter_map(|r| r.metrics.cycle_time_s)
+            .collect();
+        let worst = cycles.iter().copied().fold(0.0, f64::max);
+        let neighbours = self.rows.iter().all(|r| r.plant == "nominal");
+        let what = if neighbours {
+            format!(
+                "its {all} neighbours (load, E and clearance each moved by {:.0} % alone)",
+                100.0 * super::robust::NEIGHBOUR_SHARE
+            )
+        } else {
+            format!("the {all} check plants inside the box, not evaluated")
+        };
+        let verdict = match cycles.len() {
+            0 => "it settles on none: the plan is sharp".to_string(),
+            n if n == all => format!("it settles on all, the worst cycle {worst:.2} s"),
+            n => format!("it settles on {n} (the worst cycle {worst:.2} s)"),
+        };
+        let advice = if neighbours && cycles.len() < all {
+            ": a plan that holds off its plant needs --robust"
+        } else {
+            ""
+        };
+        Some(format!("checks: on {what} {verdict}{advice}"))
     }
 }
 

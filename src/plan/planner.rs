@@ -10,7 +10,7 @@ use super::outcome::{MovePlan, PlanRow};
 use super::price::{
     MATCHED_BUDGET, OPTIMIZER_BUDGET, PlanPrice, SCHEDULE_PAST_ARRIVAL_S, SCHEDULE_STEP_S,
 };
-use super::robust::{Plant, check_plants, evaluated_plants, plant_scene};
+use super::robust::{Plant, checking_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
 use crate::analysis::modes::{ModesOptions, compute_modes};
 use crate::control::{
@@ -413,7 +413,7 @@ fn candidate_list(s: &Setting, period: f64) -> (Vec<Candidate>, Vec<(Shaper, usi
 /// Every plant of the robust set, the checks included, a valid scene: refused before any
 /// work, naming the plant and the rule (a load range reaching below zero).
 fn check_robust_set(scene: &Scene, options: &PlanOptions) -> Result<()> {
-    let checks = check_plants(&options.robust, options.checks);
+    let checks = checking_plants(scene, &options.robust, options.checks);
     for plant in evaluated_plants(&options.robust).iter().chain(&checks) {
         plant_scene(scene, plant).map_err(|e| {
             Error::option(OptionName::Robust, format!("the {} plant: {e}", plant.name))
@@ -485,7 +485,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
     }
     reporter.progress((steps - 1.0) / steps);
     let best = best_within_limit(&s, &rows, list.len())?;
-    let checks = check_plants(&options.robust, options.checks);
+    let checks = checking_plants(scene, &options.robust, options.checks);
     let with = (&list[best], s.feedback.as_ref());
     let check_rows = evaluate(scene, with, &checks, options, s.end, reporter)?
         .into_iter()

@@ -1,6 +1,8 @@
 //! The plants a plan must work on: the scene as given, and a box of scene values
 //! (`masses.load=10:30,contact.clearance=0.005:0.02`): its corners and centre, which the
-//! planner evaluates, and interior points it does not, which check it.
+//! planner evaluates, and interior points it does not, which check it. Without a box, the
+//! scene's neighbours check it: a plan that settles only on the plant it was tuned on says
+//! so.
 
 use crate::key_range::{RangeRule, parse_key_ranges};
 use crate::{Error, OptionName, Result};
@@ -138,6 +140,40 @@ pub fn check_plants(ranges: &[RobustRange], count: usize) -> Vec<Plant> {
         .collect()
 }
 
+/// How far a neighbour moves its value (a share of the scene's): 1 %.
+pub const NEIGHBOUR_SHARE: f64 = 0.01;
+
+/// The values a neighbour moves, and their names in the table: the load, the beams'
+/// Young's modulus and the clearance.
+pub const NEIGHBOUR_KEYS: [(&str, &str); 3] = [
+    ("masses.load", "load"),
+    ("sections.youngs_modulus", "E"),
+    ("contact.clearance", "clear"),
+];
+
+/// The plants that check a plan of `scene` with the robust box `ranges`: `count` plants
+/// inside the box ([`check_plants`]); without a box, the scene's neighbours, each of
+/// [`NEIGHBOUR_KEYS`] that the scene sets to a positive value moved alone by
+/// -[`NEIGHBOUR_SHARE`] and +[`NEIGHBOUR_SHARE`] (none when `count` is 0).
+pub fn checking_plants(scene: &Scene, ranges: &[RobustRange], count: usize) -> Vec<Plant> {
+    if !ranges.is_empty() || count == 0 {
+        return check_plants(ranges, count);
+    }
+    let mut plants = Vec::new();
+    for (key, short) in NEIGHBOUR_KEYS {
+        let Some(value) = scene.value(key).ok().filter(|v| *v > 0.0) else {
+            continue;
+        };
+        for sign in [-1.0, 1.0] {
+            plants.push(Plant {
+                name: format!("{short} {:+.0}%", 100.0 * sign * NEIGHBOUR_SHARE),
+                values: vec![(key.to_string(), value * (1.0 + sign * NEIGHBOUR_SHARE))],
+            });
+        }
+    }
+    plants
+}
+
 /// The `n`-th element of the van der Corput sequence in `base`, in (0, 1).
 fn halton(mut n: u32, base: u32) -> f64 {
     let (mut value, mut scale) = (0.0, 1.0);
@@ -176,6 +212,43 @@ mod tests {
 
     /// Typed entries (Python's) and the option's text give the same ranges, and the same
     /// rules refuse them, naming the entry.
+    #[test]
+    fn a_plan_without_a_box_is_checked_on_the_scenes_neighbours() {
+        let scene = Scene::load(std::path::Path::new("scenes/case-study.toml"), &[]).unwrap();
+        let plants = checking_plants(&scene, &[], 4);
+        let names: Vec<&str> = plants.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "load -1%",
+                "load +1%",
+                "E -1%",
+                "E +1%",
+                "clear -1%",
+                "clear +1%"
+            ]
+        );
+        // each moves one value by 1 % of the scene's, and makes a valid scene
+        for p in &plants {
+            assert_eq!(p.values.len(), 1);
+            let (key, value) = &p.values[0];
+            let given = scene.value(key).unwrap();
+            assert!(
+                ((value / given - 1.0).abs() - NEIGHBOUR_SHARE).abs() < 1e-12,
+                "{p:?}"
+            );
+            assert_eq!(plant_scene(&scene, p).unwrap().value(key).unwrap(), *value);
+        }
+        // without clearance no clearance neighbour; with no checks asked, none
+        let linear = Scene::load(
+            std::path::Path::new("scenes/case-study-no-clearance.toml"),
+            &[],
+        )
+        .unwrap();
+        assert_eq!(checking_plants(&linear, &[], 4).len(), 4);
+        assert!(checking_plants(&scene, &[], 0).is_empty());
+    }
+
     #[test]
     fn typed_ranges_are_the_texts_and_refused_by_the_same_rules() {
         let text =

@@ -54,7 +54,8 @@ pub struct PlanArgs {
     #[arg(long)]
     no_optimize: bool,
     /// Plants inside the robust set, not evaluated by the planner, that the best plan is
-    /// checked on.
+    /// checked on; without --robust the best is checked on the scene's neighbours (load, E
+    /// and clearance each 1 % down and up), and 0 skips them.
     #[arg(long, value_name = "N", default_value_t = plan::DEFAULT_CHECKS)]
     checks: usize,
     /// The drive's force limit (N): a candidate whose reaction exceeds it is not chosen.
