@@ -292,15 +292,28 @@ impl MovePlan {
         let worst = cycles.iter().copied().fold(0.0, f64::max);
         let neighbours = self.rows.iter().all(|r| r.plant == "nominal");
         let what = if neighbours {
+            // the values moved, named as in a sentence, in the order of the rows
+            let moved: Vec<&str> = super::robust::NEIGHBOUR_KEYS
+                .iter()
+                .filter(|(_, short, _)| {
+                    let prefix = format!("{short} ");
+                    self.checks.iter().any(|r| r.plant.starts_with(&prefix))
+                })
+                .map(|(_, _, word)| *word)
+                .collect();
+            let moved = match moved.split_last() {
+                Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+                _ => moved.concat(),
+            };
             format!(
-                "its {all} neighbours (load, E and clearance each moved by {:.0} % alone)",
+                "its {all} neighbours ({moved} each moved by {:.0} % alone)",
                 100.0 * super::robust::NEIGHBOUR_SHARE
             )
         } else {
             format!("the {all} check plants inside the box, not evaluated")
         };
         let verdict = match cycles.len() {
-            0 => "it settles on none: the plan is sharp".to_string(),
+            0 => "it settles on none".to_string(),
             n if n == all => format!("it settles on all, the worst cycle {worst:.2} s"),
             n => format!("it settles on {n} (the worst cycle {worst:.2} s)"),
         };

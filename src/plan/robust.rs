@@ -143,12 +143,12 @@ pub fn check_plants(ranges: &[RobustRange], count: usize) -> Vec<Plant> {
 /// How far a neighbour moves its value (a share of the scene's): 1 %.
 pub const NEIGHBOUR_SHARE: f64 = 0.01;
 
-/// The values a neighbour moves, and their names in the table: the load, the beams'
-/// Young's modulus and the clearance.
-pub const NEIGHBOUR_KEYS: [(&str, &str); 3] = [
-    ("masses.load", "load"),
-    ("sections.youngs_modulus", "E"),
-    ("contact.clearance", "clear"),
+/// The values a neighbour moves, their names in the table and in a sentence: the load, the
+/// beams' Young's modulus and the clearance.
+pub const NEIGHBOUR_KEYS: [(&str, &str, &str); 3] = [
+    ("masses.load", "load", "load"),
+    ("sections.youngs_modulus", "E", "E"),
+    ("contact.clearance", "clear", "clearance"),
 ];
 
 /// The plants that check a plan of `scene` with the robust box `ranges`: `count` plants
@@ -160,7 +160,7 @@ pub fn checking_plants(scene: &Scene, ranges: &[RobustRange], count: usize) -> V
         return check_plants(ranges, count);
     }
     let mut plants = Vec::new();
-    for (key, short) in NEIGHBOUR_KEYS {
+    for (key, short, _) in NEIGHBOUR_KEYS {
         let Some(value) = scene.value(key).ok().filter(|v| *v > 0.0) else {
             continue;
         };
