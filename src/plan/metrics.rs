@@ -109,6 +109,14 @@ pub fn cycle_metrics(
     }
 }
 
+/// On how many of the plants of `metrics` the load settles within the pick's tolerance.
+pub fn settled(metrics: &[CycleMetrics]) -> usize {
+    metrics
+        .iter()
+        .filter(|m| m.pick_cycle_time_s.is_some())
+        .count()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,6 +4,7 @@ use super::candidates;
 use super::metrics::CycleMetrics;
 use super::moving;
 use super::options::PlanOptions;
+use super::robust::{CheckPlants, NEIGHBOUR_SHARE, neighbour_values};
 use super::shapers::Shaper;
 use crate::control::file::velocity::VelocityFeedback;
 use crate::{Error, OptionName, Result};
@@ -40,7 +41,10 @@ pub struct MovePlan {
     pub rows: Vec<PlanRow>,
     /// The best candidate on the plants it was not chosen on.
     pub checks: Vec<PlanRow>,
-    /// Index of the best candidate: the shortest worst cycle time within the force limit.
+    /// What those plants are.
+    pub checked_on: CheckPlants,
+    /// Index of the best candidate: within the force limit, the one that settles on the most
+    /// plants, then the shortest worst penalized cycle.
     pub best: usize,
     /// The velocity feedback the candidates marked `feedback` run with, designed on the
     /// nominal plant.
@@ -57,19 +61,6 @@ impl MovePlan {
     /// over `rows`: what the best is ranked on; `None` if a plant never gets within.
     pub fn worst_pick(rows: &[PlanRow], i: usize) -> Option<f64> {
         Self::worst_of(rows, i, |m| m.pick_cycle_time_s)
-    }
-
-    /// How many plants of `rows` candidate `i` settles on within the pick's tolerance (those
-    /// with a pick cycle time), and on how many it was run.
-    pub fn settled(rows: &[PlanRow], i: usize) -> (usize, usize) {
-        rows.iter()
-            .filter(|r| r.candidate == i)
-            .fold((0, 0), |(settled, all), r| {
-                (
-                    settled + usize::from(r.metrics.pick_cycle_time_s.is_some()),
-                    all + 1,
-                )
-            })
     }
 
     /// The largest `time` (s) of candidate `i` over `rows`; `None` if one is `None`.
@@ -255,13 +246,24 @@ impl MovePlan {
                 percent(w)
             ),
             None => {
-                let (settled, all) = Self::settled(&self.rows, self.best);
-                format!(
-                    "the load settles on {settled} of the {all} evaluated plants within {:.1} \
-                     s, the most of any candidate; of those that settle as many, the smallest \
-                     worst residual",
-                    self.end_s
-                )
+                let metrics: Vec<CycleMetrics> = (self.rows.iter())
+                    .filter(|r| r.candidate == self.best)
+                    .map(|r| r.metrics.clone())
+                    .collect();
+                let (settled, all) = (super::metrics::settled(&metrics), metrics.len());
+                let end = self.end_s;
+                if settled == 0 {
+                    format!(
+                        "the load settles on none of the {all} evaluated plants within \
+                         {end:.1} s; the smallest worst residual"
+                    )
+                } else {
+                    format!(
+                        "the load settles on {settled} of the {all} evaluated plants within \
+                         {end:.1} s, the most of any candidate; of those that settle as many, \
+                         the smallest worst residual"
+                    )
+                }
             }
         };
         let _ = writeln!(
@@ -290,24 +292,19 @@ impl MovePlan {
             .filter_map(|r| r.metrics.cycle_time_s)
             .collect();
         let worst = cycles.iter().copied().fold(0.0, f64::max);
-        let neighbours = self.rows.iter().all(|r| r.plant == "nominal");
+        let neighbours = self.checked_on == CheckPlants::Neighbours;
         let what = if neighbours {
-            // the values moved, named as in a sentence, in the order of the rows
-            let moved: Vec<&str> = super::robust::NEIGHBOUR_KEYS
-                .iter()
-                .filter(|(_, short, _)| {
-                    let prefix = format!("{short} ");
-                    self.checks.iter().any(|r| r.plant.starts_with(&prefix))
-                })
-                .map(|(_, _, word)| *word)
+            let words: Vec<&str> = neighbour_values(&self.scene)
+                .into_iter()
+                .map(|((_, _, word), _)| word)
                 .collect();
-            let moved = match moved.split_last() {
+            let moved = match words.split_last() {
                 Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
-                _ => moved.concat(),
+                _ => words.concat(),
             };
             format!(
                 "its {all} neighbours ({moved} each moved by {:.0} % alone)",
-                100.0 * super::robust::NEIGHBOUR_SHARE
+                100.0 * NEIGHBOUR_SHARE
             )
         } else {
             format!("the {all} check plants inside the box, not evaluated")

@@ -2,7 +2,7 @@
 //! optimized shaper, the best plan on the plants it did not see, and the plan as a scene.
 
 use super::candidates::{self, Candidate, MATCHED_NAME};
-use super::metrics::{CycleMetrics, cycle_metrics};
+use super::metrics::{CycleMetrics, cycle_metrics, settled};
 use super::moving::moving_scene;
 use super::optimize::nelder_mead;
 use super::options::PlanOptions;
@@ -160,7 +160,6 @@ pub fn objective(metrics: &[CycleMetrics], (end, pick_tolerance): (f64, f64)) ->
 /// one that settles within the pick's tolerance on more plants, then the smaller
 /// [`objective`] (with `penalty`). `Less` when `a` is the better.
 pub fn ranking(a: &[CycleMetrics], b: &[CycleMetrics], penalty: (f64, f64)) -> std::cmp::Ordering {
-    let settled = |m: &[CycleMetrics]| m.iter().filter(|m| m.pick_cycle_time_s.is_some()).count();
     settled(b)
         .cmp(&settled(a))
         .then(objective(a, penalty).total_cmp(&objective(b, penalty)))
@@ -413,7 +412,7 @@ fn candidate_list(s: &Setting, period: f64) -> (Vec<Candidate>, Vec<(Shaper, usi
 /// Every plant of the robust set, the checks included, a valid scene: refused before any
 /// work, naming the plant and the rule (a load range reaching below zero).
 fn check_robust_set(scene: &Scene, options: &PlanOptions) -> Result<()> {
-    let checks = checking_plants(scene, &options.robust, options.checks);
+    let (_, checks) = checking_plants(scene, &options.robust, options.checks);
     for plant in evaluated_plants(&options.robust).iter().chain(&checks) {
         plant_scene(scene, plant).map_err(|e| {
             Error::option(OptionName::Robust, format!("the {} plant: {e}", plant.name))
@@ -485,7 +484,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
     }
     reporter.progress((steps - 1.0) / steps);
     let best = best_within_limit(&s, &rows, list.len())?;
-    let checks = checking_plants(scene, &options.robust, options.checks);
+    let (checked_on, checks) = checking_plants(scene, &options.robust, options.checks);
     let with = (&list[best], s.feedback.as_ref());
     let check_rows = evaluate(scene, with, &checks, options, s.end, reporter)?
         .into_iter()
@@ -506,6 +505,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         candidates: list,
         rows,
         checks: check_rows,
+        checked_on,
         best,
         feedback: s.feedback,
     })

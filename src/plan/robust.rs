@@ -151,19 +151,50 @@ pub const NEIGHBOUR_KEYS: [(&str, &str, &str); 3] = [
     ("contact.clearance", "clear", "clearance"),
 ];
 
+/// Which plants check a plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CheckPlants {
+    /// Points inside the robust box that the planner did not evaluate ([`check_plants`]).
+    InsideTheBox,
+    /// The scene's neighbours ([`neighbours`]): a plan without a robust box.
+    Neighbours,
+}
+
 /// The plants that check a plan of `scene` with the robust box `ranges`: `count` plants
-/// inside the box ([`check_plants`]); without a box, the scene's neighbours, each of
-/// [`NEIGHBOUR_KEYS`] that the scene sets to a positive value moved alone by
-/// -[`NEIGHBOUR_SHARE`] and +[`NEIGHBOUR_SHARE`] (none when `count` is 0).
-pub fn checking_plants(scene: &Scene, ranges: &[RobustRange], count: usize) -> Vec<Plant> {
-    if !ranges.is_empty() || count == 0 {
-        return check_plants(ranges, count);
-    }
-    let mut plants = Vec::new();
-    for (key, short, _) in NEIGHBOUR_KEYS {
-        let Some(value) = scene.value(key).ok().filter(|v| *v > 0.0) else {
-            continue;
+/// inside the box; without a box, the scene's [`neighbours`] (none when `count` is 0).
+pub fn checking_plants(
+    scene: &Scene,
+    ranges: &[RobustRange],
+    count: usize,
+) -> (CheckPlants, Vec<Plant>) {
+    if ranges.is_empty() {
+        let plants = if count == 0 {
+            Vec::new()
+        } else {
+            neighbours(scene)
         };
+        (CheckPlants::Neighbours, plants)
+    } else {
+        (CheckPlants::InsideTheBox, check_plants(ranges, count))
+    }
+}
+
+/// The values of [`NEIGHBOUR_KEYS`] that `scene` sets above zero: the entries and the value.
+pub fn neighbour_values(scene: &Scene) -> Vec<((&'static str, &'static str, &'static str), f64)> {
+    NEIGHBOUR_KEYS
+        .into_iter()
+        .filter_map(|entry| {
+            let value = scene.value(entry.0).ok().filter(|v| *v > 0.0)?;
+            Some((entry, value))
+        })
+        .collect()
+}
+
+/// The scene's neighbours: each of its [`neighbour_values`] moved alone by
+/// -[`NEIGHBOUR_SHARE`] and +[`NEIGHBOUR_SHARE`].
+pub fn neighbours(scene: &Scene) -> Vec<Plant> {
+    let mut plants = Vec::new();
+    for ((key, short, _), value) in neighbour_values(scene) {
         for sign in [-1.0, 1.0] {
             plants.push(Plant {
                 name: format!("{short} {:+.0}%", 100.0 * sign * NEIGHBOUR_SHARE),
@@ -210,12 +241,11 @@ pub fn plant_scene(scene: &Scene, plant: &Plant) -> Result<Scene> {
 mod tests {
     use super::*;
 
-    /// Typed entries (Python's) and the option's text give the same ranges, and the same
-    /// rules refuse them, naming the entry.
     #[test]
     fn a_plan_without_a_box_is_checked_on_the_scenes_neighbours() {
         let scene = Scene::load(std::path::Path::new("scenes/case-study.toml"), &[]).unwrap();
-        let plants = checking_plants(&scene, &[], 4);
+        let (kind, plants) = checking_plants(&scene, &[], 4);
+        assert_eq!(kind, CheckPlants::Neighbours);
         let names: Vec<&str> = plants.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(
             names,
@@ -245,10 +275,12 @@ mod tests {
             &[],
         )
         .unwrap();
-        assert_eq!(checking_plants(&linear, &[], 4).len(), 4);
-        assert!(checking_plants(&scene, &[], 0).is_empty());
+        assert_eq!(checking_plants(&linear, &[], 4).1.len(), 4);
+        assert!(checking_plants(&scene, &[], 0).1.is_empty());
     }
 
+    /// Typed entries (Python's) and the option's text give the same ranges, and the same
+    /// rules refuse them, naming the entry.
     #[test]
     fn typed_ranges_are_the_texts_and_refused_by_the_same_rules() {
         let text =
