@@ -63,6 +63,14 @@ impl MovePlan {
         Self::worst_of(rows, i, |m| m.pick_cycle_time_s)
     }
 
+    /// The metrics of candidate `i` in `rows`, plant by plant.
+    pub fn metrics(rows: &[PlanRow], i: usize) -> Vec<CycleMetrics> {
+        rows.iter()
+            .filter(|r| r.candidate == i)
+            .map(|r| r.metrics.clone())
+            .collect()
+    }
+
     /// The largest `time` (s) of candidate `i` over `rows`; `None` if one is `None`.
     fn worst_of(
         rows: &[PlanRow],
@@ -246,10 +254,7 @@ impl MovePlan {
                 percent(w)
             ),
             None => {
-                let metrics: Vec<CycleMetrics> = (self.rows.iter())
-                    .filter(|r| r.candidate == self.best)
-                    .map(|r| r.metrics.clone())
-                    .collect();
+                let metrics = Self::metrics(&self.rows, self.best);
                 let (settled, all) = (super::metrics::settled(&metrics), metrics.len());
                 let end = self.end_s;
                 if settled == 0 {

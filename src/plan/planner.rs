@@ -228,14 +228,6 @@ impl Setting<'_> {
         (self.end, self.options.pick_tolerance())
     }
 
-    /// The metrics of candidate `i` in `rows`, plant by plant.
-    fn metrics(&self, rows: &[PlanRow], i: usize) -> Vec<CycleMetrics> {
-        rows.iter()
-            .filter(|r| r.candidate == i)
-            .map(|r| r.metrics.clone())
-            .collect()
-    }
-
     /// The worst penalized cycle (s) of `candidate` on the evaluated plants; infinite when
     /// it cannot be run.
     fn cost(&self, candidate: Option<&Candidate>) -> f64 {
@@ -457,7 +449,13 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         let (shaper, _) = starts
             .iter()
             .copied()
-            .min_by(|a, b| ranking(&s.metrics(&rows, a.1), &s.metrics(&rows, b.1), s.penalty()))
+            .min_by(|a, b| {
+                ranking(
+                    &MovePlan::metrics(&rows, a.1),
+                    &MovePlan::metrics(&rows, b.1),
+                    s.penalty(),
+                )
+            })
             .expect("there are shapers");
         reporter.note(&format!(
             "optimizing the shaper's spacing and the {MATCHED_NAME}'s acceleration and \
@@ -525,7 +523,13 @@ fn best_within_limit(s: &Setting, rows: &[PlanRow], count: usize) -> Result<usiz
     };
     (0..count)
         .filter(|&i| within_limit(i))
-        .min_by(|&a, &b| ranking(&s.metrics(rows, a), &s.metrics(rows, b), s.penalty()))
+        .min_by(|&a, &b| {
+            ranking(
+                &MovePlan::metrics(rows, a),
+                &MovePlan::metrics(rows, b),
+                s.penalty(),
+            )
+        })
         .ok_or_else(|| {
             Error::option(
                 OptionName::ForceLimit,
