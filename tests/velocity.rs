@@ -9,9 +9,11 @@ mod common;
 use nalgebra::DMatrix;
 use telescopic::control::law::sampled::SampledController;
 use telescopic::control::{
-    closed_loop::velocity::simulate_velocity, design::velocity::VelocityDesign,
-    design::velocity::design_velocity_feedback, file::velocity::VelocityFeedback,
-    law::velocity::VelocityController,
+    closed_loop::velocity::simulate_velocity,
+    design::velocity::VelocityDesign,
+    design::velocity::design_velocity_feedback,
+    file::velocity::VelocityFeedback,
+    law::velocity::{LawGains, VelocityController},
 };
 use telescopic::plan::candidates::unshaped;
 use telescopic::plan::moving_scene;
@@ -106,12 +108,12 @@ fn the_closed_loop_damps_the_first_mode_by_the_designed_ratio() {
 }
 
 /// On plants it was not designed for (another load, a softer or stiffer section) the law
-/// still damps the first mode, by the ratio the single-mode theory gives. The correction
-/// `v = L(s) g kappa`, with `L(s) = tau s / (tau s + 1) * s / (s + k_p)` (the washout, and the
-/// position loop that pulls the correction's own travel back), accelerates the vehicle, the
-/// mode's base: `q'' + Gamma g k s L(s) q + w^2 q = 0`, `k` the mode's `kappa_1_0` and
-/// `Gamma` its participation. The damping ratio is that of its oscillatory roots. Read from
-/// the decay of the nonlinear run, on the plant designed for too.
+/// still damps the first mode, by the ratio the single-mode theory gives. The plant's mode
+/// `y'' + w_p^2 y = -Gamma_p a` (`Gamma_p` its participation in `tip_rel`) on the vehicle
+/// `X'' = a`, the gauge read through the design's tip per curvature (`m = r_d / r_p y`), and
+/// the law's observer and gains at the design's `w_d` and `Gamma_d`: the damping ratio is
+/// that of the least-damped oscillatory root of that 7-state loop. Read from the decay of the
+/// nonlinear run, on the plant designed for too.
 #[test]
 fn on_plants_it_was_not_designed_for_the_damping_follows_the_single_mode_theory() {
     let zeta = 0.1;
@@ -123,22 +125,25 @@ fn on_plants_it_was_not_designed_for_the_damping_follows_the_single_mode_theory(
         &["masses.load=10", "sections.youngs_modulus=1.68e11"],
         &["masses.load=2.5", "sections.youngs_modulus=2.52e11"],
     ];
+    let design = &file.points[0];
+    let gains = LawGains::place(
+        &file,
+        design.first_mode_hz,
+        design.tip_per_curvature_m2,
+        design.curvature_per_acceleration,
+    );
     for overrides in plants {
         let (plant, arrival) = moving_with(overrides);
         let own = &noiseless(&plant, zeta).points[0];
-        let w = std::f64::consts::TAU * own.first_mode_hz;
-        // Gamma g k = Gamma c g / r, r = c / k the plant's own tip per curvature
-        let feedback =
-            tip_participation(&plant) * file.points[0].gain_m2_per_s / own.tip_per_curvature_m2;
-        let predicted = single_mode_damping(
-            w,
-            feedback,
-            file.washout_time_constant_s,
-            file.position_gain_per_s,
-        );
+        let mode = PlantMode {
+            omega: std::f64::consts::TAU * own.first_mode_hz,
+            gamma: tip_participation(&plant),
+            gauge: design.tip_per_curvature_m2 / own.tip_per_curvature_m2,
+        };
+        let predicted = single_mode_damping(&mode, &gains);
         let run = simulate_velocity(&plant, &file, &options(), &Silent).unwrap();
         let measured = damping_ratio(&tip_after(&run.simulation.trajectory, arrival), 4);
-        let shift = own.first_mode_hz / file.points[0].first_mode_hz;
+        let shift = own.first_mode_hz / design.first_mode_hz;
         eprintln!(
             "{overrides:?}: mode x{shift:.3}, predicted {predicted:.4}, measured {measured:.4}"
         );
@@ -152,25 +157,43 @@ fn on_plants_it_was_not_designed_for_the_damping_follows_the_single_mode_theory(
     }
 }
 
-/// The damping ratio of the oscillatory roots of `(s^2 + w^2)(tau s + 1)(s + k_p) + b tau s^3`
-/// (the single-mode loop above times its denominators, `b = Gamma g k`).
-fn single_mode_damping(w: f64, b: f64, tau: f64, k_p: f64) -> f64 {
-    // monic coefficients of s^3, s^2, s, 1, from (s^2 + w^2)(s^2 + (k_p + 1/tau) s + k_p/tau)
-    // + (b) s^3
-    let (p1, p0) = (k_p + 1.0 / tau, k_p / tau);
-    let c = [p1 + b, w * w + p0, w * w * p1, w * w * p0];
-    let companion = DMatrix::from_fn(4, 4, |i, j| match (i, j) {
-        (0, _) => -c[j],
-        _ if i == j + 1 => 1.0,
-        _ => 0.0,
-    });
-    let root = companion
-        .complex_eigenvalues()
+/// A plant's first mode as the law sees it: angular frequency (rad/s), participation in
+/// `tip_rel` (m per m/s^2 times `w^2`), and the gauge's reading in the design's tip per its
+/// own (the law's tip estimate per true tip).
+struct PlantMode {
+    omega: f64,
+    gamma: f64,
+    gauge: f64,
+}
+
+/// The damping ratio of the least-damped oscillatory root of the loop: the state
+/// `[X, V, y, y', y^, w^, b^]` (the vehicle's error and velocity, the plant's mode, the
+/// observer's estimate), `a = -(k1 X + k2 V + k3 y^ + k4 w^)`.
+fn single_mode_damping(plant: &PlantMode, law: &LawGains) -> f64 {
+    let [k1, k2, k3, k4] = law.k;
+    let [l1, l2, l3] = law.l;
+    let feedback = [-k1, -k2, 0.0, 0.0, -k3, -k4, 0.0];
+    // the innovation m - y^ - b^, m = gauge y
+    let innovation = [0.0, 0.0, plant.gauge, 0.0, -1.0, 0.0, -1.0];
+    let mut a = DMatrix::<f64>::zeros(7, 7);
+    a[(0, 1)] = 1.0;
+    a[(2, 3)] = 1.0;
+    a[(3, 2)] = -plant.omega * plant.omega;
+    a[(4, 5)] = 1.0;
+    a[(5, 4)] = -law.omega * law.omega;
+    for j in 0..7 {
+        a[(1, j)] += feedback[j];
+        a[(3, j)] -= plant.gamma * feedback[j];
+        a[(5, j)] -= law.gamma * feedback[j];
+        a[(4, j)] += l1 * innovation[j];
+        a[(5, j)] += l2 * innovation[j];
+        a[(6, j)] += l3 * innovation[j];
+    }
+    a.complex_eigenvalues()
         .iter()
-        .copied()
-        .max_by(|a, b| a.im.total_cmp(&b.im))
-        .unwrap();
-    -root.re / root.norm()
+        .filter(|r| r.im > 1e-9)
+        .map(|r| -r.re / r.norm())
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// `Gamma c` of `scene`'s first mode with the vehicle held (closed-contact linear model):
@@ -227,9 +250,8 @@ fn the_vehicle_comes_back_to_its_target() {
 fn without_gains_the_loop_is_the_open_loop() {
     let (scene, _) = moving();
     let mut file = noiseless(&scene, 0.1);
-    for p in &mut file.points {
-        p.gain_m2_per_s = 0.0;
-    }
+    // the smallest correction's acceleration a file accepts: the law commands nothing
+    file.acceleration_limit_m_per_s2 = f64::MIN_POSITIVE;
     let run = simulate_velocity(&scene, &file, &options(), &Silent).unwrap();
     let open = simulate_scene(&scene, &options(), &Silent).unwrap();
     let (a, b) = (
@@ -261,10 +283,17 @@ fn bad_files_and_scenes_are_refused_naming_the_rule() {
     let e = bad.check_fits(&scene).unwrap_err().to_string();
     assert!(e.contains("rate_hz"), "{e}");
     let mut bad = file.clone();
-    bad.points[0].gain_m2_per_s = f64::NAN;
+    bad.vehicle_poles_per_mode[1] = -0.5;
     let e = bad.check_fits(&scene).unwrap_err().to_string();
-    assert!(e.contains("points[0].gain_m2_per_s"), "{e}");
-    let text = file.to_json().replace("\"version\": 1", "\"version\": 7");
+    assert!(e.contains("vehicle_poles_per_mode[1]"), "{e}");
+    let mut bad = file.clone();
+    bad.points[0].curvature_per_acceleration *= -1.0;
+    let e = bad.check_fits(&scene).unwrap_err().to_string();
+    assert!(
+        e.contains("points[0].curvature_per_acceleration") && e.contains("opposite sign"),
+        "{e}"
+    );
+    let text = file.to_json().replace("\"version\": 2", "\"version\": 7");
     let e = VelocityFeedback::from_json(&text).unwrap_err().to_string();
     assert!(e.contains("version 7"), "{e}");
     let forced = common::single_section("forced", "force = 1.0", 1.0, 0.001, &[]);
@@ -356,9 +385,7 @@ fn the_quasi_static_curvature_of_a_slow_move_is_the_designed_one() {
     let candidate = unshaped(&curve);
     let moving = moving_scene(&scene, &candidate.profile, candidate.arrival_s).unwrap();
     let mut file = noiseless(&moving, 0.1);
-    for p in &mut file.points {
-        p.gain_m2_per_s = 0.0;
-    }
+    file.acceleration_limit_m_per_s2 = f64::MIN_POSITIVE;
     let c = file.points[0].curvature_per_acceleration;
     let run = simulate_velocity(&moving, &file, &options(), &Silent).unwrap();
     let traj = &run.simulation.trajectory;

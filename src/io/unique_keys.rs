@@ -7,7 +7,7 @@ use std::collections::HashSet;
 use std::fmt;
 
 /// Refuses a JSON document in which an object gives a key twice, naming the key's dotted
-/// path (`points[1].gain_m2_per_s`) and the line.
+/// path (`points[1].first_mode_hz`) and the line.
 ///
 /// ```
 /// use telescopic::io::unique_keys::check_unique_keys;

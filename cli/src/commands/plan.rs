@@ -67,7 +67,8 @@ pub struct PlanArgs {
     stations: Option<String>,
     /// Evaluate velocity feedback on top of the S-curve and of the best open-loop move:
     /// the servo's velocity setpoint corrected from the encoder and a strain gauge at the
-    /// foot of section 1, adding this damping ratio to the first mode (e.g. 0.3).
+    /// foot of section 1, a state feedback that damps the first mode by this ratio (e.g.
+    /// 0.5).
     #[arg(long, value_name = "ZETA")]
     feedback: Option<f64>,
     /// Bound of the feedback's velocity correction (m/s).

@@ -9,7 +9,7 @@ use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
 pub const VELOCITY_FEEDBACK_FORMAT: &str = "telescopic velocity feedback";
 
 /// The layout version this build writes and reads.
-pub const VELOCITY_FEEDBACK_VERSION: u32 = 1;
+pub const VELOCITY_FEEDBACK_VERSION: u32 = 2;
 
 /// A designed velocity-servo feedback: what `plan` writes beside a plan that uses feedback,
 /// and `simulate --controller` reads.
@@ -34,12 +34,19 @@ pub struct VelocityFeedback {
     pub noise: Vec<f64>,
     /// Seed of the simulated measurement noise.
     pub seed: u64,
-    /// Damping ratio added to the first mode (the design's knob).
+    /// The first mode's damping ratio with the loop closed (the design's knob; the
+    /// structure's own is about zero, so it is the damping the law adds).
     pub added_damping: f64,
-    /// The vehicle loop's gain `k_p` (1/s).
-    pub position_gain_per_s: f64,
-    /// Time constant of the curvature's washout `tau_w` (s).
-    pub washout_time_constant_s: f64,
+    /// The vehicle's two closed-loop poles, real, in units of the first mode's angular
+    /// frequency (their sizes: `s = -p omega_1`).
+    pub vehicle_poles_per_mode: [f64; 2],
+    /// The damping ratio of the observer's oscillatory pair.
+    pub observer_damping: f64,
+    /// The observer pair's natural frequency in units of the first mode's.
+    pub observer_frequency_per_mode: f64,
+    /// The observer's real pole (its estimate of the curvature at rest), in units of the
+    /// first mode's angular frequency.
+    pub observer_bias_pole_per_mode: f64,
     /// Bound of the velocity correction (m/s).
     pub velocity_limit_m_per_s: f64,
     /// Bound of the correction's acceleration (m/s^2).
@@ -60,8 +67,6 @@ pub struct VelocityPoint {
     pub first_mode_hz: f64,
     /// `tip_rel` per `kappa_1_0` in that mode (m^2).
     pub tip_per_curvature_m2: f64,
-    /// The gain `g` on the curvature (m/s per 1/m).
-    pub gain_m2_per_s: f64,
     /// `c`: `kappa_1_0` at rest under a unit vehicle acceleration, vehicle held (1/m per
     /// m/s^2).
     pub curvature_per_acceleration: f64,
@@ -172,8 +177,27 @@ impl VelocityFeedback {
         })?;
         for (name, v, high) in [
             ("added_damping", self.added_damping, 2.0),
-            ("position_gain_per_s", self.position_gain_per_s, 1e3),
-            ("washout_time_constant_s", self.washout_time_constant_s, 1e6),
+            (
+                "vehicle_poles_per_mode[0]",
+                self.vehicle_poles_per_mode[0],
+                100.0,
+            ),
+            (
+                "vehicle_poles_per_mode[1]",
+                self.vehicle_poles_per_mode[1],
+                100.0,
+            ),
+            ("observer_damping", self.observer_damping, 2.0),
+            (
+                "observer_frequency_per_mode",
+                self.observer_frequency_per_mode,
+                100.0,
+            ),
+            (
+                "observer_bias_pole_per_mode",
+                self.observer_bias_pole_per_mode,
+                100.0,
+            ),
             ("velocity_limit_m_per_s", self.velocity_limit_m_per_s, 1e3),
             (
                 "acceleration_limit_m_per_s2",
@@ -206,7 +230,6 @@ impl VelocityFeedback {
                 ));
             }
             for (name, v, high) in [
-                ("gain_m2_per_s", p.gain_m2_per_s, 1e6),
                 ("tip_per_curvature_m2", p.tip_per_curvature_m2, 1e4),
                 (
                     "curvature_per_acceleration",
@@ -226,6 +249,18 @@ impl VelocityFeedback {
                 return Err(field(
                     &format!("points[{j}].first_mode_hz"),
                     format!("must be > 0 and at most 1e4 Hz (got {f})"),
+                ));
+            }
+            // the base's acceleration bends the tip against it: Gamma = -r c w^2 > 0, and the
+            // law divides by it (both are finite here, checked above)
+            if p.tip_per_curvature_m2 * p.curvature_per_acceleration >= 0.0 {
+                return Err(field(
+                    &format!("points[{j}].curvature_per_acceleration"),
+                    format!(
+                        "must be of the opposite sign to tip_per_curvature_m2 and not zero \
+                         (got {} and {})",
+                        p.curvature_per_acceleration, p.tip_per_curvature_m2
+                    ),
                 ));
             }
         }

@@ -1,38 +1,95 @@
-//! The velocity-feedback law, stepped tick by tick: feedback through a velocity servo: the drive follows the scene's setpoint `s(t)` (its
-//! prescribed motion) plus a velocity correction the law commands at every tick, from the
-//! drive's encoder and a strain gauge at the foot of section 1.
+//! The velocity-feedback law, stepped tick by tick: feedback through a velocity servo. The
+//! drive follows the scene's setpoint `s(t)` (its prescribed motion) plus a velocity
+//! correction the law commands at every tick, from the drive's encoder and a strain gauge at
+//! the foot of section 1.
 //!
-//! At tick `k` the law reads `u_k` (`vehicle`, m) and `kappa_k` (`kappa_1_0`, 1/m) and commands
+//! The law is a state feedback on the first mode and the vehicle, with an observer of the
+//! mode. In the first mode (vehicle held) the tip moves by `y = r kappa` and obeys
+//! `y'' + w^2 y = -Gamma a_base`, where `w = 2 pi f_1(a)`, `r(a)` is `tip_rel` per `kappa_1_0`
+//! and `Gamma = -r c w^2` follows from `c(a)`, the curvature under a unit vehicle
+//! acceleration at rest. At tick `k` the law reads `u_k` (`vehicle`, m) and `kappa_k`
+//! (`kappa_1_0`, 1/m):
 //!
 //! ```text
-//! v_{k+1} = sat( g(a) h_k - k_p (u_k - s(t_k)) )
-//! g(a)    = 2 zeta_d omega_1(a) r(a)
-//! e_k     = kappa_k - c(a) s''(t_k)
-//! h_k     = w (h_{k-1} + e_k - e_{k-1}),  w = tau_w / (tau_w + T)
+//! observer (one Euler step of T): m = r kappa_k, e = m - (y^ + b^)
+//!   y^' = w^ + l1 e,  w^' = -w^2 y^ - Gamma (s'' + a_c) + l2 e,  b^' = l3 e
+//! the mode's departure from the setpoint's quasi-static bending:
+//!   y_d = y^ - r c s'',  w_d = w^ - r c s'''
+//! a_c = -(k1 (u_k - s) + k2 v_k + k3 y_d + k4 w_d),  v_{k+1} = v_k + T a_c
 //! ```
 //!
-//! bounded to `+-v_max` and changed by at most `a_max T` a tick. The drive interpolates its
-//! velocity setpoint linearly over a tick (as drives in cyclic velocity mode do), so the
-//! correction's acceleration `(v_{k+1} - v_k) / T` holds over the tick after the command:
-//! one tick of computation delay, one of interpolation. `r(a)` is `tip_rel` per `kappa_1_0` in
-//! the first elastic mode with the vehicle held, `omega_1(a)` that mode's angular frequency:
-//! the correction's acceleration is then `2 zeta_d omega_1` times the tip's rate in that mode,
-//! the base excitation that adds the damping ratio `zeta_d` to a tip mass on a spring (the
-//! force-driven strain-rate law of [`super::strain`] is the same idea one derivative up). The
-//! proportional loop `k_p` (a third of the lowest first mode's angular frequency) brings the
-//! vehicle back to the setpoint. `c(a)` is the curvature the held structure takes at rest
-//! under a unit vehicle acceleration: the law acts on the curvature's departure from the
-//! quasi-static bending the setpoint's own acceleration `s''` causes, so that a move that
-//! excites no vibration draws no correction (and no offset to win back after it). `h` is that
-//! departure through a washout (a first-order
-//! high-pass of time constant `tau_w`, the longest first-mode period: 9 degrees of
-//! phase at the first mode): a telescope at rest may stay bent (an upper section leaning in
-//! its guide under gravity), and a law on the curvature itself would hold the vehicle off
-//! its target by `g kappa_rest / k_p`.
+//! with `a_c` bounded to `+-a_max` and `v` to `+-v_max`; `v_k` is the correction commanded
+//! last. The gains place the poles at every scheduled position: the closed loop of the
+//! vehicle and the mode, `(s^2 + 2 zeta w s + w^2)(s + p_1 w)(s + p_2 w)`, and the observer's,
+//! `(s^2 + 2 zeta_o w_o s + w_o^2)(s + p_b w)` with `w_o = q w`. The bias `b^` is the curvature
+//! the structure keeps at rest (an upper section leaning in its guide under gravity), so a
+//! telescope that rests bent draws no correction and leaves the vehicle on its target. The
+//! vehicle's position and velocity are states of the loop, so the vehicle returns at the
+//! rate of its own poles once the mode is damped. The drive interpolates its velocity
+//! setpoint linearly over a tick (as drives in cyclic velocity mode do): one tick of
+//! computation delay, one of interpolation.
 
 use crate::control::file::velocity::VelocityFeedback;
 use crate::control::law::sampled::SampledController;
 use telescopic_runtime::Profile;
+
+/// The law's gains at one scheduled position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawGains {
+    /// The first mode's angular frequency `w` (rad/s).
+    pub omega: f64,
+    /// Its participation `Gamma = -r c w^2` (tip per vehicle acceleration times `w^2`).
+    pub gamma: f64,
+    /// The feedback gains on the vehicle's error (1/s^2), the correction's velocity (1/s),
+    /// the mode's departure (1/s^2 per m of tip) and its rate (1/s per m/s of tip).
+    pub k: [f64; 4],
+    /// The observer's gains on its innovation (1/s, 1/s^2, 1/s).
+    pub l: [f64; 3],
+}
+
+impl LawGains {
+    /// The gains that place the poles of `file` for a first mode of `f1` Hz with tip per
+    /// curvature `r` and curvature per acceleration `c`.
+    pub fn place(file: &VelocityFeedback, f1: f64, r: f64, c: f64) -> Self {
+        let w = std::f64::consts::TAU * f1;
+        let w2 = w * w;
+        let gamma = -r * c * w2;
+        // (s^2 + a1 s + w^2)(s^2 + b1 s + b0) = s^4 + d3 s^3 + d2 s^2 + d1 s + d0, matched to
+        // s^4 + (k2 - Gamma k4) s^3 + (k1 + w^2 - Gamma k3) s^2 + k2 w^2 s + k1 w^2
+        let a1 = 2.0 * file.added_damping * w;
+        let [p1, p2] = file.vehicle_poles_per_mode.map(|p| p * w);
+        let (b1, b0) = (p1 + p2, p1 * p2);
+        let (d3, d2, d1, d0) = (a1 + b1, w2 + a1 * b1 + b0, a1 * b0 + w2 * b1, w2 * b0);
+        let (k1, k2) = (d0 / w2, d1 / w2);
+        let k = [k1, k2, (k1 + w2 - d2) / gamma, (k2 - d3) / gamma];
+        // the observer's error: s^3 + (l1 + l3) s^2 + (w^2 + l2) s + l3 w^2
+        let wo = file.observer_frequency_per_mode * w;
+        let pb = file.observer_bias_pole_per_mode * w;
+        let zo = file.observer_damping;
+        let (e2, e1, e0) = (
+            2.0 * zo * wo + pb,
+            wo * wo + 2.0 * zo * wo * pb,
+            wo * wo * pb,
+        );
+        let l3 = e0 / w2;
+        let l = [e2 - l3, e1 - w2, l3];
+        LawGains {
+            omega: w,
+            gamma,
+            k,
+            l,
+        }
+    }
+}
+
+/// The observer's estimate: the tip in the first mode, its rate, and the tip the curvature
+/// at rest stands for (m, m/s, m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Estimate {
+    tip: f64,
+    rate: f64,
+    bias: f64,
+}
 
 /// The law of a velocity-feedback file, ready to step: allocation-free per tick.
 pub struct VelocityController {
@@ -42,11 +99,12 @@ pub struct VelocityController {
     /// The setpoint `s(t)` (m): the scene's prescribed motion.
     setpoint: Profile,
     period: f64,
-    /// The washout's weight per tick.
-    washout: f64,
-    /// The previous tick's departure from the quasi-static curvature (1/m), once there is
-    /// one, and the washed-out departure.
-    curvature: (Option<f64>, f64),
+    /// The observer's estimate, once there is one.
+    estimate: Option<Estimate>,
+    /// The setpoint's acceleration at the last tick (m/s^2).
+    last_setpoint_acceleration: f64,
+    /// The correction's acceleration over the last tick (m/s^2).
+    last_acceleration: f64,
     /// The previous command (m/s).
     last: f64,
 }
@@ -54,49 +112,98 @@ pub struct VelocityController {
 impl VelocityController {
     /// The law of `file` around the setpoint `setpoint`.
     pub fn new(file: &VelocityFeedback, setpoint: Profile) -> Self {
-        let positions = file.scheduled_positions();
-        let period = 1.0 / file.rate_hz;
         VelocityController {
-            positions,
+            positions: file.scheduled_positions(),
             setpoint,
-            period,
-            washout: file.washout_time_constant_s / (file.washout_time_constant_s + period),
-            curvature: (None, 0.0),
+            period: 1.0 / file.rate_hz,
+            estimate: None,
+            last_setpoint_acceleration: 0.0,
+            last_acceleration: 0.0,
             last: 0.0,
             file: file.clone(),
         }
+    }
+
+    /// The first mode's `(f_1, r, c)` at the scheduled position `a`, interpolated.
+    fn scheduled(&self, a: f64) -> (f64, f64, f64) {
+        let points = &self.file.points;
+        let (i, j, w) = crate::control::law::schedule::bracket(&self.positions, a);
+        let between = |x: f64, y: f64| x + w * (y - x);
+        (
+            between(points[i].first_mode_hz, points[j].first_mode_hz),
+            between(
+                points[i].tip_per_curvature_m2,
+                points[j].tip_per_curvature_m2,
+            ),
+            between(
+                points[i].curvature_per_acceleration,
+                points[j].curvature_per_acceleration,
+            ),
+        )
+    }
+}
+
+/// The observer's estimate one tick of `period` on from `e`, seeing the tip `measured` (m)
+/// with the base accelerated at `base` (m/s^2).
+fn observe(e: Estimate, g: &LawGains, measured: f64, base: f64, period: f64) -> Estimate {
+    let innovation = measured - (e.tip + e.bias);
+    let [l1, l2, l3] = g.l;
+    Estimate {
+        tip: e.tip + period * (e.rate + l1 * innovation),
+        rate: e.rate + period * (-g.omega * g.omega * e.tip - g.gamma * base + l2 * innovation),
+        bias: e.bias + period * l3 * innovation,
     }
 }
 
 impl SampledController for VelocityController {
     fn step(&mut self, t: f64, y: &[f64], a: f64) -> f64 {
         let (u, kappa) = (y[0], y[1]);
-        let f = &self.file;
-        let (i, j, w) = crate::control::law::schedule::bracket(&self.positions, a);
-        let between = |x: f64, y: f64| x + w * (y - x);
-        let gain = between(f.points[i].gain_m2_per_s, f.points[j].gain_m2_per_s);
-        let c = between(
-            f.points[i].curvature_per_acceleration,
-            f.points[j].curvature_per_acceleration,
-        );
+        let (f1, r, c) = self.scheduled(a);
+        let gains = LawGains::place(&self.file, f1, r, c);
         let (s, _, s_acceleration) = self.setpoint.state(t);
-        // the departure from the quasi-static bending of the setpoint's acceleration
-        let departure = kappa - c * s_acceleration;
-        let (previous, washed) = self.curvature;
-        let washed = previous.map_or(0.0, |p| self.washout * (washed + departure - p));
-        let wanted = gain * washed - f.position_gain_per_s * (u - s);
-        if !wanted.is_finite() {
+        let measured = r * kappa;
+        // before the first tick the structure rests: what the gauge reads is its bias
+        let estimate = match self.estimate {
+            None => Estimate {
+                tip: 0.0,
+                rate: 0.0,
+                bias: measured,
+            },
+            Some(e) => {
+                let base = s_acceleration + self.last_acceleration;
+                observe(e, &gains, measured, base, self.period)
+            }
+        };
+        let jerk = match self.estimate {
+            None => 0.0,
+            Some(_) => (s_acceleration - self.last_setpoint_acceleration) / self.period,
+        };
+        // the mode's departure from the bending the setpoint's own acceleration causes
+        let quasi_static = r * c;
+        let (tip, rate) = (
+            estimate.tip - quasi_static * s_acceleration,
+            estimate.rate - quasi_static * jerk,
+        );
+        let [k1, k2, k3, k4] = gains.k;
+        let wanted = -(k1 * (u - s) + k2 * self.last + k3 * tip + k4 * rate);
+        let f = &self.file;
+        let finite = [wanted, estimate.tip, estimate.rate, estimate.bias];
+        if !finite.iter().all(|v| v.is_finite()) {
             // a non-finite measurement (a failed sensor) holds the last command and leaves
-            // the filter's state as it was: NaN must reach neither the drive nor the state
+            // the law's state as it was: NaN must reach neither the drive nor the state
             return self.last;
         }
-        self.curvature = (Some(departure), washed);
-        let step = f.acceleration_limit_m_per_s2 * self.period;
-        // the bounds are finite and ordered (the file's limits are checked, `last` is a
-        // past command), so `clamp` cannot panic
-        let v = wanted
-            .clamp(-f.velocity_limit_m_per_s, f.velocity_limit_m_per_s)
-            .clamp(self.last - step, self.last + step);
+        self.estimate = Some(estimate);
+        self.last_setpoint_acceleration = s_acceleration;
+        // the bounds are finite and ordered (the file's limits are checked), so `clamp`
+        // cannot panic
+        let acceleration = wanted.clamp(
+            -f.acceleration_limit_m_per_s2,
+            f.acceleration_limit_m_per_s2,
+        );
+        let v = (self.last + acceleration * self.period)
+            .clamp(-f.velocity_limit_m_per_s, f.velocity_limit_m_per_s);
+        self.last_acceleration = (v - self.last) / self.period;
         self.last = v;
         v
     }
