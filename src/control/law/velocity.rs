@@ -50,6 +50,32 @@ pub struct LawGains {
 impl LawGains {
     /// The gains that place the poles of `file` for a first mode of `f1` Hz with tip per
     /// curvature `r` and curvature per acceleration `c`.
+    ///
+    /// The loop of the vehicle `[X, V]` and the mode `[y, y']` under `a = -k . state` has the
+    /// poles placed: the vehicle's two real ones and the mode's pair at `zeta`.
+    ///
+    /// ```
+    /// # use telescopic::control::design::velocity::{VelocityDesign, design_velocity_feedback};
+    /// # use telescopic::control::law::velocity::LawGains;
+    /// # let scene = telescopic::Scene::load("scenes/case-study-no-clearance.toml".as_ref(), &[])?;
+    /// # let curve = telescopic_runtime::SCurve { start: 0.0, from: 0.0, distance: 23.0, v_max: 2.5, a_max: 0.7, j_max: 2.0 };
+    /// # let scene = telescopic::plan::moving_scene(&scene, &telescopic::plan::candidates::unshaped(&curve).profile, 20.0)?;
+    /// let file = design_velocity_feedback(&scene, &VelocityDesign::default())?;
+    /// let p = &file.points[0];
+    /// let g = LawGains::place(&file, p.first_mode_hz, p.tip_per_curvature_m2, p.curvature_per_acceleration);
+    /// let k = nalgebra::RowDVector::from_row_slice(&g.k);
+    /// let b = nalgebra::DVector::from_column_slice(&[0.0, 1.0, 0.0, -g.gamma]);
+    /// let mut a = nalgebra::DMatrix::<f64>::zeros(4, 4);
+    /// (a[(0, 1)], a[(2, 3)], a[(3, 2)]) = (1.0, 1.0, -g.omega * g.omega);
+    /// let closed = a - &b * &k;
+    /// let poles = closed.complex_eigenvalues();
+    /// let real = |p: f64| poles.iter().any(|s| (s.re + p * g.omega).abs() < 1e-6 * g.omega);
+    /// assert!(real(file.vehicle_poles_per_mode[0]) && real(file.vehicle_poles_per_mode[1]));
+    /// let pair = poles.iter().find(|s| s.im > 0.0).unwrap();
+    /// assert!((pair.norm() - g.omega).abs() < 1e-6 * g.omega);
+    /// assert!((-pair.re / pair.norm() - file.added_damping).abs() < 1e-6);
+    /// # Ok::<(), telescopic::Error>(())
+    /// ```
     pub fn place(file: &VelocityFeedback, f1: f64, r: f64, c: f64) -> Self {
         let w = std::f64::consts::TAU * f1;
         let w2 = w * w;
