@@ -189,20 +189,22 @@ impl SampledController for VelocityController {
         let (s, _, s_acceleration) = self.setpoint.state(t);
         let measured = r * kappa;
         // before the first tick the structure rests: what the gauge reads is its bias
-        let estimate = match self.estimate {
-            None => Estimate {
-                tip: 0.0,
-                rate: 0.0,
-                bias: measured,
-            },
+        let (estimate, jerk) = match self.estimate {
+            None => (
+                Estimate {
+                    tip: 0.0,
+                    rate: 0.0,
+                    bias: measured,
+                },
+                0.0,
+            ),
             Some(e) => {
                 let base = s_acceleration + self.last_acceleration;
-                observe(e, &gains, measured, base, self.period)
+                (
+                    observe(e, &gains, measured, base, self.period),
+                    (s_acceleration - self.last_setpoint_acceleration) / self.period,
+                )
             }
-        };
-        let jerk = match self.estimate {
-            None => 0.0,
-            Some(_) => (s_acceleration - self.last_setpoint_acceleration) / self.period,
         };
         // the mode's departure from the bending the setpoint's own acceleration causes
         let quasi_static = r * c;
