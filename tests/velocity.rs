@@ -9,7 +9,7 @@ mod common;
 use nalgebra::DMatrix;
 use telescopic::control::law::sampled::SampledController;
 use telescopic::control::{
-    closed_loop::velocity::simulate_velocity,
+    closed_loop::velocity::{simulate_velocity, simulate_velocity_told},
     design::velocity::VelocityDesign,
     design::velocity::design_velocity_feedback,
     file::velocity::VelocityFeedback,
@@ -125,7 +125,7 @@ fn on_plants_it_was_not_designed_for_the_damping_follows_the_single_mode_theory(
         &["masses.load=10", "sections.youngs_modulus=1.68e11"],
         &["masses.load=2.5", "sections.youngs_modulus=2.52e11"],
     ];
-    let design = &file.points[0];
+    let design = &file.tables[0].points[0];
     let gains = LawGains::place(
         &file,
         design.first_mode_hz,
@@ -134,7 +134,7 @@ fn on_plants_it_was_not_designed_for_the_damping_follows_the_single_mode_theory(
     );
     for overrides in plants {
         let (plant, arrival) = moving_with(overrides);
-        let own = &noiseless(&plant, zeta).points[0];
+        let own = &noiseless(&plant, zeta).tables[0].points[0];
         let mode = PlantMode {
             omega: std::f64::consts::TAU * own.first_mode_hz,
             gamma: tip_participation(&plant),
@@ -155,6 +155,77 @@ fn on_plants_it_was_not_designed_for_the_damping_follows_the_single_mode_theory(
         let last = run.simulation.trajectory.rows.last().unwrap()[vehicle];
         assert!((last - 0.5).abs() < 1e-3, "{overrides:?}: vehicle {last}");
     }
+}
+
+/// A law scheduled on the load, on plants of another stiffness than designed for, carrying
+/// a table's load or one between two tables, or told a load it does not carry: it damps the
+/// first mode by the single-mode theory's ratio for the design interpolated at the load it
+/// is told (the interpolation written out here, apart from the law's).
+#[test]
+fn a_law_scheduled_on_the_load_damps_as_designed_for_the_load_it_is_told() {
+    let zeta = 0.1;
+    let (design_scene, _) = moving();
+    let file = noiseless_at(&design_scene, zeta, &[2.5, 10.0]);
+    assert_eq!(file.loads(), [2.5, 10.0]);
+    // the plant's overrides, the load the law is told
+    let cases: [(&[&str], f64); 3] = [
+        (&["masses.load=10", "sections.youngs_modulus=1.68e11"], 10.0),
+        (&["masses.load=5", "sections.youngs_modulus=2.52e11"], 5.0),
+        (&["masses.load=10"], 5.0),
+    ];
+    for (overrides, told) in cases {
+        let (plant, arrival) = moving_with(overrides);
+        let [f, r, c] = interpolated(&file, told);
+        let gains = LawGains::place(&file, f, r, c);
+        let own = &noiseless(&plant, zeta).tables[0].points[0];
+        let mode = PlantMode {
+            omega: std::f64::consts::TAU * own.first_mode_hz,
+            gamma: tip_participation(&plant),
+            gauge: r / own.tip_per_curvature_m2,
+        };
+        let predicted = single_mode_damping(&mode, &gains);
+        let run = simulate_velocity_told(&plant, &file, told, &options(), &Silent).unwrap();
+        let measured = damping_ratio(&tip_after(&run.simulation.trajectory, arrival), 4);
+        eprintln!(
+            "{overrides:?}, told {told} kg: predicted {predicted:.4}, measured {measured:.4}"
+        );
+        assert!(
+            (measured - predicted).abs() < 0.05 * predicted,
+            "{overrides:?}, told {told} kg: predicted {predicted}, measured {measured}"
+        );
+    }
+    let (plant, _) = moving_with(&["masses.load=10"]);
+    let e = simulate_velocity_told(&plant, &file, f64::NAN, &options(), &Silent)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("measured load"), "{e}");
+}
+
+/// The feedback designed for `scene` adding `zeta` at each of `loads` (kg), without
+/// measurement noise.
+fn noiseless_at(scene: &Scene, zeta: f64, loads: &[f64]) -> VelocityFeedback {
+    let design = VelocityDesign {
+        added_damping: zeta,
+        loads_kg: loads.to_vec(),
+        ..VelocityDesign::default()
+    };
+    let mut file = design_velocity_feedback(scene, &design).unwrap();
+    file.noise = vec![0.0; 2];
+    file
+}
+
+/// `[f_1, r, c]` of the first design point of `file`'s two tables, linear in the load
+/// between them at `load` (kg).
+fn interpolated(file: &VelocityFeedback, load: f64) -> [f64; 3] {
+    let (low, high) = (&file.tables[0], &file.tables[1]);
+    let w = ((load - low.load_kg) / (high.load_kg - low.load_kg)).clamp(0.0, 1.0);
+    let (p, q) = (&low.points[0], &high.points[0]);
+    let lerp = |x: f64, y: f64| x + w * (y - x);
+    [
+        lerp(p.first_mode_hz, q.first_mode_hz),
+        lerp(p.tip_per_curvature_m2, q.tip_per_curvature_m2),
+        lerp(p.curvature_per_acceleration, q.curvature_per_acceleration),
+    ]
 }
 
 /// A plant's first mode as the law sees it: angular frequency (rad/s), participation in
@@ -287,13 +358,26 @@ fn bad_files_and_scenes_are_refused_naming_the_rule() {
     let e = bad.check_fits(&scene).unwrap_err().to_string();
     assert!(e.contains("vehicle_poles_per_mode[1]"), "{e}");
     let mut bad = file.clone();
-    bad.points[0].curvature_per_acceleration *= -1.0;
+    bad.tables[0].points[0].curvature_per_acceleration *= -1.0;
     let e = bad.check_fits(&scene).unwrap_err().to_string();
     assert!(
-        e.contains("points[0].curvature_per_acceleration") && e.contains("opposite sign"),
+        e.contains("tables[0].points[0].curvature_per_acceleration") && e.contains("opposite sign"),
         "{e}"
     );
-    let text = file.to_json().replace("\"version\": 2", "\"version\": 7");
+    let mut bad = noiseless_at(&scene, 0.1, &[2.5, 10.0]);
+    bad.tables[1].load_kg = 2.0;
+    let e = bad.check_fits(&scene).unwrap_err().to_string();
+    assert!(e.contains("`tables`") && e.contains("ascend"), "{e}");
+    let mut bad = noiseless_at(&scene, 0.1, &[2.5, 10.0]);
+    let extra = bad.tables[1].points[0].clone();
+    bad.tables[1].points.push(extra);
+    let e = bad.check_fits(&scene).unwrap_err().to_string();
+    assert!(e.contains("tables[1].points"), "{e}");
+    let mut bad = file.clone();
+    bad.tables.clear();
+    let e = bad.check_fits(&scene).unwrap_err().to_string();
+    assert!(e.contains("`tables`"), "{e}");
+    let text = file.to_json().replace("\"version\": 3", "\"version\": 7");
     let e = VelocityFeedback::from_json(&text).unwrap_err().to_string();
     assert!(e.contains("version 7"), "{e}");
     let forced = common::single_section("forced", "force = 1.0", 1.0, 0.001, &[]);
@@ -316,12 +400,18 @@ fn implausible_values_and_duplicated_keys_are_refused_naming_the_field() {
     };
     let e = refused(&|f| f.noise[1] = 1e308);
     assert!(e.contains("noise[1]") && e.contains("1/m"), "{e}");
-    let e = refused(&|f| f.points[0].first_mode_hz = -2.0);
-    assert!(e.contains("points[0].first_mode_hz"), "{e}");
-    let e = refused(&|f| f.points[0].tip_per_curvature_m2 = 1e300);
-    assert!(e.contains("points[0].tip_per_curvature_m2"), "{e}");
-    let e = refused(&|f| f.points[0].curvature_per_acceleration = f64::INFINITY);
-    assert!(e.contains("points[0].curvature_per_acceleration"), "{e}");
+    let e = refused(&|f| f.tables[0].points[0].first_mode_hz = -2.0);
+    assert!(e.contains("tables[0].points[0].first_mode_hz"), "{e}");
+    let e = refused(&|f| f.tables[0].points[0].tip_per_curvature_m2 = 1e300);
+    assert!(
+        e.contains("tables[0].points[0].tip_per_curvature_m2"),
+        "{e}"
+    );
+    let e = refused(&|f| f.tables[0].points[0].curvature_per_acceleration = f64::INFINITY);
+    assert!(
+        e.contains("tables[0].points[0].curvature_per_acceleration"),
+        "{e}"
+    );
     let text = file
         .to_json()
         .replacen("\"rate_hz\"", "\"rate_hz\": 10.0,\n  \"rate_hz\"", 1);
@@ -334,7 +424,7 @@ fn the_law_holds_its_command_through_non_finite_measurements() {
     let (scene, _) = moving();
     let file = noiseless(&scene, 0.3);
     let setpoint = scene.params.drive_profile().clone();
-    let mut law = VelocityController::new(&file, setpoint);
+    let mut law = VelocityController::new(&file, setpoint, 5.0).unwrap();
     let period = 1.0 / file.rate_hz;
     let step = file.acceleration_limit_m_per_s2 * period;
     let (mut last, mut t) = (0.0_f64, 0.0);
@@ -386,7 +476,7 @@ fn the_quasi_static_curvature_of_a_slow_move_is_the_designed_one() {
     let moving = moving_scene(&scene, &candidate.profile, candidate.arrival_s).unwrap();
     let mut file = noiseless(&moving, 0.1);
     file.acceleration_limit_m_per_s2 = f64::MIN_POSITIVE;
-    let c = file.points[0].curvature_per_acceleration;
+    let c = file.tables[0].points[0].curvature_per_acceleration;
     let run = simulate_velocity(&moving, &file, &options(), &Silent).unwrap();
     let traj = &run.simulation.trajectory;
     let kappa = traj.index("kappa_1_0").unwrap();
@@ -404,9 +494,10 @@ fn the_quasi_static_curvature_of_a_slow_move_is_the_designed_one() {
 }
 
 /// The emitted C law, built with AddressSanitizer and UBSan, fed case-study's designed
-/// feedback tick by tick (the scheduled position swept below, across and above its table,
-/// NaN and infinite inputs among them), gives the library's corrections bit for bit and
-/// rejects exactly the non-finite ticks.
+/// feedback scheduled on three loads tick by tick (the scheduled position swept below,
+/// across and above its table, a load between two tables, NaN and infinite inputs among
+/// them), gives the library's corrections bit for bit and rejects exactly the non-finite
+/// ticks.
 #[test]
 #[ignore = "needs a C compiler (cc) with sanitizers; the test command installs gcc"]
 fn the_emitted_feedback_law_is_the_library_law_tick_by_tick_under_sanitizers() {
@@ -423,8 +514,14 @@ fn the_emitted_feedback_law_is_the_library_law_tick_by_tick_under_sanitizers() {
     };
     let setpoint: Profile = unshaped(&curve).profile;
     let moving = moving_scene(&scene, &setpoint, 20.0).unwrap();
-    let file = design_velocity_feedback(&moving, &VelocityDesign::default()).unwrap();
-    assert!(file.points.len() > 2, "a scheduled law");
+    let design = VelocityDesign {
+        loads_kg: vec![10.0, 20.0, 30.0],
+        ..VelocityDesign::default()
+    };
+    let file = design_velocity_feedback(&moving, &design).unwrap();
+    assert!(file.tables[0].points.len() > 2, "a scheduled law");
+    // between the second and the third table
+    let load = 23.7;
     let dir = std::env::temp_dir().join(format!("telescopic-feedback-c-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     write_velocity_c(&file, &dir).unwrap();
@@ -441,29 +538,7 @@ fn the_emitted_feedback_law_is_the_library_law_tick_by_tick_under_sanitizers() {
         &dir,
         &program,
     );
-    // 16 s of ticks: the move and its end, a curvature and a vehicle off their setpoint
-    let ticks = (16.0 * file.rate_hz) as usize;
-    let mut lines = String::new();
-    let mut library = VelocityController::new(&file, setpoint.clone());
-    let mut expected = Vec::with_capacity(ticks);
-    let mut hostile = 0;
-    use std::fmt::Write as _;
-    for k in 0..ticks {
-        let t = k as f64 / file.rate_hz;
-        let (s, _, s_acc) = setpoint.state(t);
-        let mut u = s + 0.01 * (1.3 * t).sin();
-        let mut kappa = 2e-3 * s_acc + 5e-4 * (6.0 * t).sin();
-        let mut a = 0.2 + 1.2 * k as f64 / ticks as f64;
-        match k % 211 {
-            17 => kappa = f64::NAN,
-            101 => u = f64::INFINITY,
-            160 => a = f64::NAN,
-            _ => {}
-        }
-        hostile += usize::from(matches!(k % 211, 17 | 101 | 160));
-        expected.push(library.step(t, &[u, kappa], a));
-        let _ = writeln!(lines, "{u:e} {kappa:e} {a:e} {s:e} {s_acc:e}");
-    }
+    let (lines, expected, hostile) = ticks_of(&file, &setpoint, load);
     // the ticks from a file: a pipe both ways would fill while the other end still writes
     let input = dir.join("ticks.txt");
     std::fs::write(&input, &lines).unwrap();
@@ -497,4 +572,47 @@ fn the_emitted_feedback_law_is_the_library_law_tick_by_tick_under_sanitizers() {
         "{largest}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// 16 s of ticks for the law of `file` around `setpoint`, told `load` (kg): the move and its
+/// end, a curvature and a vehicle off their setpoint, every 211th tick's four inputs in turn
+/// non-finite. The lines the C driver reads, the library's corrections, and the ticks the law
+/// must reject.
+fn ticks_of(
+    file: &VelocityFeedback,
+    setpoint: &telescopic_runtime::Profile,
+    load: f64,
+) -> (String, Vec<f64>, usize) {
+    use std::fmt::Write as _;
+    let ticks = (16.0 * file.rate_hz) as usize;
+    let mut lines = String::new();
+    let mut library = VelocityController::new(file, setpoint.clone(), load).unwrap();
+    let mut expected = Vec::with_capacity(ticks);
+    let mut hostile = 0;
+    for k in 0..ticks {
+        let t = k as f64 / file.rate_hz;
+        let (s, _, s_acc) = setpoint.state(t);
+        let mut u = s + 0.01 * (1.3 * t).sin();
+        let mut kappa = 2e-3 * s_acc + 5e-4 * (6.0 * t).sin();
+        let mut a = 0.2 + 1.2 * k as f64 / ticks as f64;
+        let mut weighed = load;
+        match k % 211 {
+            17 => kappa = f64::NAN,
+            101 => u = f64::INFINITY,
+            160 => a = f64::NAN,
+            190 => weighed = f64::NAN,
+            _ => {}
+        }
+        hostile += usize::from(matches!(k % 211, 17 | 101 | 160 | 190));
+        // a tick the law rejects holds its command and leaves its state: the library's law,
+        // told its load once, is then not stepped
+        let held = expected.last().copied().unwrap_or(0.0);
+        expected.push(if weighed.is_nan() {
+            held
+        } else {
+            library.step(t, &[u, kappa], a)
+        });
+        let _ = writeln!(lines, "{u:e} {kappa:e} {a:e} {weighed:e} {s:e} {s_acc:e}");
+    }
+    (lines, expected, hostile)
 }

@@ -10,11 +10,12 @@ use super::outcome::{MovePlan, PlanRow};
 use super::price::{
     MATCHED_BUDGET, OPTIMIZER_BUDGET, PlanPrice, SCHEDULE_PAST_ARRIVAL_S, SCHEDULE_STEP_S,
 };
-use super::robust::{Plant, checking_plants, evaluated_plants, plant_scene};
+use super::robust::{Plant, RobustRange, checking_plants, evaluated_plants, plant_scene};
 use super::shapers::Shaper;
 use crate::analysis::modes::{ModesOptions, compute_modes};
 use crate::control::{
-    closed_loop::velocity::simulate_velocity, design::velocity::design_velocity_feedback,
+    closed_loop::velocity::simulate_velocity,
+    design::velocity::{VelocityDesign, design_velocity_feedback},
     file::velocity::VelocityFeedback,
 };
 use crate::report::{Reporter, StopOnly};
@@ -33,6 +34,12 @@ const MATCHED_STRETCH_RANGE: (f64, f64) = (0.85, 1.15);
 
 /// Points per stretch of the grid the matched move's optimizer starts from.
 const MATCHED_GRID: usize = 5;
+
+/// The loads a robust plan's feedback is scheduled on, evenly over the set's `masses.load`:
+/// the first mode's frequency goes about as one over the root of the moving mass, and on
+/// case-study five tables over 10 to 30 kg, interpolated linearly, miss the design's `f_1`
+/// and `c` midway between two tables by at most 0.93 % (against tables designed there).
+const LOAD_TABLES: usize = 5;
 
 /// The first mode's period (s) along the move, with the vehicle held, scheduled on the
 /// moving telescopic position (a monotone cubic through its values at the positions reached
@@ -351,7 +358,8 @@ fn setting<'a>(
     let feedback = match &options.feedback {
         Some(design) => {
             let moving = moving_scene(scene, &candidates::unshaped(&curve).profile, end)?;
-            Some(design_velocity_feedback(&moving, design)?)
+            let design = scheduled_on_load(design, &options.robust);
+            Some(design_velocity_feedback(&moving, &design)?)
         }
         None => None,
     };
@@ -366,6 +374,21 @@ fn setting<'a>(
         reporter,
     };
     Ok((setting, period))
+}
+
+/// `design` scheduled on the load over the robust set's range of `masses.load`, at
+/// [`LOAD_TABLES`] loads evenly spaced, when the set has one and `design` names no loads.
+fn scheduled_on_load(design: &VelocityDesign, robust: &[RobustRange]) -> VelocityDesign {
+    let range = robust.iter().find(|r| r.key == "masses.load");
+    match range {
+        Some(r) if design.loads_kg.is_empty() => VelocityDesign {
+            loads_kg: (0..LOAD_TABLES)
+                .map(|k| r.low + (r.high - r.low) * k as f64 / (LOAD_TABLES - 1) as f64)
+                .collect(),
+            ..design.clone()
+        },
+        _ => design.clone(),
+    }
 }
 
 /// The unshaped S-curve, then each shaper with the fixed `period` and, when a position

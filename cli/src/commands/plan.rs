@@ -68,7 +68,8 @@ pub struct PlanArgs {
     /// Evaluate velocity feedback on top of the S-curve and of the best open-loop move:
     /// the servo's velocity setpoint corrected from the encoder and a strain gauge at the
     /// foot of section 1, a state feedback that damps the first mode by this ratio (e.g.
-    /// 0.5).
+    /// 0.5); with a masses.load range in --robust, scheduled on the load the machine
+    /// weighs.
     #[arg(long, value_name = "ZETA")]
     feedback: Option<f64>,
     /// Bound of the feedback's velocity correction (m/s).

@@ -12,7 +12,8 @@ use crate::run::{PreparedRun, SimulationOptions};
 use telescopic_runtime::{Drive, Scene};
 
 /// Simulates `scene` with the velocity feedback of `file` on the full nonlinear model,
-/// sampled at its rate with seeded measurement noise. `auto` is dopri5.
+/// sampled at its rate with seeded measurement noise, the law told the scene's load (the
+/// machine weighs it). `auto` is dopri5.
 ///
 /// # Errors
 /// [`crate::Error::Input`]/[`crate::Error::Option`] when the file does not fit the scene; the errors of a
@@ -23,10 +24,27 @@ pub fn simulate_velocity(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<SampledRun> {
+    simulate_velocity_told(scene, file, scene.params.load_mass, options, reporter)
+}
+
+/// [`simulate_velocity`] with the law told a load of `load_kg` (kg), whatever the scene
+/// carries: a machine that weighs its load wrongly.
+///
+/// # Errors
+/// Those of [`simulate_velocity`]; [`crate::Error::Input`] for a load that is not finite
+/// or is negative.
+pub fn simulate_velocity_told(
+    scene: &Scene,
+    file: &VelocityFeedback,
+    load_kg: f64,
+    options: &SimulationOptions,
+    reporter: &dyn Reporter,
+) -> Result<SampledRun> {
     file.check_fits(scene)?;
     let Drive::Motion(setpoint) = &scene.params.drive else {
         unreachable!("check_fits refuses a force drive")
     };
+    let mut controller = VelocityController::new(file, setpoint.clone(), load_kg)?;
     let run = PreparedRun::new(
         scene,
         &crate::control::comparison_options(options)?,
@@ -35,7 +53,6 @@ pub fn simulate_velocity(
     tick_grid(file.rate_hz, &scene.time)?;
     check_tick_cost(scene, file.rate_hz, run.model().dof(), 50.0)?;
     let model = ServoCorrected::new(run.model(), file.rate_hz)?;
-    let mut controller = VelocityController::new(file, setpoint.clone());
     let setup = TickSetup {
         rate_hz: file.rate_hz,
         sensors: &file.sensors,

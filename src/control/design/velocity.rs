@@ -2,6 +2,7 @@
 
 use crate::control::file::velocity::{
     VELOCITY_FEEDBACK_FORMAT, VELOCITY_FEEDBACK_VERSION, VelocityFeedback, VelocityPoint,
+    VelocityTable,
 };
 use crate::control::law::sampled::default_noise;
 use crate::control::law::strain::{STRAIN_RATE_SENSORS, tip_per_curvature};
@@ -45,6 +46,9 @@ pub struct VelocityDesign {
     pub grid_points: usize,
     /// Seed of the simulated measurement noise (default 1).
     pub seed: u64,
+    /// The loads the law is scheduled on (kg, ascending; default none: the scene's load
+    /// alone, a law used unchanged whatever the load).
+    pub loads_kg: Vec<f64>,
 }
 
 impl Default for VelocityDesign {
@@ -56,6 +60,7 @@ impl Default for VelocityDesign {
             rate_hz: crate::control::law::sampled::DEFAULT_RATE_HZ,
             grid_points: 9,
             seed: 1,
+            loads_kg: Vec::new(),
         }
     }
 }
@@ -101,37 +106,23 @@ pub fn design_velocity_feedback(
         ));
     }
     check_design(design)?;
-    let chosen = ModelRegistry::default().build(params, ModelChoice::Auto)?;
-    let model = chosen.model.as_ref();
-    let lpv = Lpv::new(model, ContactMode::Closed).map_err(Error::from)?;
-    let here: Vec<f64> = params
-        .positions
-        .iter()
-        .map(|p| p.value(scene.time.start))
-        .collect();
     let moving = moving_position(params, scene.time.start, scene.time.end)?;
-    let grid: Vec<Vec<f64>> = match moving {
-        None => vec![here],
-        Some((i, lo, hi)) => (0..design.grid_points)
-            .map(|j| {
-                let mut p = here.clone();
-                p[i] = lo + (hi - lo) * j as f64 / (design.grid_points - 1) as f64;
-                p
+    let tables = match &design.loads_kg[..] {
+        [] => vec![VelocityTable {
+            load_kg: params.load_mass,
+            points: design_points(scene, design, moving)?,
+        }],
+        loads => loads
+            .iter()
+            .map(|&load_kg| {
+                let loaded = scene.with_values(&[("masses.load", load_kg)])?;
+                Ok(VelocityTable {
+                    load_kg,
+                    points: design_points(&loaded, design, moving)?,
+                })
             })
-            .collect(),
+            .collect::<Result<Vec<_>>>()?,
     };
-    let points = grid
-        .into_iter()
-        .map(|positions| {
-            let (ratio, f1) = tip_per_curvature(model, &lpv, &positions)?;
-            Ok(VelocityPoint {
-                first_mode_hz: f1,
-                tip_per_curvature_m2: ratio,
-                curvature_per_acceleration: static_curvature(model, &lpv, &positions)?,
-                positions,
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
     let sensors: Vec<String> = STRAIN_RATE_SENSORS.iter().map(|s| s.to_string()).collect();
     Ok(VelocityFeedback {
         format: VELOCITY_FEEDBACK_FORMAT.into(),
@@ -151,8 +142,47 @@ pub fn design_velocity_feedback(
         velocity_limit_m_per_s: design.velocity_limit,
         acceleration_limit_m_per_s2: design.acceleration_limit,
         schedule_parameter: moving.map(|(i, _, _)| format!("a_{}", i + 2)),
-        points,
+        tables,
     })
+}
+
+/// The design points of `scene` over the `moving` position's range (`design.grid_points` of
+/// them), or at its positions when none moves.
+fn design_points(
+    scene: &Scene,
+    design: &VelocityDesign,
+    moving: Option<(usize, f64, f64)>,
+) -> Result<Vec<VelocityPoint>> {
+    let params = &scene.params;
+    let chosen = ModelRegistry::default().build(params, ModelChoice::Auto)?;
+    let model = chosen.model.as_ref();
+    let lpv = Lpv::new(model, ContactMode::Closed).map_err(Error::from)?;
+    let here: Vec<f64> = params
+        .positions
+        .iter()
+        .map(|p| p.value(scene.time.start))
+        .collect();
+    let grid: Vec<Vec<f64>> = match moving {
+        None => vec![here],
+        Some((i, lo, hi)) => (0..design.grid_points)
+            .map(|j| {
+                let mut p = here.clone();
+                p[i] = lo + (hi - lo) * j as f64 / (design.grid_points - 1) as f64;
+                p
+            })
+            .collect(),
+    };
+    grid.into_iter()
+        .map(|positions| {
+            let (ratio, f1) = tip_per_curvature(model, &lpv, &positions)?;
+            Ok(VelocityPoint {
+                first_mode_hz: f1,
+                tip_per_curvature_m2: ratio,
+                curvature_per_acceleration: static_curvature(model, &lpv, &positions)?,
+                positions,
+            })
+        })
+        .collect()
 }
 
 /// `kappa_1_0` (1/m) of the held structure at rest under a unit vehicle acceleration at
@@ -212,6 +242,17 @@ fn check_design(design: &VelocityDesign) -> Result<()> {
                 format!("the correction's {what} bound must be > 0 and at most {high} (got {v})"),
             ));
         }
+    }
+    if design
+        .loads_kg
+        .iter()
+        .any(|m| !(m.is_finite() && *m > 0.0 && *m <= 1e9))
+        || design.loads_kg.windows(2).any(|w| w[1] <= w[0])
+    {
+        return bad(format!(
+            "the loads scheduled on must be ascending masses > 0 and at most 1e9 kg (got {:?})",
+            design.loads_kg
+        ));
     }
     if design.grid_points < 2 {
         return bad(format!(

@@ -9,7 +9,7 @@ use telescopic_runtime::{Drive, ModelParams, Scene, configuration_key};
 pub const VELOCITY_FEEDBACK_FORMAT: &str = "telescopic velocity feedback";
 
 /// The layout version this build writes and reads.
-pub const VELOCITY_FEEDBACK_VERSION: u32 = 2;
+pub const VELOCITY_FEEDBACK_VERSION: u32 = 3;
 
 /// A designed velocity-servo feedback: what `plan` writes beside a plan that uses feedback,
 /// and `simulate --controller` reads.
@@ -53,7 +53,19 @@ pub struct VelocityFeedback {
     pub acceleration_limit_m_per_s2: f64,
     /// The scheduled position (`a_k`), if the positions move.
     pub schedule_parameter: Option<String>,
-    /// The design points, ordered by the scheduled position.
+    /// The design points per load the law is scheduled on, ordered by the load; one table
+    /// is used whatever the load.
+    pub tables: Vec<VelocityTable>,
+}
+
+/// The design points at one load.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VelocityTable {
+    /// The load designed for (kg).
+    pub load_kg: f64,
+    /// The design points, ordered by the scheduled position (the same positions in every
+    /// table).
     pub points: Vec<VelocityPoint>,
 }
 
@@ -118,14 +130,25 @@ impl VelocityFeedback {
         serde_json::from_value(head).map_err(malformed)
     }
 
-    /// In a few words, e.g. `velocity feedback (zeta 0.30) from vehicle, kappa_1_0 at 1000 Hz`.
+    /// In a few words, e.g. `velocity feedback (zeta 0.30) from vehicle, kappa_1_0 at 1000 Hz,
+    /// scheduled on the load 10 to 30 kg`.
     pub fn describe(&self) -> String {
+        let loads = self.loads();
+        let scheduled = match loads[..] {
+            [first, .., last] => format!(", scheduled on the load {first} to {last} kg"),
+            _ => String::new(),
+        };
         format!(
-            "velocity feedback (zeta {:.2}) from {} at {} Hz",
+            "velocity feedback (zeta {:.2}) from {} at {} Hz{scheduled}",
             self.added_damping,
             self.sensors.join(", "),
             self.rate_hz
         )
+    }
+
+    /// The loads of the tables (kg), ascending.
+    pub fn loads(&self) -> Vec<f64> {
+        self.tables.iter().map(|t| t.load_kg).collect()
     }
 
     /// Checks that the file fits `scene`: the configuration, a prescribed motion, the sensors
@@ -212,86 +235,75 @@ impl VelocityFeedback {
                 ));
             }
         }
-        self.check_points(params)
+        self.check_tables(params)
     }
 
-    /// The design points: one or more, positions of the scene's count, finite gains.
-    fn check_points(&self, params: &ModelParams) -> Result<()> {
-        if self.points.is_empty() {
-            return Err(field("points", "must hold at least one design point"));
-        }
-        for (j, p) in self.points.iter().enumerate() {
-            if p.positions.len() != params.positions.len()
-                || p.positions.iter().any(|a| !a.is_finite())
-            {
-                return Err(field(
-                    &format!("points[{j}].positions"),
-                    format!("must be {} finite positions", params.positions.len()),
-                ));
-            }
-            for (name, v, high) in [
-                ("tip_per_curvature_m2", p.tip_per_curvature_m2, 1e4),
-                (
-                    "curvature_per_acceleration",
-                    p.curvature_per_acceleration,
-                    1.0,
-                ),
-            ] {
-                if !(v.is_finite() && v.abs() <= high) {
-                    return Err(field(
-                        &format!("points[{j}].{name}"),
-                        format!("must be finite, at most {high:e} in size (got {v})"),
-                    ));
-                }
-            }
-            let f = p.first_mode_hz;
-            if !(f.is_finite() && f > 0.0 && f <= 1e4) {
-                return Err(field(
-                    &format!("points[{j}].first_mode_hz"),
-                    format!("must be > 0 and at most 1e4 Hz (got {f})"),
-                ));
-            }
-            // the base's acceleration bends the tip against it: Gamma = -r c w^2 > 0, and the
-            // law divides by it (both are finite here, checked above)
-            if p.tip_per_curvature_m2 * p.curvature_per_acceleration >= 0.0 {
-                return Err(field(
-                    &format!("points[{j}].curvature_per_acceleration"),
-                    format!(
-                        "must be of the opposite sign to tip_per_curvature_m2 and not zero \
-                         (got {} and {})",
-                        p.curvature_per_acceleration, p.tip_per_curvature_m2
-                    ),
-                ));
-            }
-        }
+    /// The tables: one or more, at finite positive ascending loads, each with the same
+    /// scheduled positions.
+    fn check_tables(&self, params: &ModelParams) -> Result<()> {
+        let Some(first) = self.tables.first() else {
+            return Err(field(
+                "tables",
+                "must hold at least one table of design points",
+            ));
+        };
         let scheduled = self.scheduled_index();
-        if self.points.len() > 1 && scheduled.is_none_or(|i| i >= params.positions.len()) {
+        if first.points.len() > 1 && scheduled.is_none_or(|i| i >= params.positions.len()) {
             return Err(field(
                 "schedule_parameter",
                 "must name a telescopic position of the scene (a_2, ...) when there are several \
                  points",
             ));
         }
-        if let Some(i) = scheduled
-            && self
-                .points
-                .windows(2)
-                .any(|w| w[1].positions[i] < w[0].positions[i])
-        {
-            return Err(field("points", "must ascend along the scheduled position"));
+        for (t, table) in self.tables.iter().enumerate() {
+            let m = table.load_kg;
+            if !(m.is_finite() && m > 0.0 && m <= 1e9) {
+                return Err(field(
+                    &format!("tables[{t}].load_kg"),
+                    format!("must be > 0 and at most 1e9 kg (got {m})"),
+                ));
+            }
+            if t > 0 && m <= self.tables[t - 1].load_kg {
+                return Err(field("tables", "must ascend strictly along load_kg"));
+            }
+            check_points(&format!("tables[{t}].points"), &table.points, params)?;
+            if let Some(i) = scheduled
+                && table
+                    .points
+                    .windows(2)
+                    .any(|w| w[1].positions[i] < w[0].positions[i])
+            {
+                return Err(field(
+                    &format!("tables[{t}].points"),
+                    "must ascend along the scheduled position",
+                ));
+            }
+            let at = |points: &[VelocityPoint]| -> Vec<f64> {
+                points
+                    .iter()
+                    .map(|p| scheduled.map_or(0.0, |i| p.positions[i]))
+                    .collect()
+            };
+            if at(&table.points) != at(&first.points) {
+                return Err(field(
+                    &format!("tables[{t}].points"),
+                    "must be at the scheduled positions of tables[0], one for one",
+                ));
+            }
         }
         Ok(())
     }
 
-    /// Index (among `a_2..`) of the scheduled position.
     /// Each design point's scheduled position (m): zeros when nothing is scheduled.
     pub(crate) fn scheduled_positions(&self) -> Vec<f64> {
+        let points = self.tables.first().map_or(&[][..], |t| &t.points[..]);
         match self.scheduled_index() {
-            Some(i) => self.points.iter().map(|p| p.positions[i]).collect(),
-            None => vec![0.0; self.points.len()],
+            Some(i) => points.iter().map(|p| p.positions[i]).collect(),
+            None => vec![0.0; points.len()],
         }
     }
 
+    /// Index (among `a_2..`) of the scheduled position.
     pub(crate) fn scheduled_index(&self) -> Option<usize> {
         self.schedule_parameter
             .as_deref()
@@ -299,6 +311,58 @@ impl VelocityFeedback {
             .and_then(|k| k.parse::<usize>().ok())
             .and_then(|k| k.checked_sub(2))
     }
+}
+
+/// The design points `points` (named `name` in errors): one or more, positions of the scene's
+/// count, finite gains.
+fn check_points(name: &str, points: &[VelocityPoint], params: &ModelParams) -> Result<()> {
+    if points.is_empty() {
+        return Err(field(name, "must hold at least one design point"));
+    }
+    for (j, p) in points.iter().enumerate() {
+        if p.positions.len() != params.positions.len() || p.positions.iter().any(|a| !a.is_finite())
+        {
+            return Err(field(
+                &format!("{name}[{j}].positions"),
+                format!("must be {} finite positions", params.positions.len()),
+            ));
+        }
+        for (what, v, high) in [
+            ("tip_per_curvature_m2", p.tip_per_curvature_m2, 1e4),
+            (
+                "curvature_per_acceleration",
+                p.curvature_per_acceleration,
+                1.0,
+            ),
+        ] {
+            if !(v.is_finite() && v.abs() <= high) {
+                return Err(field(
+                    &format!("{name}[{j}].{what}"),
+                    format!("must be finite, at most {high:e} in size (got {v})"),
+                ));
+            }
+        }
+        let f = p.first_mode_hz;
+        if !(f.is_finite() && f > 0.0 && f <= 1e4) {
+            return Err(field(
+                &format!("{name}[{j}].first_mode_hz"),
+                format!("must be > 0 and at most 1e4 Hz (got {f})"),
+            ));
+        }
+        // the base's acceleration bends the tip against it: Gamma = -r c w^2 > 0, and the
+        // law divides by it (both are finite here, checked above)
+        if p.tip_per_curvature_m2 * p.curvature_per_acceleration >= 0.0 {
+            return Err(field(
+                &format!("{name}[{j}].curvature_per_acceleration"),
+                format!(
+                    "must be of the opposite sign to tip_per_curvature_m2 and not zero \
+                     (got {} and {})",
+                    p.curvature_per_acceleration, p.tip_per_curvature_m2
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The `format` field of a JSON file's head.

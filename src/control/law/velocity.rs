@@ -29,8 +29,9 @@
 //! setpoint linearly over a tick (as drives in cyclic velocity mode do): one tick of
 //! computation delay, one of interpolation.
 
-use crate::control::file::velocity::VelocityFeedback;
+use crate::control::file::velocity::{VelocityFeedback, VelocityPoint};
 use crate::control::law::sampled::SampledController;
+use crate::{Error, Result};
 use telescopic_runtime::Profile;
 
 /// The law's gains at one scheduled position.
@@ -61,7 +62,7 @@ impl LawGains {
     /// # let curve = telescopic_runtime::SCurve { start: 0.0, from: 0.0, distance: 23.0, v_max: 2.5, a_max: 0.7, j_max: 2.0 };
     /// # let scene = telescopic::plan::moving_scene(&scene, &telescopic::plan::candidates::unshaped(&curve).profile, 20.0)?;
     /// let file = design_velocity_feedback(&scene, &VelocityDesign::default())?;
-    /// let p = &file.points[0];
+    /// let p = &file.tables[0].points[0];
     /// let g = LawGains::place(&file, p.first_mode_hz, p.tip_per_curvature_m2, p.curvature_per_acceleration);
     /// let k = nalgebra::RowDVector::from_row_slice(&g.k);
     /// let b = nalgebra::DVector::from_column_slice(&[0.0, 1.0, 0.0, -g.gamma]);
@@ -122,6 +123,8 @@ pub struct VelocityController {
     file: VelocityFeedback,
     /// The scheduled positions of the points.
     positions: Vec<f64>,
+    /// The tables around the load the law is told and the weight of the second.
+    load: (usize, usize, f64),
     /// The setpoint `s(t)` (m): the scene's prescribed motion.
     setpoint: Profile,
     period: f64,
@@ -136,10 +139,30 @@ pub struct VelocityController {
 }
 
 impl VelocityController {
-    /// The law of `file` around the setpoint `setpoint`.
-    pub fn new(file: &VelocityFeedback, setpoint: Profile) -> Self {
-        VelocityController {
+    /// The law of `file` around the setpoint `setpoint`, carrying a load of `load_kg` (kg, as
+    /// the machine weighs it; clamped to the tables' loads).
+    ///
+    /// # Errors
+    /// [`Error::Input`] for a load that is not a finite number of kilograms or a file
+    /// without design points or with tables of different lengths (`check_fits` refuses
+    /// those too, with the field's rule).
+    pub fn new(file: &VelocityFeedback, setpoint: Profile, load_kg: f64) -> Result<Self> {
+        if !(load_kg.is_finite() && load_kg >= 0.0) {
+            return Err(Error::input(
+                "measured load",
+                format!("must be a finite mass of 0 kg or more (got {load_kg})"),
+            ));
+        }
+        let count = file.tables.first().map_or(0, |t| t.points.len());
+        if count == 0 || file.tables.iter().any(|t| t.points.len() != count) {
+            return Err(Error::input(
+                "velocity feedback `tables`",
+                "must be one or more tables of the same number of design points, one or more",
+            ));
+        }
+        Ok(VelocityController {
             positions: file.scheduled_positions(),
+            load: crate::control::law::schedule::bracket(&file.loads(), load_kg),
             setpoint,
             period: 1.0 / file.rate_hz,
             estimate: None,
@@ -147,24 +170,28 @@ impl VelocityController {
             last_acceleration: 0.0,
             last: 0.0,
             file: file.clone(),
-        }
+        })
     }
 
-    /// The first mode's `(f_1, r, c)` at the scheduled position `a`, interpolated.
+    /// The first mode's `(f_1, r, c)` at the scheduled position `a` and the law's load,
+    /// interpolated along the position in the two tables around the load, then between them.
     fn scheduled(&self, a: f64) -> (f64, f64, f64) {
-        let points = &self.file.points;
         let (i, j, w) = crate::control::law::schedule::bracket(&self.positions, a);
-        let between = |x: f64, y: f64| x + w * (y - x);
+        let (low, high, w_load) = self.load;
+        let tables = &self.file.tables;
+        let at = |quantity: fn(&VelocityPoint) -> f64| {
+            let along = |t: usize| {
+                let points = &tables[t].points;
+                let (x, y) = (quantity(&points[i]), quantity(&points[j]));
+                x + w * (y - x)
+            };
+            let (x, y) = (along(low), along(high));
+            x + w_load * (y - x)
+        };
         (
-            between(points[i].first_mode_hz, points[j].first_mode_hz),
-            between(
-                points[i].tip_per_curvature_m2,
-                points[j].tip_per_curvature_m2,
-            ),
-            between(
-                points[i].curvature_per_acceleration,
-                points[j].curvature_per_acceleration,
-            ),
+            at(|p| p.first_mode_hz),
+            at(|p| p.tip_per_curvature_m2),
+            at(|p| p.curvature_per_acceleration),
         )
     }
 }

@@ -11,24 +11,24 @@ void tvf_init(tvf_state *s)
     s->rejected = 0;
 }
 
-/* The design points around the scheduled position a and the weight between them: the
- * first (last) point below (above) the table, one point alone everywhere. */
-static void bracket(double a, int *i, int *j, double *w)
+/* The entries of the ascending table x[0..count) around v and the weight of the second:
+ * the first (last) entry below (above) the table, one entry alone everywhere. */
+static void bracket(const double *x, int count, double v, int *i, int *j, double *w)
 {
-    const int last = TVF_POINTS - 1;
+    const int last = count - 1;
     *i = 0;
     *j = 0;
     *w = 0.0;
-    if (last == 0 || a <= POSITIONS[0]) {
+    if (last == 0 || v <= x[0]) {
         return;
     }
-    if (a >= POSITIONS[last]) {
+    if (v >= x[last]) {
         *i = last;
         *j = last;
         return;
     }
     int k = 0;
-    while (k < TVF_POINTS && POSITIONS[k] <= a) {
+    while (k < count && x[k] <= v) {
         k++;
     }
     if (k < 1) {
@@ -39,7 +39,17 @@ static void bracket(double a, int *i, int *j, double *w)
     }
     *i = k - 1;
     *j = k;
-    *w = (a - POSITIONS[k - 1]) / (POSITIONS[k] - POSITIONS[k - 1]);
+    *w = (v - x[k - 1]) / (x[k] - x[k - 1]);
+}
+
+/* A table's value at position weight w between points i and j, at load weight w_load between
+ * the tables low and high: along the position in each table, then between the tables. */
+static double scheduled(const double table[TVF_LOADS][TVF_POINTS], int low, int high,
+                        double w_load, int i, int j, double w)
+{
+    const double at_low = table[low][i] + w * (table[low][j] - table[low][i]);
+    const double at_high = table[high][i] + w * (table[high][j] - table[high][i]);
+    return at_low + w_load * (at_high - at_low);
 }
 
 /* The gains that place the poles at a first mode of f1 Hz with tip per curvature r and
@@ -84,15 +94,20 @@ static tvf_gains place(double f1, double r, double c)
     return g;
 }
 
-double tvf_step(tvf_state *s, double vehicle, double kappa, double a, double setpoint,
-                double setpoint_acceleration)
+double tvf_step(tvf_state *s, double vehicle, double kappa, double a, double load,
+                double setpoint, double setpoint_acceleration)
 {
-    int i, j;
-    double w;
-    bracket(a, &i, &j, &w);
-    const double f1 = FIRST_MODE[i] + w * (FIRST_MODE[j] - FIRST_MODE[i]);
-    const double r = TIP_PER_CURVATURE[i] + w * (TIP_PER_CURVATURE[j] - TIP_PER_CURVATURE[i]);
-    const double c = CURVATURE[i] + w * (CURVATURE[j] - CURVATURE[i]);
+    if (!isfinite(load)) {
+        s->rejected += 1;
+        return s->last;
+    }
+    int i, j, low, high;
+    double w, w_load;
+    bracket(POSITIONS, TVF_POINTS, a, &i, &j, &w);
+    bracket(LOADS, TVF_LOADS, load, &low, &high, &w_load);
+    const double f1 = scheduled(FIRST_MODE, low, high, w_load, i, j, w);
+    const double r = scheduled(TIP_PER_CURVATURE, low, high, w_load, i, j, w);
+    const double c = scheduled(CURVATURE, low, high, w_load, i, j, w);
     const tvf_gains g = place(f1, r, c);
     const double measured = r * kappa;
     double tip = 0.0, rate = 0.0, bias = measured, jerk = 0.0;
