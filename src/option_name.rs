@@ -151,6 +151,8 @@ pub enum OptionName {
     Feedback,
     /// `VelocityDesign::velocity_limit` and `acceleration_limit`: the correction's bounds.
     CorrectionLimits,
+    /// `ControllerFile::with_weighed_load`: the load a velocity feedback is told (kg).
+    WeighedLoad,
     /// The candidate of a plan to write instead of the best (`MovePlan::candidate_named`).
     Pick,
     /// The setpoint filter emitted as C (`plan::emit::emit_filter_c`).
@@ -238,6 +240,7 @@ crate::named::named_enum!(OptionName, "an option", {
     Checks => "PlanOptions::checks",
     Feedback => "PlanOptions::feedback",
     CorrectionLimits => "VelocityDesign::velocity_limit/acceleration_limit",
+    WeighedLoad => "ControllerFile::with_weighed_load",
     Pick => "MovePlan::candidate_named",
     EmitC => "plan::emit::emit_filter_c",
     FilterRate => "plan::emit::emit_filter_c rate_hz",

@@ -77,6 +77,7 @@ pub fn flag(option: OptionName) -> &'static str {
         O::Checks => "--checks",
         O::Feedback => "--feedback",
         O::CorrectionLimits => "--correction-v-max/--correction-a-max",
+        O::WeighedLoad => "--weighed-load",
         O::Pick => "--pick",
         O::EmitC => "--emit-c",
         O::FilterRate => "--filter-rate",

@@ -484,3 +484,82 @@ fn emitted_c_never_overwrites_an_input_in_its_directory() {
     assert_eq!(std::fs::read(&scene).unwrap(), before);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A robust plan over a load range writes a law scheduled on the load; `simulate
+/// --controller` tells it the scene's load, `--weighed-load` another: the scene's own load
+/// given gives the same samples as none, another load other corrections, and a bad load or
+/// a designed controller is refused naming the flag.
+#[test]
+fn simulate_tells_a_load_scheduled_feedback_the_weighed_load() {
+    let dir = scratch("plan-weighed");
+    let plan = dir.join("plan.toml");
+    let feedback = dir.join("plan.json");
+    let flags = [
+        "4",
+        "--robust",
+        "masses.load=12:24",
+        "--checks",
+        "0",
+        "--feedback",
+        "0.2",
+        "--pick",
+        "s-curve + feedback",
+        "--out",
+        plan.to_str().unwrap(),
+    ];
+    succeeds(&[&SHORT_MOVE[..], &flags].concat());
+    let text = std::fs::read_to_string(&feedback).unwrap();
+    let file = telescopic::control::file::velocity::VelocityFeedback::from_json(&text).unwrap();
+    assert_eq!(file.loads(), [12.0, 15.0, 18.0, 21.0, 24.0]);
+    let run = |name: &str, extra: &[&str]| {
+        let csv = dir.join(name);
+        let (p, f, c) = (
+            plan.to_str().unwrap(),
+            feedback.to_str().unwrap(),
+            csv.to_str().unwrap(),
+        );
+        let args = [
+            &[
+                "simulate",
+                p,
+                "--controller",
+                f,
+                "--no-error-estimate",
+                "--out",
+                c,
+            ][..],
+            extra,
+        ];
+        let out = succeeds(&args.concat());
+        (
+            std::fs::read(&csv).unwrap(),
+            String::from_utf8_lossy(&out.stderr).to_string(),
+        )
+    };
+    let (carried, said) = run("carried.csv", &[]);
+    assert!(said.contains("scheduled on the load 12 to 24 kg"), "{said}");
+    let (told_same, _) = run("same.csv", &["--weighed-load", "17.897"]);
+    assert_eq!(
+        carried, told_same,
+        "the scene's load told: the same samples"
+    );
+    let (told_other, said) = run("other.csv", &["--weighed-load", "24"]);
+    assert!(said.contains("told a load of 24 kg"), "{said}");
+    assert_ne!(carried, told_other, "another load: other corrections");
+    let p = plan.to_str().unwrap();
+    let f = feedback.to_str().unwrap();
+    fails_with(
+        &["simulate", p, "--controller", f, "--weighed-load", "nan"],
+        &["--weighed-load", "finite"],
+    );
+    fails_with(&["simulate", p, "--weighed-load", "20"], &["--controller"]);
+    let designed = [
+        "simulate",
+        "scenes/case-study.toml",
+        "--controller",
+        "docs/case-study-controller.json",
+        "--weighed-load",
+        "20",
+    ];
+    fails_with(&designed, &["--weighed-load", "designed controller"]);
+}

@@ -13,7 +13,6 @@ use telescopic::animate::{
     AnimationFormat, AnimationOptions, ModeMovie, RunMovie, RunRequest, animate_modes, animate_run,
     save_modes, save_run,
 };
-use telescopic::control::ControllerFile;
 use telescopic::run::SimulationOptions;
 
 /// A finished movie: its page, and for a run what a GIF needs.
@@ -76,7 +75,7 @@ impl PyMovie {
 /// A run's movie (see `telescopic.Simulation.animate`).
 #[pyfunction]
 #[pyo3(signature = (scene, options, controller = None, compare = None, fps = None, scale = None,
-    size = None, speed = None, progress = None))]
+    size = None, speed = None, progress = None, weighed_load = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn animate(
     py: Python<'_>,
@@ -89,6 +88,7 @@ pub fn animate(
     size: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
     speed: Option<f64>,
     progress: Option<&Bound<'_, PyAny>>,
+    weighed_load: Option<f64>,
 ) -> PyResult<PyMovie> {
     let defaults = AnimationOptions::default();
     let animation = AnimationOptions {
@@ -103,10 +103,7 @@ pub fn animate(
     };
     let simulation: SimulationOptions = options.into_options()?;
     animation.check().map_err(to_python)?;
-    let controller = match controller {
-        Some(text) => Some(ControllerFile::from_json(&text).map_err(to_python)?),
-        None => None,
-    };
+    let controller = crate::calls::controller_of(controller.as_deref(), weighed_load)?;
     let request = RunRequest {
         scene: &scene.scene,
         options: simulation,

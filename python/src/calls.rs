@@ -120,7 +120,8 @@ impl RunArguments {
 #[pyfunction]
 #[pyo3(signature = (scene, method = "auto", rtol = None, atol = None, dt = None, accuracy = None,
     controller = None, stations = None, model = "auto", progress = None, modes_as_given = false,
-    error_estimate = true, moment_tolerance = None, statistics_tolerance = None, reuse = true))]
+    error_estimate = true, moment_tolerance = None, statistics_tolerance = None, reuse = true,
+    weighed_load = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
@@ -139,6 +140,7 @@ pub fn simulate<'py>(
     moment_tolerance: Option<f64>,
     statistics_tolerance: Option<f64>,
     reuse: bool,
+    weighed_load: Option<f64>,
 ) -> PyResult<SimulationData<'py>> {
     let defaults = SimulationOptions::default();
     let stations = stations
@@ -167,16 +169,35 @@ pub fn simulate<'py>(
         reuse: reuse.then(telescopic::run::reuse::default_dir).flatten(),
         ..SimulationOptions::default()
     };
-    let controller = match controller {
-        Some(text) => Some(ControllerFile::from_json(&text).map_err(to_python)?),
-        None => None,
-    };
+    let controller = controller_of(controller.as_deref(), weighed_load)?;
     let scene = &scene.scene;
     let sim = run(py, progress, |reporter| match &controller {
         Some(c) => c.simulate(scene, &options, reporter),
         None => simulate_scene(scene, &options.for_scene(scene), reporter),
     })?;
     simulation_data(py, &sim)
+}
+
+/// The controller of JSON `text`, its velocity feedback told the `weighed` load (kg) when
+/// one is given.
+pub(crate) fn controller_of(
+    text: Option<&str>,
+    weighed: Option<f64>,
+) -> PyResult<Option<ControllerFile>> {
+    let Some(text) = text else {
+        return match weighed {
+            Some(_) => Err(to_python(telescopic::Error::option(
+                telescopic::OptionName::WeighedLoad,
+                "tells a controller's velocity feedback the load: give a controller",
+            ))),
+            None => Ok(None),
+        };
+    };
+    let file = ControllerFile::from_json(text).map_err(to_python)?;
+    Ok(Some(match weighed {
+        Some(load) => file.with_weighed_load(load).map_err(to_python)?,
+        None => file,
+    }))
 }
 
 /// Natural frequencies, damping and mode shapes (see `telescopic.modes`).
@@ -394,7 +415,7 @@ pub fn design(
 pub fn check_controller(text: &str) -> PyResult<String> {
     match ControllerFile::from_json(text).map_err(to_python)? {
         ControllerFile::Force(c) => Ok(c.to_json()),
-        ControllerFile::Velocity(v) => Ok(v.to_json()),
+        ControllerFile::Velocity { file, .. } => Ok(file.to_json()),
     }
 }
 

@@ -175,6 +175,7 @@ fn argument_name(option: telescopic::OptionName) -> &'static str {
         O::Checks => "checks",
         O::Feedback => "feedback",
         O::CorrectionLimits => "feedback",
+        O::WeighedLoad => "weighed_load",
         O::Pick => "pick",
         O::EmitC => "emit_c",
         O::FilterRate => "filter_rate",

@@ -144,9 +144,10 @@ class Simulation:
         request = dict(self._request)
         scene = request.pop("scene")
         controller = request.pop("controller")
+        weighed_load = request.pop("weighed_load")
         return Animation(_telescopic.animate(
             scene, request, controller=controller, compare=compare, fps=fps, scale=scale,
-            size=size, speed=speed, progress=_progress(progress)))
+            size=size, speed=speed, progress=_progress(progress), weighed_load=weighed_load))
 
     @property
     def t(self) -> np.ndarray:
@@ -287,6 +288,7 @@ def simulate(
     moment_tolerance: float | None = None,
     statistics_tolerance: float | None = None,
     reuse: bool = True,
+    weighed_load: float | None = None,
 ) -> Simulation:
     """Integrates ``scene`` from rest with the clearance contact law (``telescopic simulate``).
 
@@ -302,7 +304,8 @@ def simulate(
     companion run that estimates the truncation; a repeated run of the same scene and
     arguments reuses the budget its first run kept, as the CLI does, and ``reuse=False``
     estimates afresh and keeps nothing); ``controller`` drives the scene
-    with a designed controller; ``stations`` adds bending moments (and stresses) at
+    with a designed controller or a plan's velocity feedback (``weighed_load``, kg: the load
+    that feedback is told, default the scene's ``masses.load``); ``stations`` adds bending moments (and stresses) at
     ``(section, x)``; ``progress`` is a callable taking the fraction done (or ``True`` for a
     tqdm bar). Raises ``SolverError`` (with ``.time`` and ``.method``) when the integration
     fails, ``OptionError`` for a bad argument.
@@ -326,9 +329,11 @@ def simulate(
         moment_tolerance=moment_tolerance,
         statistics_tolerance=statistics_tolerance,
         reuse=reuse,
+        weighed_load=weighed_load,
     )
     request = dict(scene=scene, method=method, rtol=rtol, atol=atol, dt=dt, accuracy=accuracy,
-                   controller=text, model=model, modes_as_given=modes_as_given)
+                   controller=text, model=model, modes_as_given=modes_as_given,
+                   weighed_load=weighed_load)
     return Simulation(columns, data, summary, request)
 
 

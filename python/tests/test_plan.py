@@ -60,6 +60,35 @@ def test_a_plan_with_feedback_runs_from_python_as_the_cli_reports(cli, tmp_path)
     assert (plan.controller is None) == ("feedback" not in plan.best)
 
 
+def test_a_load_scheduled_feedback_is_told_the_weighed_load_as_the_cli_tells_it(cli, tmp_path):
+    import pytest
+
+    out = tmp_path / "plan.toml"
+    cli("plan", "scenes/adams-linear.toml", "--distance", "2", "--v-max", "1", "--a-max", "1",
+        "--j-max", "5", "--tolerance", "0.002", "--settle", "4", "--no-optimize", "--checks",
+        "0", "--robust", "masses.load=12:24", "--feedback", "0.2", "--pick",
+        "s-curve + feedback", "--out", str(out))
+    scene = telescopic.Scene.load(str(out))
+    controller = telescopic.Controller.load(str(out.with_suffix(".json")))
+    carried = telescopic.simulate(scene, controller=controller, error_estimate=False)
+    same = telescopic.simulate(scene, controller=controller, error_estimate=False,
+                               weighed_load=17.897)
+    other = telescopic.simulate(scene, controller=controller, error_estimate=False,
+                                weighed_load=24.0)
+    assert np.array_equal(carried["vehicle"], same["vehicle"])
+    assert not np.array_equal(carried["vehicle"], other["vehicle"])
+    # the CLI's run told the same load writes the same samples
+    csv = tmp_path / "other.csv"
+    cli("simulate", str(out), "--controller", str(out.with_suffix(".json")),
+        "--no-error-estimate", "--weighed-load", "24", "--out", str(csv))
+    data = np.genfromtxt(csv, delimiter=",", names=True, comments="#")
+    assert np.array_equal(data["vehicle"], other["vehicle"])
+    for bad in (float("nan"), -1.0):
+        with pytest.raises(telescopic.OptionError) as caught:
+            telescopic.simulate(scene, controller=controller, weighed_load=bad)
+        assert "weighed_load" in str(caught.value)
+
+
 def test_a_plan_too_large_is_refused_before_any_work_naming_the_argument():
     import pytest
 

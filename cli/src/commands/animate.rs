@@ -31,6 +31,9 @@ pub struct AnimateArgs {
     /// it is shown beside.
     #[arg(long, value_name = "CONTROLLER.json")]
     controller: Option<PathBuf>,
+    /// The load (kg) a plan's velocity feedback is told (default: the scene's masses.load).
+    #[arg(long, value_name = "KG", requires = "controller")]
+    weighed_load: Option<f64>,
     /// Frames per second of simulation time, picked from the run's samples (default 50 for
     /// a page, 25 for a GIF).
     #[arg(long, value_name = "N")]
@@ -79,7 +82,7 @@ pub fn animate(args: &AnimateArgs) -> anyhow::Result<()> {
         Some(path) => Some(Scene::load(path, &args.scene.overrides)?),
         None => None,
     };
-    let controller = load_controller(args.controller.as_deref(), &scene)?;
+    let controller = load_controller(args.controller.as_deref(), args.weighed_load, &scene)?;
     let defaults = AnimationOptions::default();
     let animation = AnimationOptions {
         fps: args.fps.unwrap_or(match format {

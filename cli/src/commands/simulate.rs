@@ -135,6 +135,10 @@ pub struct SimulateArgs {
     /// model; the run without it is made too, for the comparison in the summary and the plot.
     #[arg(long, value_name = "CONTROLLER.json")]
     pub controller: Option<PathBuf>,
+    /// The load (kg) a plan's velocity feedback is told, as a machine that weighs it wrongly
+    /// would (default: the scene's masses.load, the load carried).
+    #[arg(long, value_name = "KG", requires = "controller")]
+    pub weighed_load: Option<f64>,
     /// Add the bending moment (and, when the scene gives sections.section_modulus or
     /// sections.height, the stress) at these stations as columns moment_K_X (N m) and
     /// stress_K_X (Pa): section K at X metres from its foot, e.g. 1:0,1:0.675,2:0; the
@@ -166,7 +170,7 @@ pub fn simulate(args: &SimulateArgs) -> anyhow::Result<()> {
     if let Some(other) = &other {
         telescopic::run::memory::check_runs(&[&scene, other], crate::memory_budget()?)?;
     }
-    let controller = load_controller(args.controller.as_deref(), &scene)?;
+    let controller = load_controller(args.controller.as_deref(), args.weighed_load, &scene)?;
     let options = simulation_options(args)?;
     let progress = Progress::new();
     // the compared scene is drawn only: it runs beside the scene where a core is free
@@ -241,16 +245,21 @@ fn simulate_stated(
     Ok(simulate_scene(scene, &stated, progress)?)
 }
 
-/// The controller file at `path`, checked to fit `scene`.
+/// The controller file at `path`, checked to fit `scene`, told the `weighed` load (kg) when
+/// one is given.
 pub fn load_controller(
     path: Option<&std::path::Path>,
+    weighed: Option<f64>,
     scene: &Scene,
 ) -> anyhow::Result<Option<ControllerFile>> {
     let Some(path) = path else { return Ok(None) };
     let c = ControllerFile::load(path)?;
     c.check_fits(scene)
         .map_err(|e| anyhow::anyhow!("--controller {}: {e}", path.display()))?;
-    Ok(Some(c))
+    Ok(Some(match weighed {
+        Some(load) => c.with_weighed_load(load)?,
+        None => c,
+    }))
 }
 
 /// The library's options of a simulate command.

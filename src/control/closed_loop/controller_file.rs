@@ -8,12 +8,12 @@ use crate::control::closed_loop::comparison::{
 };
 use crate::control::file::schema::Controller;
 use crate::control::{
-    closed_loop::velocity::simulate_velocity, file::velocity::VELOCITY_FEEDBACK_FORMAT,
+    closed_loop::velocity::simulate_velocity_told, file::velocity::VELOCITY_FEEDBACK_FORMAT,
     file::velocity::VelocityFeedback,
 };
 use crate::report::Reporter;
 use crate::run::{Simulation, SimulationOptions};
-use crate::{Error, Result};
+use crate::{Error, OptionName, Result};
 use std::path::Path;
 use telescopic_runtime::Scene;
 
@@ -22,8 +22,14 @@ use telescopic_runtime::Scene;
 pub enum ControllerFile {
     /// A designed controller driving the force (`telescopic design`).
     Force(Box<Controller>),
-    /// A plan's velocity feedback (`telescopic plan --feedback`).
-    Velocity(Box<VelocityFeedback>),
+    /// A plan's velocity feedback (`telescopic plan --feedback`), told the load the machine
+    /// weighs (kg; `None`: the scene's `masses.load`).
+    Velocity {
+        /// The feedback file.
+        file: Box<VelocityFeedback>,
+        /// The load the law is told (kg), if not the scene's.
+        weighed_load_kg: Option<f64>,
+    },
 }
 
 impl ControllerFile {
@@ -37,9 +43,10 @@ impl ControllerFile {
         let head: serde_json::Value =
             serde_json::from_str(text).map_err(|e| Error::input("controller file", e))?;
         if head.get("format").and_then(|f| f.as_str()) == Some(VELOCITY_FEEDBACK_FORMAT) {
-            return Ok(ControllerFile::Velocity(Box::new(
-                VelocityFeedback::from_json(text)?,
-            )));
+            return Ok(ControllerFile::Velocity {
+                file: Box::new(VelocityFeedback::from_json(text)?),
+                weighed_load_kg: None,
+            });
         }
         Ok(ControllerFile::Force(Box::new(Controller::from_json(
             text,
@@ -61,7 +68,33 @@ impl ControllerFile {
     pub fn check_fits(&self, scene: &Scene) -> Result<()> {
         match self {
             ControllerFile::Force(c) => c.check_fits(scene),
-            ControllerFile::Velocity(v) => v.check_fits(scene),
+            ControllerFile::Velocity { file, .. } => file.check_fits(scene),
+        }
+    }
+
+    /// This controller with its velocity feedback told a load of `load_kg` (kg) whatever the
+    /// scene carries: a machine that weighs its load wrongly.
+    ///
+    /// # Errors
+    /// [`Error::Option`] ([`OptionName::WeighedLoad`]) for a force controller or a load that
+    /// is not a finite mass of 0 kg or more.
+    pub fn with_weighed_load(self, load_kg: f64) -> Result<Self> {
+        let bad = |rule: String| Err(Error::option(OptionName::WeighedLoad, rule));
+        if !(load_kg.is_finite() && load_kg >= 0.0) {
+            return bad(format!(
+                "must be a finite mass of 0 kg or more (got {load_kg})"
+            ));
+        }
+        match self {
+            ControllerFile::Velocity { file, .. } => Ok(ControllerFile::Velocity {
+                file,
+                weighed_load_kg: Some(load_kg),
+            }),
+            ControllerFile::Force(_) => bad(
+                "tells a plan's velocity feedback the load; a designed controller is not \
+                 scheduled on it"
+                    .into(),
+            ),
         }
     }
 
@@ -69,7 +102,13 @@ impl ControllerFile {
     pub fn describe(&self) -> String {
         match self {
             ControllerFile::Force(c) => c.describe(),
-            ControllerFile::Velocity(v) => v.describe(),
+            ControllerFile::Velocity {
+                file,
+                weighed_load_kg,
+            } => match weighed_load_kg {
+                Some(load) => format!("{}, told a load of {load} kg", file.describe()),
+                None => file.describe(),
+            },
         }
     }
 
@@ -77,14 +116,14 @@ impl ControllerFile {
     pub fn force_limit(&self) -> Option<f64> {
         match self {
             ControllerFile::Force(c) => Some(c.force_limit_n),
-            ControllerFile::Velocity(_) => None,
+            ControllerFile::Velocity { .. } => None,
         }
     }
 
     /// Simulates `scene` with this controller on the full nonlinear model.
     ///
     /// # Errors
-    /// As [`simulate_controlled`] and [`simulate_velocity`].
+    /// As [`simulate_controlled`] and [`simulate_velocity_told`].
     pub fn simulate(
         &self,
         scene: &Scene,
@@ -93,8 +132,12 @@ impl ControllerFile {
     ) -> Result<Simulation> {
         match self {
             ControllerFile::Force(c) => simulate_controlled(scene, c, options, reporter),
-            ControllerFile::Velocity(v) => {
-                Ok(simulate_velocity(scene, v, options, reporter)?.simulation)
+            ControllerFile::Velocity {
+                file,
+                weighed_load_kg,
+            } => {
+                let load = weighed_load_kg.unwrap_or(scene.params.load_mass);
+                Ok(simulate_velocity_told(scene, file, load, options, reporter)?.simulation)
             }
         }
     }
@@ -115,11 +158,10 @@ pub fn compare_file_with_open_loop(
     options: &SimulationOptions,
     reporter: &dyn Reporter,
 ) -> Result<ControlComparison> {
-    let feedback = match file {
-        ControllerFile::Force(c) => return compare_with_open_loop(scene, c, options, reporter),
-        ControllerFile::Velocity(v) => v,
-    };
+    if let ControllerFile::Force(c) = file {
+        return compare_with_open_loop(scene, c, options, reporter);
+    }
     crate::run::memory::check_runs(&[scene, scene], options.memory_budget)?;
-    let controlled = simulate_velocity(scene, feedback, options, reporter)?.simulation;
+    let controlled = file.simulate(scene, options, reporter)?;
     beside_open_loop(scene, controlled, &comparison_options(options)?, reporter)
 }
