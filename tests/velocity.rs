@@ -374,6 +374,10 @@ fn bad_files_and_scenes_are_refused_naming_the_rule() {
     let e = bad.check_fits(&scene).unwrap_err().to_string();
     assert!(e.contains("tables[1].points"), "{e}");
     let mut bad = file.clone();
+    bad.schedule_parameter = Some("a_9".into());
+    let e = bad.check_fits(&scene).unwrap_err().to_string();
+    assert!(e.contains("schedule_parameter"), "{e}");
+    let mut bad = file.clone();
     bad.tables.clear();
     let e = bad.check_fits(&scene).unwrap_err().to_string();
     assert!(e.contains("`tables`"), "{e}");

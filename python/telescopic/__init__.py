@@ -268,7 +268,9 @@ class Controller:
 
         doc = json.loads(self._json)
         if doc.get("format") == "telescopic velocity feedback":
-            return f"Controller(velocity feedback, zeta {doc['added_damping']})"
+            loads = [t["load_kg"] for t in doc["tables"]]
+            scheduled = f", loads {loads[0]} to {loads[-1]} kg" if len(loads) > 1 else ""
+            return f"Controller(velocity feedback, zeta {doc['added_damping']}{scheduled})"
         return f"Controller({doc.get('kind', '?')!r}, force limit {doc.get('force_limit_n', '?')} N)"
 
 

@@ -70,6 +70,7 @@ def test_a_load_scheduled_feedback_is_told_the_weighed_load_as_the_cli_tells_it(
         "s-curve + feedback", "--out", str(out))
     scene = telescopic.Scene.load(str(out))
     controller = telescopic.Controller.load(str(out.with_suffix(".json")))
+    assert "loads 12.0 to 24.0 kg" in repr(controller)
     carried = telescopic.simulate(scene, controller=controller, error_estimate=False)
     same = telescopic.simulate(scene, controller=controller, error_estimate=False,
                                weighed_load=17.897)

@@ -248,11 +248,12 @@ impl VelocityFeedback {
             ));
         };
         let scheduled = self.scheduled_index();
-        if first.points.len() > 1 && scheduled.is_none_or(|i| i >= params.positions.len()) {
+        let names_a_position = scheduled.is_some_and(|i| i < params.positions.len());
+        if (self.schedule_parameter.is_some() || first.points.len() > 1) && !names_a_position {
             return Err(field(
                 "schedule_parameter",
-                "must name a telescopic position of the scene (a_2, ...) when there are several \
-                 points",
+                "must name a telescopic position of the scene (a_2, ...), as it must when there \
+                 are several points",
             ));
         }
         for (t, table) in self.tables.iter().enumerate() {

@@ -160,6 +160,15 @@ impl VelocityController {
                 "must be one or more tables of the same number of design points, one or more",
             ));
         }
+        let mut points = file.tables.iter().flat_map(|t| &t.points);
+        if let Some(i) = file.scheduled_index()
+            && points.any(|p| p.positions.len() <= i)
+        {
+            return Err(Error::input(
+                "velocity feedback `schedule_parameter`",
+                "must name a telescopic position every design point has",
+            ));
+        }
         Ok(VelocityController {
             positions: file.scheduled_positions(),
             load: crate::control::law::schedule::bracket(&file.loads(), load_kg),
