@@ -373,6 +373,16 @@ fn bad_files_and_scenes_are_refused_naming_the_rule() {
     bad.tables[1].points.push(extra);
     let e = bad.check_fits(&scene).unwrap_err().to_string();
     assert!(e.contains("tables[1].points"), "{e}");
+    // a law of one table is told a load it does not use, and says so
+    let told = telescopic::control::ControllerFile::from_json(&file.to_json())
+        .unwrap()
+        .with_weighed_load(3.0)
+        .unwrap();
+    assert!(
+        told.describe().contains("does not use"),
+        "{}",
+        told.describe()
+    );
     let mut bad = file.clone();
     bad.schedule_parameter = Some("a_9".into());
     let e = bad.check_fits(&scene).unwrap_err().to_string();

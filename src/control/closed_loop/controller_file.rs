@@ -106,7 +106,14 @@ impl ControllerFile {
                 file,
                 weighed_load_kg,
             } => match weighed_load_kg {
-                Some(load) => format!("{}, told a load of {load} kg", file.describe()),
+                Some(load) if file.tables.len() > 1 => {
+                    format!("{}, told a load of {load} kg", file.describe())
+                }
+                Some(load) => format!(
+                    "{}, told a load of {load} kg, which its one table of design points does \
+                     not use",
+                    file.describe()
+                ),
                 None => file.describe(),
             },
         }
