@@ -80,10 +80,8 @@ impl ControllerFile {
     /// is not a finite mass of 0 kg or more.
     pub fn with_weighed_load(self, load_kg: f64) -> Result<Self> {
         let bad = |rule: String| Err(Error::option(OptionName::WeighedLoad, rule));
-        if !(load_kg.is_finite() && load_kg >= 0.0) {
-            return bad(format!(
-                "must be a finite mass of 0 kg or more (got {load_kg})"
-            ));
+        if let Err(rule) = crate::control::file::velocity::check_weighed_load(load_kg) {
+            return bad(rule);
         }
         match self {
             ControllerFile::Velocity { file, .. } => Ok(ControllerFile::Velocity {

@@ -84,6 +84,16 @@ pub struct VelocityPoint {
     pub curvature_per_acceleration: f64,
 }
 
+/// The rule a load the law is told keeps (kg): `Err` with the rule broken.
+pub(crate) fn check_weighed_load(load_kg: f64) -> std::result::Result<(), String> {
+    match load_kg.is_finite() && load_kg >= 0.0 {
+        true => Ok(()),
+        false => Err(format!(
+            "must be a finite mass of 0 kg or more (got {load_kg})"
+        )),
+    }
+}
+
 pub(crate) fn field(name: &str, rule: impl std::fmt::Display) -> Error {
     Error::input(format!("velocity feedback `{name}`"), rule)
 }

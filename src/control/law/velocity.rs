@@ -28,6 +28,10 @@
 //! rate of its own poles once the mode is damped. The drive interpolates its velocity
 //! setpoint linearly over a tick (as drives in cyclic velocity mode do): one tick of
 //! computation delay, one of interpolation.
+//!
+//! A file may hold design points at several loads (`tables`): the law is told the load the
+//! machine weighs and interpolates `f_1`, `r` and `c` along the position in the two tables
+//! around it, then between them; a file of one table is used whatever the load.
 
 use crate::control::file::velocity::{VelocityFeedback, VelocityPoint};
 use crate::control::law::sampled::SampledController;
@@ -147,12 +151,8 @@ impl VelocityController {
     /// without design points or with tables of different lengths (`check_fits` refuses
     /// those too, with the field's rule).
     pub fn new(file: &VelocityFeedback, setpoint: Profile, load_kg: f64) -> Result<Self> {
-        if !(load_kg.is_finite() && load_kg >= 0.0) {
-            return Err(Error::input(
-                "measured load",
-                format!("must be a finite mass of 0 kg or more (got {load_kg})"),
-            ));
-        }
+        crate::control::file::velocity::check_weighed_load(load_kg)
+            .map_err(|rule| Error::input("measured load", rule))?;
         let count = file.tables.first().map_or(0, |t| t.points.len());
         if count == 0 || file.tables.iter().any(|t| t.points.len() != count) {
             return Err(Error::input(
