@@ -95,8 +95,8 @@ impl std::fmt::Display for MethodReason {
                 write!(
                     f,
                     "accuracy {accuracy_m:e} m in all (estimated {estimated_m:.1e} m): basis {}, \
-                     {modes} modes per section; {prediction}; {how} ({}; the search: \
-                     {search_runs} runs, {search_s:.2} s); {integration}",
+                     {modes} modes per section; {prediction}; {how}; sizes tried: {}; the \
+                     search: {search_runs} runs, {search_s:.2} s; {integration}",
                     basis.word(),
                     tried.join(", "),
                 )
