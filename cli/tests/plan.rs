@@ -130,6 +130,27 @@ fn row_on(table: &str, name: &str, plant: &str) -> Vec<String> {
     row[63..].split_whitespace().map(str::to_string).collect()
 }
 
+/// The table's `plants:` block: each plant's name and the scene values it sets, as written.
+fn plant_legend(table: &str) -> std::collections::BTreeMap<String, String> {
+    table
+        .lines()
+        .skip_while(|l| *l != "plants:")
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .map(|l| (l[2..12].trim().to_string(), l[13..].to_string()))
+        .collect()
+}
+
+/// The value `key=...` that a plant's legend entry sets.
+fn legend_value(entry: &str, key: &str) -> f64 {
+    entry
+        .split(", ")
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+        .unwrap_or_else(|| panic!("{key} in {entry}"))
+        .parse()
+        .unwrap()
+}
+
 #[test]
 fn a_plan_without_a_robust_set_is_checked_on_its_neighbours_as_simulate_reproduces() {
     let dir = scratch("plan-neighbours");
@@ -159,6 +180,15 @@ fn a_plan_without_a_robust_set_is_checked_on_its_neighbours_as_simulate_reproduc
     let text = std::fs::read_to_string("scenes/adams-linear.toml").unwrap();
     let scene: toml::Value = toml::from_str(&text).unwrap();
     let load = scene["masses"]["load"].as_float().unwrap() * 1.01;
+    // the table says what each plant is, to four digits
+    let legend = plant_legend(&table);
+    assert_eq!(legend.len(), 5, "{table}");
+    assert_eq!(legend["nominal"], "the scene as given");
+    let written = legend_value(&legend["load +1%"], "masses.load");
+    assert!((written / load - 1.0).abs() < 5e-4, "{written} for {load}");
+    let modulus = scene["sections"]["youngs_modulus"].as_float().unwrap();
+    let written = legend_value(&legend["E -1%"], "sections.youngs_modulus");
+    assert!((written / (0.99 * modulus) - 1.0).abs() < 5e-4, "{written}");
     let cells = row_on(&table, name, "load +1%");
     let (move_time, reported): (f64, f64) = (cells[0].parse().unwrap(), cells[2].parse().unwrap());
     succeeds(&[
@@ -507,10 +537,20 @@ fn simulate_tells_a_load_scheduled_feedback_the_weighed_load() {
         "--out",
         plan.to_str().unwrap(),
     ];
-    succeeds(&[&SHORT_MOVE[..], &flags].concat());
+    let planned = succeeds(&[&SHORT_MOVE[..], &flags].concat());
     let text = std::fs::read_to_string(&feedback).unwrap();
     let file = telescopic::control::file::velocity::VelocityFeedback::from_json(&text).unwrap();
     assert_eq!(file.loads(), [12.0, 15.0, 18.0, 21.0, 24.0]);
+    // the table names the plants the robust set was evaluated on: its ends and its middle
+    let legend = plant_legend(&String::from_utf8_lossy(&planned.stdout));
+    let loads: Vec<(&str, f64)> = ["corner 1", "corner 2", "centre"]
+        .map(|p| (p, legend_value(&legend[p], "masses.load")))
+        .to_vec();
+    assert_eq!(
+        loads,
+        [("corner 1", 12.0), ("corner 2", 24.0), ("centre", 18.0)]
+    );
+    assert_eq!(legend.len(), 4, "{legend:?}");
     let run = |name: &str, extra: &[&str]| {
         let csv = dir.join(name);
         let (p, f, c) = (

@@ -116,6 +116,15 @@ pub fn plan<'py>(
     )?;
     summary.set_item("worst_pick_s", MovePlan::worst_pick(&plan.rows, plan.best))?;
     summary.set_item("table", plan.table())?;
+    let plants = PyDict::new(py);
+    for plant in &plan.plants {
+        let values = PyDict::new(py);
+        for (key, value) in &plant.values {
+            values.set_item(key, value)?;
+        }
+        plants.set_item(&plant.name, values)?;
+    }
+    summary.set_item("plants", plants)?;
     summary.set_item("feedback", plan.feedback_json())?;
     Ok((rows(py, &plan)?, plan.scene_toml(), summary))
 }

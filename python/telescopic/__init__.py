@@ -478,7 +478,9 @@ class Plan:
     ``worst_cycle_s`` and ``worst_pick_s`` the best's worst cycle and worst pick (what it was
     ranked on: within the tolerance less the margin) over the evaluated plants, None if
     never, ``controller`` the best plan's velocity feedback (a Controller) when it uses one, else
-    None: ``simulate(plan.scene, controller=plan.controller)`` runs the plan."""
+    None: ``simulate(plan.scene, controller=plan.controller)`` runs the plan. ``plants`` says
+    what each plant of the table is: its name to the scene values it sets (key to value;
+    empty for the nominal plant)."""
 
     def __init__(self, rows: list[dict[str, Any]], scene_text: str, summary: dict[str, Any]):
         import pandas as pd
@@ -492,6 +494,7 @@ class Plan:
         self.worst_cycle_s: float | None = summary["worst_cycle_s"]
         self.worst_pick_s: float | None = summary["worst_pick_s"]
         self._text: str = summary["table"]
+        self.plants: dict[str, dict[str, float]] = summary["plants"]
         feedback = summary["feedback"]
         self.controller: Controller | None = None if feedback is None else Controller(feedback)
 

@@ -1,6 +1,8 @@
 """Planning a move from Python: the table as a DataFrame, the best plan as a Scene that
 simulates to the table's cycle time, the CLI's table."""
 
+import tomllib
+
 import numpy as np
 
 import telescopic
@@ -28,6 +30,13 @@ def test_plan_returns_the_table_and_a_scene_that_reproduces_it(cli, capsys):
     move = float(best["move_time_s"].iloc[0])
     assert abs(max(sim.t[last + 1], move) - cycle) < 1e-9
     assert float(best["settling_time_s"].iloc[0]) >= 0.0
+    # each plant of the table is defined: the nominal scene, and its neighbours 1 % away
+    assert set(plan.table["plant"]) == set(plan.plants)
+    assert plan.plants["nominal"] == {}
+    with open("scenes/adams-linear.toml", "rb") as file:
+        load = tomllib.load(file)["masses"]["load"]
+    assert plan.plants["load +1%"].keys() == {"masses.load"}
+    assert abs(plan.plants["load +1%"]["masses.load"] / load - 1.01) < 1e-12
     printed = cli("plan", "scenes/adams-linear.toml", "--distance", "2", "--v-max", "1",
                   "--a-max", "1", "--j-max", "5", "--tolerance", "0.002", "--settle", "4",
                   "--no-optimize").stdout

@@ -4,7 +4,7 @@ use super::candidates;
 use super::metrics::CycleMetrics;
 use super::moving;
 use super::options::PlanOptions;
-use super::robust::{CheckPlants, NEIGHBOUR_SHARE, neighbour_values};
+use super::robust::{CheckPlants, NEIGHBOUR_SHARE, Plant, neighbour_values};
 use super::shapers::Shaper;
 use crate::control::file::velocity::VelocityFeedback;
 use crate::{Error, OptionName, Result};
@@ -43,6 +43,9 @@ pub struct MovePlan {
     pub checks: Vec<PlanRow>,
     /// What those plants are.
     pub checked_on: CheckPlants,
+    /// Every plant of the table, the evaluated ones then the checks: its name and the scene
+    /// values it sets (the nominal plant sets none).
+    pub plants: Vec<Plant>,
     /// Index of the best candidate: within the force limit, the one that settles on the most
     /// plants, then the shortest worst penalized cycle.
     pub best: usize,
@@ -241,6 +244,7 @@ impl MovePlan {
             );
         }
         out.push_str(&legend(tolerance, margin, self.end_s));
+        out.push_str(&plant_legend(&self.plants));
         let best = &self.candidates[self.best];
         let percent = |w: f64| 100.0 * (w / self.rigid_limit_s - 1.0);
         let worst = Self::worst_cycle(&self.rows, self.best);
@@ -328,6 +332,43 @@ impl MovePlan {
     }
 }
 
+/// What each plant of [`MovePlan::table`] is: the scene values it sets, one line each.
+fn plant_legend(plants: &[Plant]) -> String {
+    let mut out = String::from("plants:\n");
+    for plant in plants {
+        let values: Vec<String> = plant
+            .values
+            .iter()
+            .map(|(key, v)| format!("{key}={}", short_number(*v)))
+            .collect();
+        let set = if values.is_empty() {
+            "the scene as given".to_string()
+        } else {
+            values.join(", ")
+        };
+        let _ = writeln!(out, "  {:<10} {set}", plant.name);
+    }
+    out
+}
+
+/// `v` to four significant digits, in exponent form when large or small (1.89e11, 0.0125).
+fn short_number(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e5).contains(&v.abs()) {
+        let text = format!("{v:.3e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{mantissa}e{exponent}")
+    } else {
+        let digits = (3 - v.abs().log10().floor().max(-3.0) as i32).max(0) as usize;
+        let text = format!("{v:.digits$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            text
+        }
+    }
+}
+
 /// What each column of [`MovePlan::table`] means, one line each, with the plan's
 /// `tolerance` (m), its `margin` and the runs' `end` (s).
 fn legend(tolerance: f64, margin: f64, end: f64) -> String {
@@ -378,4 +419,31 @@ fn legend(tolerance: f64, margin: f64, end: f64) -> String {
         let _ = writeln!(out, "  {name:<10} {meaning}");
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short_number;
+
+    #[test]
+    fn plant_values_are_written_to_four_digits_in_the_form_a_key_takes() {
+        let cases = [
+            (1.89e11, "1.89e11"),
+            (2.0466e11, "2.047e11"),
+            (0.0125, "0.0125"),
+            (0.005, "0.005"),
+            (17.897, "17.9"),
+            (10.0, "10"),
+            (12345.6, "12346"),
+            (-0.5, "-0.5"),
+            (1e-4, "1e-4"),
+            (0.0, "0"),
+        ];
+        for (value, written) in cases {
+            assert_eq!(short_number(value), written, "{value}");
+            // what is written reads back as a scene value within four digits
+            let back: f64 = written.parse().unwrap();
+            assert!((back - value).abs() <= 5e-4 * value.abs(), "{value}");
+        }
+    }
 }

@@ -517,6 +517,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         })
         .collect();
     reporter.progress(1.0);
+    let plants = s.plants.iter().chain(&checks).cloned().collect();
     Ok(MovePlan {
         scene: scene.clone(),
         rigid_limit_s: s.curve.phases().duration(),
@@ -527,6 +528,7 @@ pub fn plan(scene: &Scene, options: &PlanOptions, reporter: &dyn Reporter) -> Re
         rows,
         checks: check_rows,
         checked_on,
+        plants,
         best,
         feedback: s.feedback,
     })
