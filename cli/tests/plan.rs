@@ -176,6 +176,20 @@ fn a_plan_without_a_robust_set_is_checked_on_its_neighbours_as_simulate_reproduc
         format!("settles on {settled}")
     };
     assert!(checks.contains(&count), "{checks}\n{table}");
+    // it names the neighbour where the best is in position last, with that row's cycle
+    let worst = plants
+        .iter()
+        .filter_map(|p| row_on(&table, name, p)[2].parse::<f64>().ok())
+        .fold(f64::NEG_INFINITY, f64::max);
+    if settled > 0 {
+        let (cycle, rest) = checks["checks: ".len()..]
+            .split_once("the worst cycle ")
+            .and_then(|(_, rest)| rest.split_once(" s on "))
+            .expect("the worst cycle and its plant");
+        let plant = rest.split([')', ':']).next().unwrap();
+        assert_eq!(row_on(&table, name, plant)[2], cycle, "{checks}");
+        assert_eq!(format!("{worst:.2}"), cycle, "{checks}");
+    }
     // the load 1 % up, by this file's own reading of the scene and of the run
     let text = std::fs::read_to_string("scenes/adams-linear.toml").unwrap();
     let scene: toml::Value = toml::from_str(&text).unwrap();

@@ -66,6 +66,22 @@ impl MovePlan {
         Self::worst_of(rows, i, |m| m.pick_cycle_time_s)
     }
 
+    /// The plant of `rows` where candidate `i` settles last (the first of equals); `None`
+    /// where it settles on none.
+    pub fn worst_plant(rows: &[PlanRow], i: usize) -> Option<&str> {
+        rows.iter()
+            .filter(|r| r.candidate == i)
+            .filter_map(|r| Some((r.metrics.cycle_time_s?, r.plant.as_str())))
+            .fold(
+                None,
+                |worst: Option<(f64, &str)>, (cycle, plant)| match worst {
+                    Some((last, _)) if last >= cycle => worst,
+                    _ => Some((cycle, plant)),
+                },
+            )
+            .map(|(_, plant)| plant)
+    }
+
     /// The metrics of candidate `i` in `rows`, plant by plant.
     pub fn metrics(rows: &[PlanRow], i: usize) -> Vec<CycleMetrics> {
         rows.iter()
@@ -253,8 +269,9 @@ impl MovePlan {
         });
         let verdict = match worst {
             Some(w) => format!(
-                "worst cycle over the evaluated plants {w:.2} s, {:+.1} % of the rigid limit; \
-                 worst pick {pick}",
+                "worst cycle over the evaluated plants {w:.2} s on {}, {:+.1} % of the rigid \
+                 limit; worst pick {pick}",
+                Self::worst_plant(&self.rows, self.best).unwrap_or("-"),
                 percent(w)
             ),
             None => {
@@ -318,10 +335,11 @@ impl MovePlan {
         } else {
             format!("the {all} check plants inside the box, not evaluated")
         };
+        let on = Self::worst_plant(&self.checks, self.best).unwrap_or("-");
         let verdict = match cycles.len() {
             0 => "it settles on none".to_string(),
-            n if n == all => format!("it settles on all, the worst cycle {worst:.2} s"),
-            n => format!("it settles on {n} (the worst cycle {worst:.2} s)"),
+            n if n == all => format!("it settles on all, the worst cycle {worst:.2} s on {on}"),
+            n => format!("it settles on {n} (the worst cycle {worst:.2} s on {on})"),
         };
         let advice = if neighbours && cycles.len() < all {
             ": a plan that holds off its plant needs --robust"
