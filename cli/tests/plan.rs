@@ -617,3 +617,39 @@ fn simulate_tells_a_load_scheduled_feedback_the_weighed_load() {
     ];
     fails_with(&designed, &["--weighed-load", "designed controller"]);
 }
+
+#[test]
+fn a_best_that_does_not_settle_everywhere_names_the_plants_it_misses() {
+    let dir = scratch("plan-misses");
+    let plan = dir.join("plan.toml");
+    let flags = [
+        "4",
+        "--robust",
+        "masses.load=12:24,sections.youngs_modulus=1.9e11:2.3e11",
+        "--checks",
+        "0",
+        "--out",
+        plan.to_str().unwrap(),
+    ];
+    let out = succeeds(&[&SHORT_MOVE[..], &flags].concat());
+    let table = String::from_utf8_lossy(&out.stdout);
+    let best = table.lines().find(|l| l.starts_with("best: ")).unwrap();
+    let name = &best["best: ".len()..best.find(" (").unwrap()];
+    let plants = [
+        "nominal", "corner 1", "corner 2", "corner 3", "corner 4", "centre",
+    ];
+    // the pick column of the best's rows: `never` where it does not get within
+    let missed: Vec<&str> = plants
+        .iter()
+        .copied()
+        .filter(|p| row_on(&table, name, p)[3] == "never")
+        .collect();
+    assert!(
+        !missed.is_empty() && missed.len() < plants.len(),
+        "this box is meant to have a best that settles on some plants only:\n{table}"
+    );
+    let listed = format!("(not on {})", missed.join(", "));
+    assert!(best.contains(&listed), "{best}\nexpected {listed}");
+    let settled = format!("settles on {} of the 6", plants.len() - missed.len());
+    assert!(best.contains(&settled), "{best}");
+}

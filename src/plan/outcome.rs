@@ -261,7 +261,17 @@ impl MovePlan {
         }
         out.push_str(&legend(tolerance, margin, self.end_s));
         out.push_str(&plant_legend(&self.plants));
-        let best = &self.candidates[self.best];
+        out.push_str(&self.best_line());
+        if let Some(line) = self.checks_line() {
+            let _ = writeln!(out, "{line}");
+        }
+        out
+    }
+
+    /// The `best:` line: the best candidate and its worst cycle over the evaluated plants
+    /// (naming the plant), or on how many plants it settles and which it misses.
+    fn best_line(&self) -> String {
+        let (best, margin) = (&self.candidates[self.best], self.tolerance.1);
         let percent = |w: f64| 100.0 * (w / self.rigid_limit_s - 1.0);
         let worst = Self::worst_cycle(&self.rows, self.best);
         let pick = Self::worst_pick(&self.rows, self.best).map_or("never".into(), |p| {
@@ -284,25 +294,29 @@ impl MovePlan {
                          {end:.1} s; the smallest worst residual"
                     )
                 } else {
+                    let outside: Vec<&str> = self
+                        .rows
+                        .iter()
+                        .filter(|r| {
+                            r.candidate == self.best && r.metrics.pick_cycle_time_s.is_none()
+                        })
+                        .map(|r| r.plant.as_str())
+                        .collect();
                     format!(
                         "the load settles on {settled} of the {all} evaluated plants within \
-                         {end:.1} s, the most of any candidate; of those that settle as many, \
-                         the smallest worst residual"
+                         {end:.1} s (not on {}), the most of any candidate; of those that settle \
+                         as many, the smallest worst residual",
+                        outside.join(", ")
                     )
                 }
             }
         };
-        let _ = writeln!(
-            out,
+        format!(
             "best: {} ({verdict}; picked on the pick column: the tolerance less its {:.0} % \
-             margin)",
+             margin)\n",
             best.name,
             100.0 * margin
-        );
-        if let Some(line) = self.checks_line() {
-            let _ = writeln!(out, "{line}");
-        }
-        out
+        )
     }
 
     /// What the best did on the plants that check it: on how many it settles within the
