@@ -66,20 +66,16 @@ impl MovePlan {
         Self::worst_of(rows, i, |m| m.pick_cycle_time_s)
     }
 
-    /// The plant of `rows` where candidate `i` settles last (the first of equals); `None`
-    /// where it settles on none.
-    pub fn worst_plant(rows: &[PlanRow], i: usize) -> Option<&str> {
+    /// The longest cycle (s) of candidate `i` over the plants of `rows` where it settles, and
+    /// that plant (the first of equals); `None` where it settles on none.
+    pub fn worst_settled(rows: &[PlanRow], i: usize) -> Option<(f64, &str)> {
         rows.iter()
             .filter(|r| r.candidate == i)
             .filter_map(|r| Some((r.metrics.cycle_time_s?, r.plant.as_str())))
-            .fold(
-                None,
-                |worst: Option<(f64, &str)>, (cycle, plant)| match worst {
-                    Some((last, _)) if last >= cycle => worst,
-                    _ => Some((cycle, plant)),
-                },
-            )
-            .map(|(_, plant)| plant)
+            .fold(None, |worst, (cycle, plant)| match worst {
+                Some((last, _)) if last >= cycle => worst,
+                _ => Some((cycle, plant)),
+            })
     }
 
     /// The metrics of candidate `i` in `rows`, plant by plant.
@@ -278,30 +274,33 @@ impl MovePlan {
             format!("{p:.2} s, {:+.1} %", percent(p))
         });
         let verdict = match worst {
+            // every plant settles: the worst settled cycle is the worst cycle
             Some(w) => format!(
                 "worst cycle over the evaluated plants {w:.2} s on {}, {:+.1} % of the rigid \
                  limit; worst pick {pick}",
-                Self::worst_plant(&self.rows, self.best).unwrap_or("-"),
+                Self::worst_settled(&self.rows, self.best).map_or("-", |(_, plant)| plant),
                 percent(w)
             ),
             None => {
-                let metrics = Self::metrics(&self.rows, self.best);
-                let (settled, all) = (super::metrics::settled(&metrics), metrics.len());
-                let end = self.end_s;
+                // the plants not within the pick's tolerance, as `metrics::settled` counts
+                let rows: Vec<&PlanRow> = self
+                    .rows
+                    .iter()
+                    .filter(|r| r.candidate == self.best)
+                    .collect();
+                let outside: Vec<&str> = rows
+                    .iter()
+                    .filter(|r| r.metrics.pick_cycle_time_s.is_none())
+                    .map(|r| r.plant.as_str())
+                    .collect();
+                let (all, end) = (rows.len(), self.end_s);
+                let settled = all - outside.len();
                 if settled == 0 {
                     format!(
                         "the load settles on none of the {all} evaluated plants within \
                          {end:.1} s; the smallest worst residual"
                     )
                 } else {
-                    let outside: Vec<&str> = self
-                        .rows
-                        .iter()
-                        .filter(|r| {
-                            r.candidate == self.best && r.metrics.pick_cycle_time_s.is_none()
-                        })
-                        .map(|r| r.plant.as_str())
-                        .collect();
                     format!(
                         "the load settles on {settled} of the {all} evaluated plants within \
                          {end:.1} s (not on {}), the most of any candidate; of those that settle \
@@ -326,12 +325,11 @@ impl MovePlan {
             return None;
         }
         let all = self.checks.len();
-        let cycles: Vec<f64> = self
+        let settled = self
             .checks
             .iter()
-            .filter_map(|r| r.metrics.cycle_time_s)
-            .collect();
-        let worst = cycles.iter().copied().fold(0.0, f64::max);
+            .filter(|r| r.metrics.cycle_time_s.is_some())
+            .count();
         let neighbours = self.checked_on == CheckPlants::Neighbours;
         let what = if neighbours {
             let words: Vec<&str> = neighbour_values(&self.scene)
@@ -349,13 +347,16 @@ impl MovePlan {
         } else {
             format!("the {all} check plants inside the box, not evaluated")
         };
-        let on = Self::worst_plant(&self.checks, self.best).unwrap_or("-");
-        let verdict = match cycles.len() {
-            0 => "it settles on none".to_string(),
-            n if n == all => format!("it settles on all, the worst cycle {worst:.2} s on {on}"),
-            n => format!("it settles on {n} (the worst cycle {worst:.2} s on {on})"),
+        let verdict = match Self::worst_settled(&self.checks, self.best) {
+            None => "it settles on none".to_string(),
+            Some((worst, on)) if settled == all => {
+                format!("it settles on all, the worst cycle {worst:.2} s on {on}")
+            }
+            Some((worst, on)) => {
+                format!("it settles on {settled} (the worst cycle {worst:.2} s on {on})")
+            }
         };
-        let advice = if neighbours && cycles.len() < all {
+        let advice = if neighbours && settled < all {
             ": a plan that holds off its plant needs --robust"
         } else {
             ""
